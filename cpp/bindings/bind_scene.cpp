@@ -1,0 +1,537 @@
+#include <cstring>
+#include <filesystem>
+#include <pybind11/functional.h>
+
+#include "bindings/bindings.h"
+#include "core/errors.h"
+#include "render/camera.h"
+#include "scene/gltf_io.h"
+#include "scene/image_io.h"
+#include "scene/primitives.h"
+#include "scene/scene.h"
+
+namespace py = pybind11;
+
+namespace ssr {
+
+namespace {
+
+template <typename T, int N>
+std::vector<glm::vec<N, float>> rows_of(const py::handle& obj, const char* what, size_t expect = 0) {
+    auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(obj);
+    if (!a || a.ndim() != 2 || a.shape(1) != N)
+        throw std::invalid_argument(std::string(what) + " must be an array of shape (n, " + std::to_string(N) + ")");
+    if (expect && size_t(a.shape(0)) != expect)
+        throw std::invalid_argument(std::string(what) + " has " + std::to_string(a.shape(0)) + " rows, expected " +
+                                    std::to_string(expect) + " (one per vertex)");
+    std::vector<glm::vec<N, float>> out(size_t(a.shape(0)));
+    auto r = a.template unchecked<2>();
+    for (py::ssize_t i = 0; i < a.shape(0); ++i)
+        for (int c = 0; c < N; ++c) out[size_t(i)][c] = r(i, c);
+    return out;
+}
+
+std::vector<uint32_t> indices_of(const py::handle& obj) {
+    auto a = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(obj);
+    if (!a) throw std::invalid_argument("indices must be an integer array of shape (m, 3) or (3m,)");
+    if (!(a.ndim() == 1 || (a.ndim() == 2 && a.shape(1) == 3)))
+        throw std::invalid_argument("indices must have shape (m, 3) or (3m,)");
+    std::vector<uint32_t> out(size_t(a.size()));
+    const int64_t* p = a.data();
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (p[i] < 0 || p[i] > int64_t(UINT32_MAX))
+            throw std::invalid_argument("indices: value " + std::to_string(p[i]) + " at position " + std::to_string(i) +
+                                        " is out of range");
+        out[i] = uint32_t(p[i]);
+    }
+    return out;
+}
+
+void check_object(const Scene& s, int obj) {
+    if (obj < 0 || obj >= int(s.objects.size()))
+        throw py::index_error("object index " + std::to_string(obj) + " out of range (scene has " +
+                              std::to_string(s.objects.size()) + " objects)");
+}
+
+void validate_material(const Material& m, const Scene* scene) {
+    auto unit = [](float v, const char* name) {
+        if (!(v >= 0.0f && v <= 1.0f))
+            throw std::invalid_argument(std::string("Material.") + name + " must be in [0, 1], got " + std::to_string(v));
+    };
+    for (int i = 0; i < 4; ++i)
+        if (!(m.base_color[i] >= 0.0f) || !std::isfinite(m.base_color[i]))
+            throw std::invalid_argument("Material.base_color components must be finite and >= 0");
+    unit(m.metallic, "metallic");
+    unit(m.roughness, "roughness");
+    unit(m.reflectivity, "reflectivity");
+    if (scene) {
+        for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture})
+            if (t->image >= int(scene->images.size()))
+                throw std::invalid_argument("Material texture refers to image " + std::to_string(t->image) +
+                                            ", but the scene has " + std::to_string(scene->images.size()) + " images");
+    }
+}
+
+int add_mesh_object(Scene& s, Mesh mesh, const Material& material, const glm::mat4& transform, const std::string& name) {
+    validate_material(material, &s);
+    const int mi = s.add_mesh(std::move(mesh));
+    const int mat = s.add_material(material);
+    return s.add_object(mi, mat, transform, name);
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+    py::class_<Material>(m, "Material", R"doc(
+A glTF 2.0 metallic-roughness material plus the thesis's reflectivity.
+
+base_color   linear RGBA, each >= 0 (default (0.8, 0.8, 0.8, 1))
+metallic     0..1
+roughness    perceptual roughness 0..1, as in glTF; GGX alpha = roughness**2
+reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000, 2.4)
+double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+*_texture    image index in the scene (-1: none); see Scene.add_image
+)doc")
+        .def(py::init([](py::object base_color, float metallic, float roughness, float reflectivity, bool double_sided,
+                         const std::string& name, int base_color_texture, int metallic_roughness_texture,
+                         int normal_texture, float normal_scale) {
+                 Material mat;
+                 if (!base_color.is_none()) {
+                     auto seq = py::cast<std::vector<float>>(base_color);
+                     if (seq.size() != 3 && seq.size() != 4)
+                         throw std::invalid_argument("Material.base_color must have 3 or 4 components");
+                     mat.base_color = glm::vec4(seq[0], seq[1], seq[2], seq.size() == 4 ? seq[3] : 1.0f);
+                 }
+                 mat.metallic = metallic;
+                 mat.roughness = roughness;
+                 mat.reflectivity = reflectivity;
+                 mat.double_sided = double_sided;
+                 mat.name = name;
+                 mat.base_color_texture.image = base_color_texture;
+                 mat.metallic_roughness_texture.image = metallic_roughness_texture;
+                 mat.normal_texture.image = normal_texture;
+                 mat.normal_scale = normal_scale;
+                 validate_material(mat, nullptr);
+                 return mat;
+             }),
+             py::kw_only(), py::arg("base_color") = py::none(), py::arg("metallic") = 0.0f,
+             py::arg("roughness") = 0.5f, py::arg("reflectivity") = 0.0f, py::arg("double_sided") = false,
+             py::arg("name") = "", py::arg("base_color_texture") = -1, py::arg("metallic_roughness_texture") = -1,
+             py::arg("normal_texture") = -1, py::arg("normal_scale") = 1.0f)
+        .def_readwrite("name", &Material::name)
+        .def_readwrite("base_color", &Material::base_color)
+        .def_readwrite("metallic", &Material::metallic)
+        .def_readwrite("roughness", &Material::roughness)
+        .def_readwrite("reflectivity", &Material::reflectivity)
+        .def_readwrite("double_sided", &Material::double_sided)
+        .def_readwrite("emissive", &Material::emissive)
+        .def_readwrite("normal_scale", &Material::normal_scale)
+        .def_property(
+            "base_color_texture", [](const Material& x) { return x.base_color_texture.image; },
+            [](Material& x, int i) { x.base_color_texture.image = i; })
+        .def_property(
+            "metallic_roughness_texture", [](const Material& x) { return x.metallic_roughness_texture.image; },
+            [](Material& x, int i) { x.metallic_roughness_texture.image = i; })
+        .def_property(
+            "normal_texture", [](const Material& x) { return x.normal_texture.image; },
+            [](Material& x, int i) { x.normal_texture.image = i; })
+        .def("__repr__", [](const Material& x) {
+            return "Material(name='" + x.name + "', base_color=(" + std::to_string(x.base_color.r) + ", " +
+                   std::to_string(x.base_color.g) + ", " + std::to_string(x.base_color.b) +
+                   "), metallic=" + std::to_string(x.metallic) + ", roughness=" + std::to_string(x.roughness) +
+                   ", reflectivity=" + std::to_string(x.reflectivity) + ")";
+        });
+
+    py::class_<Light>(m, "Light", R"doc(
+A punctual light. Directional: `intensity` is the irradiance (W/m^2) on a surface facing the
+light, `direction` the direction the light travels. Point: `intensity` is the radiant
+intensity (W/sr) at `position`, falling off as 1/d^2. The first directional light with
+cast_shadow=True casts the shadow map.)doc")
+        .def_static(
+            "directional",
+            [](glm::vec3 direction, glm::vec3 color, float intensity, bool cast_shadow, const std::string& name) {
+                if (glm::length(direction) < 1e-8f) throw std::invalid_argument("Light.direction must be non-zero");
+                if (!(intensity >= 0.0f)) throw std::invalid_argument("Light.intensity must be >= 0");
+                Light l;
+                l.type = Light::Type::Directional;
+                l.direction = glm::normalize(direction);
+                l.color = color;
+                l.intensity = intensity;
+                l.cast_shadow = cast_shadow;
+                l.name = name;
+                return l;
+            },
+            py::arg("direction"), py::arg("color") = glm::vec3(1.0f), py::arg("intensity") = 3.0f,
+            py::arg("cast_shadow") = true, py::arg("name") = "sun")
+        .def_static(
+            "point",
+            [](glm::vec3 position, glm::vec3 color, float intensity, const std::string& name) {
+                if (!(intensity >= 0.0f)) throw std::invalid_argument("Light.intensity must be >= 0");
+                Light l;
+                l.type = Light::Type::Point;
+                l.position = position;
+                l.color = color;
+                l.intensity = intensity;
+                l.name = name;
+                return l;
+            },
+            py::arg("position"), py::arg("color") = glm::vec3(1.0f), py::arg("intensity") = 10.0f,
+            py::arg("name") = "point")
+        .def_property_readonly("type", [](const Light& l) { return l.type == Light::Type::Directional ? "directional" : "point"; })
+        .def_readwrite("name", &Light::name)
+        .def_readwrite("color", &Light::color)
+        .def_readwrite("intensity", &Light::intensity)
+        .def_readwrite("direction", &Light::direction)
+        .def_readwrite("position", &Light::position)
+        .def_readwrite("cast_shadow", &Light::cast_shadow)
+        .def("__repr__", [](const Light& l) {
+            return std::string("Light(") + (l.type == Light::Type::Directional ? "directional" : "point") + ", '" +
+                   l.name + "', intensity=" + std::to_string(l.intensity) + ")";
+        });
+
+    py::class_<Environment>(m, "Environment", R"doc(
+What a pixel without geometry, or a reflection ray that leaves the screen, sees: a constant
+colour, a procedural gradient sky, or an equirectangular map (EXR/HDR/PNG via OpenImageIO).)doc")
+        .def_static(
+            "constant",
+            [](glm::vec3 color, float intensity) {
+                Environment e;
+                e.type = Environment::Type::Constant;
+                e.color = color;
+                e.intensity = intensity;
+                return e;
+            },
+            py::arg("color") = glm::vec3(0.0f), py::arg("intensity") = 1.0f)
+        .def_static(
+            "sky",
+            [](glm::vec3 zenith, glm::vec3 horizon, glm::vec3 ground, float intensity) {
+                Environment e;
+                e.type = Environment::Type::Sky;
+                e.sky_zenith = zenith;
+                e.sky_horizon = horizon;
+                e.ground = ground;
+                e.intensity = intensity;
+                return e;
+            },
+            py::arg("zenith") = glm::vec3(0.25f, 0.45f, 0.85f), py::arg("horizon") = glm::vec3(0.8f, 0.85f, 0.9f),
+            py::arg("ground") = glm::vec3(0.3f, 0.28f, 0.25f), py::arg("intensity") = 1.0f)
+        .def_static(
+            "map",
+            [](const std::string& path, float intensity) {
+                if (!std::filesystem::exists(path)) throw FileNotFound("environment map not found: " + path);
+                Environment e;
+                e.type = Environment::Type::Map;
+                e.map_path = std::filesystem::absolute(path).string();
+                e.intensity = intensity;
+                return e;
+            },
+            py::arg("path"), py::arg("intensity") = 1.0f)
+        .def_property_readonly("type",
+                               [](const Environment& e) {
+                                   return e.type == Environment::Type::Constant ? "constant"
+                                          : e.type == Environment::Type::Sky    ? "sky"
+                                                                                : "map";
+                               })
+        .def_readwrite("color", &Environment::color)
+        .def_readwrite("zenith", &Environment::sky_zenith)
+        .def_readwrite("horizon", &Environment::sky_horizon)
+        .def_readwrite("ground", &Environment::ground)
+        .def_readonly("map_path", &Environment::map_path)
+        .def_readwrite("intensity", &Environment::intensity)
+        .def("__repr__", [](const Environment& e) {
+            return std::string("Environment(") +
+                   (e.type == Environment::Type::Constant ? "constant" : e.type == Environment::Type::Sky ? "sky" : "map") +
+                   ", intensity=" + std::to_string(e.intensity) + ")";
+        });
+
+    py::class_<Camera>(m, "Camera", R"doc(
+A pinhole camera, OpenGL conventions: right-handed world, y up, looking down the camera's -z.
+
+position, target, up  world space
+fov_y                 vertical field of view in degrees (0, 179)
+near, far             clip distances along the view axis, 0 < near < far
+The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
+        .def(py::init([](glm::vec3 position, glm::vec3 target, glm::vec3 up, float fov_y, float near_plane,
+                         float far_plane) {
+                 Camera c;
+                 c.position = position;
+                 c.target = target;
+                 c.up = up;
+                 c.fov_y_degrees = fov_y;
+                 c.near_plane = near_plane;
+                 c.far_plane = far_plane;
+                 c.validate();
+                 return c;
+             }),
+             py::arg("position") = glm::vec3(0, 0, 5), py::arg("target") = glm::vec3(0.0f),
+             py::arg("up") = glm::vec3(0, 1, 0), py::arg("fov_y") = 60.0f, py::arg("near") = 0.1f,
+             py::arg("far") = 100.0f)
+        .def_readwrite("position", &Camera::position)
+        .def_readwrite("target", &Camera::target)
+        .def_readwrite("up", &Camera::up)
+        .def_readwrite("fov_y", &Camera::fov_y_degrees)
+        .def_readwrite("near", &Camera::near_plane)
+        .def_readwrite("far", &Camera::far_plane)
+        .def("view_matrix", &Camera::view, "World -> view matrix (4x4, row-major numpy).")
+        .def(
+            "projection_matrix",
+            [](const Camera& c, float aspect, const std::string& depth_mode) {
+                return c.projection(DepthConvention{parse_depth_mode(depth_mode)}, aspect);
+            },
+            py::arg("aspect"), py::arg("depth_mode") = "standard",
+            "View -> clip matrix for this aspect ratio and depth convention.")
+        .def("validate", &Camera::validate)
+        .def(py::pickle(
+            [](const Camera& c) {
+                return py::make_tuple(c.position, c.target, c.up, c.fov_y_degrees, c.near_plane, c.far_plane);
+            },
+            [](py::tuple t) {
+                Camera c;
+                c.position = t[0].cast<glm::vec3>();
+                c.target = t[1].cast<glm::vec3>();
+                c.up = t[2].cast<glm::vec3>();
+                c.fov_y_degrees = t[3].cast<float>();
+                c.near_plane = t[4].cast<float>();
+                c.far_plane = t[5].cast<float>();
+                return c;
+            }))
+        .def("__repr__", [](const Camera& c) {
+            auto v = [](const glm::vec3& x) {
+                return "(" + std::to_string(x.x) + ", " + std::to_string(x.y) + ", " + std::to_string(x.z) + ")";
+            };
+            return "Camera(position=" + v(c.position) + ", target=" + v(c.target) + ", up=" + v(c.up) +
+                   ", fov_y=" + std::to_string(c.fov_y_degrees) + ", near=" + std::to_string(c.near_plane) +
+                   ", far=" + std::to_string(c.far_plane) + ")";
+        });
+
+    py::class_<Scene>(m, "Scene", py::dynamic_attr())
+        .def(py::init<>())
+        .def_readwrite("name", &Scene::name)
+        .def_property_readonly("revision", &Scene::revision)
+        .def_property_readonly("object_count", [](const Scene& s) { return s.objects.size(); })
+        .def_property_readonly("mesh_count", [](const Scene& s) { return s.meshes.size(); })
+        .def_property_readonly("material_count", [](const Scene& s) { return s.materials.size(); })
+        .def_property_readonly("image_count", [](const Scene& s) { return s.images.size(); })
+        .def_property_readonly("triangle_count", &Scene::triangle_count,
+                               "Triangles over all objects (an instanced mesh counts once per instance).")
+        .def_property_readonly("bounds",
+                               [](const Scene& s) {
+                                   Bounds b = s.bounds();
+                                   return py::make_tuple(b.min, b.max);
+                               })
+        .def_property(
+            "ambient", [](const Scene& s) { return s.ambient; },
+            [](Scene& s, glm::vec3 a) {
+                if (!(a.x >= 0 && a.y >= 0 && a.z >= 0)) throw std::invalid_argument("Scene.ambient must be >= 0");
+                s.ambient = a;
+                s.touch();
+            })
+        .def_property(
+            "environment", [](const Scene& s) { return s.environment; },
+            [](Scene& s, const Environment& e) {
+                s.environment = e;
+                s.touch();
+            })
+        .def_property(
+            "camera", [](const Scene& s) -> py::object {
+                if (!s.camera) return py::none();
+                return py::cast(Camera(*s.camera));
+            },
+            [](Scene& s, py::object c) {
+                if (c.is_none()) s.camera.reset();
+                else {
+                    Camera cam = c.cast<Camera>();
+                    cam.validate();
+                    s.camera = static_cast<CameraDesc>(cam);
+                }
+                s.touch();
+            })
+        .def(
+            "_add_mesh",
+            [](Scene& s, py::object positions, py::object indices, py::object normals, py::object uvs,
+               py::object tangents, const Material& material, const glm::mat4& transform, const std::string& name) {
+                Mesh mesh;
+                mesh.name = name;
+                mesh.positions = rows_of<float, 3>(positions, "positions");
+                const size_t n = mesh.positions.size();
+                if (!indices.is_none()) mesh.indices = indices_of(indices);
+                if (!normals.is_none()) mesh.normals = rows_of<float, 3>(normals, "normals", n);
+                if (!uvs.is_none()) mesh.uvs = rows_of<float, 2>(uvs, "uvs", n);
+                if (!tangents.is_none()) mesh.tangents = rows_of<float, 4>(tangents, "tangents", n);
+                return add_mesh_object(s, std::move(mesh), material, transform, name);
+            },
+            py::arg("positions"), py::arg("indices"), py::arg("normals"), py::arg("uvs"), py::arg("tangents"),
+            py::arg("material"), py::arg("transform"), py::arg("name"))
+        .def(
+            "_add_primitive",
+            [](Scene& s, const std::string& kind, const Material& material, const glm::mat4& transform,
+               const std::string& name, float uv_tiles, int segments) {
+                Mesh mesh;
+                if (kind == "plane") mesh = make_plane(uv_tiles);
+                else if (kind == "box") mesh = make_box();
+                else if (kind == "sphere") mesh = make_sphere(std::max(segments, 3), std::max(segments / 2, 2));
+                else throw std::invalid_argument("unknown primitive '" + kind + "'");
+                const std::string object_name = name.empty() ? kind : name;
+                mesh.name = object_name;
+                return add_mesh_object(s, std::move(mesh), material, transform, object_name);
+            },
+            py::arg("kind"), py::arg("material"), py::arg("transform"), py::arg("name"), py::arg("uv_tiles") = 1.0f,
+            py::arg("segments") = 48)
+        .def(
+            "_add_gltf",
+            [](Scene& s, const std::string& path, const glm::mat4& transform) {
+                const int first = load_gltf(s, path, transform);
+                std::vector<int> ids;
+                for (int i = first; i < int(s.objects.size()); ++i) ids.push_back(i);
+                return ids;
+            },
+            py::arg("path"), py::arg("transform"))
+        .def("_save", [](const Scene& s, const std::string& path) { save_gltf(s, path); })
+        .def(
+            "add_image",
+            [](Scene& s, py::array_t<uint8_t, py::array::c_style | py::array::forcecast> rgba, const std::string& name) {
+                if (rgba.ndim() != 3 || (rgba.shape(2) != 4 && rgba.shape(2) != 3))
+                    throw std::invalid_argument("add_image: expected a uint8 array of shape (h, w, 3 or 4)");
+                Image img;
+                img.name = name;
+                img.source = "<array>";
+                img.height = int(rgba.shape(0));
+                img.width = int(rgba.shape(1));
+                const int c = int(rgba.shape(2));
+                img.rgba.resize(size_t(img.width) * size_t(img.height) * 4);
+                const uint8_t* p = rgba.data();
+                for (size_t i = 0; i < size_t(img.width) * size_t(img.height); ++i)
+                    for (int k = 0; k < 4; ++k) img.rgba[i * 4 + size_t(k)] = k < c ? p[i * size_t(c) + size_t(k)] : 255;
+                s.images.push_back(std::move(img));
+                s.touch();
+                return int(s.images.size()) - 1;
+            },
+            py::arg("rgba"), py::arg("name") = "image",
+            "Adds an 8-bit image (row 0 = top, uv (0,0) = top-left as in glTF); returns its index for Material textures.")
+        .def(
+            "load_image",
+            [](Scene& s, const std::string& path) {
+                s.images.push_back(decode_image_file(path));
+                s.touch();
+                return int(s.images.size()) - 1;
+            },
+            py::arg("path"), "Decodes an image file with OpenImageIO; returns its index for Material textures.")
+        .def(
+            "material",
+            [](const Scene& s, int obj) {
+                check_object(s, obj);
+                return s.materials[size_t(s.objects[size_t(obj)].material)];
+            },
+            py::arg("object"), "A copy of an object's material.")
+        .def(
+            "set_material",
+            [](Scene& s, int obj, const Material& m) {
+                check_object(s, obj);
+                validate_material(m, &s);
+                int& idx = s.objects[size_t(obj)].material;
+                int users = 0;
+                for (const auto& o : s.objects) users += o.material == idx;
+                if (users == 1) s.materials[size_t(idx)] = m;  // only this object uses it
+                else idx = s.add_material(m);                 // shared: give this object its own
+                s.touch();
+            },
+            py::arg("object"), py::arg("material"))
+        .def(
+            "object_name",
+            [](const Scene& s, int obj) {
+                check_object(s, obj);
+                return s.objects[size_t(obj)].name;
+            },
+            py::arg("object"))
+        .def(
+            "object_transform",
+            [](const Scene& s, int obj) {
+                check_object(s, obj);
+                return s.objects[size_t(obj)].transform;
+            },
+            py::arg("object"))
+        .def(
+            "set_object_transform",
+            [](Scene& s, int obj, const glm::mat4& t) {
+                check_object(s, obj);
+                s.objects[size_t(obj)].transform = t;
+                s.touch();
+            },
+            py::arg("object"), py::arg("transform"))
+        .def(
+            "object_mesh",
+            [](const Scene& s, int obj) {
+                check_object(s, obj);
+                const Mesh& mesh = s.meshes[size_t(s.objects[size_t(obj)].mesh)];
+                py::array_t<float> pos({py::ssize_t(mesh.positions.size()), py::ssize_t(3)});
+                py::array_t<float> nrm({py::ssize_t(mesh.normals.size()), py::ssize_t(3)});
+                py::array_t<uint32_t> idx({py::ssize_t(mesh.indices.size() / 3), py::ssize_t(3)});
+                std::memcpy(pos.mutable_data(), mesh.positions.data(), mesh.positions.size() * 12);
+                std::memcpy(nrm.mutable_data(), mesh.normals.data(), mesh.normals.size() * 12);
+                std::memcpy(idx.mutable_data(), mesh.indices.data(), mesh.indices.size() * 4);
+                py::dict d;
+                d["name"] = mesh.name;
+                d["positions"] = pos;
+                d["normals"] = nrm;
+                d["indices"] = idx;
+                if (!mesh.uvs.empty()) {
+                    py::array_t<float> uv({py::ssize_t(mesh.uvs.size()), py::ssize_t(2)});
+                    std::memcpy(uv.mutable_data(), mesh.uvs.data(), mesh.uvs.size() * 8);
+                    d["uvs"] = uv;
+                }
+                return d;
+            },
+            py::arg("object"), "The object's mesh in object space: positions, normals, indices (m, 3), uvs.")
+        .def_property_readonly("lights", [](const Scene& s) { return s.lights; })
+        .def(
+            "add_light",
+            [](Scene& s, const Light& l) { return s.add_light(l); }, py::arg("light"))
+        .def("clear_lights",
+             [](Scene& s) {
+                 s.lights.clear();
+                 s.touch();
+             })
+        .def(
+            "_assign", [](Scene& s, const Scene& other) { s = other; }, py::arg("other"),
+            "Makes this scene a deep copy of `other` (a different scene for GPU caches).");
+}
+
+void bind_io(py::module_& m) {
+    m.def(
+        "write_image",
+        [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> pixels,
+           std::vector<std::string> channel_names, bool half) {
+            if (pixels.ndim() != 3 && pixels.ndim() != 2)
+                throw std::invalid_argument("write_image: pixels must have shape (h, w) or (h, w, c)");
+            FloatImage img;
+            img.height = int(pixels.shape(0));
+            img.width = int(pixels.shape(1));
+            img.channels = pixels.ndim() == 3 ? int(pixels.shape(2)) : 1;
+            img.pixels.assign(pixels.data(), pixels.data() + pixels.size());
+            if (!channel_names.empty() && int(channel_names.size()) != img.channels)
+                throw std::invalid_argument("write_image: " + std::to_string(channel_names.size()) +
+                                            " channel names for " + std::to_string(img.channels) + " channels");
+            img.channel_names = std::move(channel_names);
+            py::gil_scoped_release release;
+            write_float_image(path, img, half);
+        },
+        py::arg("path"), py::arg("pixels"), py::arg("channel_names") = std::vector<std::string>{},
+        py::arg("half") = false,
+        "Writes float pixels with OpenImageIO; the extension picks the format (EXR keeps floats, "
+        "PNG/JPEG get values clamped to [0, 1] and quantised to 8 bits).");
+    m.def(
+        "read_image",
+        [](const std::string& path) {
+            FloatImage img;
+            {
+                py::gil_scoped_release release;
+                img = read_float_image(path);
+            }
+            py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(img.channels)});
+            std::memcpy(out.mutable_data(), img.pixels.data(), img.pixels.size() * sizeof(float));
+            return py::make_tuple(out, img.channel_names);
+        },
+        py::arg("path"), "Reads an image as float32 (h, w, c) and its channel names.");
+}
+
+}  // namespace ssr

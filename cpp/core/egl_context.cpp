@@ -1,0 +1,260 @@
+#include "core/egl_context.h"
+
+#include "core/gl.h"
+
+#include <algorithm>
+#include <cstring>
+#include <sstream>
+
+#include "core/errors.h"
+
+namespace ssr {
+
+DeviceKind parse_device_kind(const std::string& name) {
+    if (name == "auto") return DeviceKind::Auto;
+    if (name == "gpu") return DeviceKind::Gpu;
+    if (name == "cpu") return DeviceKind::Cpu;
+    throw std::invalid_argument("device: expected 'auto', 'gpu' or 'cpu', got '" + name + "'");
+}
+
+std::map<std::string, std::string> DeviceInfo::as_dict() const {
+    std::string rejected_all;
+    for (const auto& r : rejected) rejected_all += (rejected_all.empty() ? "" : "; ") + r;
+    return {{"requested", requested},        {"device", chosen},
+            {"egl_platform", egl_platform},  {"egl_vendor", egl_vendor},
+            {"egl_version", egl_version},    {"egl_device_extensions", egl_device_extensions},
+            {"vendor", gl_vendor},           {"renderer", gl_renderer},
+            {"gl_version", gl_version},      {"glsl_version", glsl_version},
+            {"rejected", rejected_all}};
+}
+
+namespace {
+
+template <typename F>
+F egl_proc(const char* name) {
+    return reinterpret_cast<F>(eglGetProcAddress(name));
+}
+
+bool has_extension(const char* list, const char* ext) {
+    if (!list) return false;
+    const size_t n = std::strlen(ext);
+    for (const char* p = std::strstr(list, ext); p; p = std::strstr(p + 1, ext)) {
+        const bool starts = (p == list) || p[-1] == ' ';
+        const bool ends = p[n] == '\0' || p[n] == ' ';
+        if (starts && ends) return true;
+    }
+    return false;
+}
+
+bool is_software_renderer(const std::string& renderer) {
+    for (const char* s : {"llvmpipe", "softpipe", "lavapipe", "SwiftShader"})
+        if (renderer.find(s) != std::string::npos) return true;
+    return false;
+}
+
+std::string gl_string(GLenum e) {
+    const GLubyte* s = glGetString(e);
+    return s ? reinterpret_cast<const char*>(s) : "";
+}
+
+std::string egl_error_name(EGLint e) {
+    std::ostringstream os;
+    os << "EGL error 0x" << std::hex << e;
+    return os.str();
+}
+
+}  // namespace
+
+void debug_callback_trampoline(EglContext* ctx, const std::string& msg) {
+    ctx->debug_errors_.push_back(msg);
+}
+
+namespace {
+void GLAPIENTRY on_gl_debug(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
+                            const GLchar* message, const void* user) {
+    // Only errors raise; performance and portability notes are not failures.
+    if (type != GL_DEBUG_TYPE_ERROR) return;
+    auto* ctx = const_cast<EglContext*>(static_cast<const EglContext*>(user));
+    debug_callback_trampoline(ctx, std::string(message, length > 0 ? size_t(length) : std::strlen(message)));
+}
+}  // namespace
+
+EglContext::EglContext(DeviceKind kind) {
+    static const char* kind_names[] = {"auto", "gpu", "cpu"};
+    info_.requested = kind_names[int(kind)];
+
+    const char* client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    auto get_platform_display = egl_proc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+
+    // Enumerate EGL devices: hardware ones (no EGL_MESA_device_software) and Mesa's software one.
+    std::vector<EGLDeviceEXT> hardware, software;
+    auto query_devices = egl_proc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
+    auto query_device_string = egl_proc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+    const bool can_enumerate = has_extension(client_ext, "EGL_EXT_device_enumeration") &&
+                               has_extension(client_ext, "EGL_EXT_platform_device") &&
+                               query_devices && query_device_string && get_platform_display;
+    if (can_enumerate) {
+        EGLint count = 0;
+        query_devices(0, nullptr, &count);
+        std::vector<EGLDeviceEXT> devices(size_t(std::max(count, 0)));
+        if (count > 0) query_devices(count, devices.data(), &count);
+        for (EGLDeviceEXT d : devices) {
+            const char* ext = query_device_string(d, EGL_EXTENSIONS);
+            (has_extension(ext, "EGL_MESA_device_software") ? software : hardware).push_back(d);
+        }
+        // NVIDIA devices first (EGL_NV_device_cuda), so "auto" on a CUDA machine takes the GPU.
+        std::stable_partition(hardware.begin(), hardware.end(), [&](EGLDeviceEXT d) {
+            return has_extension(query_device_string(d, EGL_EXTENSIONS), "EGL_NV_device_cuda");
+        });
+    }
+
+    auto try_device = [&](EGLDeviceEXT d, bool want_hardware) {
+        EGLDisplay dpy = get_platform_display(EGL_PLATFORM_DEVICE_EXT, d, nullptr);
+        std::string why;
+        if (dpy == EGL_NO_DISPLAY) {
+            info_.rejected.push_back("device display: " + egl_error_name(eglGetError()));
+            return false;
+        }
+        if (try_display(dpy, "device", want_hardware, &why)) {
+            const char* ext = query_device_string(d, EGL_EXTENSIONS);
+            info_.egl_device_extensions = ext ? ext : "";
+            return true;
+        }
+        info_.rejected.push_back(why);
+        return false;
+    };
+
+    bool ok = false;
+    if (kind != DeviceKind::Cpu)
+        for (EGLDeviceEXT d : hardware)
+            if ((ok = try_device(d, true))) break;
+
+    if (!ok && kind == DeviceKind::Gpu) {
+        std::ostringstream os;
+        os << "device='gpu' was requested but no hardware EGL device offers an OpenGL 4.5 core "
+              "context (hardware EGL devices found: "
+           << hardware.size() << ", software: " << software.size() << ")";
+        for (const auto& r : info_.rejected) os << "; " << r;
+        os << ". Use device='auto' or device='cpu' to render with Mesa's llvmpipe.";
+        throw DeviceError(os.str());
+    }
+    if (!ok)
+        for (EGLDeviceEXT d : software)
+            if ((ok = try_device(d, false))) break;
+    if (!ok && get_platform_display && has_extension(client_ext, "EGL_MESA_platform_surfaceless")) {
+        EGLDisplay dpy = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        std::string why;
+        if (dpy != EGL_NO_DISPLAY && try_display(dpy, "surfaceless", false, &why)) ok = true;
+        else info_.rejected.push_back(why.empty() ? "surfaceless: no display" : why);
+    }
+    if (!ok) {
+        std::ostringstream os;
+        os << "could not open a headless OpenGL 4.5 core context through EGL";
+        for (const auto& r : info_.rejected) os << "; " << r;
+        os << ". On Debian, install libegl1, libopengl0, libegl-mesa0 and libgl1-mesa-dri.";
+        throw DeviceError(os.str());
+    }
+    enable_debug_output();
+}
+
+// Displays are never terminated here: EGL returns the same EGLDisplay for the same device to
+// every caller in the process, and eglTerminate would pull it from under other Renderers.
+bool EglContext::try_display(EGLDisplay dpy, const std::string& platform, bool want_hardware,
+                             std::string* why_not) {
+    EGLint major = 0, minor = 0;
+    if (!eglInitialize(dpy, &major, &minor)) {
+        *why_not = platform + ": eglInitialize failed (" + egl_error_name(eglGetError()) + ")";
+        return false;
+    }
+    const char* vendor = eglQueryString(dpy, EGL_VENDOR);
+    if (!eglBindAPI(EGL_OPENGL_API)) {
+        *why_not = platform + " (" + (vendor ? vendor : "?") + "): no desktop OpenGL API";
+        return false;
+    }
+    const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4,
+                              EGL_CONTEXT_MINOR_VERSION, 5,
+                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                              EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE,
+                              EGL_NONE};
+    // EGL_KHR_no_config_context + EGL_KHR_surfaceless_context: no surface at all, we
+    // render into framebuffer objects only.
+    EGLContext ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
+    if (ctx == EGL_NO_CONTEXT) {
+        *why_not = platform + " (" + (vendor ? vendor : "?") + "): no OpenGL 4.5 core context (" +
+                   egl_error_name(eglGetError()) + ")";
+        return false;
+    }
+    if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
+        *why_not = platform + ": eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")";
+        eglDestroyContext(dpy, ctx);
+        return false;
+    }
+    const std::string renderer = gl_string(GL_RENDERER);
+    if (want_hardware && is_software_renderer(renderer)) {
+        *why_not = platform + ": renderer '" + renderer + "' is a software rasterizer";
+        eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(dpy, ctx);
+        return false;
+    }
+    display_ = dpy;
+    context_ = ctx;
+    info_.chosen = is_software_renderer(renderer) ? "cpu" : "gpu";
+    info_.egl_platform = platform;
+    info_.egl_vendor = vendor ? vendor : "";
+    info_.egl_version = std::to_string(major) + "." + std::to_string(minor);
+    info_.gl_vendor = gl_string(GL_VENDOR);
+    info_.gl_renderer = renderer;
+    info_.gl_version = gl_string(GL_VERSION);
+    info_.glsl_version = gl_string(GL_SHADING_LANGUAGE_VERSION);
+    return true;
+}
+
+void EglContext::enable_debug_output() {
+    glEnable(GL_DEBUG_OUTPUT);
+    // Synchronous, so the callback runs inside the call that failed and check_gl() after a
+    // pass sees every error of that pass.
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    glDebugMessageCallback(on_gl_debug, this);
+    glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_TRUE);
+}
+
+EglContext::~EglContext() {
+    if (display_ != EGL_NO_DISPLAY) {
+        eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
+        // The display is shared by every context on that device in this process: leaving it
+        // initialised keeps other Renderers alive (eglTerminate would destroy their contexts).
+    }
+}
+
+void EglContext::make_current() {
+    if (eglGetCurrentContext() == context_) return;
+    if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
+        const EGLint e = eglGetError();
+        if (e == EGL_BAD_ACCESS)
+            throw GLError("this Renderer's GL context is current on another thread: use one Renderer per thread");
+        throw GLError("eglMakeCurrent failed: " + egl_error_name(e));
+    }
+}
+
+std::vector<std::string> EglContext::take_debug_errors() {
+    std::vector<std::string> out;
+    out.swap(debug_errors_);
+    return out;
+}
+
+void check_gl(EglContext& ctx, const char* where) {
+    std::vector<std::string> errors = ctx.take_debug_errors();
+    for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
+        std::ostringstream os;
+        os << "glGetError 0x" << std::hex << e;
+        errors.push_back(os.str());
+    }
+    if (errors.empty()) return;
+    std::ostringstream os;
+    os << "OpenGL error in " << where << ":";
+    for (const auto& e : errors) os << "\n  " << e;
+    throw GLError(os.str());
+}
+
+}  // namespace ssr

@@ -1,0 +1,222 @@
+#include "core/shader_library.h"
+
+#include "core/gl.h"
+
+#include <algorithm>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "core/errors.h"
+
+namespace fs = std::filesystem;
+
+namespace ssr {
+
+namespace {
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) throw ShaderError("cannot read shader file " + p.string(), p.string(), 0);
+    std::ostringstream os;
+    os << in.rdbuf();
+    return os.str();
+}
+
+GLenum stage_type(const std::string& file) {
+    const std::string ext = fs::path(file).extension().string();
+    if (ext == ".vert") return GL_VERTEX_SHADER;
+    if (ext == ".frag") return GL_FRAGMENT_SHADER;
+    if (ext == ".comp") return GL_COMPUTE_SHADER;
+    if (ext == ".geom") return GL_GEOMETRY_SHADER;
+    throw ShaderError("unknown shader stage extension '" + ext + "' of " + file, file, 0);
+}
+
+// Matches `#include "x"` with optional spaces.
+const std::regex& include_re() {
+    static const std::regex re(R"(^\s*#\s*include\s*"([^"]+)\"\s*$)");
+    return re;
+}
+
+}  // namespace
+
+ShaderLibrary::ShaderLibrary(fs::path root) : root_(std::move(root)) {
+    if (!fs::is_directory(root_))
+        throw ShaderError("shader folder not found: " + root_.string(), root_.string(), 0);
+}
+
+ShaderLibrary::~ShaderLibrary() {
+    // Programs die with the context that owns this library; nothing to do when it is gone.
+}
+
+void ShaderLibrary::append_file(const fs::path& file, const fs::path& display, Preprocessed& out,
+                                std::vector<std::string>& stack) const {
+    const std::string name = display.generic_string();
+    if (std::find(out.files.begin(), out.files.end(), name) != out.files.end()) return;  // once
+    const int index = int(out.files.size());
+    out.files.push_back(name);
+    stack.push_back(name);
+
+    std::istringstream in(read_text(file));
+    std::string line;
+    int line_no = 0;
+    out.text += "#line 1 " + std::to_string(index) + "\n";
+    while (std::getline(in, line)) {
+        ++line_no;
+        std::smatch m;
+        if (line.rfind("#version", 0) == 0) {
+            if (index != 0 || line_no != 1)
+                throw ShaderError(name + ":" + std::to_string(line_no) +
+                                      ": #version belongs on the first line of a stage file only",
+                                  name, line_no);
+            out.text += "\n";  // the stage's #version was emitted ahead of the defines
+            continue;
+        }
+        if (std::regex_match(line, m, include_re())) {
+            const std::string target = m[1].str();
+            fs::path resolved = file.parent_path() / target;
+            fs::path shown = display.parent_path() / target;
+            if (!fs::exists(resolved)) {
+                resolved = root_ / target;
+                shown = fs::path(target);
+            }
+            if (!fs::exists(resolved))
+                throw ShaderError(name + ":" + std::to_string(line_no) + ": #include \"" + target +
+                                      "\" not found (looked beside the file and under " +
+                                      root_.string() + ")",
+                                  name, line_no);
+            const std::string shown_name = shown.lexically_normal().generic_string();
+            if (std::find(stack.begin(), stack.end(), shown_name) != stack.end())
+                throw ShaderError(name + ":" + std::to_string(line_no) + ": #include cycle through " +
+                                      shown_name,
+                                  name, line_no);
+            append_file(resolved.lexically_normal(), shown.lexically_normal(), out, stack);
+            out.text += "#line " + std::to_string(line_no + 1) + " " + std::to_string(index) + "\n";
+            continue;
+        }
+        out.text += line;
+        out.text += "\n";
+    }
+    stack.pop_back();
+}
+
+ShaderLibrary::Preprocessed ShaderLibrary::preprocess(const std::string& stage, const Defines& defines) const {
+    Preprocessed out;
+    const fs::path file = root_ / stage;
+    {
+        std::ifstream probe(file);
+        std::string first;
+        if (!probe || !std::getline(probe, first))
+            throw ShaderError("cannot read shader file " + file.string(), stage, 0);
+        if (first.rfind("#version", 0) != 0)
+            throw ShaderError(stage + ":1: a stage file must start with #version", stage, 1);
+        out.text = first + "\n";
+    }
+    for (const auto& [name, value] : defines) out.text += "#define " + name + " " + value + "\n";
+    std::vector<std::string> stack;
+    append_file(file, fs::path(stage), out, stack);
+    return out;
+}
+
+std::string translate_shader_log(const std::string& log, const std::vector<std::string>& files,
+                                  std::string* first_file, int* first_line) {
+    // Mesa:   "0:12(5): error: ..."      NVIDIA: "0(12) : error C1008: ..."
+    static const std::regex mesa(R"(^(\d+):(\d+)\((\d+)\):\s*(.*)$)");
+    static const std::regex nvidia(R"(^(\d+)\((\d+)\)\s*:\s*(.*)$)");
+    std::istringstream in(log);
+    std::ostringstream out;
+    std::string line;
+    bool found = false;
+    while (std::getline(in, line)) {
+        std::smatch m;
+        int src = -1, ln = 0;
+        std::string msg;
+        if (std::regex_match(line, m, mesa)) {
+            src = std::stoi(m[1].str());
+            ln = std::stoi(m[2].str());
+            msg = m[4].str();
+        } else if (std::regex_match(line, m, nvidia)) {
+            src = std::stoi(m[1].str());
+            ln = std::stoi(m[2].str());
+            msg = m[3].str();
+        }
+        if (src >= 0) {
+            const std::string file = src < int(files.size()) ? files[size_t(src)] : ("<source " + std::to_string(src) + ">");
+            out << "shaders/" << file << ":" << ln << ": " << msg << "\n";
+            const bool is_error = msg.find("error") != std::string::npos;
+            if (is_error && !found) {
+                found = true;
+                if (first_file) *first_file = file;
+                if (first_line) *first_line = ln;
+            }
+        } else if (!line.empty()) {
+            out << line << "\n";
+        }
+    }
+    return out.str();
+}
+
+GLuint ShaderLibrary::compile_stage(const std::string& stage, const Defines& defines) const {
+    const Preprocessed src = preprocess(stage, defines);
+    const GLuint shader = glCreateShader(stage_type(stage));
+    const char* text = src.text.c_str();
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetShaderInfoLog(shader, len, nullptr, log.data());
+        glDeleteShader(shader);
+        std::string file = stage;
+        int line = 0;
+        const std::string translated = translate_shader_log(log.c_str(), src.files, &file, &line);
+        std::string defs;
+        for (const auto& [k, v] : defines) defs += " " + k + "=" + v;
+        throw ShaderError("GLSL compile error in shaders/" + file + ":" + std::to_string(line) +
+                              " (stage " + stage + (defs.empty() ? "" : ", defines" + defs) + ")\n" +
+                              translated,
+                          "shaders/" + file, line);
+    }
+    return shader;
+}
+
+GLuint ShaderLibrary::program(const std::vector<std::string>& stages, const Defines& defines) {
+    std::string key;
+    for (const auto& s : stages) key += s + "|";
+    for (const auto& [k, v] : defines) key += k + "=" + v + ";";
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+
+    std::vector<GLuint> shaders;
+    try {
+        for (const auto& s : stages) shaders.push_back(compile_stage(s, defines));
+    } catch (...) {
+        for (GLuint s : shaders) glDeleteShader(s);
+        throw;
+    }
+    const GLuint prog = glCreateProgram();
+    for (GLuint s : shaders) glAttachShader(prog, s);
+    glLinkProgram(prog);
+    for (GLuint s : shaders) {
+        glDetachShader(prog, s);
+        glDeleteShader(s);
+    }
+    GLint ok = GL_FALSE;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(prog, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(prog, len, nullptr, log.data());
+        glDeleteProgram(prog);
+        std::string joined;
+        for (const auto& s : stages) joined += (joined.empty() ? "" : " + ") + ("shaders/" + s);
+        throw ShaderError("GLSL link error in " + joined + "\n" + log.c_str(), "shaders/" + stages.front(), 0);
+    }
+    cache_[key] = prog;
+    return prog;
+}
+
+}  // namespace ssr

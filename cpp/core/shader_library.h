@@ -1,0 +1,59 @@
+// GLSL 4.50 programs built from the files under shaders/.
+//
+// A stage file starts with `#version 450 core`; it may `#include "lib/name.glsl"` shared
+// function files (resolved relative to the including file, then to the shader root, each
+// file at most once per stage). Variants are chosen by #defines, inserted after #version.
+// Compiled programs are cached per (stage files, defines). Every file gets its own GLSL
+// source-string number through `#line`, so compiler messages are translated back to
+// "shaders/<file>:<line>" and raised as ShaderError.
+#pragma once
+
+#include <GL/gl.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ssr {
+
+class EglContext;
+
+// Ordered so that the cache key of a variant does not depend on insertion order.
+using Defines = std::map<std::string, std::string>;
+
+class ShaderLibrary {
+public:
+    explicit ShaderLibrary(std::filesystem::path root);
+    ~ShaderLibrary();
+
+    // Returns the linked program for these stage files (e.g. {"passes/depth_peel.vert",
+    // "passes/depth_peel.frag"} or {"passes/lighting.comp"}) and defines.
+    GLuint program(const std::vector<std::string>& stages, const Defines& defines = {});
+
+    const std::filesystem::path& root() const { return root_; }
+    size_t cached_programs() const { return cache_.size(); }
+
+    struct Preprocessed {
+        std::string text;
+        std::vector<std::string> files;  // files[i] is GLSL source-string number i
+    };
+    // Exposed for tests and tooling: the source handed to the GL compiler.
+    Preprocessed preprocess(const std::string& stage, const Defines& defines) const;
+
+private:
+    void append_file(const std::filesystem::path& file, const std::filesystem::path& display,
+                     Preprocessed& out, std::vector<std::string>& stack) const;
+    GLuint compile_stage(const std::string& stage, const Defines& defines) const;
+
+    std::filesystem::path root_;
+    std::map<std::string, GLuint> cache_;
+};
+
+// Turns a driver's info log into "file:line: message" lines (Mesa and NVIDIA formats).
+// Returns the translated log; *first_file / *first_line receive the first error's place.
+std::string translate_shader_log(const std::string& log, const std::vector<std::string>& files,
+                                 std::string* first_file, int* first_line);
+
+}  // namespace ssr

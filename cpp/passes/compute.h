@@ -1,0 +1,22 @@
+// Small helpers shared by the compute passes.
+#pragma once
+
+#include "core/gl_resources.h"
+
+namespace ssr {
+
+// Binds every layer of `tex` (level `level`) as image unit `unit`.
+inline void bind_image_layered(GLuint unit, const Texture& tex, GLenum access, int level = 0) {
+    glBindImageTexture(unit, tex.id(), level, tex.target() == GL_TEXTURE_2D_ARRAY ? GL_TRUE : GL_FALSE, 0, access,
+                       tex.format());
+}
+
+// Dispatches ceil(width/gx) x ceil(height/gy) x depth work groups and makes the writes
+// visible to every later fetch, image load and readback.
+inline void dispatch_2d(int width, int height, int depth, int gx, int gy) {
+    glDispatchCompute(GLuint((width + gx - 1) / gx), GLuint((height + gy - 1) / gy), GLuint(depth));
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+}  // namespace ssr

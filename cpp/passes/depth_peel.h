@@ -1,0 +1,28 @@
+// depth_peel: the geometry pass, run once per layer (seed 000, 1.5.1 and 2.2).
+//   inputs : scene geometry and materials
+//   outputs: gbuffer.depth (DEPTH32F), gbuffer.albedo (SRGB8_ALPHA8: rgb base colour,
+//            a metallic), gbuffer.normal (RGBA16F: view-space normal, roughness),
+//            gbuffer.material (RGBA8: reflectivity, coverage), all 2D arrays of
+//            Settings.layers layers; depth_peel.previous_depth (scratch)
+// Layer 0 is the ordinary G-buffer. Layer i+1 re-renders the scene and discards every
+// fragment that is not strictly behind layer i's depth at that pixel, so it holds the
+// nearest surface behind layer i. Back-face culling is off by default, as in the thesis,
+// so back faces populate deeper layers. Each layer is timed as depth_peel.layer<i>.
+#pragma once
+
+#include "render/render_pass.h"
+
+namespace ssr {
+
+class DepthPeelPass : public RenderPass {
+public:
+    std::string name() const override { return "depth_peel"; }
+    std::vector<std::string> inputs() const override { return {}; }
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    void execute(FrameContext& ctx) override;
+
+private:
+    Framebuffer fbo_;
+};
+
+}  // namespace ssr

@@ -1,0 +1,49 @@
+// The result of Renderer::render: the frame's textures stay on the GPU and are read back
+// only when asked for (read()). A Frame keeps its textures (and the GL context) alive;
+// the renderer reuses a texture set once no Frame holds it any more.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/egl_context.h"
+#include "render/camera.h"
+#include "render/frame_uniforms.h"
+#include "render/render_pass.h"
+#include "render/settings.h"
+
+namespace ssr {
+
+class Renderer;
+
+struct Readback {
+    int layers = 1, height = 0, width = 0, channels = 4;
+    std::vector<float> data;  // (layers, height, width, 4), row 0 = top of the image
+};
+
+class Frame {
+public:
+    Frame(std::shared_ptr<EglContext> ctx, std::weak_ptr<Renderer> renderer, std::shared_ptr<FrameResources> resources);
+    ~Frame();
+
+    // All layers of a texture's mip `level`, as float RGBA (depth in channel 0).
+    Readback read(const std::string& name, int level = 0);
+    std::vector<std::string> texture_names() const;
+    bool has(const std::string& name) const { return resources_->has(name); }
+
+    std::map<std::string, double> timings;  // GPU milliseconds per pass (and per part)
+    double wall_ms = 0.0;                   // CPU time of Renderer::render, GPU finished
+    RenderSettings settings;
+    Camera camera;
+    FrameUniforms uniforms{};
+    std::vector<std::string> passes;        // the chain that ran, in order
+
+private:
+    std::shared_ptr<EglContext> ctx_;
+    std::weak_ptr<Renderer> renderer_;
+    std::shared_ptr<FrameResources> resources_;
+};
+
+}  // namespace ssr

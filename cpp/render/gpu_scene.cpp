@@ -1,0 +1,122 @@
+#include "render/gpu_scene.h"
+
+#include <array>
+
+#include "render/frame_uniforms.h"
+
+namespace ssr {
+
+GpuScene::VertexArray::~VertexArray() {
+    if (id) glDeleteVertexArrays(1, &id);
+}
+
+namespace {
+Texture solid_texture(uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
+    Texture t = Texture::create_2d(GL_RGBA8, 1, 1, 1);
+    const uint8_t px[4] = {r, g, b, a};
+    glTextureSubImage2D(t.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    t.set_wrap(GL_REPEAT, GL_REPEAT);
+    return t;
+}
+}  // namespace
+
+GpuScene::GpuScene(const Scene& scene) : revision_(scene.revision()) {
+    std::vector<GpuVertex> verts;
+    std::vector<uint32_t> idx;
+    struct Range { size_t first_index; GLsizei count; GLint base_vertex; };
+    std::vector<Range> ranges;
+    for (const Mesh& m : scene.meshes) {
+        Range r{idx.size(), GLsizei(m.indices.size()), GLint(verts.size())};
+        for (size_t i = 0; i < m.positions.size(); ++i) {
+            GpuVertex v{};
+            v.position = m.positions[i];
+            v.normal = m.normals[i];
+            v.uv = m.uvs.empty() ? glm::vec2(0.0f) : m.uvs[i];
+            v.tangent = m.tangents.empty() ? glm::vec4(0.0f) : m.tangents[i];
+            verts.push_back(v);
+        }
+        idx.insert(idx.end(), m.indices.begin(), m.indices.end());
+        ranges.push_back(r);
+    }
+    vertices_ = Buffer::create(verts.size() * sizeof(GpuVertex), verts.data());
+    indices_ = Buffer::create(idx.size() * sizeof(uint32_t), idx.data());
+
+    vao_ = std::make_unique<VertexArray>();
+    glCreateVertexArrays(1, &vao_->id);
+    glVertexArrayVertexBuffer(vao_->id, 0, vertices_.id(), 0, sizeof(GpuVertex));
+    glVertexArrayElementBuffer(vao_->id, indices_.id());
+    const GLuint offsets[4] = {offsetof(GpuVertex, position), offsetof(GpuVertex, normal), offsetof(GpuVertex, uv),
+                               offsetof(GpuVertex, tangent)};
+    const GLint sizes[4] = {3, 3, 2, 4};
+    for (GLuint a = 0; a < 4; ++a) {
+        glEnableVertexArrayAttrib(vao_->id, a);
+        glVertexArrayAttribFormat(vao_->id, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
+        glVertexArrayAttribBinding(vao_->id, a, 0);
+    }
+
+    white_ = solid_texture(255, 255, 255, 255);
+    flat_normal_ = solid_texture(128, 128, 255, 255);
+
+    std::vector<GpuMaterial> mats;
+    for (const Material& m : scene.materials) {
+        GpuMaterial g{};
+        g.base_color = m.base_color;
+        g.params = glm::vec4(m.metallic, m.roughness, m.reflectivity, m.normal_scale);
+        g.emissive = glm::vec4(m.emissive, 0.0f);
+        g.flags = glm::ivec4(m.base_color_texture.valid(), m.metallic_roughness_texture.valid(),
+                             m.normal_texture.valid(), m.double_sided);
+        mats.push_back(g);
+        material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
+                                      texture_for(scene, m.metallic_roughness_texture, false),
+                                      texture_for(scene, m.normal_texture, false)});
+    }
+    materials_ = Buffer::create(mats.size() * sizeof(GpuMaterial), mats.data());
+
+    std::vector<GpuObject> objs;
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& o = scene.objects[i];
+        GpuObject g{};
+        g.model = o.transform;
+        g.normal_matrix = glm::transpose(glm::inverse(o.transform));
+        g.material = glm::ivec4(o.material, 0, 0, 0);
+        objs.push_back(g);
+        const Range& r = ranges[size_t(o.mesh)];
+        draws_.push_back(DrawItem{int(i), o.material, r.count, r.first_index, r.base_vertex});
+        triangles_ += size_t(r.count) / 3;
+    }
+    objects_ = Buffer::create(objs.size() * sizeof(GpuObject), objs.data());
+    bounds_ = scene.bounds();
+}
+
+GLuint GpuScene::texture_for(const Scene& scene, const TextureRef& ref, bool srgb) {
+    if (!ref.valid()) return 0;
+    auto key = std::make_tuple(ref.image, srgb, ref.wrap_s, ref.wrap_t);
+    if (auto it = textures_.find(key); it != textures_.end()) return it->second.id();
+    const Image& img = scene.images[size_t(ref.image)];
+    Texture t = Texture::create_2d(srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, img.width, img.height, 0);
+    // glTF's uv (0,0) is the first row of the image file, which is also GL's first texel row,
+    // so the rows go up as they are.
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+    glGenerateTextureMipmap(t.id());
+    t.set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+    t.set_wrap(GLenum(ref.wrap_s), GLenum(ref.wrap_t));
+    const GLuint id = t.id();
+    textures_.emplace(key, std::move(t));
+    return id;
+}
+
+void GpuScene::bind_geometry() const {
+    glBindVertexArray(vao_->id);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kObjectsBinding, objects_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialsBinding, materials_.id());
+}
+
+void GpuScene::bind_material_textures(int material) const {
+    const auto& t = material_textures_[size_t(material)];
+    glBindTextureUnit(0, t[0] ? t[0] : white_.id());
+    glBindTextureUnit(1, t[1] ? t[1] : white_.id());
+    glBindTextureUnit(2, t[2] ? t[2] : flat_normal_.id());
+}
+
+}  // namespace ssr

@@ -1,0 +1,76 @@
+// A render pass: one unit that declares the textures it reads and the textures it writes,
+// in the spirit of Falcor's render passes. A frame is an ordered chain of passes
+// (Renderer::build_chain); the renderer allocates every declared output, checks that each
+// input was written by an earlier pass, times each pass on the GPU and checks GL errors
+// after it. Texture names are shared with Python: frame.read("gbuffer.normal").
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/egl_context.h"
+#include "core/gl_resources.h"
+#include "core/gpu_timer.h"
+#include "core/shader_library.h"
+#include "render/camera.h"
+#include "render/depth_convention.h"
+#include "render/frame_uniforms.h"
+#include "render/gpu_scene.h"
+#include "render/settings.h"
+
+namespace ssr {
+
+struct ResourceDesc {
+    std::string name;
+    GLenum format = GL_RGBA8;
+    int width = 0, height = 0;
+    int layers = 0;  // 0: a 2D texture; n >= 1: a 2D array of n layers
+    int levels = 1;  // 0: a full mip chain
+    bool operator==(const ResourceDesc& o) const {
+        return name == o.name && format == o.format && width == o.width && height == o.height &&
+               layers == o.layers && levels == o.levels;
+    }
+};
+
+// The textures of one frame, by name.
+class FrameResources {
+public:
+    Texture& get(const std::string& name);
+    const Texture& get(const std::string& name) const;
+    bool has(const std::string& name) const { return textures_.count(name) != 0; }
+    void allocate(const std::vector<ResourceDesc>& descs);
+    const std::vector<ResourceDesc>& descs() const { return descs_; }
+
+private:
+    std::map<std::string, Texture> textures_;
+    std::vector<ResourceDesc> descs_;
+};
+
+// What a pass may use while it executes.
+struct FrameContext {
+    EglContext& gl;
+    ShaderLibrary& shaders;
+    GpuTimer& timer;
+    const RenderSettings& settings;
+    const Scene& scene;
+    const GpuScene& gpu_scene;
+    const Camera& camera;
+    const DepthConvention& depth;
+    const FrameUniforms& uniforms;
+    FrameResources& resources;
+    Defines defines;  // common shader defines (depth convention, ...)
+};
+
+class RenderPass {
+public:
+    virtual ~RenderPass() = default;
+    // The name the papers give the pass; also its timer and error label.
+    virtual std::string name() const = 0;
+    virtual std::vector<std::string> inputs() const = 0;
+    virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
+    virtual void execute(FrameContext& ctx) = 0;
+};
+
+}  // namespace ssr

@@ -1,0 +1,245 @@
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <glm/gtc/matrix_transform.hpp>
+#include <set>
+
+#include "core/errors.h"
+
+namespace ssr {
+
+namespace {
+constexpr size_t kSceneCacheSize = 8;
+constexpr size_t kPoolSize = 4;  // idle texture sets kept for reuse
+}  // namespace
+
+std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std::string& shader_dir) {
+    return std::shared_ptr<Renderer>(new Renderer(device, shader_dir));
+}
+
+Renderer::Renderer(const std::string& device, const std::string& shader_dir)
+    : ctx_(std::make_shared<EglContext>(parse_device_kind(device))),
+      shaders_(std::make_unique<ShaderLibrary>(shader_dir)) {
+    ctx_->make_current();
+    frame_ubo_ = Buffer::create(sizeof(FrameUniforms));
+    glCreateSamplers(1, &readback_sampler_);
+    glSamplerParameteri(readback_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glSamplerParameteri(readback_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(readback_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    check_gl(*ctx_, "renderer start-up");
+}
+
+Renderer::~Renderer() {
+    try {
+        ctx_->make_current();
+    } catch (...) {
+    }
+    if (readback_sampler_) glDeleteSamplers(1, &readback_sampler_);
+}
+
+const GpuScene& Renderer::gpu_scene(const Scene& scene) {
+    for (auto it = scenes_.begin(); it != scenes_.end(); ++it) {
+        if (it->id == scene.id()) {
+            if (it->gpu->revision() != scene.revision()) it->gpu = std::make_unique<GpuScene>(scene);
+            scenes_.splice(scenes_.begin(), scenes_, it);
+            return *scenes_.front().gpu;
+        }
+    }
+    scenes_.push_front(CachedScene{scene.id(), std::make_unique<GpuScene>(scene)});
+    if (scenes_.size() > kSceneCacheSize) scenes_.pop_back();
+    return *scenes_.front().gpu;
+}
+
+std::shared_ptr<FrameResources> Renderer::acquire(const std::vector<ResourceDesc>& descs) {
+    // A texture set no Frame holds any more (use_count 1: only the pool) is reused as is
+    // when its descriptions match.
+    for (auto& r : pool_)
+        if (r.use_count() == 1 && r->descs() == descs) return r;
+    pool_.erase(std::remove_if(pool_.begin(), pool_.end(), [](const auto& r) { return r.use_count() == 1; }),
+                pool_.end());
+    auto fresh = std::make_shared<FrameResources>();
+    fresh->allocate(descs);
+    pool_.push_back(fresh);
+    return fresh;
+}
+
+std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool shadows) {
+    std::vector<RenderPass*> chain;
+    if (shadows) chain.push_back(&shadow_map_);
+    chain.push_back(&depth_peel_);
+    chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
+    chain.push_back(&composite_);
+    return chain;
+}
+
+std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s) {
+    const auto wall_start = std::chrono::steady_clock::now();
+    s.validate();
+    camera.validate();
+    ctx_->make_current();
+    check_gl(*ctx_, "render (an earlier call left a GL error)");
+
+    const GpuScene& gs = gpu_scene(scene);
+    check_gl(*ctx_, "scene upload");
+    const DepthConvention depth{s.depth_mode};
+    const ShadowSetup shadow = ShadowMapPass::fit(scene, gs.bounds(), s);
+    shadow_map_.set_setup(shadow);
+
+    // Frame constants.
+    FrameUniforms u{};
+    const float aspect = float(s.width) / float(s.height);
+    u.view = camera.view();
+    u.inv_view = glm::inverse(u.view);
+    u.proj = camera.projection(depth, aspect);
+    u.inv_proj = glm::inverse(u.proj);
+    const glm::mat4 to_unit = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f));
+    u.view_to_shadow = to_unit * shadow.light_view_proj * u.inv_view;
+    u.viewport = glm::vec4(s.width, s.height, 1.0f / float(s.width), 1.0f / float(s.height));
+    u.clip = glm::vec4(camera.near_plane, camera.far_plane, float(s.layers), float(scene.lights.size()));
+    u.ambient = glm::vec4(scene.ambient, 0.0f);
+    u.shadow = glm::vec4(shadow.enabled ? 1.0f : 0.0f, shadow.texel_world_size, s.shadow_normal_offset,
+                         float(s.shadow_pcf_radius));
+    const Environment& env = scene.environment;
+    u.env_params = glm::vec4(float(int(env.type)), env.intensity, 0.0f, 0.0f);
+    u.env_color = glm::vec4(env.color, 0.0f);
+    u.env_zenith = glm::vec4(env.sky_zenith, 0.0f);
+    u.env_horizon = glm::vec4(env.sky_horizon, 0.0f);
+    u.env_ground = glm::vec4(env.ground, 0.0f);
+    frame_ubo_.upload(&u, sizeof(u));
+    glBindBufferBase(GL_UNIFORM_BUFFER, kFrameUniformsBinding, frame_ubo_.id());
+
+    std::vector<GpuLight> lights;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        GpuLight g{};
+        g.position_type = glm::vec4(glm::vec3(u.view * glm::vec4(l.position, 1.0f)),
+                                    l.type == Light::Type::Directional ? 0.0f : 1.0f);
+        g.direction_shadow = glm::vec4(glm::mat3(u.view) * glm::normalize(l.direction),
+                                       (shadow.enabled && int(i) == shadow.light) ? 1.0f : 0.0f);
+        g.radiance = glm::vec4(l.color * l.intensity, 0.0f);
+        lights.push_back(g);
+    }
+    const size_t light_bytes = std::max<size_t>(lights.size() * sizeof(GpuLight), sizeof(GpuLight));
+    if (lights_ssbo_.size() < light_bytes) lights_ssbo_ = Buffer::create(light_bytes);
+    if (!lights.empty()) lights_ssbo_.upload(lights.data(), lights.size() * sizeof(GpuLight));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_ssbo_.id());
+
+    // The chain, its resources, and a check that every input is written before it is read.
+    const std::vector<RenderPass*> chain = build_chain(s, shadow.enabled);
+    std::vector<ResourceDesc> descs;
+    std::set<std::string> written;
+    for (RenderPass* p : chain) {
+        for (const auto& in : p->inputs())
+            if (!written.count(in))
+                throw GLError("pass " + p->name() + " reads '" + in + "', which no earlier pass writes");
+        for (const auto& d : p->outputs(s)) {
+            descs.push_back(d);
+            written.insert(d.name);
+        }
+    }
+    auto resources = acquire(descs);
+    check_gl(*ctx_, "frame allocation");
+
+    Defines defines;
+    depth.add_defines(defines);
+    FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
+    auto frame = std::make_shared<Frame>(ctx_, weak_from_this(), resources);
+    timer_.begin_frame();
+    for (RenderPass* p : chain) {
+        {
+            GpuScope t(timer_, p->name());
+            p->execute(fc);
+        }
+        check_gl(*ctx_, p->name().c_str());
+        frame->passes.push_back(p->name());
+    }
+    frame->timings = timer_.resolve();
+    double total = 0.0;
+    for (const auto& name : frame->passes) total += frame->timings[name];
+    frame->timings["total"] = total;
+    frame->settings = s;
+    frame->camera = camera;
+    frame->uniforms = u;
+    frame->wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
+    // Keep at most kPoolSize idle sets.
+    size_t idle = 0;
+    pool_.erase(std::remove_if(pool_.begin(), pool_.end(),
+                               [&](const auto& r) { return r.use_count() == 1 && ++idle > kPoolSize; }),
+                pool_.end());
+    return frame;
+}
+
+void Renderer::check_errors() {
+    ctx_->make_current();
+    check_gl(*ctx_, "(between calls)");
+}
+
+unsigned Renderer::compile(const std::vector<std::string>& stages, const Defines& defines) {
+    ctx_->make_current();
+    const unsigned prog = shaders_->program(stages, defines);
+    check_gl(*ctx_, "shader compile");
+    return prog;
+}
+
+Readback Renderer::read_texture(const Texture& tex, int level) {
+    ctx_->make_current();
+    if (level < 0 || level >= tex.levels())
+        throw std::invalid_argument("mip level " + std::to_string(level) + " out of range (texture has " +
+                                    std::to_string(tex.levels()) + ")");
+    Readback out;
+    out.width = std::max(tex.width() >> level, 1);
+    out.height = std::max(tex.height() >> level, 1);
+    out.layers = tex.target() == GL_TEXTURE_2D_ARRAY ? tex.layers() : 1;
+    const size_t bytes = size_t(out.width) * size_t(out.height) * size_t(out.layers) * 4 * sizeof(float);
+    if (readback_ssbo_.size() < bytes) readback_ssbo_ = Buffer::create(bytes);
+    Defines d;
+    d["READ_ARRAY"] = tex.target() == GL_TEXTURE_2D_ARRAY ? "1" : "0";
+    const GLuint prog = shaders_->program({"passes/readback.comp"}, d);
+    glUseProgram(prog);
+    glUniform1i(glGetUniformLocation(prog, "u_level"), level);
+    glUniform2i(glGetUniformLocation(prog, "u_size"), out.width, out.height);
+    glBindTextureUnit(0, tex.id());
+    glBindSampler(0, readback_sampler_);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, readback_ssbo_.id());
+    glDispatchCompute(GLuint((out.width + 7) / 8), GLuint((out.height + 7) / 8), GLuint(out.layers));
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindSampler(0, 0);
+    out.data.resize(bytes / sizeof(float));
+    glGetNamedBufferSubData(readback_ssbo_.id(), 0, GLsizeiptr(bytes), out.data.data());
+    check_gl(*ctx_, "readback");
+    return out;
+}
+
+// ------------------------------------------------------------------------------------------
+
+Frame::Frame(std::shared_ptr<EglContext> ctx, std::weak_ptr<Renderer> renderer, std::shared_ptr<FrameResources> res)
+    : ctx_(std::move(ctx)), renderer_(std::move(renderer)), resources_(std::move(res)) {}
+
+Frame::~Frame() {
+    // The textures may be freed now (when the renderer is gone): their context must be current.
+    try {
+        ctx_->make_current();
+    } catch (...) {
+    }
+    resources_.reset();
+}
+
+Readback Frame::read(const std::string& name, int level) {
+    auto r = renderer_.lock();
+    if (!r) throw GLError("the Renderer that made this frame has been closed; read what you need before closing it");
+    if (!resources_->has(name)) {
+        std::string known;
+        for (const auto& n : texture_names()) known += (known.empty() ? "" : ", ") + n;
+        throw std::invalid_argument("frame has no texture '" + name + "' (it has: " + known + ")");
+    }
+    return r->read_texture(resources_->get(name), level);
+}
+
+std::vector<std::string> Frame::texture_names() const {
+    std::vector<std::string> names;
+    for (const auto& d : resources_->descs()) names.push_back(d.name);
+    return names;
+}
+
+}  // namespace ssr

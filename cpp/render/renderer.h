@@ -1,0 +1,62 @@
+// The renderer: owns the EGL context, the shader library, the GPU copies of scenes and the
+// passes, and runs a frame as a chain of passes (build_chain). One Renderer per thread.
+#pragma once
+
+#include <list>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/egl_context.h"
+#include "core/gpu_timer.h"
+#include "core/shader_library.h"
+#include "passes/composite.h"
+#include "passes/depth_peel.h"
+#include "passes/lighting.h"
+#include "passes/shadow_map.h"
+#include "render/frame.h"
+#include "render/gpu_scene.h"
+
+namespace ssr {
+
+class Renderer : public std::enable_shared_from_this<Renderer> {
+public:
+    static std::shared_ptr<Renderer> create(const std::string& device, const std::string& shader_dir);
+    ~Renderer();
+
+    std::shared_ptr<Frame> render(const Scene& scene, const Camera& camera, const RenderSettings& settings);
+    DeviceInfo info() const { return ctx_->info(); }
+    void check_errors();
+    ShaderLibrary& shaders() { return *shaders_; }
+    // Compiles a program in this renderer's context (tests and tooling); raises ShaderError.
+    unsigned compile(const std::vector<std::string>& stages, const Defines& defines);
+
+    // Used by Frame::read: copies a texture level into host memory through readback.comp.
+    Readback read_texture(const Texture& tex, int level);
+
+private:
+    Renderer(const std::string& device, const std::string& shader_dir);
+    const GpuScene& gpu_scene(const Scene& scene);
+    std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
+    std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows);
+
+    std::shared_ptr<EglContext> ctx_;  // first member: destroyed last, after every GL object
+    std::unique_ptr<ShaderLibrary> shaders_;
+    GpuTimer timer_;
+    Buffer frame_ubo_, lights_ssbo_, readback_ssbo_;
+    GLuint readback_sampler_ = 0;
+
+    struct CachedScene {
+        uint64_t id = 0;
+        std::unique_ptr<GpuScene> gpu;
+    };
+    std::list<CachedScene> scenes_;  // most recently used first
+    std::vector<std::shared_ptr<FrameResources>> pool_;
+
+    ShadowMapPass shadow_map_;
+    DepthPeelPass depth_peel_;
+    LightingPass lighting_shadowed_{true}, lighting_unshadowed_{false};
+    CompositePass composite_;
+};
+
+}  // namespace ssr

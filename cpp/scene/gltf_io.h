@@ -1,0 +1,20 @@
+// glTF 2.0 (.gltf and .glb) import and export with tinygltf; images through OpenImageIO.
+#pragma once
+
+#include <string>
+
+#include "scene/scene.h"
+
+namespace ssr {
+
+// Appends the default scene of a glTF file to `scene`, each node's world transform
+// premultiplied by `transform`. Returns the index of the first object added.
+// Throws FileNotFound or SceneError; messages name the file and the offending object.
+int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform = glm::mat4(1.0f));
+
+// Writes `scene` as glTF 2.0: binary (.glb, everything embedded) or JSON (.gltf + a .bin
+// beside it, images embedded in the buffer). Lights use KHR_lights_punctual; reflectivity,
+// the ambient term and the environment travel in `extras`, so loading gives back the same scene.
+void save_gltf(const Scene& scene, const std::string& path);
+
+}  // namespace ssr

@@ -1,0 +1,32 @@
+// Image files through OpenImageIO: texture decoding (any format OIIO reads, from a file or
+// from memory), PNG encoding for glTF export, and float images for G-buffer EXR output and
+// environment maps.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace ssr {
+
+// Decodes a file to RGBA8. Throws FileNotFound / SceneError naming the file.
+Image decode_image_file(const std::string& path);
+// Decodes bytes (e.g. a glb buffer view) to RGBA8; `hint` is a MIME type or extension.
+Image decode_image_memory(const uint8_t* data, size_t size, const std::string& hint, const std::string& what);
+// Encodes RGBA8 as PNG bytes.
+std::vector<uint8_t> encode_png(const Image& image);
+
+struct FloatImage {
+    int width = 0, height = 0, channels = 0;
+    std::vector<float> pixels;  // row-major, row 0 = top
+    std::vector<std::string> channel_names;
+};
+
+FloatImage read_float_image(const std::string& path);
+// Writes float pixels; the file's extension picks the format. 8-bit formats (PNG, JPEG)
+// receive values clamped to [0,1] and quantised; EXR keeps float (half when `half` is true).
+void write_float_image(const std::string& path, const FloatImage& image, bool half = false);
+
+}  // namespace ssr

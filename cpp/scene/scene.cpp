@@ -1,0 +1,134 @@
+#include "scene/scene.h"
+
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace ssr {
+
+namespace {
+uint64_t next_scene_id() {
+    static std::atomic<uint64_t> counter{1};
+    return counter++;
+}
+}  // namespace
+
+Scene::Scene() : id_(next_scene_id()) {}
+Scene::Scene(const Scene& o) { *this = o; }
+Scene& Scene::operator=(const Scene& o) {
+    name = o.name;
+    meshes = o.meshes;
+    materials = o.materials;
+    images = o.images;
+    objects = o.objects;
+    lights = o.lights;
+    ambient = o.ambient;
+    environment = o.environment;
+    camera = o.camera;
+    revision_ = 0;
+    id_ = next_scene_id();  // a copy is another scene for GPU caches
+    return *this;
+}
+
+std::vector<glm::vec3> compute_vertex_normals(const std::vector<glm::vec3>& p, const std::vector<uint32_t>& idx) {
+    std::vector<glm::vec3> n(p.size(), glm::vec3(0.0f));
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+        const glm::vec3 &a = p[idx[t]], &b = p[idx[t + 1]], &c = p[idx[t + 2]];
+        const glm::vec3 face = glm::cross(b - a, c - a);  // length = 2 * area: area weighting
+        n[idx[t]] += face;
+        n[idx[t + 1]] += face;
+        n[idx[t + 2]] += face;
+    }
+    for (auto& v : n) {
+        const float len = glm::length(v);
+        v = len > 0.0f ? v / len : glm::vec3(0.0f, 1.0f, 0.0f);
+    }
+    return n;
+}
+
+int Scene::add_mesh(Mesh m) {
+    const std::string what = "mesh '" + m.name + "'";
+    if (m.positions.empty()) throw std::invalid_argument(what + ": no vertices");
+    if (m.indices.empty()) {
+        if (m.positions.size() % 3 != 0)
+            throw std::invalid_argument(what + ": a non-indexed triangle list needs a multiple of 3 vertices, got " +
+                                        std::to_string(m.positions.size()));
+        m.indices.resize(m.positions.size());
+        for (size_t i = 0; i < m.indices.size(); ++i) m.indices[i] = uint32_t(i);
+    }
+    if (m.indices.size() % 3 != 0)
+        throw std::invalid_argument(what + ": index count " + std::to_string(m.indices.size()) +
+                                    " is not a multiple of 3");
+    for (size_t i = 0; i < m.indices.size(); ++i)
+        if (m.indices[i] >= m.positions.size())
+            throw std::invalid_argument(what + ": index " + std::to_string(m.indices[i]) + " at position " +
+                                        std::to_string(i) + " is out of range (" +
+                                        std::to_string(m.positions.size()) + " vertices)");
+    for (const auto& p : m.positions)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw std::invalid_argument(what + ": vertex positions contain NaN or Inf");
+    if (m.normals.empty()) m.normals = compute_vertex_normals(m.positions, m.indices);
+    if (m.normals.size() != m.positions.size())
+        throw std::invalid_argument(what + ": " + std::to_string(m.normals.size()) + " normals for " +
+                                    std::to_string(m.positions.size()) + " vertices");
+    for (auto& n : m.normals) {
+        // Renormalise only what is visibly off unit length: dividing an already unit vector
+        // by its length changes its last bits, and a saved scene must load back bit-exact.
+        const float len = glm::length(n);
+        if (!std::isfinite(len) || len < 1e-12f) n = glm::vec3(0.0f, 1.0f, 0.0f);
+        else if (std::abs(len - 1.0f) > 1e-5f) n /= len;
+    }
+    if (!m.uvs.empty() && m.uvs.size() != m.positions.size())
+        throw std::invalid_argument(what + ": " + std::to_string(m.uvs.size()) + " texture coordinates for " +
+                                    std::to_string(m.positions.size()) + " vertices");
+    if (!m.tangents.empty() && m.tangents.size() != m.positions.size())
+        throw std::invalid_argument(what + ": " + std::to_string(m.tangents.size()) + " tangents for " +
+                                    std::to_string(m.positions.size()) + " vertices");
+    meshes.push_back(std::move(m));
+    touch();
+    return int(meshes.size()) - 1;
+}
+
+int Scene::add_material(const Material& m) {
+    materials.push_back(m);
+    touch();
+    return int(materials.size()) - 1;
+}
+
+int Scene::add_object(int mesh, int material, const glm::mat4& transform, const std::string& obj_name) {
+    if (mesh < 0 || mesh >= int(meshes.size()))
+        throw std::invalid_argument("object '" + obj_name + "': mesh index " + std::to_string(mesh) + " out of range");
+    if (material < 0 || material >= int(materials.size()))
+        throw std::invalid_argument("object '" + obj_name + "': material index " + std::to_string(material) +
+                                    " out of range");
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(transform[c][r]))
+                throw std::invalid_argument("object '" + obj_name + "': transform contains NaN or Inf");
+    objects.push_back(Object{obj_name, mesh, material, transform});
+    touch();
+    return int(objects.size()) - 1;
+}
+
+int Scene::add_light(const Light& l) {
+    lights.push_back(l);
+    touch();
+    return int(lights.size()) - 1;
+}
+
+size_t Scene::triangle_count() const {
+    size_t n = 0;
+    for (const auto& o : objects) n += meshes[size_t(o.mesh)].triangle_count();
+    return n;
+}
+
+Bounds Scene::bounds() const {
+    Bounds b;
+    for (const auto& o : objects) {
+        for (const auto& p : meshes[size_t(o.mesh)].positions) b.extend(glm::vec3(o.transform * glm::vec4(p, 1.0f)));
+    }
+    return b;
+}
+
+}  // namespace ssr

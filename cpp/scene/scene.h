@@ -1,0 +1,144 @@
+// The scene: triangle meshes, metallic-roughness materials, images, object instances with
+// world transforms, punctual lights, an ambient term and an environment.
+//
+// Node hierarchies of loaded glTF files are flattened into objects (one per mesh primitive)
+// with their world transforms; Scene::save writes them back as glTF 2.0, so a scene made
+// here opens in Blender, Mitsuba or any viewer and loads back identically.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ssr {
+
+// An 8-bit RGBA image (textures are decoded to RGBA8 whatever their file format).
+struct Image {
+    std::string name;
+    std::string source;  // file or "<embedded>" it was decoded from, for error messages
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgba;  // row 0 = first row of the file (top of the image)
+};
+
+struct TextureRef {
+    int image = -1;                 // index into Scene::images, -1 = none
+    int wrap_s = 10497, wrap_t = 10497;  // glTF/GL wrap modes (REPEAT)
+    int texcoord = 0;
+    bool valid() const { return image >= 0; }
+};
+
+// glTF 2.0 metallic-roughness material plus the thesis's reflectivity.
+struct Material {
+    std::string name;
+    glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};  // linear RGB, alpha
+    float metallic = 0.0f;
+    float roughness = 0.5f;      // perceptual roughness as in glTF; GGX alpha = roughness^2
+    float reflectivity = 0.0f;   // r of the thesis's composite c = r*c_r + (1-r)*c_d (seed 000, 2.4)
+    glm::vec3 emissive{0.0f};
+    TextureRef base_color_texture;          // sRGB
+    TextureRef metallic_roughness_texture;  // linear: G = roughness, B = metallic
+    TextureRef normal_texture;              // linear, tangent space
+    float normal_scale = 1.0f;
+    bool double_sided = false;   // back faces get flipped normals (glTF doubleSided)
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;   // always filled (computed when the source has none)
+    std::vector<glm::vec2> uvs;       // empty when the source has none
+    std::vector<glm::vec4> tangents;  // empty when the source has none (derivative TBN is used)
+    std::vector<uint32_t> indices;    // triangle list, always indexed after loading
+    size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct Object {
+    std::string name;
+    int mesh = -1;
+    int material = -1;
+    glm::mat4 transform{1.0f};  // object to world
+};
+
+struct Light {
+    enum class Type { Directional, Point };
+    std::string name;
+    Type type = Type::Directional;
+    glm::vec3 color{1.0f};
+    // Directional: irradiance on a surface facing the light (W/m^2).
+    // Point: radiant intensity (W/sr); irradiance falls off as 1/d^2.
+    float intensity = 1.0f;
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // directional: the direction light travels
+    glm::vec3 position{0.0f};                // point
+    bool cast_shadow = false;  // honoured for the first directional light that asks for it
+};
+
+// What a reflection ray that leaves the screen (or is faded) sees.
+struct Environment {
+    enum class Type { Constant, Sky, Map };
+    Type type = Type::Constant;
+    glm::vec3 color{0.0f};            // Constant
+    glm::vec3 sky_zenith{0.25f, 0.45f, 0.85f}, sky_horizon{0.8f, 0.85f, 0.9f}, ground{0.3f, 0.28f, 0.25f};  // Sky
+    std::string map_path;             // Map: an equirectangular image (EXR/HDR/PNG)
+    float intensity = 1.0f;
+};
+
+struct CameraDesc {
+    glm::vec3 position{0.0f, 0.0f, 5.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fov_y_degrees = 60.0f;
+    float near_plane = 0.1f;
+    float far_plane = 100.0f;
+};
+
+struct Bounds {
+    glm::vec3 min{1e30f}, max{-1e30f};
+    bool empty() const { return min.x > max.x; }
+    void extend(const glm::vec3& p) {
+        min = glm::min(min, p);
+        max = glm::max(max, p);
+    }
+};
+
+class Scene {
+public:
+    std::string name = "scene";
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<Image> images;
+    std::vector<Object> objects;
+    std::vector<Light> lights;
+    glm::vec3 ambient{0.03f};  // constant ambient radiance, times albedo
+    Environment environment;
+    std::optional<CameraDesc> camera;  // a default view (from the file or the scene builder)
+
+    // Renderers cache GPU copies of a scene; any change bumps the revision.
+    uint64_t revision() const { return revision_; }
+    void touch() { ++revision_; }
+    uint64_t id() const { return id_; }
+
+    int add_mesh(Mesh mesh);             // validates indices/sizes, fills normals if empty
+    int add_material(const Material& m);
+    int add_object(int mesh, int material, const glm::mat4& transform, const std::string& name);
+    int add_light(const Light& l);
+
+    size_t triangle_count() const;       // summed over objects (instanced)
+    Bounds bounds() const;               // world-space bounds of all objects
+
+    Scene();
+    Scene(const Scene& other);
+    Scene& operator=(const Scene& other);
+
+private:
+    uint64_t revision_ = 0;
+    uint64_t id_ = 0;
+};
+
+// Area-weighted vertex normals for an indexed triangle list.
+std::vector<glm::vec3> compute_vertex_normals(const std::vector<glm::vec3>& positions,
+                                              const std::vector<uint32_t>& indices);
+
+}  // namespace ssr

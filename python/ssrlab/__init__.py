@@ -1,0 +1,24 @@
+"""ssrlab: screen-space reflections over deep, multi-layered G-buffers.
+
+    import ssrlab
+    renderer = ssrlab.Renderer()                        # GPU EGL device, else llvmpipe
+    scene = ssrlab.scenes.spheres_and_boxes(seed=1)
+    frame = renderer.render(scene, settings=ssrlab.Settings(layers=4))
+    frame.color             # (H, W, 3) float32, row 0 at the top
+    frame.gbuffer.depth     # (layers, H, W) view-space depth
+    frame.timings           # GPU milliseconds per pass
+"""
+
+from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
+from . import io, models, scenes, transforms
+from .renderer import Frame, GBuffer, Renderer, shader_dir
+from .scene import Scene, directional_light, point_light
+from .settings import Settings
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Camera", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material", "Renderer",
+    "Scene", "SceneError", "Settings", "ShaderError", "directional_light", "models", "point_light", "scenes",
+    "shader_dir", "transforms",
+]

@@ -1,0 +1,35 @@
+"""Where the glTF sample models live (they are not part of the package).
+
+Search order: the folders in $SSRLAB_MODELS (os.pathsep-separated), then ``shared/models``
+and ``../shared/models`` beside the current folder and beside the source checkout.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+_FILES = {
+    "Suzanne": "Suzanne/Suzanne.gltf",
+    "2CylinderEngine": "2CylinderEngine/2CylinderEngine.glb",
+}
+
+
+def search_path() -> list[Path]:
+    paths = [Path(p) for p in os.environ.get("SSRLAB_MODELS", "").split(os.pathsep) if p]
+    here = Path(__file__).resolve()
+    for base in [Path.cwd(), *here.parents]:
+        paths += [base / "shared" / "models", base.parent / "shared" / "models"]
+    return paths
+
+
+def find(name: str) -> Path:
+    """The path of a sample model by name ('Suzanne', '2CylinderEngine') or relative file."""
+    rel = _FILES.get(name, name)
+    for folder in search_path():
+        candidate = folder / rel
+        if candidate.is_file():
+            return candidate
+    raise FileNotFoundError(
+        f"model {name!r} ({rel}) not found; set SSRLAB_MODELS to the folder holding the glTF sample models "
+        f"(looked in: {', '.join(str(p) for p in search_path()[:4])}, ...)")

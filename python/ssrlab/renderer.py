@@ -1,0 +1,192 @@
+"""The renderer and its frames.
+
+``Renderer`` owns a headless OpenGL 4.5 context (EGL): the GPU's EGL device when there is
+one, Mesa's llvmpipe otherwise. ``Renderer.render`` runs the frame's chain of passes and
+returns a ``Frame`` whose images stay on the GPU until a property reads them (then they
+are cached as float32 numpy arrays, row 0 at the top of the image).
+"""
+
+from __future__ import annotations
+
+import functools
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from . import _core
+from .settings import Settings
+
+
+def shader_dir() -> Path:
+    """The GLSL sources installed with the package."""
+    return Path(str(resources.files("ssrlab") / "shaders"))
+
+
+class Renderer:
+    """A headless renderer.
+
+    device: "auto" (the GPU's EGL device when there is one, else llvmpipe), "gpu" (raise
+    DeviceError when there is no GPU) or "cpu" (Mesa's llvmpipe).
+    One Renderer per thread; it can render any number of scenes, cameras and settings.
+    """
+
+    def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None):
+        if device not in ("auto", "gpu", "cpu"):
+            raise ValueError(f"Renderer.device must be 'auto', 'gpu' or 'cpu', got {device!r}")
+        folder = Path(shader_dir) if shader_dir is not None else globals()["shader_dir"]()
+        self._native = _core.Renderer(device=device, shader_dir=str(folder))
+        self.device = device
+
+    @functools.cached_property
+    def info(self) -> dict:
+        """Vendor, renderer, GL version and the device chosen."""
+        return dict(self._native.info())
+
+    def render(self, scene: _core.Scene, camera: _core.Camera | None = None,
+               settings: Settings | None = None, **overrides) -> "Frame":
+        """Renders `scene` seen by `camera` (default: the scene's own camera).
+
+        `overrides` change single settings: ``render(scene, layers=4)``.
+        """
+        settings = settings if settings is not None else Settings()
+        if not isinstance(settings, Settings):
+            raise TypeError(f"settings must be an ssrlab.Settings, got {type(settings).__name__}")
+        if overrides:
+            settings = settings.replace(**overrides)
+        if camera is None:
+            camera = scene.camera
+            if camera is None:
+                raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
+        native = self._native.render(scene, camera, settings.to_native())
+        return Frame(native, settings)
+
+    def compile(self, *stages: str, defines: dict | None = None) -> int:
+        """Compiles shader stages (paths under the shader folder); raises ShaderError."""
+        return self._native.compile(list(stages), {k: str(v) for k, v in (defines or {}).items()})
+
+    def __repr__(self) -> str:
+        i = self.info
+        return f"Renderer(device={i['device']!r}, renderer={i['renderer']!r}, gl={i['gl_version']!r})"
+
+
+class Frame:
+    """One rendered frame. Image properties read from the GPU on first access."""
+
+    def __init__(self, native: _core.Frame, settings: Settings):
+        self._native = native
+        self.settings = settings
+        self._cache: dict[str, np.ndarray] = {}
+
+    # -- metadata -------------------------------------------------------------------------------
+    @property
+    def timings(self) -> dict[str, float]:
+        """GPU milliseconds per pass (GL timestamp queries); parts such as
+        ``depth_peel.layer0`` are listed beside their pass, ``total`` sums the passes."""
+        return dict(self._native.timings)
+
+    @property
+    def wall_ms(self) -> float:
+        """CPU milliseconds of the render call, until the GPU finished."""
+        return self._native.wall_ms
+
+    @property
+    def passes(self) -> list[str]:
+        return list(self._native.passes)
+
+    @property
+    def camera(self) -> _core.Camera:
+        return self._native.camera
+
+    @property
+    def view_matrix(self) -> np.ndarray:
+        return np.asarray(self._native.view_matrix)
+
+    @property
+    def projection_matrix(self) -> np.ndarray:
+        return np.asarray(self._native.projection_matrix)
+
+    @property
+    def texture_names(self) -> list[str]:
+        return list(self._native.texture_names)
+
+    # -- images -------------------------------------------------------------------------------
+    def read(self, name: str, level: int = 0) -> np.ndarray:
+        """Every layer of a texture as float32 (layers, height, width, 4), cached."""
+        key = f"{name}@{level}"
+        if key not in self._cache:
+            self._cache[key] = self._native.read(name, level)
+        return self._cache[key]
+
+    @property
+    def color(self) -> np.ndarray:
+        """The final image: linear radiance, float32 (height, width, 3)."""
+        return self.read("color")[0, :, :, :3]
+
+    @functools.cached_property
+    def gbuffer(self) -> "GBuffer":
+        return GBuffer(self)
+
+    def save(self, folder, *, overwrite: bool = False, exposure: float = 1.0, extra: dict | None = None) -> list[Path]:
+        """Writes color.png, gbuffer_layer<i>.exr and timings.json into `folder` (see ssrlab.io)."""
+        from .io import write_frame
+
+        return write_frame(self, folder, overwrite=overwrite, exposure=exposure, extra=extra)
+
+
+class GBuffer:
+    """The deep G-buffer of a frame: per-layer arrays (layers, height, width[, channels]).
+
+    depth        positive view-space depth (distance along the view axis); the far-plane
+                 distance where a layer covers nothing
+    window_depth the stored depth-buffer value, in the frame's depth convention
+    normal       view-space unit normal (x right, y up, z toward the camera)
+    albedo       linear base colour
+    roughness    perceptual roughness (GGX alpha = roughness**2)
+    metallic, reflectivity
+    coverage     True where the layer holds a surface
+    lit          direct lighting of every layer (the colour a reflection ray fetches)
+    """
+
+    def __init__(self, frame: Frame):
+        self._frame = frame
+
+    @property
+    def layers(self) -> int:
+        return self._frame.settings.layers
+
+    @property
+    def depth(self) -> np.ndarray:
+        return self._frame.read("linear_depth")[..., 0]
+
+    @property
+    def window_depth(self) -> np.ndarray:
+        return self._frame.read("gbuffer.depth")[..., 0]
+
+    @property
+    def normal(self) -> np.ndarray:
+        return self._frame.read("gbuffer.normal")[..., :3]
+
+    @property
+    def roughness(self) -> np.ndarray:
+        return self._frame.read("gbuffer.normal")[..., 3]
+
+    @property
+    def albedo(self) -> np.ndarray:
+        return self._frame.read("gbuffer.albedo")[..., :3]
+
+    @property
+    def metallic(self) -> np.ndarray:
+        return self._frame.read("gbuffer.albedo")[..., 3]
+
+    @property
+    def reflectivity(self) -> np.ndarray:
+        return self._frame.read("gbuffer.material")[..., 0]
+
+    @property
+    def coverage(self) -> np.ndarray:
+        return self._frame.read("gbuffer.material")[..., 1] > 0.5
+
+    @property
+    def lit(self) -> np.ndarray:
+        return self._frame.read("lit")[..., :3]

@@ -1,0 +1,49 @@
+// Direct lighting of a surface point: Lambert diffuse + GGX specular for every punctual
+// light, the shadow map for the light that casts it, and a constant ambient term.
+// This is the one shading function of the project: the lighting pass shades every
+// G-buffer layer with it, and ground-truth reflections shade their hit points with it, so
+// the two differ only in which points they see.
+//
+// The including shader defines the shadow lookup:
+//     float shadow_visibility(vec3 p_view, vec3 n_view);
+// Needs frame_uniforms.glsl, brdf.glsl, lights.glsl, gbuffer.glsl.
+
+float shadow_visibility(vec3 p_view, vec3 n_view);
+
+// p: view-space position, v: unit vector from p toward the viewer.
+vec3 shade_surface(GSample g, vec3 p, vec3 v) {
+    vec3 n = g.normal;
+    float NoV = max(dot(n, v), 1e-4);
+    float alpha = ggx_alpha(g.roughness);
+    vec3 F0 = specular_f0(g.albedo, g.metallic);
+    vec3 diffuse_color = g.albedo * (1.0 - g.metallic);
+    vec3 radiance = frame.ambient.rgb * g.albedo;
+
+    int count = int(frame.clip.w);
+    for (int i = 0; i < count; ++i) {
+        LightData light = lights[i];
+        vec3 l;
+        vec3 irradiance = light.radiance.rgb;
+        if (light.position_type.w == 0.0) {
+            l = -normalize(light.direction_shadow.xyz);
+        } else {
+            vec3 to_light = light.position_type.xyz - p;
+            float d2 = max(dot(to_light, to_light), 1e-8);
+            l = to_light * inversesqrt(d2);
+            irradiance /= d2;  // inverse-square falloff of a point light's intensity
+        }
+        float NoL = dot(n, l);
+        if (NoL <= 0.0) continue;
+        if (light.direction_shadow.w > 0.5) {
+            irradiance *= shadow_visibility(p, n);
+        }
+        vec3 h = normalize(l + v);
+        float NoH = max(dot(n, h), 0.0);
+        float VoH = max(dot(v, h), 0.0);
+        vec3 F = fresnel_schlick(F0, VoH);
+        vec3 specular = F * (ggx_D(NoH, alpha) * ggx_G(NoL, NoV, alpha) / (4.0 * NoL * NoV));
+        vec3 diffuse = (1.0 - F) * diffuse_color / PI;
+        radiance += (diffuse + specular) * irradiance * NoL;
+    }
+    return radiance;
+}

@@ -1,0 +1,32 @@
+#version 450 core
+// Geometry pass with depth peeling (seed 000, 1.5.1 and 2.2): vertex stage.
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/scene_data.glsl"
+
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;
+layout(location = 3) in vec4 a_tangent;
+
+uniform int u_object;
+
+out VertexOut {
+    vec3 view_position;
+    vec3 view_normal;
+    vec2 uv;
+    vec4 view_tangent;  // w: bitangent sign; all zero when the mesh has no tangents
+} vs;
+
+// Every layer re-rasterises the same triangles: `invariant` guarantees bit-identical depth,
+// so "strictly behind the previous layer" never rejects a surface by rounding.
+invariant gl_Position;
+
+void main() {
+    ObjectData o = objects[u_object];
+    vec4 view = frame.view * (o.model * vec4(a_position, 1.0));
+    vs.view_position = view.xyz;
+    vs.view_normal = mat3(frame.view) * (mat3(o.normal_matrix) * a_normal);
+    vs.uv = a_uv;
+    vs.view_tangent = vec4(mat3(frame.view) * (mat3(o.model) * a_tangent.xyz), a_tangent.w);
+    gl_Position = frame.proj * view;
+}

@@ -1,0 +1,12 @@
+#version 450 core
+// Shadow map of the directional light that casts one: depth only, orthographic.
+#include "../lib/scene_data.glsl"
+
+layout(location = 0) in vec3 a_position;
+
+uniform int u_object;
+uniform mat4 u_light_view_proj;  // world -> light clip space
+
+void main() {
+    gl_Position = u_light_view_proj * (objects[u_object].model * vec4(a_position, 1.0));
+}

@@ -1,0 +1,58 @@
+"""Shared fixtures. Every test renders on llvmpipe-sized images and passes without a GPU; on
+a machine with one, device="auto" renders there instead."""
+
+from __future__ import annotations
+
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ssrlab
+
+REPO = Path(__file__).resolve().parents[1]
+MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
+
+
+@pytest.fixture(scope="session")
+def renderer():
+    return ssrlab.Renderer("auto")
+
+
+@pytest.fixture(autouse=True)
+def no_gl_errors(request):
+    """After every test that rendered, GL must not have reported an error."""
+    yield
+    if "renderer" in request.fixturenames:
+        request.getfixturevalue("renderer")._native.check_gl()
+
+
+def model_path(rel: str) -> Path:
+    for base in MODELS:
+        if (base / rel).is_file():
+            return base / rel
+    pytest.skip(f"sample model {rel} not found under {MODELS}")
+
+
+def gltf_json(path: Path) -> dict:
+    """The JSON chunk of a .gltf or .glb file (read independently of the loader under test)."""
+    data = path.read_bytes()
+    if data[:4] == b"glTF":
+        length = struct.unpack("<I", data[12:16])[0]
+        return json.loads(data[20:20 + length])
+    return json.loads(data)
+
+
+def small(**kw) -> ssrlab.Settings:
+    """Settings for a small test image."""
+    kw.setdefault("width", 96)
+    kw.setdefault("height", 64)
+    kw.setdefault("shadow_map_size", 512)
+    return ssrlab.Settings(**kw)
+
+
+def assert_finite(a: np.ndarray, what: str = "array") -> None:
+    bad = ~np.isfinite(a)
+    assert not bad.any(), f"{what}: {int(bad.sum())} NaN/Inf values"
