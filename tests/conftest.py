@@ -4,6 +4,7 @@ a machine with one, device="auto" renders there instead."""
 from __future__ import annotations
 
 import json
+import os
 import struct
 from pathlib import Path
 
@@ -14,6 +15,8 @@ import ssrlab
 
 REPO = Path(__file__).resolve().parents[1]
 MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
+# ssrlab.models looks here too (scene builders that use a sample model, e.g. Suzanne).
+os.environ.setdefault("SSRLAB_MODELS", os.pathsep.join(str(p) for p in MODELS))
 
 
 @pytest.fixture(scope="session")

@@ -136,6 +136,7 @@ def scene_summary(s: ssrlab.Scene) -> dict:
 
 @pytest.mark.parametrize("suffix", [".gltf", ".glb"])
 def test_save_and_load_back_identically(renderer, tmp_path, suffix):
+    model_path("Suzanne/Suzanne.gltf")
     scene = ssrlab.scenes.spheres_and_boxes(seed=2, with_suzanne=True)
     path = scene.save(tmp_path / f"scene{suffix}")
     back = ssrlab.Scene.load(path)

@@ -62,3 +62,14 @@ def test_layers_match_single_layer_render(renderer):
 def test_layer_count_out_of_range(layers):
     with pytest.raises(ValueError, match="layers"):
         ssrlab.Settings(layers=layers)
+
+
+def test_empty_layers_are_skipped(renderer):
+    """Beyond the first empty layer no geometry is drawn, and the layers read back empty."""
+    scene, cam = nested_spheres()
+    f = renderer.render(scene, cam, small(width=65, height=65, layers=10))
+    samples = f.layer_samples
+    assert all(n > 0 for n in samples[:6]) and samples[6:] == [0, 0, 0, 0]
+    assert not f.gbuffer.coverage[6:].any()
+    # Layer 6 is the first empty one (its draws ran, found nothing); 7+ skip their draws.
+    np.testing.assert_array_equal(f.gbuffer.coverage[:6].sum(axis=(1, 2)) > 0, True)

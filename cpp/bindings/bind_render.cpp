@@ -43,6 +43,7 @@ void bind_render(py::module_& m) {
         .def_readonly("timings", &Frame::timings)
         .def_readonly("wall_ms", &Frame::wall_ms)
         .def_readonly("passes", &Frame::passes)
+        .def_readonly("layer_samples", &Frame::layer_samples)
         .def_readonly("camera", &Frame::camera)
         .def_property_readonly("view_matrix", [](const Frame& f) { return f.uniforms.view; })
         .def_property_readonly("projection_matrix", [](const Frame& f) { return f.uniforms.proj; })

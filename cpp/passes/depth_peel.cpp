@@ -51,6 +51,12 @@ void DepthPeelPass::execute(FrameContext& ctx) {
 
     const float zero[4] = {0, 0, 0, 0};
     const float clear_depth = ctx.depth.clear_depth();
+    while (int(queries_.size()) < s.layers) {
+        GLuint q = 0;
+        glGenQueries(1, &q);
+        queries_.push_back(q);
+    }
+    used_queries_ = s.layers;
     for (int layer = 0; layer < s.layers; ++layer) {
         GpuScope timer(ctx.timer, "depth_peel.layer" + std::to_string(layer));
         if (layer > 0)
@@ -64,16 +70,31 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
         glUniform1i(loc_layer, layer);
+        // Draw only if the previous layer covered something (its query counted samples).
+        if (layer > 0) glBeginConditionalRender(queries_[size_t(layer - 1)], GL_QUERY_WAIT);
+        glBeginQuery(GL_SAMPLES_PASSED, queries_[size_t(layer)]);
         for (const DrawItem& d : ctx.gpu_scene.draws()) {
             glUniform1i(loc_object, d.object);
             ctx.gpu_scene.bind_material_textures(d.material);
             glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                                      reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
         }
+        glEndQuery(GL_SAMPLES_PASSED);
+        if (layer > 0) glEndConditionalRender();
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_CULL_FACE);
     glDisable(GL_FRAMEBUFFER_SRGB);
+}
+
+std::vector<uint64_t> DepthPeelPass::layer_samples() {
+    std::vector<uint64_t> out;
+    for (int i = 0; i < used_queries_; ++i) {
+        GLuint64 n = 0;
+        glGetQueryObjectui64v(queries_[size_t(i)], GL_QUERY_RESULT, &n);
+        out.push_back(n);
+    }
+    return out;
 }
 
 }  // namespace ssr

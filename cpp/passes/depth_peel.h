@@ -8,6 +8,11 @@
 // fragment that is not strictly behind layer i's depth at that pixel, so it holds the
 // nearest surface behind layer i. Back-face culling is off by default, as in the thesis,
 // so back faces populate deeper layers. Each layer is timed as depth_peel.layer<i>.
+//
+// Beyond the thesis: a layer that covers no pixel means every deeper layer is empty too, so
+// each layer's draws are conditionally rendered on the previous layer's sample count
+// (glBeginConditionalRender): the GPU skips the geometry of empty layers without a CPU
+// round trip. Layers are still cleared, so they read back as empty.
 #pragma once
 
 #include "render/render_pass.h"
@@ -21,8 +26,14 @@ public:
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 
+    // Pixels (samples passing the depth test) each layer of the last frame wrote; read
+    // after the frame, when the GPU has finished.
+    std::vector<uint64_t> layer_samples();
+
 private:
     Framebuffer fbo_;
+    std::vector<GLuint> queries_;
+    int used_queries_ = 0;
 };
 
 }  // namespace ssr

@@ -39,6 +39,7 @@ public:
     Camera camera;
     FrameUniforms uniforms{};
     std::vector<std::string> passes;        // the chain that ran, in order
+    std::vector<uint64_t> layer_samples;    // depth-test-passing samples drawn into each layer
 
 private:
     std::shared_ptr<EglContext> ctx_;

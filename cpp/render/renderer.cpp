@@ -155,6 +155,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         frame->passes.push_back(p->name());
     }
     frame->timings = timer_.resolve();
+    frame->layer_samples = depth_peel_.layer_samples();
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
     frame->timings["total"] = total;

@@ -95,6 +95,12 @@ class Frame:
         return list(self._native.passes)
 
     @property
+    def layer_samples(self) -> list[int]:
+        """Samples each G-buffer layer's geometry wrote (0: an empty layer, whose draws and
+        every deeper layer's were skipped on the GPU)."""
+        return list(self._native.layer_samples)
+
+    @property
     def camera(self) -> _core.Camera:
         return self._native.camera
 
