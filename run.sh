@@ -48,19 +48,20 @@ PY
   fi
 }
 
-# Installs the package (with extras $1) unless the installed copy was built from these sources.
+# Installs the package (with extras $1) unless the installed copy was built from these
+# sources with those extras (the stamp records the source digest and the extras installed).
 ensure_package() {
   local extras=$1 stamp=build/.install-stamp digest
-  digest=$( { "$PYTHON" -c 'import sys; print(sys.executable, sys.version)'; echo "$extras";
+  digest=$( { "$PYTHON" -c 'import sys; print(sys.executable, sys.version)';
               find CMakeLists.txt pyproject.toml cpp shaders python -type f ! -name '*.pyc' -print0 | sort -z |
               xargs -0 sha256sum; } | sha256sum | cut -d' ' -f1)
-  if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$digest" ] && "$PYTHON" -c "import ssrlab._core" 2>/dev/null; then
+  if [ -f "$stamp" ] && [ "$(head -n1 "$stamp")" = "$digest" ] && { [ -z "$extras" ] || grep -qx "$extras" "$stamp"; } &&
+     "$PYTHON" -c "import ssrlab._core" 2>/dev/null; then
     return 0
   fi
-  log "building and installing ssrlab[$extras] with $PYTHON (first build takes a few minutes)"
-  "$PYTHON" -m pip install --disable-pip-version-check -q --upgrade pip >/dev/null
-  "$PYTHON" -m pip install --disable-pip-version-check -q ".${extras:+[$extras]}"
-  mkdir -p build && echo "$digest" > "$stamp"
+  log "building and installing ssrlab${extras:+[$extras]} with $PYTHON (the first build takes a few minutes)"
+  "$PYTHON" -m pip install --disable-pip-version-check --root-user-action=ignore -q ".${extras:+[$extras]}"
+  mkdir -p build && printf '%s\n%s\n' "$digest" "$extras" > "$stamp"
 }
 
 command=${1:-}

@@ -15,6 +15,17 @@ py::array to_numpy(Readback&& r) {
     return py::array_t<float>(shape, data->data(), owner);
 }
 
+// Enum settings travel as their names.
+template <typename E>
+auto enum_getter(E RenderSettings::*field) {
+    return [field](const RenderSettings& s) { return enum_name(s.*field); };
+}
+
+template <typename E>
+auto enum_setter(const char* name, E RenderSettings::*field) {
+    return [name, field](RenderSettings& s, const std::string& v) { s.*field = parse_enum<E>(name, v); };
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
@@ -30,6 +41,43 @@ void bind_render(py::module_& m) {
         .def_readwrite("shadow_map_size", &RenderSettings::shadow_map_size)
         .def_readwrite("shadow_normal_offset", &RenderSettings::shadow_normal_offset)
         .def_readwrite("shadow_pcf_radius", &RenderSettings::shadow_pcf_radius)
+        .def_readwrite("rays_per_pixel", &RenderSettings::rays_per_pixel)
+        .def_readwrite("hammersley", &RenderSettings::hammersley)
+        .def_readwrite("seed", &RenderSettings::seed)
+        .def_readwrite("stride", &RenderSettings::stride)
+        .def_readwrite("jitter", &RenderSettings::jitter)
+        .def_readwrite("max_steps", &RenderSettings::max_steps)
+        .def_readwrite("max_distance", &RenderSettings::max_distance)
+        .def_readwrite("origin_bias", &RenderSettings::origin_bias)
+        .def_readwrite("thickness", &RenderSettings::thickness)
+        .def_readwrite("thickness_scale", &RenderSettings::thickness_scale)
+        .def_readwrite("refine_steps", &RenderSettings::refine_steps)
+        .def_readwrite("hiz_start_level", &RenderSettings::hiz_start_level)
+        .def_readwrite("hiz_stop_level", &RenderSettings::hiz_stop_level)
+        .def_readwrite("hiz_max_level", &RenderSettings::hiz_max_level)
+        .def_readwrite("hiz_linear_steps", &RenderSettings::hiz_linear_steps)
+        .def_readwrite("hiz_use_max", &RenderSettings::hiz_use_max)
+        .def_readwrite("hiz_crossing_offset", &RenderSettings::hiz_crossing_offset)
+        .def_readwrite("downscale", &RenderSettings::downscale)
+        .def_readwrite("reuse_radius", &RenderSettings::reuse_radius)
+        .def_readwrite("edge_aware", &RenderSettings::edge_aware)
+        .def_readwrite("edge_depth_sigma", &RenderSettings::edge_depth_sigma)
+        .def_readwrite("edge_normal_power", &RenderSettings::edge_normal_power)
+        .def_readwrite("fade_border", &RenderSettings::fade_border)
+        .def_readwrite("fade_camera_start", &RenderSettings::fade_camera_start)
+        .def_readwrite("fade_camera_end", &RenderSettings::fade_camera_end)
+        .def_readwrite("fade_distance_start", &RenderSettings::fade_distance_start)
+        .def_readwrite("fade_distance_end", &RenderSettings::fade_distance_end)
+        .def_readwrite("roughness_cutoff", &RenderSettings::roughness_cutoff)
+        .def_property("method", enum_getter(&RenderSettings::method), enum_setter("method", &RenderSettings::method))
+        .def_property("sampling", enum_getter(&RenderSettings::sampling), enum_setter("sampling", &RenderSettings::sampling))
+        .def_property("noise", enum_getter(&RenderSettings::noise), enum_setter("noise", &RenderSettings::noise))
+        .def_property("thickness_mode", enum_getter(&RenderSettings::thickness_mode),
+                      enum_setter("thickness_mode", &RenderSettings::thickness_mode))
+        .def_property("reuse_weighting", enum_getter(&RenderSettings::reuse_weighting),
+                      enum_setter("reuse_weighting", &RenderSettings::reuse_weighting))
+        .def_property("composite", enum_getter(&RenderSettings::composite),
+                      enum_setter("composite", &RenderSettings::composite))
         .def("validate", &RenderSettings::validate);
 
     py::class_<Frame, std::shared_ptr<Frame>>(m, "Frame")
@@ -54,6 +102,19 @@ void bind_render(py::module_& m) {
         .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"))
         .def("info", [](const Renderer& r) { return r.info().as_dict(); })
         .def("check_gl", &Renderer::check_errors, "Raises GLError if GL reported an error since the last check.")
+        .def(
+            "sample_reflections",
+            [](Renderer& r, const std::string& sampling, float alpha, glm::vec3 view, int count, uint32_t seed,
+               bool stratified) {
+                Readback rb;
+                rb.data = r.sample_reflections(sampling, alpha, view, count, seed, stratified);
+                rb.layers = 1;
+                rb.height = 1;
+                rb.width = count * 2;
+                return to_numpy(std::move(rb)).attr("reshape")(count, 8);
+            },
+            py::arg("sampling"), py::arg("alpha"), py::arg("view"), py::arg("count"), py::arg("seed") = 0,
+            py::arg("stratified") = false)
         .def(
             "compile",
             [](Renderer& r, const std::vector<std::string>& stages, const std::map<std::string, std::string>& defines) {

@@ -5,10 +5,18 @@
 namespace ssr {
 
 void CompositePass::execute(FrameContext& ctx) {
-    const GLuint prog = ctx.shaders.program({"passes/composite.comp"}, ctx.defines);
-    glUseProgram(prog);
-    glBindTextureUnit(0, ctx.resources.get("lit").id());
-    glBindTextureUnit(1, ctx.resources.get("gbuffer.material").id());
+    Defines d = ctx.defines;
+    d["REFLECTIONS"] = reflections_ ? "1" : "0";
+    glUseProgram(ctx.shaders.program({"passes/composite.comp"}, d));
+    auto& r = ctx.resources;
+    glBindTextureUnit(0, r.get("lit").id());
+    glBindTextureUnit(1, r.get("gbuffer.material").id());
+    if (reflections_) {
+        glBindTextureUnit(2, r.get("reflection").id());
+        glBindTextureUnit(3, r.get("gbuffer.albedo").id());
+        glBindTextureUnit(4, r.get("gbuffer.normal").id());
+        glBindTextureUnit(5, r.get("linear_depth").id());
+    }
     bind_image_layered(0, ctx.resources.get("color"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }

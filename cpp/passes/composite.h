@@ -1,7 +1,9 @@
-// composite: the final image.
-//   inputs : lit, gbuffer.material
+// composite: the final image (shaders/passes/composite.comp).
+//   inputs : lit, gbuffer.material; with reflections also reflection, gbuffer.albedo,
+//            gbuffer.normal, linear_depth
 //   outputs: color (RGBA32F, linear radiance)
-// Layer 0's lit colour where a surface covers the pixel, the background elsewhere.
+// Layer 0's lit colour, blended with the reflection (Settings.composite: the thesis's linear
+// blend or Fresnel-weighted), where a surface covers the pixel; the environment elsewhere.
 #pragma once
 
 #include "render/render_pass.h"
@@ -10,12 +12,19 @@ namespace ssr {
 
 class CompositePass : public RenderPass {
 public:
+    explicit CompositePass(bool reflections) : reflections_(reflections) {}
     std::string name() const override { return "composite"; }
-    std::vector<std::string> inputs() const override { return {"lit", "gbuffer.material"}; }
+    std::vector<std::string> inputs() const override {
+        if (!reflections_) return {"lit", "gbuffer.material"};
+        return {"lit", "gbuffer.material", "reflection", "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
+    }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"color", GL_RGBA32F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;
+
+private:
+    bool reflections_;
 };
 
 }  // namespace ssr

@@ -1,8 +1,10 @@
 #include "render/gpu_scene.h"
 
+#include <algorithm>
 #include <array>
 
 #include "render/frame_uniforms.h"
+#include "scene/image_io.h"
 
 namespace ssr {
 
@@ -86,6 +88,21 @@ GpuScene::GpuScene(const Scene& scene) : revision_(scene.revision()) {
     }
     objects_ = Buffer::create(objs.size() * sizeof(GpuObject), objs.data());
     bounds_ = scene.bounds();
+    for (const Object& o : scene.objects) reflective_ = reflective_ || scene.materials[size_t(o.material)].reflectivity > 0.0f;
+
+    if (scene.environment.type == Environment::Type::Map) {
+        const FloatImage img = read_float_image(scene.environment.map_path);
+        std::vector<float> rgba(size_t(img.width) * size_t(img.height) * 4, 1.0f);
+        for (size_t i = 0; i < size_t(img.width) * size_t(img.height); ++i)
+            for (int c = 0; c < 3; ++c)
+                rgba[i * 4 + size_t(c)] = img.pixels[i * size_t(img.channels) + size_t(std::min(c, img.channels - 1))];
+        environment_map_ = Texture::create_2d(GL_RGBA32F, img.width, img.height, 0);
+        // The file's first row is the zenith (v = 0), as environment.glsl samples it.
+        glTextureSubImage2D(environment_map_.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_FLOAT, rgba.data());
+        glGenerateTextureMipmap(environment_map_.id());
+        environment_map_.set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+        environment_map_.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);
+    }
 }
 
 GLuint GpuScene::texture_for(const Scene& scene, const TextureRef& ref, bool srgb) {

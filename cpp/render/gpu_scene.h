@@ -52,6 +52,10 @@ public:
     void bind_material_textures(int material) const;
 
     const std::vector<DrawItem>& draws() const { return draws_; }
+    // True when some object's material has reflectivity > 0: without one, no ray is traced.
+    bool has_reflective_surfaces() const { return reflective_; }
+    // The equirectangular environment map (0 when the environment is not a map).
+    GLuint environment_map() const { return environment_map_.id(); }
     const Bounds& bounds() const { return bounds_; }
     uint64_t revision() const { return revision_; }
     size_t triangle_count() const { return triangles_; }
@@ -67,7 +71,8 @@ private:
     Buffer vertices_, indices_, objects_, materials_;
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
     std::vector<std::array<GLuint, 3>> material_textures_;
-    Texture white_, flat_normal_;
+    Texture white_, flat_normal_, environment_map_;
+    bool reflective_ = false;
     std::vector<DrawItem> draws_;
     Bounds bounds_;
     uint64_t revision_ = 0;

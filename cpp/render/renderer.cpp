@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/errors.h"
+#include "render/ssr_uniforms.h"
 
 namespace ssr {
 
@@ -64,12 +65,24 @@ std::shared_ptr<FrameResources> Renderer::acquire(const std::vector<ResourceDesc
     return fresh;
 }
 
-std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool shadows) {
+// The frame as a chain of passes. Passes a frame does not need are left out: no shadow map
+// without a shadow caster, no tracing without a reflective surface or with method "off",
+// no Hi-Z pyramid for the linear tracer.
+std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool shadows, bool reflections) {
     std::vector<RenderPass*> chain;
     if (shadows) chain.push_back(&shadow_map_);
     chain.push_back(&depth_peel_);
     chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
-    chain.push_back(&composite_);
+    if (reflections) {
+        if (s.method == TraceMethod::Hiz) {
+            chain.push_back(&hiz_build_);
+            chain.push_back(&trace_hiz_);
+        } else {
+            chain.push_back(&trace_linear_);
+        }
+        chain.push_back(&resolve_);
+    }
+    chain.push_back(reflections ? &composite_reflections_ : &composite_plain_);
     return chain;
 }
 
@@ -125,8 +138,52 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     if (!lights.empty()) lights_ssbo_.upload(lights.data(), lights.size() * sizeof(GpuLight));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_ssbo_.id());
 
+    // Reflection settings as the shaders see them.
+    SsrUniforms su{};
+    su.trace_width = s.trace_width();
+    su.trace_height = s.trace_height();
+    su.downscale = s.downscale;
+    su.rays_per_pixel = s.rays_per_pixel;
+    su.sampling = int(s.sampling);
+    su.noise = int(s.noise);
+    su.hammersley = s.hammersley;
+    su.seed = s.seed;
+    su.layers = s.layers;
+    su.max_steps = s.max_steps;
+    su.stride = s.stride;
+    su.jitter = s.jitter;
+    su.max_distance = s.max_distance;
+    su.origin_bias = s.origin_bias;
+    su.thickness = s.thickness;
+    su.thickness_scale = s.thickness_scale;
+    su.thickness_mode = int(s.thickness_mode);
+    su.refine_steps = s.refine_steps;
+    su.hiz_start_level = s.hiz_start_level;
+    su.hiz_stop_level = s.hiz_stop_level;
+    su.hiz_max_level = s.hiz_max_level;
+    su.hiz_linear_steps = s.hiz_linear_steps;
+    su.hiz_use_max = s.hiz_use_max;
+    su.hiz_crossing_offset = s.hiz_crossing_offset;
+    su.fade_border = s.fade_border;
+    su.fade_camera_start = s.fade_camera_start;
+    su.fade_camera_end = s.fade_camera_end;
+    su.fade_distance_start = s.fade_distance_start;
+    su.fade_distance_end = s.fade_distance_end;
+    su.roughness_cutoff = s.roughness_cutoff;
+    su.edge_depth_sigma = s.edge_depth_sigma;
+    su.edge_normal_power = s.edge_normal_power;
+    su.reuse_radius = s.reuse_radius;
+    su.reuse_weighting = int(s.reuse_weighting);
+    su.edge_aware = s.edge_aware;
+    su.composite_mode = int(s.composite);
+    if (!ssr_ubo_) ssr_ubo_ = Buffer::create(sizeof(SsrUniforms));
+    ssr_ubo_.upload(&su, sizeof(su));
+    glBindBufferBase(GL_UNIFORM_BUFFER, kSsrSettingsBinding, ssr_ubo_.id());
+    if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
+
     // The chain, its resources, and a check that every input is written before it is read.
-    const std::vector<RenderPass*> chain = build_chain(s, shadow.enabled);
+    const bool reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
+    const std::vector<RenderPass*> chain = build_chain(s, shadow.enabled, reflections);
     std::vector<ResourceDesc> descs;
     std::set<std::string> written;
     for (RenderPass* p : chain) {
@@ -143,6 +200,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
 
     Defines defines;
     depth.add_defines(defines);
+    defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
     auto frame = std::make_shared<Frame>(ctx_, weak_from_this(), resources);
     timer_.begin_frame();
@@ -174,6 +232,32 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
 void Renderer::check_errors() {
     ctx_->make_current();
     check_gl(*ctx_, "(between calls)");
+}
+
+std::vector<float> Renderer::sample_reflections(const std::string& sampling, float alpha, const glm::vec3& view,
+                                               int count, uint32_t seed, bool stratified) {
+    if (count < 1 || count > (1 << 24)) throw std::invalid_argument("count must be in [1, 2^24]");
+    if (!(alpha >= 0.0f && alpha <= 1.0f)) throw std::invalid_argument("alpha must be in [0, 1]");
+    if (!(view.z > 0.0f)) throw std::invalid_argument("view must point above the surface (view.z > 0)");
+    const Sampling method = parse_enum<Sampling>("sampling", sampling);
+    ctx_->make_current();
+    const GLuint prog = shaders_->program({"tools/brdf_samples.comp"}, {});
+    glUseProgram(prog);
+    glUniform3f(glGetUniformLocation(prog, "u_view"), view.x, view.y, view.z);
+    glUniform1f(glGetUniformLocation(prog, "u_alpha"), alpha);
+    glUniform1i(glGetUniformLocation(prog, "u_method"), int(method));
+    glUniform1ui(glGetUniformLocation(prog, "u_count"), GLuint(count));
+    glUniform1ui(glGetUniformLocation(prog, "u_seed"), seed);
+    glUniform1i(glGetUniformLocation(prog, "u_stratified"), stratified ? 1 : 0);
+    const size_t bytes = size_t(count) * 8 * sizeof(float);
+    Buffer out = Buffer::create(bytes);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());
+    glDispatchCompute(GLuint((count + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> data(size_t(count) * 8);
+    glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(bytes), data.data());
+    check_gl(*ctx_, "sample_reflections");
+    return data;
 }
 
 unsigned Renderer::compile(const std::vector<std::string>& stages, const Defines& defines) {

@@ -12,8 +12,12 @@
 #include "core/shader_library.h"
 #include "passes/composite.h"
 #include "passes/depth_peel.h"
+#include "passes/hiz_build.h"
 #include "passes/lighting.h"
+#include "passes/resolve.h"
 #include "passes/shadow_map.h"
+#include "passes/trace_hiz.h"
+#include "passes/trace_linear.h"
 #include "render/frame.h"
 #include "render/gpu_scene.h"
 
@@ -31,6 +35,11 @@ public:
     // Compiles a program in this renderer's context (tests and tooling); raises ShaderError.
     unsigned compile(const std::vector<std::string>& stages, const Defines& defines);
 
+    // Reflection directions drawn by the trace passes' GLSL (shaders/tools/brdf_samples.comp):
+    // `count` rows of (l.x, l.y, l.z, weight, pdf, u1, u2, 0) for a local view direction.
+    std::vector<float> sample_reflections(const std::string& sampling, float alpha, const glm::vec3& view, int count,
+                                          uint32_t seed, bool stratified);
+
     // Used by Frame::read: copies a texture level into host memory through readback.comp.
     Readback read_texture(const Texture& tex, int level);
 
@@ -38,12 +47,12 @@ private:
     Renderer(const std::string& device, const std::string& shader_dir);
     const GpuScene& gpu_scene(const Scene& scene);
     std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
-    std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows);
+    std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows, bool reflections);
 
     std::shared_ptr<EglContext> ctx_;  // first member: destroyed last, after every GL object
     std::unique_ptr<ShaderLibrary> shaders_;
     GpuTimer timer_;
-    Buffer frame_ubo_, lights_ssbo_, readback_ssbo_;
+    Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_;
     GLuint readback_sampler_ = 0;
 
     struct CachedScene {
@@ -56,7 +65,11 @@ private:
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
     LightingPass lighting_shadowed_{true}, lighting_unshadowed_{false};
-    CompositePass composite_;
+    HizBuildPass hiz_build_;
+    TraceLinearPass trace_linear_;
+    TraceHizPass trace_hiz_;
+    ResolvePass resolve_;
+    CompositePass composite_plain_{false}, composite_reflections_{true};
 };
 
 }  // namespace ssr

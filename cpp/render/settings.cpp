@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace ssr {
 
@@ -10,6 +11,76 @@ void check(bool ok, const std::string& msg) {
     if (!ok) throw std::invalid_argument(msg);
 }
 }  // namespace
+
+namespace {
+template <typename E>
+const std::vector<std::pair<E, std::string>>& names();
+template <>
+const std::vector<std::pair<TraceMethod, std::string>>& names() {
+    static const std::vector<std::pair<TraceMethod, std::string>> n = {
+        {TraceMethod::Off, "off"}, {TraceMethod::Linear, "linear"}, {TraceMethod::Hiz, "hiz"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<Sampling, std::string>>& names() {
+    static const std::vector<std::pair<Sampling, std::string>> n = {{Sampling::Mirror, "mirror"},
+                                                                    {Sampling::Ggx, "ggx"},
+                                                                    {Sampling::Vndf, "vndf"},
+                                                                    {Sampling::GgxThesisLiteral, "ggx_thesis_literal"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<Noise, std::string>>& names() {
+    static const std::vector<std::pair<Noise, std::string>> n = {{Noise::Pcg, "pcg"}, {Noise::ThesisHash, "thesis_hash"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<ThicknessMode, std::string>>& names() {
+    static const std::vector<std::pair<ThicknessMode, std::string>> n = {{ThicknessMode::Constant, "constant"},
+                                                                         {ThicknessMode::RayStep, "ray_step"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<ReuseWeighting, std::string>>& names() {
+    static const std::vector<std::pair<ReuseWeighting, std::string>> n = {{ReuseWeighting::Thesis, "thesis"},
+                                                                          {ReuseWeighting::Brdf, "brdf"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<CompositeMode, std::string>>& names() {
+    static const std::vector<std::pair<CompositeMode, std::string>> n = {{CompositeMode::Linear, "linear"},
+                                                                         {CompositeMode::Pbr, "pbr"}};
+    return n;
+}
+}  // namespace
+
+template <typename E>
+E parse_enum(const std::string& field, const std::string& name) {
+    std::string known;
+    for (const auto& [v, n] : names<E>()) {
+        if (n == name) return v;
+        known += (known.empty() ? "'" : ", '") + n + "'";
+    }
+    throw std::invalid_argument("Settings." + field + " must be one of " + known + ", got '" + name + "'");
+}
+
+template <typename E>
+std::string enum_name(E value) {
+    for (const auto& [v, n] : names<E>())
+        if (v == value) return n;
+    return "?";
+}
+
+#define SSR_INSTANTIATE(E) \
+    template E parse_enum<E>(const std::string&, const std::string&); \
+    template std::string enum_name<E>(E);
+SSR_INSTANTIATE(TraceMethod)
+SSR_INSTANTIATE(Sampling)
+SSR_INSTANTIATE(Noise)
+SSR_INSTANTIATE(ThicknessMode)
+SSR_INSTANTIATE(ReuseWeighting)
+SSR_INSTANTIATE(CompositeMode)
+#undef SSR_INSTANTIATE
 
 void RenderSettings::validate() const {
     check(width >= 1 && width <= 16384, "Settings.width must be in [1, 16384] pixels, got " + std::to_string(width));
@@ -21,6 +92,37 @@ void RenderSettings::validate() const {
           "Settings.shadow_normal_offset must be finite and >= 0");
     check(shadow_pcf_radius >= 0 && shadow_pcf_radius <= 4,
           "Settings.shadow_pcf_radius must be in [0, 4], got " + std::to_string(shadow_pcf_radius));
+    auto range = [](double v, double lo, double hi, const char* name) {
+        check(std::isfinite(v) && v >= lo && v <= hi,
+              std::string("Settings.") + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                  "], got " + std::to_string(v));
+    };
+    range(rays_per_pixel, 1, 32, "rays_per_pixel");
+    range(stride, 1, 64, "stride");
+    range(jitter, 0, 1, "jitter");
+    range(max_steps, 1, 100000, "max_steps");
+    range(max_distance, 1e-3, 1e7, "max_distance");
+    range(origin_bias, 0, 1, "origin_bias");
+    range(thickness, 0, 1e6, "thickness");
+    range(thickness_scale, 0, 1e3, "thickness_scale");
+    range(refine_steps, 0, 16, "refine_steps");
+    range(hiz_start_level, 0, 15, "hiz_start_level");
+    range(hiz_stop_level, 0, 15, "hiz_stop_level");
+    range(hiz_max_level, 0, 15, "hiz_max_level");
+    check(hiz_stop_level <= hiz_max_level, "Settings.hiz_stop_level must be <= Settings.hiz_max_level");
+    range(hiz_linear_steps, 0, 64, "hiz_linear_steps");
+    range(hiz_crossing_offset, 1e-5, 0.5, "hiz_crossing_offset");
+    check(downscale == 1 || downscale == 2 || downscale == 4,
+          "Settings.downscale must be 1, 2 or 4, got " + std::to_string(downscale));
+    range(reuse_radius, 0, 2, "reuse_radius");
+    range(edge_depth_sigma, 1e-6, 1e3, "edge_depth_sigma");
+    range(edge_normal_power, 0, 1024, "edge_normal_power");
+    range(fade_border, 0, 0.5, "fade_border");
+    range(fade_camera_start, -1, 1, "fade_camera_start");
+    range(fade_camera_end, -1, 1, "fade_camera_end");
+    range(fade_distance_start, 0, 1e7, "fade_distance_start");
+    range(fade_distance_end, 0, 1e7, "fade_distance_end");
+    range(roughness_cutoff, 0, 1, "roughness_cutoff");
 }
 
 }  // namespace ssr

@@ -3,11 +3,23 @@
 // the C++ core never runs on values that would hang or crash a pass.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "render/depth_convention.h"
 
 namespace ssr {
+
+enum class TraceMethod { Off, Linear, Hiz };
+enum class Sampling { Mirror, Ggx, Vndf, GgxThesisLiteral };  // order = SAMPLING_* in ssr_settings.glsl
+enum class Noise { Pcg, ThesisHash };
+enum class ThicknessMode { Constant, RayStep };
+enum class ReuseWeighting { Thesis, Brdf };
+enum class CompositeMode { Linear, Pbr };
+
+// Names <-> values, for Python and for error messages.
+template <typename E> E parse_enum(const std::string& field, const std::string& name);
+template <typename E> std::string enum_name(E value);
 
 struct RenderSettings {
     // Image
@@ -23,6 +35,46 @@ struct RenderSettings {
     int shadow_map_size = 2048;         // texels per side; 0 turns shadows off
     float shadow_normal_offset = 1.5f;  // receiver offset along its normal, in shadow-map texels
     int shadow_pcf_radius = 1;          // PCF kernel (2r+1)^2 hardware-filtered taps
+
+    // Screen-space reflections (seed 000 section 2, seed 002 sections 4.4-4.7); units and
+    // meanings in python/ssrlab/settings.py.
+    TraceMethod method = TraceMethod::Linear;
+    int rays_per_pixel = 1;
+    Sampling sampling = Sampling::Ggx;
+    Noise noise = Noise::Pcg;
+    bool hammersley = true;
+    uint32_t seed = 0;
+    float stride = 1.0f;
+    float jitter = 1.0f;
+    int max_steps = 512;
+    float max_distance = 1000.0f;
+    float origin_bias = 0.002f;
+    float thickness = 0.2f;
+    ThicknessMode thickness_mode = ThicknessMode::Constant;
+    float thickness_scale = 1.0f;
+    int refine_steps = 0;
+    int hiz_start_level = 1;
+    int hiz_stop_level = 0;
+    int hiz_max_level = 12;
+    int hiz_linear_steps = 0;
+    bool hiz_use_max = true;
+    float hiz_crossing_offset = 0.01f;
+    int downscale = 1;
+    int reuse_radius = 1;
+    ReuseWeighting reuse_weighting = ReuseWeighting::Brdf;
+    bool edge_aware = true;
+    float edge_depth_sigma = 0.05f;
+    float edge_normal_power = 16.0f;
+    float fade_border = 0.05f;
+    float fade_camera_start = 0.5f;
+    float fade_camera_end = 0.9f;
+    float fade_distance_start = 0.0f;
+    float fade_distance_end = 0.0f;
+    float roughness_cutoff = 1.0f;
+    CompositeMode composite = CompositeMode::Linear;
+
+    int trace_width() const { return (width + downscale - 1) / downscale; }
+    int trace_height() const { return (height + downscale - 1) / downscale; }
 
     void validate() const;  // throws std::invalid_argument naming the field
 };

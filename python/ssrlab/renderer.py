@@ -61,6 +61,18 @@ class Renderer:
         native = self._native.render(scene, camera, settings.to_native())
         return Frame(native, settings)
 
+    def sample_reflections(self, sampling: str, alpha: float, view, count: int, *, seed: int = 0,
+                           stratified: bool = False) -> dict[str, np.ndarray]:
+        """Reflection directions drawn by the very GLSL the tracers use, for a view direction
+        in the local frame where the surface normal is +z (view.z > 0) and GGX alpha.
+
+        Returns l (count, 3), weight (count,), pdf (count,) and u (count, 2), the uniform
+        numbers used; with stratified=True they form a randomly offset Hammersley set.
+        """
+        a = self._native.sample_reflections(sampling, float(alpha), tuple(map(float, view)), int(count),
+                                            int(seed), bool(stratified))
+        return {"l": a[:, :3], "weight": a[:, 3], "pdf": a[:, 4], "u": a[:, 5:7]}
+
     def compile(self, *stages: str, defines: dict | None = None) -> int:
         """Compiles shader stages (paths under the shader folder); raises ShaderError."""
         return self._native.compile(list(stages), {k: str(v) for k, v in (defines or {}).items()})
@@ -129,9 +141,24 @@ class Frame:
         """The final image: linear radiance, float32 (height, width, 3)."""
         return self.read("color")[0, :, :, :3]
 
+    @property
+    def reflection(self) -> np.ndarray:
+        """The resolved reflection colour c_r, float32 (height, width, 3); 0 where a pixel does
+        not reflect (or nothing was traced)."""
+        if "reflection" not in self.texture_names:
+            return np.zeros((self.settings.height, self.settings.width, 3), np.float32)
+        return self.read("reflection")[0, :, :, :3]
+
     @functools.cached_property
     def gbuffer(self) -> "GBuffer":
         return GBuffer(self)
+
+    @functools.cached_property
+    def rays(self) -> "RayResults":
+        """Per-ray results of the trace pass (raises if the frame traced no rays)."""
+        if "rays.hit" not in self.texture_names:
+            raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
+        return RayResults(self)
 
     def save(self, folder, *, overwrite: bool = False, exposure: float = 1.0, extra: dict | None = None) -> list[Path]:
         """Writes color.png, gbuffer_layer<i>.exr and timings.json into `folder` (see ssrlab.io)."""
@@ -196,3 +223,79 @@ class GBuffer:
     @property
     def lit(self) -> np.ndarray:
         return self._frame.read("lit")[..., :3]
+
+
+class RayResults:
+    """Per-ray results, arrays of shape (rays_per_pixel, h, w, ...) at the trace resolution
+    (h, w) = ceil((height, width) / downscale), row 0 at the top.
+
+    hit_uv     (R, h, w, 2) hit position in [0, 1]^2, (0, 0) the image's top-left corner,
+               pixel (row i, column j) centred at ((j + 0.5)/W, (i + 0.5)/H); 0 for misses
+    hit_layer  (R, h, w) int32 G-buffer layer hit, 1-based; 0 = miss (as the thesis stores it)
+    hit        (R, h, w) bool, hit_layer > 0
+    weight     (R, h, w) f_r cos / pdf without Fresnel; 0 for no ray or an invalid sample
+    pdf        (R, h, w) solid-angle pdf of the direction; 0 for mirror (Dirac) directions
+    steps      (R, h, w) depth fetches the ray spent
+    fade       (R, h, w) 1 = hit kept, 0 = replaced by the environment
+    direction  (R, h, w, 3) view-space unit direction
+    traced     (h, w) bool: the pixel is reflective and traced rays
+    """
+
+    def __init__(self, frame: Frame):
+        self._frame = frame
+
+    def _hit(self) -> np.ndarray:
+        return self._frame.read("rays.hit")
+
+    def _sample(self) -> np.ndarray:
+        return self._frame.read("rays.sample")
+
+    @property
+    def hit_uv(self) -> np.ndarray:
+        h = self._hit()
+        s = self._frame.settings
+        uv = np.stack([h[..., 0] / s.width, 1.0 - h[..., 1] / s.height], axis=-1).astype(np.float32)
+        uv[~self.hit] = 0.0
+        return uv
+
+    @property
+    def hit_pixel(self) -> np.ndarray:
+        """(R, h, w, 2) hit position in pixels (x = column, y = row from the top); 0 for misses."""
+        return self.hit_uv * np.array([self._frame.settings.width, self._frame.settings.height], np.float32)
+
+    @property
+    def hit_layer(self) -> np.ndarray:
+        return np.rint(self._hit()[..., 2]).astype(np.int32)
+
+    @property
+    def hit(self) -> np.ndarray:
+        return self.hit_layer > 0
+
+    @property
+    def fade(self) -> np.ndarray:
+        return self._hit()[..., 3]
+
+    @property
+    def weight(self) -> np.ndarray:
+        return self._sample()[..., 0]
+
+    @property
+    def pdf(self) -> np.ndarray:
+        return self._sample()[..., 1]
+
+    @property
+    def steps(self) -> np.ndarray:
+        return self._sample()[..., 2]
+
+    @property
+    def traced(self) -> np.ndarray:
+        return self._sample()[0, ..., 3] > 0.5
+
+    @property
+    def direction(self) -> np.ndarray:
+        return self._frame.read("rays.direction")[..., :3]
+
+    def mean_fetches(self) -> float:
+        """Mean depth fetches per traced ray."""
+        m = np.broadcast_to(self.traced, self.steps.shape)
+        return float(self.steps[m].mean()) if m.any() else 0.0

@@ -54,6 +54,104 @@ class Settings:
         1, "percentage-closer filtering kernel radius r: (2r+1)^2 hardware-filtered taps", "taps", 0, 4,
         group="lighting")
 
+    # -- reflection rays (seed 000, 2.3; seed 002, 4.4) ---------------------------------------------
+    method: str = _setting(
+        "linear", "tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002) "
+        "or 'off' (no reflections)", choices=("linear", "hiz", "off"), group="rays")
+    rays_per_pixel: int = _setting(1, "reflection rays per reflective pixel", "rays", 1, 32, group="rays")
+    sampling: str = _setting(
+        "ggx", "ray directions: 'mirror'; 'ggx' (the thesis's theta/phi GGX normal sampling, 2.3.2); "
+        "'vndf' (GGX visible normals, Heitz 2018); 'ggx_thesis_literal' (the thesis's vector "
+        "(.., 1 - cos theta) added to the normal: biased, kept to measure it)",
+        choices=("mirror", "ggx", "vndf", "ggx_thesis_literal"), group="rays")
+    noise: str = _setting(
+        "pcg", "random numbers: 'pcg' (PCG hash) or 'thesis_hash' (fract(sin(..)*43758.5453), thesis 2.3.4)",
+        choices=("pcg", "thesis_hash"), group="rays")
+    hammersley: bool = _setting(True, "add a Hammersley point to each ray's random numbers (thesis 2.3.4)",
+                                group="rays")
+    seed: int = _setting(0, "random seed of ray directions and jitter", "", 0, 2**31 - 1, group="rays")
+    max_distance: float = _setting(1000.0, "view-space length of a ray", "world units", 1e-3, 1e7, group="rays")
+    origin_bias: float = _setting(
+        0.002, "ray origin offset along the surface normal, times the origin's view depth", "x depth", 0.0, 1.0,
+        group="rays")
+    roughness_cutoff: float = _setting(
+        1.0, "pixels rougher than this trace no rays and reflect the environment (seed 003's threshold)",
+        "perceptual roughness", 0.0, 1.0, group="rays")
+
+    # -- hit test ------------------------------------------------------------------------------------------
+    thickness: float = _setting(
+        0.2, "how far behind its depth every G-buffer sample counts as solid; a ray hits layer k where it "
+        "lies within [depth_k, depth_k + thickness]", "world units", 0.0, 1e6, group="hit test")
+    thickness_mode: str = _setting(
+        "constant", "'constant', or 'ray_step' (thesis 2.3.1: max(thickness, thickness_scale * the ray's depth "
+        "change over one step), linear tracer only)", choices=("constant", "ray_step"), group="hit test")
+    thickness_scale: float = _setting(1.0, "factor of the ray's depth step in thickness_mode='ray_step'", "",
+                                      0.0, 1e3, group="hit test")
+
+    # -- linear tracer -------------------------------------------------------------------------------------
+    stride: float = _setting(1.0, "pixels per step along the ray's major screen axis", "pixels", 1.0, 64.0,
+                             group="linear tracer")
+    jitter: float = _setting(
+        1.0, "per-pixel start offset of the sampled pixels: jitter * a random number * (stride - 1) pixels "
+        "(McGuire & Mara); no effect at stride 1", "", 0.0, 1.0, group="linear tracer")
+    max_steps: int = _setting(
+        512, "linear: steps per ray; hiz: traversal iterations per ray", "steps", 1, 100000, group="linear tracer")
+    refine_steps: int = _setting(
+        0, "binary-search steps after a hit, between the previous and the hit step (seed 001 3.4, seed 002 "
+        "Fig. 4.5)", "steps", 0, 16, group="linear tracer")
+
+    # -- Hi-Z tracer ---------------------------------------------------------------------------------------
+    hiz_start_level: int = _setting(1, "pyramid level the traversal starts at (seed 002 demo: 2)", "level", 0, 15,
+                                    group="hi-z tracer")
+    hiz_stop_level: int = _setting(
+        0, "level at which an overlap counts as a hit; 0 is exact, higher is coarser and faster", "level", 0, 15,
+        group="hi-z tracer")
+    hiz_max_level: int = _setting(12, "coarsest level the traversal climbs to", "level", 0, 15, group="hi-z tracer")
+    hiz_linear_steps: int = _setting(
+        0, "level-0 cell steps before the hierarchical traversal (seed 002, 4.7.1)", "cells", 0, 64,
+        group="hi-z tracer")
+    hiz_use_max: bool = _setting(
+        True, "use the max pyramid to travel behind surfaces (seed 002, 4.6.6); False: min-only Hi-Z",
+        group="hi-z tracer")
+    hiz_crossing_offset: float = _setting(
+        0.01, "how far past a cell boundary a crossing lands (seed 002's epsilon)", "pixels", 1e-5, 0.5,
+        group="hi-z tracer")
+
+    # -- resolve (seed 000, 2.4 and 2.6) -----------------------------------------------------------------
+    downscale: int = _setting(1, "rays are traced at 1/downscale resolution (thesis 2.6): 1, 2 or 4", "x",
+                              1, 4, choices=None, group="resolve")
+    reuse_radius: int = _setting(
+        1, "neighbour rays each pixel reuses: 0 none, 1 the thesis's 3x3, 2 a 5x5", "trace pixels", 0, 2,
+        group="resolve")
+    reuse_weighting: str = _setting(
+        "brdf", "'thesis' (every ray keeps its own weight) or 'brdf' (a neighbour's ray weighted by this "
+        "pixel's BRDF over its pdf, Stachowiak 2015)", choices=("thesis", "brdf"), group="resolve")
+    edge_aware: bool = _setting(
+        True, "weight reused and upsampled rays by depth and normal similarity, so reflections do not bleed "
+        "across silhouettes", group="resolve")
+    edge_depth_sigma: float = _setting(0.05, "relative depth difference scale of edge-aware weights", "",
+                                       1e-6, 1e3, group="resolve")
+    edge_normal_power: float = _setting(16.0, "exponent on the normals' cosine in edge-aware weights", "",
+                                        0.0, 1024.0, group="resolve")
+
+    # -- fades and composite (seed 002, 4.6.1; seed 000, 2.4.2) ---------------------------------------
+    fade_border: float = _setting(
+        0.05, "hits within this share of the image's smaller side from its border fade to the environment",
+        "fraction", 0.0, 0.5, group="fades")
+    fade_camera_start: float = _setting(
+        0.5, "rays toward the camera fade from this cosine between ray and direction to the camera...", "cos",
+        -1.0, 1.0, group="fades")
+    fade_camera_end: float = _setting(0.9, "...to fully faded at this one (end <= start: no fade)", "cos",
+                                      -1.0, 1.0, group="fades")
+    fade_distance_start: float = _setting(
+        0.0, "hits farther than this from the ray origin start to fade (0: no distance fade)", "world units",
+        0.0, 1e7, group="fades")
+    fade_distance_end: float = _setting(0.0, "...and are fully faded at this distance", "world units", 0.0, 1e7,
+                                        group="fades")
+    composite: str = _setting(
+        "linear", "'linear': c = r c_r + (1 - r) c_d (thesis 2.4.2); 'pbr': c = c_d + r F c_r with "
+        "Schlick's Fresnel F from metallic and base colour", choices=("linear", "pbr"), group="fades")
+
     # ---------------------------------------------------------------------------------------------
     def __setattr__(self, name: str, value: Any) -> None:
         # Every assignment, the dataclass __init__'s included, goes through the field's check.
@@ -131,9 +229,13 @@ def _check(f: dataclasses.Field, value: Any) -> Any:
         if value != value or value in (float("inf"), float("-inf")):
             raise ValueError(f"{name} must be finite, got {value!r}")
     elif typ in ("str", str):
+        if not isinstance(value, str):
+            raise ValueError(f"{name} must be a string, got {value!r}")
         if m["choices"] and value not in m["choices"]:
             raise ValueError(f"{name} must be one of {', '.join(map(repr, m['choices']))}, got {value!r}")
         return value
+    if f.name == "downscale" and value not in (1, 2, 4):
+        raise ValueError(f"{name} must be 1, 2 or 4, got {value!r}")
     lo, hi = m["lo"], m["hi"]
     if m["off"] is not None and value == m["off"]:
         return value

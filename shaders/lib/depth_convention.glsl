@@ -37,3 +37,32 @@ vec3 view_position(vec2 pixel, float z) {
     vec2 xy = (ndc + vec2(frame.proj[2][0], frame.proj[2][1])) * z / vec2(frame.proj[0][0], frame.proj[1][1]);
     return vec3(xy, -z);
 }
+
+// "Screen depth" s: window depth with its sign chosen so that s grows with distance in both
+// conventions (s = d standard, s = -d reversed-Z; negation keeps every bit of precision).
+// s is affine in 1/z, so it interpolates linearly in screen space (seed 002, 4.4.3): the
+// Hi-Z pyramid and its traversal work in s.
+float screen_depth(float d) {
+#if DEPTH_REVERSED_Z
+    return -d;
+#else
+    return d;
+#endif
+}
+
+float screen_depth_of_view(float z) {
+    float ndc = (frame.proj[2][2] * -z + frame.proj[3][2]) / z;
+#if DEPTH_REVERSED_Z
+    return -ndc;  // window depth = ndc with glClipControl ZERO_TO_ONE
+#else
+    return ndc * 0.5 + 0.5;
+#endif
+}
+
+float view_depth_of_screen(float s) {
+#if DEPTH_REVERSED_Z
+    return linear_depth(-s);
+#else
+    return linear_depth(s);
+#endif
+}

@@ -8,7 +8,8 @@
 #endif
 
 #if ENVIRONMENT_MAP
-uniform sampler2D u_environment_map;  // equirectangular, u = longitude, v = 0 at the zenith
+// Texture unit 15 is kept for the environment map in every pass.
+layout(binding = 15) uniform sampler2D u_environment_map;  // equirectangular, u = longitude, v = 0 at the zenith
 #endif
 
 // Radiance arriving from world-space direction `dir` (unit length).

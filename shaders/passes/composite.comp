@@ -1,23 +1,53 @@
 #version 450 core
-// Composite: the final image. Layer 0's lit colour where a surface covers the pixel, the
-// environment seen through the pixel elsewhere.
+// composite: the final image. Where a surface covers the pixel, its lit colour c_d, blended
+// with its reflection c_r when there is one:
+//   linear (seed 000, 2.4.2): c = r c_r + (1 - r) c_d
+//   pbr:                      c = c_d + r F c_r, F Schlick's Fresnel from metallic/base colour
+// with r the surface's reflectivity; the environment where no surface covers the pixel.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/environment.glsl"
+#if REFLECTIONS
+#include "../lib/ssr_settings.glsl"
+#include "../lib/gbuffer.glsl"
+#include "../lib/brdf.glsl"
+#endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform sampler2DArray u_lit;
 layout(binding = 1) uniform sampler2DArray u_material;
+#if REFLECTIONS
+layout(binding = 2) uniform sampler2D u_reflection;
+layout(binding = 3) uniform sampler2DArray u_albedo;
+layout(binding = 4) uniform sampler2DArray u_normal;
+layout(binding = 5) uniform sampler2DArray u_linear_depth;
+#endif
 
 layout(binding = 0, rgba32f) writeonly uniform image2D o_color;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (p.x >= int(frame.viewport.x) || p.y >= int(frame.viewport.y)) return;
+    vec4 material = texelFetch(u_material, ivec3(p, 0), 0);
     vec3 c;
-    if (texelFetch(u_material, ivec3(p, 0), 0).g > 0.5) {
+    if (material.g > 0.5) {
         c = texelFetch(u_lit, ivec3(p, 0), 0).rgb;
+#if REFLECTIONS
+        float r = material.r;
+        if (r > 0.0) {
+            vec3 reflection = texelFetch(u_reflection, p, 0).rgb;
+            if (ssr.composite_mode == COMPOSITE_LINEAR) {
+                c = r * reflection + (1.0 - r) * c;
+            } else {
+                GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                                           material);
+                vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+                float NoV = max(dot(g.normal, normalize(-pos)), 0.0);
+                c += r * fresnel_schlick(specular_f0(g.albedo, g.metallic), NoV) * reflection;
+            }
+        }
+#endif
     } else {
         vec3 dir_view = normalize(view_position(vec2(p) + 0.5, 1.0));
         c = environment_radiance(normalize(mat3(frame.inv_view) * dir_view));

@@ -1,0 +1,29 @@
+#include "passes/hiz_build.h"
+
+#include "passes/compute.h"
+
+namespace ssr {
+
+void HizBuildPass::execute(FrameContext& ctx) {
+    Texture& hiz = ctx.resources.get("hiz");
+    const int layers = ctx.settings.layers;
+
+    Defines level0 = ctx.defines;
+    level0["HIZ_LEVEL0"] = "1";
+    glUseProgram(ctx.shaders.program({"passes/hiz_build.comp"}, level0));
+    glBindTextureUnit(0, ctx.resources.get("gbuffer.depth").id());
+    glBindTextureUnit(1, ctx.resources.get("gbuffer.material").id());
+    bind_image_layered(0, hiz, GL_WRITE_ONLY, 0);
+    dispatch_2d(hiz.width(), hiz.height(), layers, 8, 8);
+
+    Defines coarser = ctx.defines;
+    coarser["HIZ_LEVEL0"] = "0";
+    glUseProgram(ctx.shaders.program({"passes/hiz_build.comp"}, coarser));
+    for (int level = 1; level < hiz.levels(); ++level) {
+        bind_image_layered(0, hiz, GL_WRITE_ONLY, level);
+        bind_image_layered(1, hiz, GL_READ_ONLY, level - 1);
+        dispatch_2d(std::max(hiz.width() >> level, 1), std::max(hiz.height() >> level, 1), layers, 8, 8);
+    }
+}
+
+}  // namespace ssr

@@ -1,0 +1,23 @@
+// trace_hiz: hierarchical min-max traversal over every G-buffer layer (seed 002, 4.4.3,
+// 4.5.3, 4.6.6, 4.6.7, 4.7.1; shaders/passes/trace_hiz.comp).
+//   inputs : hiz, linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material
+//   outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h)
+#pragma once
+
+#include "passes/trace_pass.h"
+
+namespace ssr {
+
+class TraceHizPass : public TracePass {
+public:
+    std::string name() const override { return "trace_hiz"; }
+    std::vector<std::string> inputs() const override {
+        return {"hiz", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+    }
+    void execute(FrameContext& ctx) override {
+        glBindTextureUnit(4, ctx.resources.get("hiz").id());
+        run(ctx, ctx.shaders.program({"passes/trace_hiz.comp"}, ctx.defines));
+    }
+};
+
+}  // namespace ssr

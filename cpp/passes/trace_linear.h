@@ -1,0 +1,22 @@
+// trace_linear: McGuire & Mara's perspective-correct DDA over every G-buffer layer
+// (seed 000, 2.3; shaders/passes/trace_linear.comp).
+//   inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material
+//   outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h)
+#pragma once
+
+#include "passes/trace_pass.h"
+
+namespace ssr {
+
+class TraceLinearPass : public TracePass {
+public:
+    std::string name() const override { return "trace_linear"; }
+    std::vector<std::string> inputs() const override {
+        return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+    }
+    void execute(FrameContext& ctx) override {
+        run(ctx, ctx.shaders.program({"passes/trace_linear.comp"}, ctx.defines));
+    }
+};
+
+}  // namespace ssr

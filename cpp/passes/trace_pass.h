@@ -1,0 +1,27 @@
+// What trace_linear and trace_hiz share: the ray textures they write, at the trace
+// resolution (the image divided by Settings.downscale), one layer per ray of a pixel:
+//   rays.hit       RGBA32F: hit position (pixels), hit layer (1-based, 0 = miss), fade
+//   rays.sample    RGBA32F: weight, pdf, depth fetches spent, 1 if the pixel traced rays
+//   rays.direction RGBA16F: view-space direction of the ray
+#pragma once
+
+#include "render/render_pass.h"
+
+namespace ssr {
+
+class TracePass : public RenderPass {
+public:
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
+        const int w = s.trace_width(), h = s.trace_height(), r = s.rays_per_pixel;
+        return {{"rays.hit", GL_RGBA32F, w, h, r, 1},
+                {"rays.sample", GL_RGBA32F, w, h, r, 1},
+                {"rays.direction", GL_RGBA16F, w, h, r, 1}};
+    }
+
+protected:
+    // Binds the G-buffer (units 0-3) and the ray textures (images 0-2), runs `program` over
+    // every (trace pixel, ray).
+    void run(FrameContext& ctx, GLuint program);
+};
+
+}  // namespace ssr

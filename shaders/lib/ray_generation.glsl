@@ -1,0 +1,52 @@
+// Reflection rays of a G-buffer pixel (seed 000, 2.3.4 steps 1-3): two random numbers per
+// ray (plus a Hammersley point), a direction from the chosen sampling, and the weight and
+// pdf the resolve needs. Needs frame_uniforms, ssr_settings, random, brdf, ggx_sampling,
+// gbuffer.
+
+struct ReflectionRay {
+    vec3 origin;   // view space, biased off the surface along its normal
+    vec3 dir;      // view space, unit length
+    float weight;  // 0: no ray (not reflective, too rough, or an invalid sample)
+    float pdf;
+};
+
+// Two uniform numbers for ray `r` of trace pixel `q`.
+vec2 ray_random(ivec2 q, int r, GSample g) {
+    vec2 u;
+    if (ssr.noise == NOISE_THESIS_HASH) {
+        // Seeded by camera position, pixel position and surface normal, as the thesis does.
+        vec2 s = vec2(q) + frame.inv_view[3].xy * 0.61 + g.normal.xy * 17.3 + float(ssr.seed % 1000u) * 0.173;
+        s += float(r) * vec2(3.31, 7.77);
+        u = vec2(thesis_hash(s), thesis_hash(s.yx + vec2(19.19, 5.07)));
+    } else {
+        uint h = pcg_hash(uint(q.x) ^ pcg_hash(uint(q.y) ^ pcg_hash(ssr.seed)));
+        u = vec2(unit_float(pcg_hash(h + 2u * uint(r))), unit_float(pcg_hash(h + 2u * uint(r) + 1u)));
+    }
+    if (ssr.hammersley != 0) u = fract(u + hammersley(uint(r), uint(ssr.rays_per_pixel)));
+    return u;
+}
+
+// Whether a layer-0 pixel reflects at all: a surface with reflectivity, smooth enough.
+bool is_reflective(GSample g) {
+    return g.covered && g.reflectivity > 0.0 && g.roughness <= ssr.roughness_cutoff;
+}
+
+ReflectionRay generate_ray(GSample g, vec3 p_view, ivec2 q, int r) {
+    ReflectionRay ray;
+    ray.origin = p_view;
+    ray.dir = vec3(0.0, 0.0, -1.0);
+    ray.weight = 0.0;
+    ray.pdf = 0.0;
+    vec3 v = normalize(-p_view);
+    vec3 n = g.normal;
+    if (!is_reflective(g) || dot(n, v) <= 1e-4) return ray;  // no ray from surfaces seen edge-on or from behind
+    mat3 tbn = frame_from_normal(n);
+    vec3 v_local = transpose(tbn) * v;
+    float alpha = g.roughness * g.roughness;  // GGX alpha from perceptual roughness (glTF)
+    BrdfSample s = sample_reflection(v_local, alpha, ssr.sampling, ray_random(q, r, g));
+    ray.dir = normalize(tbn * s.l);
+    ray.weight = s.weight;
+    ray.pdf = s.pdf;
+    ray.origin = p_view + n * (ssr.origin_bias * -p_view.z);
+    return ray;
+}

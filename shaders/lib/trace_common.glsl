@@ -1,0 +1,23 @@
+// The part of a trace pass that does not depend on the tracer: the ray of a trace pixel
+// from the G-buffer, and the outputs every tracer writes.
+//   rays.hit       RGBA32F: hit position (level-0 pixels, GL orientation), hit layer
+//                  (1-based, 0 = miss, as the thesis stores it), fade
+//   rays.sample    RGBA32F: weight, pdf, depth fetches spent, 1 if the pixel traced rays
+//   rays.direction RGBA16F: view-space direction
+// The including pass binds the G-buffer samplers named below.
+
+layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;
+layout(binding = 1, rgba32f) writeonly uniform image2DArray o_sample;
+layout(binding = 2, rgba16f) writeonly uniform image2DArray o_direction;
+
+// The full-resolution pixel whose surface a trace pixel's rays start from: the centre
+// pixel of its downscale x downscale block (thesis 2.6).
+ivec2 origin_pixel(ivec2 q) {
+    return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
+}
+
+void store_ray(ivec3 id, ReflectionRay ray, bool traced, vec4 hit, float fetches) {
+    imageStore(o_hit, id, hit);
+    imageStore(o_sample, id, vec4(ray.weight, ray.pdf, fetches, traced ? 1.0 : 0.0));
+    imageStore(o_direction, id, vec4(ray.dir, 0.0));
+}

@@ -1,0 +1,157 @@
+#version 450 core
+// resolve (seed 000, 2.4): turns ray results into each pixel's reflection colour.
+// Every ray brings the lit colour of the layer it hit (faded toward the environment), or the
+// environment if it missed. Each pixel combines its own rays with its neighbours' within
+// `reuse_radius` (radius 1: the thesis's 3x3, Stachowiak's ray reuse):
+//   thesis weights: every ray keeps the weight it was traced with (seed 000, 2.4.1);
+//   brdf weights:   a neighbour's ray is reweighted by this pixel's BRDF over the pdf the
+//                   neighbour sampled it with (Stachowiak 2015), toward that ray's hit point.
+// With edge-aware reuse, a neighbour also counts by the similarity of its depth and normal,
+// which keeps reflections from bleeding across silhouettes and is what upsamples rays traced
+// at 1/2 or 1/4 resolution (thesis 2.6). As in the thesis, a work group first fetches every
+// ray its pixels can reuse into shared memory once, then every pixel sums from there; the
+// group is 16x16 pixels with an apron of `reuse_radius` trace pixels (the thesis used 32x32
+// groups whose edge pixels only fetch).
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/depth_convention.glsl"
+#include "../lib/ssr_settings.glsl"
+#include "../lib/gbuffer.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/random.glsl"
+#include "../lib/ggx_sampling.glsl"
+#include "../lib/ray_generation.glsl"
+#include "../lib/environment.glsl"
+
+layout(local_size_x = 16, local_size_y = 16, local_size_z = 1) in;
+
+layout(binding = 0) uniform sampler2DArray u_hit;
+layout(binding = 1) uniform sampler2DArray u_sample;
+layout(binding = 2) uniform sampler2DArray u_direction;
+layout(binding = 3) uniform sampler2DArray u_lit;
+layout(binding = 4) uniform sampler2DArray u_linear_depth;
+layout(binding = 5) uniform sampler2DArray u_albedo;
+layout(binding = 6) uniform sampler2DArray u_normal;
+layout(binding = 7) uniform sampler2DArray u_material;
+
+layout(binding = 0, rgba16f) writeonly uniform image2D o_reflection;
+
+const int GROUP = 16;
+const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
+
+shared vec4 s_color[MAX_TILE * MAX_TILE];     // rgb: radiance the ray brings; a: its weight
+shared vec4 s_direction[MAX_TILE * MAX_TILE]; // xyz: view direction; w: distance to its hit (< 0: miss)
+shared float s_pdf[MAX_TILE * MAX_TILE];
+shared vec4 s_origin[MAX_TILE * MAX_TILE];    // xyz: view position the rays start from; w: 1 if it traced
+shared vec3 s_normal[MAX_TILE * MAX_TILE];
+
+GSample gsample(ivec2 p) {
+    return gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                          texelFetch(u_material, ivec3(p, 0), 0));
+}
+
+vec3 view_pos(ivec2 p) {
+    return view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+}
+
+vec3 environment_view(vec3 dir_view) {
+    return environment_radiance(normalize(mat3(frame.inv_view) * dir_view));
+}
+
+// Similarity of a neighbour's surface to this pixel's: relative depth difference and normal
+// cosine (a cross-bilateral weight, Kopf et al. 2007; seed 002, 4.7.4).
+float edge_weight(vec3 p, vec3 n, vec3 pq, vec3 nq) {
+    float dz = abs(p.z - pq.z) / max(-p.z, 1e-4);
+    return exp(-dz / ssr.edge_depth_sigma) * pow(max(dot(n, nq), 0.0), ssr.edge_normal_power);
+}
+
+void main() {
+    ivec2 size = ivec2(frame.viewport.xy);
+    ivec2 trace_size = ivec2(ssr.trace_width, ssr.trace_height);
+    int s = ssr.downscale, radius = ssr.reuse_radius;
+    ivec2 group_origin = ivec2(gl_WorkGroupID.xy) * GROUP;
+    ivec2 tile_lo = group_origin / s - radius;
+    ivec2 tile_dim = (group_origin + GROUP - 1) / s + radius - tile_lo + 1;
+    int entries = tile_dim.x * tile_dim.y;
+    int lid = int(gl_LocalInvocationIndex);
+
+    // Origins of every trace pixel in the tile.
+    for (int e = lid; e < entries; e += GROUP * GROUP) {
+        ivec2 q = tile_lo + ivec2(e % tile_dim.x, e / tile_dim.x);
+        s_origin[e] = vec4(0.0);
+        s_normal[e] = vec3(0.0, 0.0, 1.0);
+        if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, trace_size))) {
+            ivec2 p = min(q * s + s / 2, size - 1);
+            bool traced = texelFetch(u_sample, ivec3(q, 0), 0).w > 0.5;
+            s_origin[e] = vec4(view_pos(p), traced ? 1.0 : 0.0);
+            s_normal[e] = gsample(p).normal;
+        }
+    }
+
+    ivec2 pixel = group_origin + ivec2(gl_LocalInvocationID.xy);
+    bool inside = all(lessThan(pixel, size));
+    GSample g = gsample(min(pixel, size - 1));
+    bool receives = inside && is_reflective(g);
+    vec3 p = view_pos(min(pixel, size - 1));
+    vec3 v = normalize(-p);
+    mat3 tbn = frame_from_normal(g.normal);
+    vec3 v_local = transpose(tbn) * v;
+    float alpha = g.roughness * g.roughness;
+    bool mirror_receiver = alpha < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
+    ivec2 base = pixel / s;
+    vec3 sum_c = vec3(0.0);
+    float sum_w = 0.0;
+
+    for (int r = 0; r < ssr.rays_per_pixel; ++r) {
+        barrier();
+        // Fetch ray r of every trace pixel in the tile once: hit colour, weight, direction.
+        for (int e = lid; e < entries; e += GROUP * GROUP) {
+            ivec2 q = tile_lo + ivec2(e % tile_dim.x, e / tile_dim.x);
+            s_color[e] = vec4(0.0);
+            if (s_origin[e].w == 0.0) continue;
+            vec4 hit = texelFetch(u_hit, ivec3(q, r), 0);
+            vec4 smp = texelFetch(u_sample, ivec3(q, r), 0);
+            vec3 dir = texelFetch(u_direction, ivec3(q, r), 0).xyz;
+            vec3 c = environment_view(dir);
+            float dist = -1.0;
+            if (hit.z > 0.5) {
+                ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
+                c = mix(c, texelFetch(u_lit, hp, 0).rgb, hit.w);
+                dist = distance(view_position(hit.xy, texelFetch(u_linear_depth, hp, 0).r), s_origin[e].xyz);
+            }
+            s_color[e] = vec4(c, smp.x);
+            s_direction[e] = vec4(dir, dist);
+            s_pdf[e] = smp.y;
+        }
+        barrier();
+        if (!receives) continue;
+        for (int dy = -radius; dy <= radius; ++dy) {
+            for (int dx = -radius; dx <= radius; ++dx) {
+                ivec2 q = base + ivec2(dx, dy);
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, trace_size))) continue;
+                ivec2 t = q - tile_lo;
+                int e = t.y * tile_dim.x + t.x;
+                vec4 rc = s_color[e];
+                if (rc.a <= 0.0) continue;
+                bool own = s == 1 && dx == 0 && dy == 0;
+                float w = rc.a;
+                if (ssr.reuse_weighting == REUSE_BRDF && !own) {
+                    if (s_pdf[e] > 0.0 && !mirror_receiver) {
+                        // Toward the neighbour's hit point, or along its direction if it missed.
+                        vec4 d = s_direction[e];
+                        vec3 l = d.w >= 0.0 ? normalize(s_origin[e].xyz + d.xyz * d.w - p) : d.xyz;
+                        w = brdf_cosine(v_local, transpose(tbn) * l, alpha) / s_pdf[e];
+                    } else if (s == 1) {
+                        w = 0.0;  // mirror rays only serve their own pixel at full resolution
+                    }
+                }
+                if (ssr.edge_aware != 0) w *= edge_weight(p, g.normal, s_origin[e].xyz, s_normal[e]);
+                sum_c += w * rc.rgb;
+                sum_w += w;
+            }
+        }
+    }
+    if (!inside) return;
+    vec3 reflection = vec3(0.0);
+    if (receives) reflection = sum_w > 1e-8 ? sum_c / sum_w : environment_view(reflect(-v, g.normal));
+    imageStore(o_reflection, pixel, vec4(reflection, 1.0));
+}

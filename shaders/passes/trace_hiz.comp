@@ -1,0 +1,152 @@
+#version 450 core
+// trace_hiz: hierarchical traversal of a min-max depth pyramid (seed 002, 4.4.3 and 4.5.3),
+// over every G-buffer layer. The screen-space ray o + v t (t in [0, 1]; x, y in pixels, z in
+// screen depth s, all affine in screen space) walks cells: where its segment inside a cell
+// misses every layer's slab [min, max + thickness] the whole cell is skipped and the walk
+// goes up a level; where it overlaps one, the walk goes down; an overlap at the stop level
+// is the hit. The max pyramid lets rays pass behind surfaces (4.6.6) and the slab test
+// serves rays toward the camera as well (4.6.7). Origins are snapped to pixel centres and
+// cell crossings step a small offset past the boundary (the Stingray finding).
+//
+// Deep layers: a cell holds one (min, max) per layer; the walk tests layers front to back
+// and stops at the first layer whose slab the segment overlaps (-> descend), or at the first
+// layer it lies in front of, or an empty one (-> skip the cell). Layers are depth-sorted per
+// pixel, so each layer's min over a cell is at least the previous layer's: a ray in front
+// of the front layer costs one fetch per cell whatever the layer count; only rays that
+// travel behind surfaces pay for deeper layers.
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/depth_convention.glsl"
+#include "../lib/ssr_settings.glsl"
+#include "../lib/gbuffer.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/random.glsl"
+#include "../lib/ggx_sampling.glsl"
+#include "../lib/ray_generation.glsl"
+#include "../lib/screen_ray.glsl"
+#include "../lib/trace_common.glsl"
+#include "../lib/hiz_cells.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(binding = 0) uniform sampler2DArray u_linear_depth;
+layout(binding = 1) uniform sampler2DArray u_albedo;
+layout(binding = 2) uniform sampler2DArray u_normal;
+layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = 4) uniform sampler2DArray u_hiz;  // RG32F (min s, max s) per layer, mip per level
+
+float g_fetches = 0.0;
+
+// GL's mip size rule, max(1, size >> level). Computed rather than asked of textureSize():
+// llvmpipe answers textureSize with the lod of one lane when lanes ask for different levels.
+ivec2 hiz_level_size(int level) {
+    return max(ivec2(frame.viewport.xy) >> level, ivec2(1));
+}
+
+vec2 hiz_fetch(ivec2 cell, int layer, int level) {
+    g_fetches += 1.0;
+    return texelFetch(u_hiz, ivec3(cell, layer), level).xy;
+}
+
+// The back of a surface slab: screen depth `thickness` behind screen depth s.
+float slab_back(float s) {
+    return screen_depth_of_view(view_depth_of_screen(s) + ssr.thickness);
+}
+
+// The first layer whose slab the ray segment's screen-depth range [lo, hi] overlaps in
+// `cell`, -1 for none; `front` receives that layer's nearest screen depth there.
+int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front) {
+    front = 0.0;
+    for (int k = 0; k < ssr.layers; ++k) {
+        vec2 mm = hiz_fetch(cell, k, level);
+        if (mm.x > mm.y) return -1;  // the layer covers nothing here, nor does any deeper one
+        if (hi < mm.x) return -1;    // in front of this layer, so of every deeper one
+        // Without the max pyramid a coarse cell's slab reaches to infinity (min-only Hi-Z).
+        float back = (level == 0 || ssr.hiz_use_max != 0) ? slab_back(mm.y) : 1e30;
+        if (lo <= back) {
+            front = mm.x;
+            return k;
+        }
+    }
+    return -1;
+}
+
+struct HizHit {
+    bool hit;
+    vec2 pixel;
+    int layer;
+    float s;  // screen depth of the surface hit
+};
+
+HizHit trace_hiz(ReflectionRay ray) {
+    HizHit result;
+    result.hit = false;
+    float len = ray_length_in_front_of_near(ray.origin, ray.dir, ssr.max_distance);
+    vec3 end = ray.origin + ray.dir * len;
+    vec3 a = view_to_pixel(ray.origin), b = view_to_pixel(end);
+    vec3 o = vec3(a.xy, screen_depth_of_view(-ray.origin.z));
+    vec3 e = vec3(b.xy, screen_depth_of_view(-end.z));
+    e = mix(o, e, screen_exit(o.xy, e.xy, frame.viewport.xy));
+    o.xy = floor(o.xy) + 0.5;  // snap the origin to its pixel centre: never on a cell edge
+    vec3 v = e - o;
+    float major = max(abs(v.x), abs(v.y));
+    if (major < 0.5) return result;  // the ray stays inside its own pixel on screen
+    float eps_t = ssr.hiz_crossing_offset / major;
+    int max_level = min(ssr.hiz_max_level, textureQueryLevels(u_hiz) - 1);
+    int start_level = clamp(ssr.hiz_start_level, 0, max_level);
+    int stop_level = clamp(ssr.hiz_stop_level, 0, max_level);
+
+    // Leave the origin's pixel first, so the ray does not hit the surface it starts on.
+    float t = hiz_cell_exit(o.xy, v.xy, hiz_cell(o.xy, 0), 0) + eps_t;
+    int linear_left = ssr.hiz_linear_steps;  // seed 002, 4.7.1: a few level-0 steps first
+    int level = linear_left > 0 ? 0 : start_level;
+
+    for (int i = 0; i < ssr.max_steps && t < 1.0; ++i) {
+        vec2 pos = o.xy + v.xy * t;
+        ivec2 cell = hiz_cell(pos, level);
+        float t_out = min(hiz_cell_exit(o.xy, v.xy, cell, level), 1.0);
+        float sa = o.z + v.z * t, sb = o.z + v.z * t_out;
+        float front;
+        int layer = cell_overlap(cell, level, min(sa, sb), max(sa, sb), front);
+        if (layer < 0) {  // nothing for this ray in the cell: cross it and go up
+            t = t_out + eps_t;
+            if (linear_left > 0) {
+                if (--linear_left == 0) level = start_level;
+            } else {
+                level = min(level + 1, max_level);
+            }
+        } else if (level <= stop_level) {
+            // Where the ray reaches the surface inside the cell (at once if already behind it).
+            float th = (v.z > 0.0 && sa < front) ? (front - o.z) / v.z : t;
+            th = clamp(th, t, t_out);
+            vec2 lo, hi;
+            hiz_cell_bounds(cell, level, lo, hi);
+            result.hit = true;
+            result.pixel = clamp(o.xy + v.xy * th, lo, hi - 0.001);
+            result.layer = layer;
+            result.s = front;
+            return result;
+        } else {
+            --level;
+        }
+    }
+    return result;
+}
+
+void main() {
+    ivec3 id = ivec3(gl_GlobalInvocationID);
+    if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
+    ivec2 p = origin_pixel(id.xy);
+    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                               texelFetch(u_material, ivec3(p, 0), 0));
+    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
+    vec4 hit = vec4(0.0);
+    if (ray.weight > 0.0) {
+        HizHit h = trace_hiz(ray);
+        if (h.hit) {
+            vec3 hit_view = view_position(h.pixel, view_depth_of_screen(h.s));
+            hit = vec4(h.pixel, float(h.layer + 1), hit_fade(h.pixel, ray.origin, ray.dir, hit_view));
+        }
+    }
+    store_ray(id, ray, is_reflective(g), hit, g_fetches);
+}

@@ -1,0 +1,169 @@
+#version 450 core
+// trace_linear: McGuire & Mara's perspective-correct DDA in homogeneous screen space
+// (JCGT 3(4), 2014; seed 000, 2.3.1), over every G-buffer layer. The ray steps `stride`
+// pixels along its major screen axis while its view depth and 1/w are interpolated
+// linearly (perspective-correct); at each step it hits layer k when the depth range it
+// covers over the step overlaps [depth_k, depth_k + thickness]. One invocation per
+// (trace pixel, ray).
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/depth_convention.glsl"
+#include "../lib/ssr_settings.glsl"
+#include "../lib/gbuffer.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/random.glsl"
+#include "../lib/ggx_sampling.glsl"
+#include "../lib/ray_generation.glsl"
+#include "../lib/screen_ray.glsl"
+#include "../lib/trace_common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(binding = 0) uniform sampler2DArray u_linear_depth;
+layout(binding = 1) uniform sampler2DArray u_albedo;
+layout(binding = 2) uniform sampler2DArray u_normal;
+layout(binding = 3) uniform sampler2DArray u_material;
+
+float g_fetches = 0.0;
+
+float layer_depth(ivec2 pixel, int layer) {
+    g_fetches += 1.0;
+    return texelFetch(u_linear_depth, ivec3(pixel, layer), 0).r;
+}
+
+// The first layer, front to back, whose slab [d, d + thick] the ray's depth range [lo, hi]
+// at `pixel` overlaps; -1 for none. Layers are depth-sorted per pixel, so the walk stops at
+// the first surface the ray is in front of, or at an empty layer: a ray in front of every
+// surface costs one fetch whatever the layer count (the thesis fetches every layer).
+int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
+    surface = 0.0;
+    for (int k = 0; k < ssr.layers; ++k) {
+        float d = layer_depth(pixel, k);
+        if (d >= frame.clip.y) return -1;  // empty layer: no surface here or behind
+        if (hi < d) return -1;
+        if (lo <= d + thick) {
+            surface = d;
+            return k;
+        }
+    }
+    return -1;
+}
+
+struct LinearHit {
+    bool hit;
+    vec2 pixel;   // exact crossing, GL pixel coordinates
+    int layer;
+    float depth;  // positive view depth of the surface hit
+};
+
+LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
+    LinearHit result;
+    result.hit = false;
+    float len = ray_length_in_front_of_near(ray.origin, ray.dir, ssr.max_distance);
+    vec3 end = ray.origin + ray.dir * len;
+    vec4 h0 = frame.proj * vec4(ray.origin, 1.0);
+    vec4 h1 = frame.proj * vec4(end, 1.0);
+    // z/w and 1/w are affine in screen space: interpolating them is perspective-correct.
+    float k0 = 1.0 / h0.w, k1 = 1.0 / h1.w;
+    float qz0 = ray.origin.z * k0, qz1 = end.z * k1;
+    vec2 p0 = (h0.xy * k0 * 0.5 + 0.5) * frame.viewport.xy;
+    vec2 p1 = (h1.xy * k1 * 0.5 + 0.5) * frame.viewport.xy;
+    float t_screen = screen_exit(p0, p1, frame.viewport.xy);  // clip the segment to the image
+    p1 = mix(p0, p1, t_screen);
+    k1 = mix(k0, k1, t_screen);
+    qz1 = mix(qz0, qz1, t_screen);
+    vec2 delta = p1 - p0;
+    if (dot(delta, delta) < 1e-4) return result;  // the ray covers no screen distance
+
+    bool permute = abs(delta.y) > abs(delta.x);  // march along the major axis (x after the swap)
+    if (permute) {
+        delta = delta.yx;
+        p0 = p0.yx;
+        p1 = p1.yx;
+    }
+    float step_dir = sign(delta.x);
+    float inv_dx = step_dir / delta.x;
+    vec2 dp = vec2(step_dir, delta.y * inv_dx) * ssr.stride;
+    float dqz = (qz1 - qz0) * inv_dx * ssr.stride;
+    float dk = (k1 - k0) * inv_dx * ssr.stride;
+
+    // The ray's view depth at parameter s (in steps from p0): z(s) = -(qz0 + dqz s) / (k0 + dk s).
+    // Each step's depth range runs on from where the previous one ended, starting where the
+    // ray leaves the origin pixel, so no stretch of the ray goes untested; the jitter only
+    // moves which pixels are sampled: a random shift of up to stride - 1 pixels (McGuire &
+    // Mara's per-pixel jitter, which trades a long stride's banding for noise).
+    float s_prev = 0.5 / ssr.stride;
+    float z_prev = -(qz0 + dqz * s_prev) / (k0 + dk * s_prev);
+    float start = ssr.jitter * jitter_u * (1.0 - 1.0 / ssr.stride);
+    vec2 p = p0 + dp * start;
+    float qz = qz0 + dqz * start, k = k0 + dk * start;
+    float end_x = p1.x * step_dir;
+    ivec2 last_pixel = ivec2(frame.viewport.xy) - 1;
+
+    for (int i = 0; i < ssr.max_steps; ++i) {
+        p += dp;
+        qz += dqz;
+        k += dk;
+        if (p.x * step_dir > end_x) break;
+        float z_next = -(qz + 0.5 * dqz) / (k + 0.5 * dk);  // half a step on
+        float lo = min(z_prev, z_next), hi = max(z_prev, z_next);
+        z_prev = z_next;
+        float thick = ssr.thickness_mode == THICKNESS_RAY_STEP ? max(ssr.thickness, ssr.thickness_scale * (hi - lo))
+                                                               : ssr.thickness;
+        ivec2 pixel = clamp(ivec2(floor(permute ? p.yx : p)), ivec2(0), last_pixel);
+        float surface;
+        int layer = layer_hit(pixel, lo, hi, thick, surface);
+        if (layer < 0) continue;
+
+        // Binary search between the previous step and this one (seed 001 3.4, seed 002
+        // Fig. 4.5): keeps the hit on the near side of thin features a long stride skipped.
+        float s_lo = -1.0, s_hi = 0.0;
+        for (int b = 0; b < ssr.refine_steps; ++b) {
+            float mid = 0.5 * (s_lo + s_hi);
+            vec2 pm = p + dp * mid;
+            ivec2 pix_m = clamp(ivec2(floor(permute ? pm.yx : pm)), ivec2(0), last_pixel);
+            float zm = -(qz + dqz * mid) / (k + dk * mid);
+            float dm = layer_depth(pix_m, layer);
+            if (zm >= dm && zm <= dm + thick) {
+                s_hi = mid;
+                pixel = pix_m;
+                surface = dm;
+            } else {
+                s_lo = mid;
+            }
+        }
+        float s_base = ssr.refine_steps > 0 ? s_hi : 0.0;
+        // The exact crossing near this position: where the ray's depth equals the surface's,
+        // z(s) = -(qz + dqz s) / (k + dk s) = surface.
+        float denom = dqz + surface * dk;
+        float s = abs(denom) > 1e-20 ? -(qz + surface * k) / denom : s_base;
+        s = clamp(s, s_base - 0.5, s_base + 0.5);
+        vec2 hp = p + dp * s;
+        hp = permute ? hp.yx : hp;
+        result.hit = true;
+        result.pixel = clamp(hp, vec2(pixel), vec2(pixel) + 0.999);  // stay in the pixel whose surface was hit
+        result.layer = layer;
+        result.depth = surface;
+        return result;
+    }
+    return result;
+}
+
+void main() {
+    ivec3 id = ivec3(gl_GlobalInvocationID);  // (trace pixel, ray index)
+    if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
+    ivec2 p = origin_pixel(id.xy);
+    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                               texelFetch(u_material, ivec3(p, 0), 0));
+    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
+    vec4 hit = vec4(0.0);
+    if (ray.weight > 0.0) {
+        float jitter_u = unit_float(pcg_hash(uint(id.x) * 9781u + uint(id.y) * 6271u + uint(id.z) * 26699u + ssr.seed));
+        LinearHit h = trace_linear(ray, jitter_u);
+        if (h.hit) {
+            vec3 hit_view = view_position(h.pixel, h.depth);
+            hit = vec4(h.pixel, float(h.layer + 1), hit_fade(h.pixel, ray.origin, ray.dir, hit_view));
+        }
+    }
+    store_ray(id, ray, is_reflective(g), hit, g_fetches);
+}

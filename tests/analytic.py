@@ -1,0 +1,61 @@
+"""Closed-form references for the tracing tests."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ssrlab.scenes import MIRROR_TILE, MIRROR_TILES, MIRROR_WALL_Z
+
+
+def pixel_rays(frame):
+    """Camera position and unit world-space view ray of every pixel centre (rows top-first)."""
+    s = frame.settings
+    V = frame.view_matrix.astype(np.float64)
+    P = frame.projection_matrix.astype(np.float64)
+    inv_vp = np.linalg.inv(P @ V)
+    cam = np.linalg.inv(V)[:3, 3]
+    j, i = np.meshgrid(np.arange(s.width) + 0.5, np.arange(s.height) + 0.5)
+    ndc = np.stack([j / s.width * 2 - 1, 1 - i / s.height * 2, np.ones_like(j), np.ones_like(j)], -1)
+    far = ndc @ inv_vp.T
+    d = far[..., :3] / far[..., 3:] - cam
+    return cam, d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def project(frame, points):
+    """Pixel position (x = column, y = row from the top) of world points."""
+    s = frame.settings
+    M = frame.projection_matrix.astype(np.float64) @ frame.view_matrix.astype(np.float64)
+    clip = np.concatenate([points, np.ones_like(points[..., :1])], -1) @ M.T
+    ndc = clip[..., :2] / clip[..., 3:]
+    return np.stack([(ndc[..., 0] + 1) / 2 * s.width, (1 - ndc[..., 1]) / 2 * s.height], -1)
+
+
+def mirror_test_hits(frame):
+    """For mirror_test: the analytic hit pixel of every floor pixel's mirror ray, and where
+    that hit is on the checkerboard wall and on screen."""
+    cam, d = pixel_rays(frame)
+    t = -cam[1] / d[..., 1]
+    on_floor = d[..., 1] < 0
+    p = cam + d * t[..., None]
+    r = d * np.array([1.0, -1.0, 1.0])  # reflection about the plane y = 0
+    tw = (MIRROR_WALL_Z - p[..., 2]) / r[..., 2]
+    h = p + r * tw[..., None]
+    half = MIRROR_TILES * MIRROR_TILE / 2
+    ok = on_floor & (r[..., 2] < 0) & (np.abs(h[..., 0]) < half) & (h[..., 1] > 0) & (h[..., 1] < 2 * half)
+    px = project(frame, h)
+    s = frame.settings
+    ok &= (px[..., 0] >= 0) & (px[..., 0] < s.width) & (px[..., 1] >= 0) & (px[..., 1] < s.height)
+    return px, ok
+
+
+def ray_box_entry(origin, direction, lo, hi):
+    """Ray parameter where rays enter an axis-aligned box (inf for misses), and the axis of the face."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0 = (lo - origin) / direction
+        t1 = (hi - origin) / direction
+    tmin = np.minimum(t0, t1)
+    tmax = np.maximum(t0, t1)
+    t_enter = tmin.max(axis=-1)
+    t_exit = tmax.min(axis=-1)
+    hit = (t_enter <= t_exit) & (t_exit > 0)
+    return np.where(hit, t_enter, np.inf), tmin.argmax(axis=-1)
