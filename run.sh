@@ -69,7 +69,7 @@ command=${1:-}
 case "$command" in
   render)
     ensure_apt; ensure_python_env; ensure_package ""
-    exec "$PYTHON" -m ssrlab render --scene spheres_and_boxes --layers 4 --out renders/spheres_and_boxes "$@"
+    exec "$PYTHON" -m ssrlab render --scene spheres_and_boxes --layers 4 --set rays_per_pixel=4 --out renders/spheres_and_boxes "$@"
     ;;
   test)
     ensure_apt; ensure_python_env; ensure_package "test"
