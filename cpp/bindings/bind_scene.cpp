@@ -312,6 +312,11 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
         .def_property_readonly("mesh_count", [](const Scene& s) { return s.meshes.size(); })
         .def_property_readonly("material_count", [](const Scene& s) { return s.materials.size(); })
         .def_property_readonly("image_count", [](const Scene& s) { return s.images.size(); })
+        .def("content_hash", [](const Scene& s) {
+            char buf[17];
+            std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(s.content_hash()));
+            return std::string(buf);
+        }, "A hex digest of everything that changes an image of the scene (cache key).")
         .def_property_readonly("triangle_count", &Scene::triangle_count,
                                "Triangles over all objects (an instanced mesh counts once per instance).")
         .def_property_readonly("bounds",

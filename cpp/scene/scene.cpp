@@ -123,6 +123,78 @@ size_t Scene::triangle_count() const {
     return n;
 }
 
+namespace {
+// FNV-1a over raw bytes: stable across runs and machines of the same endianness.
+struct Hasher {
+    uint64_t h = 1469598103934665603ull;
+    void bytes(const void* p, size_t n) {
+        const auto* c = static_cast<const unsigned char*>(p);
+        for (size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
+    }
+    template <typename T>
+    void pod(const T& v) { bytes(&v, sizeof(T)); }
+    template <typename T>
+    void vec(const std::vector<T>& v) {
+        pod(v.size());
+        if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
+    }
+    void str(const std::string& s) { pod(s.size()); bytes(s.data(), s.size()); }
+};
+}  // namespace
+
+uint64_t Scene::content_hash() const {
+    Hasher h;
+    for (const Mesh& m : meshes) {
+        h.vec(m.positions);
+        h.vec(m.normals);
+        h.vec(m.uvs);
+        h.vec(m.tangents);
+        h.vec(m.indices);
+    }
+    for (const Material& m : materials) {
+        h.pod(m.base_color);
+        h.pod(m.metallic);
+        h.pod(m.roughness);
+        h.pod(m.reflectivity);
+        h.pod(m.emissive);
+        for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture}) {
+            h.pod(t->image);
+            h.pod(t->wrap_s);
+            h.pod(t->wrap_t);
+        }
+        h.pod(m.normal_scale);
+        h.pod(m.double_sided);
+    }
+    for (const Image& i : images) {
+        h.pod(i.width);
+        h.pod(i.height);
+        h.vec(i.rgba);
+    }
+    for (const Object& o : objects) {
+        h.pod(o.mesh);
+        h.pod(o.material);
+        h.pod(o.transform);
+    }
+    for (const Light& l : lights) {
+        h.pod(l.type);
+        h.pod(l.color);
+        h.pod(l.intensity);
+        h.pod(l.direction);
+        h.pod(l.position);
+        h.pod(l.cast_shadow);
+    }
+    h.pod(ambient);
+    h.pod(environment.type);
+    h.pod(environment.color);
+    h.pod(environment.sky_zenith);
+    h.pod(environment.sky_horizon);
+    h.pod(environment.ground);
+    h.pod(environment.intensity);
+    h.str(environment.map_path);
+    if (camera) h.pod(*camera);
+    return h.h;
+}
+
 Bounds Scene::bounds() const {
     Bounds b;
     for (const auto& o : objects) {

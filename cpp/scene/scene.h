@@ -126,6 +126,9 @@ public:
     int add_light(const Light& l);
 
     size_t triangle_count() const;       // summed over objects (instanced)
+    // A 64-bit hash of everything that changes an image (geometry, materials, images,
+    // transforms, lights, ambient, environment, default camera): a cache key for references.
+    uint64_t content_hash() const;
     Bounds bounds() const;               // world-space bounds of all objects
 
     Scene();
