@@ -14,6 +14,7 @@ APT_PACKAGES=(
   build-essential pkg-config git
   libegl-dev libopengl-dev libegl1 libopengl0 libegl-mesa0 libgl1-mesa-dri   # EGL + GL (glvnd), llvmpipe
   libglm-dev libtinygltf-dev nlohmann-json3-dev libopenimageio-dev           # GLM, tinygltf, OpenImageIO
+  libembree-dev                                                              # Embree: reference BVH
 )
 PYTHON=${PYTHON:-python3}
 

@@ -59,3 +59,35 @@ def ray_box_entry(origin, direction, lo, hi):
     t_exit = tmax.min(axis=-1)
     hit = (t_enter <= t_exit) & (t_exit > 0)
     return np.where(hit, t_enter, np.inf), tmin.argmax(axis=-1)
+
+
+def ggx_shade(albedo, metallic, roughness, n, v, lights, ambient):
+    """The documented shading model (shaders/lib/shading.glsl) in numpy: ambient * albedo plus,
+    per directional light, (Lambert diffuse + GGX specular) * irradiance * n.l, with Schlick's
+    Fresnel, GGX D, separable Smith G, alpha = max(roughness, 0.03)^2. No shadows.
+    `lights`: list of (direction the light travels, rgb irradiance). Arrays broadcast over (..., 3)."""
+    n = n / np.linalg.norm(n, axis=-1, keepdims=True)
+    v = v / np.linalg.norm(v, axis=-1, keepdims=True)
+    alpha = max(roughness, 0.03) ** 2
+    f0 = 0.04 * (1 - metallic) + np.asarray(albedo) * metallic
+    out = np.asarray(ambient) * np.asarray(albedo) + np.zeros_like(n)
+    nv = np.maximum(np.sum(n * v, -1), 1e-4)
+
+    def g1(c):
+        c2 = np.maximum(c * c, 1e-8)
+        return 2 / (1 + np.sqrt(1 + alpha * alpha * np.maximum(1 - c2, 0) / c2))
+
+    for direction, irradiance in lights:
+        l = -np.asarray(direction, float) / np.linalg.norm(direction)
+        nl = np.sum(n * l, -1)
+        h = l + v
+        h = h / np.linalg.norm(h, axis=-1, keepdims=True)
+        nh = np.maximum(np.sum(n * h, -1), 0)
+        vh = np.maximum(np.sum(v * h, -1), 0)
+        F = f0 + (1 - f0) * ((1 - vh) ** 5)[..., None]
+        d = nh * nh * (alpha * alpha - 1) + 1
+        D = alpha * alpha / np.maximum(np.pi * d * d, 1e-12)
+        spec = F * (D * g1(nl) * g1(nv) / (4 * np.maximum(nl, 1e-8) * nv))[..., None]
+        diffuse = (1 - F) * np.asarray(albedo) / np.pi
+        out = out + np.where((nl > 0)[..., None], (diffuse + spec) * np.asarray(irradiance) * nl[..., None], 0)
+    return out

@@ -101,6 +101,19 @@ void bind_render(py::module_& m) {
         .def(py::init(&Renderer::create), py::arg("device") = "auto", py::arg("shader_dir"))
         .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"))
         .def("info", [](const Renderer& r) { return r.info().as_dict(); })
+        .def(
+            "reference",
+            [](Renderer& r, const Scene& scene, Frame& frame, const std::string& mode, int rays, uint32_t seed,
+               const std::string& sampling, const std::string& viewer) {
+                if (mode != "per_ray" && mode != "converged")
+                    throw std::invalid_argument("reference mode must be 'per_ray' or 'converged', got '" + mode + "'");
+                if (viewer != "camera" && viewer != "ray")
+                    throw std::invalid_argument("reference viewer must be 'camera' or 'ray', got '" + viewer + "'");
+                return r.reference(scene, frame, mode == "per_ray", rays, seed, parse_enum<Sampling>("sampling", sampling),
+                                   viewer == "ray");
+            },
+            py::arg("scene"), py::arg("frame"), py::arg("mode"), py::arg("rays") = 256, py::arg("seed") = 0,
+            py::arg("sampling") = "vndf", py::arg("viewer") = "camera")
         .def("check_gl", &Renderer::check_errors, "Raises GLError if GL reported an error since the last check.")
         .def(
             "sample_reflections",

@@ -5,6 +5,7 @@
 #include "bindings/bindings.h"
 #include "core/errors.h"
 #include "render/camera.h"
+#include "scene/embree_scene.h"
 #include "scene/gltf_io.h"
 #include "scene/image_io.h"
 #include "scene/primitives.h"
@@ -502,6 +503,45 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
 }
 
 void bind_io(py::module_& m) {
+    m.def(
+        "embree_intersect",
+        [](const Scene& scene, py::array_t<float, py::array::c_style | py::array::forcecast> origins,
+           py::array_t<float, py::array::c_style | py::array::forcecast> directions, float t_min, float t_max) {
+            if (origins.ndim() != 2 || origins.shape(1) != 3 || directions.ndim() != 2 || directions.shape(1) != 3 ||
+                origins.shape(0) != directions.shape(0))
+                throw std::invalid_argument("embree_intersect: origins and directions must both have shape (n, 3)");
+            const size_t n = size_t(origins.shape(0));
+            std::vector<glm::vec3> o(n), d(n);
+            std::memcpy(o.data(), origins.data(), n * 12);
+            std::memcpy(d.data(), directions.data(), n * 12);
+            std::vector<CpuHit> hits;
+            {
+                py::gil_scoped_release release;
+                hits = embree_intersect(scene, o, d, t_min, t_max);
+            }
+            const py::ssize_t count = py::ssize_t(n);
+            py::array_t<float> t{count}, uv{{count, py::ssize_t(2)}};
+            py::array_t<int32_t> obj{count}, prim{count};
+            for (size_t i = 0; i < n; ++i) {
+                t.mutable_at(i) = hits[i].t;
+                obj.mutable_at(i) = hits[i].object;
+                prim.mutable_at(i) = hits[i].primitive;
+                uv.mutable_at(i, 0) = hits[i].u;
+                uv.mutable_at(i, 1) = hits[i].v;
+            }
+            py::dict out;
+            out["t"] = t;
+            out["object"] = obj;
+            out["primitive"] = prim;
+            out["uv"] = uv;
+            return out;
+        },
+        py::arg("scene"), py::arg("origins"), py::arg("directions"), py::arg("t_min") = 0.0f,
+        py::arg("t_max") = 1e30f,
+        "Closest hits of world-space rays with Intel Embree (robust mode), on the CPU: t (inf for a miss), "
+        "object (-1 for a miss), primitive and Embree's barycentric uv. A production kernel to check the "
+        "GPU reference tracer against.");
+
     m.def(
         "write_image",
         [](const std::string& path, py::array_t<float, py::array::c_style | py::array::forcecast> pixels,

@@ -12,12 +12,12 @@ void CompositePass::execute(FrameContext& ctx) {
     glBindTextureUnit(0, r.get("lit").id());
     glBindTextureUnit(1, r.get("gbuffer.material").id());
     if (reflections_) {
-        glBindTextureUnit(2, r.get("reflection").id());
+        glBindTextureUnit(2, r.get(reflection_).id());
         glBindTextureUnit(3, r.get("gbuffer.albedo").id());
         glBindTextureUnit(4, r.get("gbuffer.normal").id());
         glBindTextureUnit(5, r.get("linear_depth").id());
     }
-    bind_image_layered(0, ctx.resources.get("color"), GL_WRITE_ONLY);
+    bind_image_layered(0, ctx.resources.get(output_), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
 

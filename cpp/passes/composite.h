@@ -12,19 +12,23 @@ namespace ssr {
 
 class CompositePass : public RenderPass {
 public:
-    explicit CompositePass(bool reflections) : reflections_(reflections) {}
-    std::string name() const override { return "composite"; }
+    // `reflection` and `output` name the textures read and written (the reference composites
+    // its own reflection into reference.color with the same code).
+    explicit CompositePass(bool reflections, std::string reflection = "reflection", std::string output = "color")
+        : reflections_(reflections), reflection_(std::move(reflection)), output_(std::move(output)) {}
+    std::string name() const override { return output_ == "color" ? "composite" : "composite." + output_; }
     std::vector<std::string> inputs() const override {
         if (!reflections_) return {"lit", "gbuffer.material"};
-        return {"lit", "gbuffer.material", "reflection", "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
+        return {"lit", "gbuffer.material", reflection_, "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"color", GL_RGBA32F, s.width, s.height, 0, 1}};
+        return {{output_, GL_RGBA32F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;
 
 private:
     bool reflections_;
+    std::string reflection_, output_;
 };
 
 }  // namespace ssr

@@ -11,6 +11,7 @@
 #include "core/egl_context.h"
 #include "render/camera.h"
 #include "render/frame_uniforms.h"
+#include "render/ssr_uniforms.h"
 #include "render/render_pass.h"
 #include "render/settings.h"
 
@@ -32,12 +33,16 @@ public:
     Readback read(const std::string& name, int level = 0);
     std::vector<std::string> texture_names() const;
     bool has(const std::string& name) const { return resources_->has(name); }
+    FrameResources& resources() { return *resources_; }
 
     std::map<std::string, double> timings;  // GPU milliseconds per pass (and per part)
     double wall_ms = 0.0;                   // CPU time of Renderer::render, GPU finished
     RenderSettings settings;
     Camera camera;
     FrameUniforms uniforms{};
+    SsrUniforms ssr{};
+    uint64_t scene_id = 0, scene_revision = 0;  // the scene it showed, to match a later reference
+    int shadow_light = -1;                       // the light whose shadow map this frame has
     std::vector<std::string> passes;        // the chain that ran, in order
     std::vector<uint64_t> layer_samples;    // depth-test-passing samples drawn into each layer
 

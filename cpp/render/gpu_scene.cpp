@@ -4,6 +4,7 @@
 #include <array>
 
 #include "render/frame_uniforms.h"
+#include "scene/bvh.h"
 #include "scene/image_io.h"
 
 namespace ssr {
@@ -67,6 +68,9 @@ GpuScene::GpuScene(const Scene& scene) : revision_(scene.revision()) {
         g.emissive = glm::vec4(m.emissive, 0.0f);
         g.flags = glm::ivec4(m.base_color_texture.valid(), m.metallic_roughness_texture.valid(),
                              m.normal_texture.valid(), m.double_sided);
+        auto wrap = [](const TextureRef& t) { return t.wrap_s | (t.wrap_t << 16); };
+        g.images = glm::ivec4(m.base_color_texture.image, m.metallic_roughness_texture.image, m.normal_texture.image, -1);
+        g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture), 0);
         mats.push_back(g);
         material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
                                       texture_for(scene, m.metallic_roughness_texture, false),
@@ -80,9 +84,9 @@ GpuScene::GpuScene(const Scene& scene) : revision_(scene.revision()) {
         GpuObject g{};
         g.model = o.transform;
         g.normal_matrix = glm::transpose(glm::inverse(o.transform));
-        g.material = glm::ivec4(o.material, 0, 0, 0);
-        objs.push_back(g);
         const Range& r = ranges[size_t(o.mesh)];
+        g.material = glm::ivec4(o.material, int(r.first_index), r.base_vertex, 0);
+        objs.push_back(g);
         draws_.push_back(DrawItem{int(i), o.material, r.count, r.first_index, r.base_vertex});
         triangles_ += size_t(r.count) / 3;
     }
@@ -121,6 +125,30 @@ GLuint GpuScene::texture_for(const Scene& scene, const TextureRef& ref, bool srg
     const GLuint id = t.id();
     textures_.emplace(key, std::move(t));
     return id;
+}
+
+void GpuScene::bind_ray_tracing(const Scene& scene) {
+    if (!ray_tracing_ready_) {
+        const Bvh bvh = build_bvh(scene);
+        bvh_nodes_ = Buffer::create(bvh.nodes.size() * sizeof(BvhNode), bvh.nodes.data());
+        bvh_triangles_ = Buffer::create(bvh.triangles.size() * sizeof(BvhTriangle), bvh.triangles.data());
+        bvh_depth_ = bvh.depth;
+        std::vector<uint8_t> texels;
+        std::vector<glm::ivec4> info;
+        for (const Image& img : scene.images) {
+            info.emplace_back(int(texels.size() / 4), img.width, img.height, 0);
+            texels.insert(texels.end(), img.rgba.begin(), img.rgba.end());
+        }
+        image_texels_ = Buffer::create(texels.size(), texels.data());
+        image_info_ = Buffer::create(info.size() * sizeof(glm::ivec4), info.data());
+        ray_tracing_ready_ = true;
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, bvh_nodes_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, bvh_triangles_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, image_texels_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, image_info_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, vertices_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, indices_.id());
 }
 
 void GpuScene::bind_geometry() const {

@@ -25,7 +25,7 @@ struct GpuVertex {
 struct GpuObject {
     glm::mat4 model;          // object -> world
     glm::mat4 normal_matrix;  // inverse-transpose of model (upper 3x3 used)
-    glm::ivec4 material;      // x = material index
+    glm::ivec4 material;      // x: material index, y: first index of its mesh, z: base vertex
 };
 
 struct GpuMaterial {
@@ -33,6 +33,8 @@ struct GpuMaterial {
     glm::vec4 params;    // (metallic, roughness, reflectivity, normal_scale)
     glm::vec4 emissive;  // rgb
     glm::ivec4 flags;    // (has base colour tex, has metal-rough tex, has normal tex, double sided)
+    glm::ivec4 images;   // image index of each texture (-1: none), for shaders/lib/scene_textures.glsl
+    glm::ivec4 wraps;    // wrap_s | wrap_t << 16 of each texture
 };
 
 struct DrawItem {
@@ -48,6 +50,11 @@ public:
     explicit GpuScene(const Scene& scene);
 
     void bind_geometry() const;  // VAO + storage buffers
+    // Binds what the reference tracer reads (storage buffers 5-10: BVH nodes and triangles,
+    // image texels and their layout, vertex and index data), building the BVH and the texel
+    // buffer on first use: frames that trace no reference never pay for them.
+    void bind_ray_tracing(const Scene& scene);
+    int bvh_depth() const { return bvh_depth_; }
     // Binds the material's textures to units 0..2 (a white / flat texture when absent).
     void bind_material_textures(int material) const;
 
@@ -72,6 +79,9 @@ private:
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
     std::vector<std::array<GLuint, 3>> material_textures_;
     Texture white_, flat_normal_, environment_map_;
+    Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;
+    bool ray_tracing_ready_ = false;
+    int bvh_depth_ = 0;
     bool reflective_ = false;
     std::vector<DrawItem> draws_;
     Bounds bounds_;

@@ -41,6 +41,8 @@ public:
     const Texture& get(const std::string& name) const;
     bool has(const std::string& name) const { return textures_.count(name) != 0; }
     void allocate(const std::vector<ResourceDesc>& descs);
+    // Adds (or replaces) textures after allocation, e.g. a reference computed for a frame.
+    void add(const std::vector<ResourceDesc>& descs);
     const std::vector<ResourceDesc>& descs() const { return descs_; }
 
 private:

@@ -86,6 +86,24 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     return chain;
 }
 
+void Renderer::upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light) {
+    std::vector<GpuLight> lights;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        GpuLight g{};
+        g.position_type = glm::vec4(glm::vec3(view * glm::vec4(l.position, 1.0f)),
+                                    l.type == Light::Type::Directional ? 0.0f : 1.0f);
+        g.direction_shadow = glm::vec4(glm::mat3(view) * glm::normalize(l.direction),
+                                       (int(i) == shadow_light) ? 1.0f : 0.0f);
+        g.radiance = glm::vec4(l.color * l.intensity, 0.0f);
+        lights.push_back(g);
+    }
+    const size_t light_bytes = std::max<size_t>(lights.size() * sizeof(GpuLight), sizeof(GpuLight));
+    if (lights_ssbo_.size() < light_bytes) lights_ssbo_ = Buffer::create(light_bytes);
+    if (!lights.empty()) lights_ssbo_.upload(lights.data(), lights.size() * sizeof(GpuLight));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_ssbo_.id());
+}
+
 std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate();
@@ -122,60 +140,10 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame_ubo_.upload(&u, sizeof(u));
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameUniformsBinding, frame_ubo_.id());
 
-    std::vector<GpuLight> lights;
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light& l = scene.lights[i];
-        GpuLight g{};
-        g.position_type = glm::vec4(glm::vec3(u.view * glm::vec4(l.position, 1.0f)),
-                                    l.type == Light::Type::Directional ? 0.0f : 1.0f);
-        g.direction_shadow = glm::vec4(glm::mat3(u.view) * glm::normalize(l.direction),
-                                       (shadow.enabled && int(i) == shadow.light) ? 1.0f : 0.0f);
-        g.radiance = glm::vec4(l.color * l.intensity, 0.0f);
-        lights.push_back(g);
-    }
-    const size_t light_bytes = std::max<size_t>(lights.size() * sizeof(GpuLight), sizeof(GpuLight));
-    if (lights_ssbo_.size() < light_bytes) lights_ssbo_ = Buffer::create(light_bytes);
-    if (!lights.empty()) lights_ssbo_.upload(lights.data(), lights.size() * sizeof(GpuLight));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_ssbo_.id());
+    upload_lights(scene, u.view, shadow.enabled ? shadow.light : -1);
 
     // Reflection settings as the shaders see them.
-    SsrUniforms su{};
-    su.trace_width = s.trace_width();
-    su.trace_height = s.trace_height();
-    su.downscale = s.downscale;
-    su.rays_per_pixel = s.rays_per_pixel;
-    su.sampling = int(s.sampling);
-    su.noise = int(s.noise);
-    su.hammersley = s.hammersley;
-    su.seed = s.seed;
-    su.layers = s.layers;
-    su.max_steps = s.max_steps;
-    su.stride = s.stride;
-    su.jitter = s.jitter;
-    su.max_distance = s.max_distance;
-    su.origin_bias = s.origin_bias;
-    su.thickness = s.thickness;
-    su.thickness_scale = s.thickness_scale;
-    su.thickness_mode = int(s.thickness_mode);
-    su.refine_steps = s.refine_steps;
-    su.hiz_start_level = s.hiz_start_level;
-    su.hiz_stop_level = s.hiz_stop_level;
-    su.hiz_max_level = s.hiz_max_level;
-    su.hiz_linear_steps = s.hiz_linear_steps;
-    su.hiz_use_max = s.hiz_use_max;
-    su.hiz_crossing_offset = s.hiz_crossing_offset;
-    su.fade_border = s.fade_border;
-    su.fade_camera_start = s.fade_camera_start;
-    su.fade_camera_end = s.fade_camera_end;
-    su.fade_distance_start = s.fade_distance_start;
-    su.fade_distance_end = s.fade_distance_end;
-    su.roughness_cutoff = s.roughness_cutoff;
-    su.edge_depth_sigma = s.edge_depth_sigma;
-    su.edge_normal_power = s.edge_normal_power;
-    su.reuse_radius = s.reuse_radius;
-    su.reuse_weighting = int(s.reuse_weighting);
-    su.edge_aware = s.edge_aware;
-    su.composite_mode = int(s.composite);
+    const SsrUniforms su = ssr_uniforms(s);
     if (!ssr_ubo_) ssr_ubo_ = Buffer::create(sizeof(SsrUniforms));
     ssr_ubo_.upload(&su, sizeof(su));
     glBindBufferBase(GL_UNIFORM_BUFFER, kSsrSettingsBinding, ssr_ubo_.id());
@@ -220,6 +188,10 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->settings = s;
     frame->camera = camera;
     frame->uniforms = u;
+    frame->ssr = su;
+    frame->scene_id = scene.id();
+    frame->scene_revision = scene.revision();
+    frame->shadow_light = shadow.enabled ? shadow.light : -1;
     frame->wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
     // Keep at most kPoolSize idle sets.
     size_t idle = 0;
@@ -232,6 +204,63 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
 void Renderer::check_errors() {
     ctx_->make_current();
     check_gl(*ctx_, "(between calls)");
+}
+
+std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& frame, bool per_ray, int rays,
+                                                  uint32_t seed, Sampling sampling, bool viewer_is_ray) {
+    if (frame.scene_id != scene.id() || frame.scene_revision != scene.revision())
+        throw std::invalid_argument("reference: this is not the scene the frame was rendered from (or it changed since)");
+    if (per_ray && !frame.has("rays.direction"))
+        throw std::invalid_argument("reference: a per-ray reference needs a frame that traced rays");
+    if (!per_ray && (rays < 1 || rays > 65536)) throw std::invalid_argument("reference: rays must be in [1, 65536]");
+    ctx_->make_current();
+    check_gl(*ctx_, "reference (an earlier call left a GL error)");
+    GpuScene& gs = const_cast<GpuScene&>(gpu_scene(scene));
+    const RenderSettings& s = frame.settings;
+
+    frame_ubo_.upload(&frame.uniforms, sizeof(FrameUniforms));
+    glBindBufferBase(GL_UNIFORM_BUFFER, kFrameUniformsBinding, frame_ubo_.id());
+    upload_lights(scene, frame.uniforms.view, frame.shadow_light);
+    SsrUniforms su = frame.ssr;
+    if (!per_ray) {  // the converged reference draws its own rays and traces every reflective pixel
+        su.sampling = int(sampling);
+        su.rays_per_pixel = rays;
+        su.roughness_cutoff = 1.0f;
+        su.seed = seed;
+        su.hammersley = 1;
+        su.noise = int(Noise::Pcg);
+    }
+    if (!ssr_ubo_) ssr_ubo_ = Buffer::create(sizeof(SsrUniforms));
+    ssr_ubo_.upload(&su, sizeof(su));
+    glBindBufferBase(GL_UNIFORM_BUFFER, kSsrSettingsBinding, ssr_ubo_.id());
+    if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
+
+    const bool shadows = frame.shadow_light >= 0 && frame.has("shadow_map");
+    ReferencePass pass(per_ray, shadows, rays, viewer_is_ray);
+    CompositePass composite(true, "reference.reflection", "reference.color");
+    std::vector<RenderPass*> chain = {&pass};
+    if (!per_ray) chain.push_back(&composite);
+    for (RenderPass* p : chain) frame.resources().add(p->outputs(s));
+    DepthConvention depth{s.depth_mode};
+    Defines defines;
+    depth.add_defines(defines);
+    defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
+    FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
+                    defines};
+    gs.bind_geometry();
+    gs.bind_ray_tracing(scene);
+    check_gl(*ctx_, "reference set-up");
+    timer_.begin_frame();
+    for (RenderPass* p : chain) {
+        for (const auto& in : p->inputs())
+            if (!frame.has(in)) throw GLError("pass " + p->name() + " reads '" + in + "', which the frame lacks");
+        {
+            GpuScope t(timer_, p->name());
+            p->execute(fc);
+        }
+        check_gl(*ctx_, p->name().c_str());
+    }
+    return timer_.resolve();
 }
 
 std::vector<float> Renderer::sample_reflections(const std::string& sampling, float alpha, const glm::vec3& view,

@@ -14,6 +14,7 @@
 #include "passes/depth_peel.h"
 #include "passes/hiz_build.h"
 #include "passes/lighting.h"
+#include "passes/reference.h"
 #include "passes/resolve.h"
 #include "passes/shadow_map.h"
 #include "passes/trace_hiz.h"
@@ -29,6 +30,12 @@ public:
     ~Renderer();
 
     std::shared_ptr<Frame> render(const Scene& scene, const Camera& camera, const RenderSettings& settings);
+
+    // Ground truth for a rendered frame (passes/reference.h): per-ray (the frame's own SSR
+    // rays) or converged (`rays` rays per pixel drawn with `sampling`). The textures join the
+    // frame (frame.read("reference.reflection"), ...). Returns the GPU milliseconds spent.
+    std::map<std::string, double> reference(const Scene& scene, Frame& frame, bool per_ray, int rays, uint32_t seed,
+                                            Sampling sampling, bool viewer_is_ray);
     DeviceInfo info() const { return ctx_->info(); }
     void check_errors();
     ShaderLibrary& shaders() { return *shaders_; }
@@ -48,6 +55,7 @@ private:
     const GpuScene& gpu_scene(const Scene& scene);
     std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
     std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows, bool reflections);
+    void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
 
     std::shared_ptr<EglContext> ctx_;  // first member: destroyed last, after every GL object
     std::unique_ptr<ShaderLibrary> shaders_;

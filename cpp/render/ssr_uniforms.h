@@ -24,4 +24,7 @@ struct SsrUniforms {
 };
 static_assert(sizeof(SsrUniforms) == 36 * 4, "std140 layout of SsrUniforms");
 
+struct RenderSettings;
+SsrUniforms ssr_uniforms(const RenderSettings& s);
+
 }  // namespace ssr

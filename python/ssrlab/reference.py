@@ -84,9 +84,158 @@ def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, se
 
 
 def reflective_mask(frame) -> np.ndarray:
-    """Pixels that reflect: layer 0 covered, reflectivity > 0 and roughness within the cutoff."""
+    """Pixels that reflect: layer 0 covered with reflectivity > 0 (SSR's roughness cutoff is an
+    approximation of the reflection, not a reason for a pixel not to reflect)."""
     g = frame.gbuffer
-    return g.coverage[0] & (g.reflectivity[0] > 0) & (g.roughness[0] <= frame.settings.roughness_cutoff)
+    return g.coverage[0] & (g.reflectivity[0] > 0)
+
+
+class ConvergedReference:
+    """The converged reference of a frame: `rays_per_pixel` rays per reflective pixel (one for
+    mirrors) traced against the triangles and shaded like the G-buffer."""
+
+    kind = "converged"
+
+    def __init__(self, frame, rays_per_pixel: int, timings: dict):
+        self._frame = frame
+        self.rays_per_pixel = rays_per_pixel
+        self.timings = timings  # GPU milliseconds of the reference passes
+
+    @property
+    def reflection(self) -> np.ndarray:
+        """(H, W, 3) the true reflection c_r (0 where a pixel does not reflect)."""
+        return self._frame.read("reference.reflection")[0, :, :, :3]
+
+    @property
+    def color(self) -> np.ndarray:
+        """(H, W, 3) the frame's final image with the true reflection, composited like the frame."""
+        return self._frame.read("reference.color")[0, :, :, :3]
+
+    @property
+    def reflective(self) -> np.ndarray:
+        return reflective_mask(self._frame)
+
+
+class PerRayReference:
+    """The rays an SSR frame traced, each traced again against the triangles: (R, h, w) arrays at
+    the trace resolution, like Frame.rays.
+
+    hit         the ray truly hits a surface (within max_distance)
+    object      index of the object hit, -1 for a miss
+    t           distance to the hit
+    position    (R, h, w, 3) view-space hit point
+    hit_pixel   (R, h, w, 2) where the hit point projects (x = column, y = row from the top)
+    on_screen   the hit point projects inside the image, in front of the camera
+    radiance    (R, h, w, 3) what the ray truly brings back (shaded hit or environment)
+    in_gbuffer  (R, h, w) the G-buffer layer (0-based) holding the true hit at its pixel, -1 if
+                none does: what screen space could possibly find
+    """
+
+    kind = "per_ray"
+
+    def __init__(self, frame, timings: dict):
+        self._frame = frame
+        self.timings = timings
+
+    def _hit(self):
+        return self._frame.read("reference.hit")
+
+    @property
+    def hit(self) -> np.ndarray:
+        return self._hit()[..., 2] > 0.5
+
+    @property
+    def object(self) -> np.ndarray:
+        return np.rint(self._hit()[..., 2]).astype(np.int32) - 1
+
+    @property
+    def t(self) -> np.ndarray:
+        return self._hit()[..., 3]
+
+    @property
+    def hit_pixel(self) -> np.ndarray:
+        h = self._hit()
+        px = np.stack([h[..., 0], self._frame.settings.height - h[..., 1]], -1).astype(np.float32)
+        px[~self.hit] = 0.0
+        return px
+
+    @property
+    def position(self) -> np.ndarray:
+        return self._frame.read("reference.position")[..., :3]
+
+    @property
+    def on_screen(self) -> np.ndarray:
+        return self.hit & (self._frame.read("reference.position")[..., 3] > 0.5)
+
+    @property
+    def radiance(self) -> np.ndarray:
+        return self._frame.read("reference.radiance")[..., :3]
+
+    @property
+    def in_gbuffer(self, depth_tolerance: float = 1e-3) -> np.ndarray:
+        """Layer holding the true hit at its pixel: the same object, at the same view depth
+        (relative tolerance 1e-3), or -1."""
+        g = self._frame.gbuffer
+        layers = np.full(self.hit.shape, -1, np.int32)
+        m = self.on_screen
+        px = np.floor(self.hit_pixel[m]).astype(np.int64)
+        s = self._frame.settings
+        row = np.clip(px[:, 1], 0, s.height - 1)
+        col = np.clip(px[:, 0], 0, s.width - 1)
+        depth = -self.position[m][:, 2]
+        obj = self.object[m]
+        found = np.full(len(depth), -1, np.int32)
+        for k in range(g.layers - 1, -1, -1):  # the front-most match wins
+            same = (g.object_id[k][row, col] == obj) & g.coverage[k][row, col] & \
+                   (np.abs(g.depth[k][row, col] - depth) <= depth_tolerance * depth + 2 * self._pixel_depth_span(depth))
+            found = np.where(same, k, found)
+        layers[m] = found
+        return layers
+
+    def _pixel_depth_span(self, depth: np.ndarray) -> np.ndarray:
+        """World size of one pixel at `depth`, a bound on how far a surface's depth moves within a pixel
+        when seen at a grazing angle is not captured here; used as a small absolute tolerance."""
+        P = self._frame.projection_matrix
+        return depth * 2.0 / (P[1, 1] * self._frame.settings.height)
+
+
+def ssr_found(frame, truth: PerRayReference, tolerance_px: float = 1.0) -> np.ndarray:
+    """(R, h, w) bool: the SSR ray hit the surface the reference ray hits: the same object, or a
+    point within `tolerance_px` pixels of the true hit on screen and within the frame's
+    thickness in depth (rays can land on a neighbouring object across an edge)."""
+    rays, g = frame.rays, frame.gbuffer
+    found = np.zeros(rays.hit.shape, bool)
+    both = rays.hit & truth.hit
+    if not both.any():
+        return found
+    layer = np.clip(rays.hit_layer[both] - 1, 0, g.layers - 1)
+    px = np.floor(rays.hit_pixel[both]).astype(np.int64)
+    s = frame.settings
+    row, col = np.clip(px[:, 1], 0, s.height - 1), np.clip(px[:, 0], 0, s.width - 1)
+    same_object = g.object_id[layer, row, col] == truth.object[both]
+    close = (np.linalg.norm(rays.hit_pixel[both] - truth.hit_pixel[both], axis=-1) <= tolerance_px) & \
+        (np.abs(g.depth[layer, row, col] + truth.position[both][:, 2]) <= s.thickness)
+    found[both] = same_object | close
+    return found
+
+
+def coverage(frame, truth: PerRayReference | None = None, *, tolerance_px: float = 1.0) -> float:
+    """Share of the rays that truly hit a surface for which SSR found that surface (1 when no
+    ray truly hits anything)."""
+    truth = truth if truth is not None else frame.reference("per_ray")
+    traced = np.broadcast_to(frame.rays.traced, truth.hit.shape) & (frame.rays.weight > 0)
+    real = truth.hit & traced
+    if not real.any():
+        return 1.0
+    return float(ssr_found(frame, truth, tolerance_px)[real].mean())
+
+
+def hit_position_error(frame, truth: PerRayReference | None = None) -> np.ndarray:
+    """Screen distance in pixels between SSR's hit and the true hit, for the rays where both hit
+    and the true hit is on screen (a flat array)."""
+    truth = truth if truth is not None else frame.reference("per_ray")
+    m = frame.rays.hit & truth.on_screen
+    return np.linalg.norm(frame.rays.hit_pixel[m] - truth.hit_pixel[m], axis=-1)
 
 
 def reference_image(renderer, scene, camera=None, settings: Settings | None = None, *, kind: str = "converged",

@@ -59,7 +59,7 @@ class Renderer:
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
         native = self._native.render(scene, camera, settings.to_native())
-        return Frame(native, settings)
+        return Frame(native, settings, renderer=self, scene=scene)
 
     def sample_reflections(self, sampling: str, alpha: float, view, count: int, *, seed: int = 0,
                            stratified: bool = False) -> dict[str, np.ndarray]:
@@ -85,9 +85,11 @@ class Renderer:
 class Frame:
     """One rendered frame. Image properties read from the GPU on first access."""
 
-    def __init__(self, native: _core.Frame, settings: Settings):
+    def __init__(self, native: _core.Frame, settings: Settings, renderer: "Renderer | None" = None, scene=None):
         self._native = native
         self.settings = settings
+        self._renderer = renderer
+        self._scene = scene
         self._cache: dict[str, np.ndarray] = {}
 
     # -- metadata -------------------------------------------------------------------------------
@@ -160,6 +162,38 @@ class Frame:
             raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
         return RayResults(self)
 
+    def reference(self, kind: str = "converged", *, rays: int | None = None, seed: int = 0,
+                  sampling: str = "vndf", viewer: str = "camera"):
+        """Ground truth for this frame, traced against the scene's triangles (ssrlab.reference).
+
+        kind="converged": `rays` rays per pixel (default 256; one for mirror pixels) drawn with
+        `sampling`, the true reflection and final image. kind="per_ray": the rays this frame's
+        SSR traced, each with its true hit. viewer="camera" shades the surfaces rays hit as the
+        camera sees them, like the lit G-buffer SSR fetches from (so the two differ only by what
+        screen space cannot see); viewer="ray" views them from the ray's origin (the physical
+        reflection; only view-dependent specular changes).
+        """
+        if viewer not in ("camera", "ray"):
+            raise ValueError(f"viewer must be 'camera' or 'ray', got {viewer!r}")
+        from .reference import ConvergedReference, PerRayReference
+
+        if self._renderer is None or self._scene is None:
+            raise ValueError("this frame does not know its renderer and scene")
+        if kind == "per_ray":
+            timings = self._renderer._native.reference(self._scene, self._native, "per_ray", 1, seed, sampling,
+                                                      viewer)
+            for name in ("reference.hit", "reference.position", "reference.radiance"):
+                self._cache.pop(f"{name}@0", None)
+            return PerRayReference(self, dict(timings))
+        if kind == "converged":
+            rays = 256 if rays is None else int(rays)
+            timings = self._renderer._native.reference(self._scene, self._native, "converged", rays, seed, sampling,
+                                                      viewer)
+            for name in ("reference.reflection", "reference.color", "reference.accum"):
+                self._cache.pop(f"{name}@0", None)
+            return ConvergedReference(self, rays, dict(timings))
+        raise ValueError(f"reference kind must be 'converged' or 'per_ray', got {kind!r}")
+
     def save(self, folder, *, overwrite: bool = False, exposure: float = 1.0, extra: dict | None = None) -> list[Path]:
         """Writes color.png, gbuffer_layer<i>.exr and timings.json into `folder` (see ssrlab.io)."""
         from .io import write_frame
@@ -219,6 +253,12 @@ class GBuffer:
     @property
     def coverage(self) -> np.ndarray:
         return self._frame.read("gbuffer.material")[..., 1] > 0.5
+
+    @property
+    def object_id(self) -> np.ndarray:
+        """(layers, H, W) int32 index of the scene object each layer shows, -1 where none."""
+        m = self._frame.read("gbuffer.material")
+        return (np.rint(m[..., 2] * 255).astype(np.int32) + 256 * np.rint(m[..., 3] * 255).astype(np.int32)) - 1
 
     @property
     def lit(self) -> np.ndarray:

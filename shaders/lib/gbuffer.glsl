@@ -1,7 +1,8 @@
 // The G-buffer layer layout (seed 000, 2.2, extended with metallic-roughness):
 //   gbuffer.albedo    SRGB8_ALPHA8  rgb base colour, a metallic
 //   gbuffer.normal    RGBA16F       xyz view-space unit normal, w perceptual roughness
-//   gbuffer.material  RGBA8         r reflectivity, g coverage (1 = a surface), b,a unused
+//   gbuffer.material  RGBA8         r reflectivity, g coverage (1 = a surface), b,a object id + 1
+//                                   (low and high byte; 0 = none)
 //   gbuffer.depth     DEPTH32F      window depth in the frame's depth convention
 // Encoding and decoding are pure functions: the including pass does the texel fetches.
 
@@ -12,6 +13,7 @@ struct GSample {
     float roughness;
     float reflectivity;
     bool covered;
+    int object_id;  // index of the scene object, -1 for none
 };
 
 GSample gbuffer_decode(vec4 albedo_metallic, vec4 normal_roughness, vec4 material) {
@@ -22,11 +24,13 @@ GSample gbuffer_decode(vec4 albedo_metallic, vec4 normal_roughness, vec4 materia
     g.roughness = normal_roughness.w;
     g.reflectivity = material.r;
     g.covered = material.g > 0.5;
+    g.object_id = int(round(material.b * 255.0)) + 256 * int(round(material.a * 255.0)) - 1;
     return g;
 }
 
 void gbuffer_encode(GSample g, out vec4 albedo_metallic, out vec4 normal_roughness, out vec4 material) {
     albedo_metallic = vec4(g.albedo, g.metallic);
     normal_roughness = vec4(normalize(g.normal), g.roughness);
-    material = vec4(g.reflectivity, 1.0, 0.0, 0.0);
+    int id = g.object_id + 1;
+    material = vec4(g.reflectivity, 1.0, float(id & 255) / 255.0, float((id >> 8) & 255) / 255.0);
 }

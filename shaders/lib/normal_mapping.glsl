@@ -1,26 +1,36 @@
-// Tangent-space normal mapping. With per-vertex tangents (glTF TANGENT) the frame is
-// (T, B = sign * N x T, N); without them the frame comes from screen-space derivatives of
-// position and uv (a cotangent frame, as in Schüler, "Normal Mapping without Precomputed
-// Tangents", ShaderX5), which needs no preprocessing.
+// Tangent-space normal mapping. The tangent frame comes from per-vertex tangents (glTF
+// TANGENT: T, B = sign * N x T), from screen-space derivatives of position and uv (a
+// cotangent frame, Schüler, ShaderX5; fragment shaders only), or from a triangle's own
+// positions and uvs (the reference tracer). Applying the map is the same for all three.
 
-vec3 perturb_normal(vec3 n, vec4 tangent, vec3 p, vec2 uv, vec3 tangent_space_normal) {
-    mat3 tbn;
-    if (dot(tangent.xyz, tangent.xyz) > 1e-12 && tangent.w != 0.0) {
-        vec3 t = normalize(tangent.xyz - n * dot(n, tangent.xyz));
-        vec3 b = cross(n, t) * tangent.w;
-        tbn = mat3(t, b, n);
-    } else {
-        vec3 dp1 = dFdx(p), dp2 = dFdy(p);
-        vec2 duv1 = dFdx(uv), duv2 = dFdy(uv);
-        vec3 dp2perp = cross(dp2, n), dp1perp = cross(n, dp1);
-        vec3 t = dp2perp * duv1.x + dp1perp * duv2.x;
-        vec3 b = dp2perp * duv1.y + dp1perp * duv2.y;
-        float scale = max(dot(t, t), dot(b, b));
-        if (scale < 1e-20) return n;  // degenerate uv mapping: keep the surface normal
-        float inv = inversesqrt(scale);
-        tbn = mat3(t * inv, b * inv, n);
-    }
-    vec3 result = tbn * tangent_space_normal;
+// Frame from a vertex tangent (w = bitangent sign); false when the mesh has none.
+bool tangent_frame_from_vertex(vec3 n, vec4 tangent, out vec3 t, out vec3 b) {
+    t = vec3(1.0, 0.0, 0.0);
+    b = vec3(0.0, 1.0, 0.0);
+    if (dot(tangent.xyz, tangent.xyz) <= 1e-12 || tangent.w == 0.0) return false;
+    t = normalize(tangent.xyz - n * dot(n, tangent.xyz));
+    b = cross(n, t) * tangent.w;
+    return true;
+}
+
+// Frame from how position and uv change across a surface (edge vectors dp1, dp2 with uv
+// changes duv1, duv2): screen derivatives in a fragment shader, triangle edges elsewhere.
+bool tangent_frame_from_gradients(vec3 n, vec3 dp1, vec3 dp2, vec2 duv1, vec2 duv2, out vec3 t, out vec3 b) {
+    vec3 dp2perp = cross(dp2, n), dp1perp = cross(n, dp1);
+    t = dp2perp * duv1.x + dp1perp * duv2.x;
+    b = dp2perp * duv1.y + dp1perp * duv2.y;
+    float scale = max(dot(t, t), dot(b, b));
+    if (scale < 1e-20) return false;  // degenerate uv mapping: keep the surface normal
+    float inv = inversesqrt(scale);
+    t *= inv;
+    b *= inv;
+    return true;
+}
+
+// The perturbed normal for a tangent-space normal-map value (already unpacked to [-1, 1]
+// and scaled).
+vec3 apply_normal_map(vec3 n, vec3 t, vec3 b, vec3 tangent_space_normal) {
+    vec3 result = mat3(t, b, n) * tangent_space_normal;
     float len = length(result);
     return len > 1e-8 ? result / len : n;
 }

@@ -7,6 +7,7 @@
 #include "../lib/scene_data.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/normal_mapping.glsl"
+#include "../lib/material.glsl"
 
 layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
 layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
@@ -34,30 +35,15 @@ void main() {
     }
 
     MaterialData m = materials[objects[u_object].material.x];
-    vec4 base = m.base_color;
-    if (m.flags.x != 0) base *= texture(u_base_color_texture, fs.uv);
-    float metallic = m.params.x, roughness = m.params.y;
-    if (m.flags.y != 0) {
-        vec4 mr = texture(u_metallic_roughness_texture, fs.uv);
-        roughness *= mr.g;
-        metallic *= mr.b;
-    }
-
     vec3 n = normalize(fs.view_normal);
-    // glTF doubleSided: a back face shows the other side of the surface.
-    if (!gl_FrontFacing && m.flags.w != 0) n = -n;
+    vec3 t, b;
+    bool has_frame = false;
     if (m.flags.z != 0) {
-        vec3 t = texture(u_normal_texture, fs.uv).xyz * 2.0 - 1.0;
-        t.xy *= m.params.w;
-        n = perturb_normal(n, fs.view_tangent, fs.view_position, fs.uv, normalize(t));
+        has_frame = tangent_frame_from_vertex(n, fs.view_tangent, t, b) ||
+                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), dFdx(fs.uv),
+                                                 dFdy(fs.uv), t, b);
     }
-
-    GSample g;
-    g.albedo = base.rgb;
-    g.metallic = clamp(metallic, 0.0, 1.0);
-    g.normal = n;
-    g.roughness = clamp(roughness, 0.0, 1.0);
-    g.reflectivity = clamp(m.params.z, 0.0, 1.0);
-    g.covered = true;
+    GSample g = material_sample(m, texture(u_base_color_texture, fs.uv), texture(u_metallic_roughness_texture, fs.uv),
+                                texture(u_normal_texture, fs.uv).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
     gbuffer_encode(g, o_albedo_metallic, o_normal_roughness, o_material);
 }

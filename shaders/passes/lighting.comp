@@ -20,23 +20,7 @@ layout(binding = 4) uniform sampler2DShadow u_shadow_map;
 layout(binding = 0, rgba16f) writeonly uniform image2DArray o_lit;
 layout(binding = 1, r32f) writeonly uniform image2DArray o_linear_depth;
 
-#if SHADOWS
-float shadow_visibility(vec3 p_view, vec3 n_view) {
-    // Normal offset (in world units: texel size x offset in texels) against acne.
-    vec3 p = p_view + n_view * (frame.shadow.y * frame.shadow.z);
-    vec3 s = (frame.view_to_shadow * vec4(p, 1.0)).xyz;
-    if (any(lessThan(s, vec3(0.0))) || any(greaterThan(s, vec3(1.0)))) return 1.0;
-    int r = int(frame.shadow.w);
-    vec2 texel = 1.0 / vec2(textureSize(u_shadow_map, 0));
-    float lit = 0.0;
-    for (int y = -r; y <= r; ++y)
-        for (int x = -r; x <= r; ++x)
-            lit += texture(u_shadow_map, vec3(s.xy + vec2(x, y) * texel, s.z));
-    return lit / float((2 * r + 1) * (2 * r + 1));
-}
-#else
-float shadow_visibility(vec3 p_view, vec3 n_view) { return 1.0; }
-#endif
+#include "../lib/shadow_map.glsl"
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID);

@@ -1,0 +1,36 @@
+// A surface's G-buffer sample from its material (glTF metallic-roughness): factors times
+// texture values. The caller samples the textures (the rasteriser with mipmaps, the
+// reference tracer at level 0) and passes the texel values; unused ones may be anything.
+// Needs scene_data.glsl, gbuffer.glsl, normal_mapping.glsl.
+
+// n: interpolated unit normal (view space); t, b: tangent frame (valid when has_frame);
+// front_facing: the camera sees the side the normal points to.
+GSample material_sample(MaterialData m, vec4 base_texel, vec4 metallic_roughness_texel, vec3 normal_texel,
+                        vec3 n, vec3 t, vec3 b, bool has_frame, bool front_facing, int object_id) {
+    vec4 base = m.base_color;
+    if (m.flags.x != 0) base *= base_texel;
+    float metallic = m.params.x, roughness = m.params.y;
+    if (m.flags.y != 0) {
+        roughness *= metallic_roughness_texel.g;
+        metallic *= metallic_roughness_texel.b;
+    }
+    // glTF doubleSided: a back face shows the other side of the surface.
+    if (!front_facing && m.flags.w != 0) {
+        n = -n;
+        b = -b;
+    }
+    if (m.flags.z != 0 && has_frame) {
+        vec3 tn = normal_texel * 2.0 - 1.0;
+        tn.xy *= m.params.w;
+        n = apply_normal_map(n, t, b, normalize(tn));
+    }
+    GSample g;
+    g.albedo = base.rgb;
+    g.metallic = clamp(metallic, 0.0, 1.0);
+    g.normal = n;
+    g.roughness = clamp(roughness, 0.0, 1.0);
+    g.reflectivity = clamp(m.params.z, 0.0, 1.0);
+    g.covered = true;
+    g.object_id = object_id;
+    return g;
+}

@@ -1,0 +1,22 @@
+// The shadow-map lookup of shading.glsl's shadow_visibility(): percentage-closer filtering
+// of the directional light's shadow map at a view-space point, offset along its normal
+// against acne. Needs frame_uniforms.glsl; the including shader declares
+//     layout(binding = N) uniform sampler2DShadow u_shadow_map;
+// and defines SHADOWS (0 or 1).
+
+#if SHADOWS
+float shadow_visibility(vec3 p_view, vec3 n_view) {
+    vec3 p = p_view + n_view * (frame.shadow.y * frame.shadow.z);  // texel size x offset in texels
+    vec3 s = (frame.view_to_shadow * vec4(p, 1.0)).xyz;
+    if (any(lessThan(s, vec3(0.0))) || any(greaterThan(s, vec3(1.0)))) return 1.0;
+    int r = int(frame.shadow.w);
+    vec2 texel = 1.0 / vec2(textureSize(u_shadow_map, 0));
+    float lit = 0.0;
+    for (int y = -r; y <= r; ++y)
+        for (int x = -r; x <= r; ++x)
+            lit += texture(u_shadow_map, vec3(s.xy + vec2(x, y) * texel, s.z));
+    return lit / float((2 * r + 1) * (2 * r + 1));
+}
+#else
+float shadow_visibility(vec3 p_view, vec3 n_view) { return 1.0; }
+#endif
