@@ -118,7 +118,8 @@ def test_per_ray_reference_exposes_what_one_layer_misses(renderer, method):
 def test_shading_of_hits_matches_the_lit_gbuffer(renderer):
     """The reference shades a surface exactly as the lighting pass does (camera as viewer):
     where a true hit lies on a pixel's centre and that surface is in the G-buffer there, its
-    radiance equals the pixel's lit colour (up to the RGBA16F storage of lit)."""
+    radiance equals the pixel's lit colour, up to the G-buffer's storage: albedo in 8-bit sRGB
+    (as the thesis's 4-byte colour), lit in RGBA16F; the reference keeps floats."""
     scene = ssrlab.scenes.spheres_and_boxes(seed=2)
     f = renderer.render(scene, settings=small(width=160, height=90, rays_per_pixel=8, layers=2))
     truth = f.reference("per_ray")
@@ -130,9 +131,8 @@ def test_shading_of_hits_matches_the_lit_gbuffer(renderer):
     ij = np.floor(px[m]).astype(int)
     lit = f.gbuffer.lit[layer[m], ij[:, 1], ij[:, 0]]
     err = np.abs(truth.radiance[m] - lit).max(axis=-1) / (np.abs(lit).max(axis=-1) + 0.1)
-    # Almost all within 1 %; a few near shadow-map texel edges, where the reconstructed pixel
-    # centre and the exact point fall on different sides, within 5 %.
-    assert (err < 0.01).mean() > 0.95 and err.max() < 0.05, (np.mean(err < 0.01), err.max())
+    # Most within 1 %; dark albedo channels, where an 8-bit sRGB step is a few per cent, within 4 %.
+    assert (err < 0.01).mean() > 0.9 and err.max() < 0.04, (np.mean(err < 0.01), err.max())
 
 
 def test_converged_reference_converges(renderer):
