@@ -170,9 +170,13 @@ def test_edge_aware_upsampling_keeps_reflections_inside_silhouettes(renderer):
 def test_roughness_cutoff_skips_rough_pixels(renderer):
     scene = ssrlab.scenes.spheres_and_boxes(seed=1, floor_roughness=0.6)
     f = renderer.render(scene, settings=small(roughness_cutoff=0.5))
-    rough = f.gbuffer.roughness[0] > 0.5
+    g = f.gbuffer
+    rough = g.roughness[0] > 0.5
     assert not f.rays.traced[rough].any()
-    assert f.rays.traced[~rough & (f.gbuffer.reflectivity[0] > 0)].all()
+    assert f.rays.traced[~rough & (g.reflectivity[0] > 0)].all()
+    # Rough reflective pixels reflect the environment instead (a sky: never black).
+    fallback = rough & (g.reflectivity[0] > 0) & g.coverage[0]
+    assert fallback.any() and f.reflection[fallback].min() > 0.05
 
 
 def test_frames_without_reflective_surfaces_trace_nothing(renderer):

@@ -152,6 +152,12 @@ void main() {
     }
     if (!inside) return;
     vec3 reflection = vec3(0.0);
-    if (receives) reflection = sum_w > 1e-8 ? sum_c / sum_w : environment_view(reflect(-v, g.normal));
+    if (receives) {
+        reflection = sum_w > 1e-8 ? sum_c / sum_w : environment_view(reflect(-v, g.normal));
+    } else if (g.covered && g.reflectivity > 0.0) {
+        // Rougher than the cutoff: no rays, the environment stands in (seed 003's threshold,
+        // seed 004's fallback hierarchy).
+        reflection = environment_view(reflect(-v, g.normal));
+    }
     imageStore(o_reflection, pixel, vec4(reflection, 1.0));
 }
