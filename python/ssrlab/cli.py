@@ -3,6 +3,7 @@
     ssrlab info                         the device and OpenGL implementation chosen
     ssrlab scenes                       the procedural scenes
     ssrlab render [--scene NAME|FILE]   render a scene, write its image, G-buffer and timings
+    ssrlab bench SWEEP_FILE             sweep settings, measure run time against error (ssrlab.bench)
 """
 
 from __future__ import annotations
@@ -96,6 +97,87 @@ def cmd_render(args) -> int:
     return 0
 
 
+def _format_cell(value) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return "-" if value is None else str(value)
+
+
+def _table(rows: list[dict], columns: list[str]) -> str:
+    """A plain text table of some columns of rows."""
+    cells = [columns] + [[_format_cell(r.get(c)) for c in columns] for r in rows]
+    widths = [max(len(line[i]) for line in cells) for i in range(len(columns))]
+    return "\n".join("  ".join(c.rjust(w) for c, w in zip(line, widths)) for line in cells)
+
+
+def cmd_bench(args) -> int:
+    from . import bench
+
+    try:
+        config = bench.load_sweep(args.sweep_file)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"ssrlab: {e}", file=sys.stderr)
+        return 1
+    out = Path(args.out) if args.out else Path("results") / Path(args.sweep_file).stem
+    if args.workers is not None and args.executor != "dask":
+        raise SystemExit("ssrlab: --workers applies to --executor dask")
+    if args.workers is not None and args.workers < 1:
+        raise SystemExit(f"ssrlab: --workers must be >= 1, got {args.workers}")
+    if args.device != "auto" or "device" not in config:  # --device given on the command line wins
+        config["device"] = args.device
+    if not (args.time_key in bench.TIME_KEYS or (args.time_key.startswith("gpu_") and args.time_key.endswith("_ms"))):
+        raise SystemExit(f"ssrlab: --time-key must be one of {', '.join(bench.TIME_KEYS)} or a gpu_<pass>_ms "
+                         f"column, got {args.time_key!r}")
+    # Refuse before a long sweep, not after it, when the results could not be written.
+    grid = config.get("grid") or {}
+    varying = [k for k, v in grid.items() if isinstance(v, list) and len(set(map(repr, v))) > 1]
+    try:
+        from .io import OutputFolder
+
+        OutputFolder(out, overwrite=args.overwrite).check(bench.result_names(varying))
+    except (FileExistsError, NotADirectoryError) as e:
+        print(f"ssrlab: {e}", file=sys.stderr)
+        return 1
+
+    cluster = client = None
+    try:
+        if args.executor == "dask":
+            try:
+                from distributed import Client, LocalCluster
+            except ImportError:
+                raise SystemExit("ssrlab: --executor dask needs dask.distributed: pip install 'ssrlab[dask]'")
+            import os
+
+            workers = args.workers or os.cpu_count() or 1
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+            client = Client(cluster)
+            print(f"dask: {workers} worker process(es), one thread each", file=sys.stderr)
+        rows = bench.sweep(**config, executor=client, progress=True)
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+
+    try:
+        files = bench.write_results(rows, out, time_key=args.time_key, error_key=args.error_key,
+                                    overwrite=args.overwrite)
+    except FileExistsError as e:
+        print(f"ssrlab: {e}", file=sys.stderr)
+        return 1
+    front = bench.pareto_front(rows, args.time_key, args.error_key)
+    first = rows[0]
+    print(f"{len(rows)} configuration(s) on {first['gl_renderer']} ({first['device']}), reference "
+          f"{first['reference']}, ssrlab {first['ssrlab_version']} ({first['git_revision']})")
+    print(f"Pareto front ({args.error_key} against {args.time_key}):")
+    columns = ["scene", "view", *[bench.SETTINGS_PREFIX + k for k in bench.varying_settings(rows)],
+               args.time_key, args.error_key]
+    print(_table(front, list(dict.fromkeys(columns))))
+    for f in files:
+        print(f"wrote {f}")
+    return 0
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="ssrlab", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -119,6 +201,25 @@ def main(argv=None) -> int:
     r.add_argument("--overwrite", action="store_true",
                    help="replace existing files even if ssrlab did not write them")
     r.set_defaults(func=cmd_render)
+
+    bench_error_keys = ("thesis_error", "rmse", "thesis_error_reflective", "rmse_reflective")
+    b = sub.add_parser("bench", help="sweep settings from a sweep file; write run time against error",
+                       description="Runs the sweep of SWEEP_FILE (TOML or JSON, see ssrlab.bench.load_sweep), "
+                                   "then writes rows.csv, rows.json, pareto.csv and plots into --out and prints "
+                                   "the Pareto front.")
+    b.add_argument("sweep_file", metavar="SWEEP_FILE", help="a sweep file, e.g. benchmarks/sweeps/layers.toml")
+    b.add_argument("--out", help="output folder (default: results/<sweep file name>)")
+    b.add_argument("--executor", choices=("local", "dask"), default="local",
+                   help="local: this process, one configuration after another; dask: a local dask.distributed "
+                        "cluster of worker processes, each with its own EGL context")
+    b.add_argument("--workers", type=int, help="dask worker processes (default: the CPU count)")
+    b.add_argument("--overwrite", action="store_true",
+                   help="replace existing files even if ssrlab did not write them")
+    b.add_argument("--time-key", default="time_frame_ms",
+                   help="row column of the time axis, e.g. time_reflections_ms (default: %(default)s)")
+    b.add_argument("--error-key", default="thesis_error", choices=bench_error_keys,
+                   help="row column of the error axis, lower is better (default: %(default)s)")
+    b.set_defaults(func=cmd_bench)
 
     args = parser.parse_args(argv)
     try:

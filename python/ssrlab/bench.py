@@ -1,0 +1,790 @@
+"""Run time against error: sweeps of settings scored against a reference image.
+
+A sweep renders every combination of scene, view and grid point (the cartesian product of
+the settings in `grid`, on top of the `base` settings), times each configuration and scores
+its last image against a reference (``ssrlab.reference.reference_image``: the converged
+reference by default, or the thesis's ground truth). Each configuration gives one row.
+
+    rows = sweep({"layers": [1, 2, 4, 8]}, ["box_stack"], base={"width": 320, "height": 180},
+                 reference="converged")
+    front = pareto_front(rows)                   # the best error for each time budget
+    write_results(rows, "results/layers")        # rows.csv, rows.json, pareto.csv, plots
+
+or from a sweep file: ``ssrlab bench benchmarks/sweeps/layers.toml --out results/layers``.
+
+Timing protocol: for every configuration, the reference is fetched first (from the disk
+cache, or rendered), then `warmup` renders whose times are discarded (shader variants are
+compiled and the scene uploaded on first use), then `repeats` timed renders; times are the
+median over the repeats. Metrics are those of the last repeat's image: rendering is
+deterministic for fixed settings (the seed is a setting), so every repeat gives the same image.
+
+Row columns (one dict per configuration; rows.csv and rows.json hold the same):
+
+  index                 position of the configuration in sweep order (scene, then view, then grid point)
+  scene                 a readable label of the scene spec, e.g. ``spheres_and_boxes(with_suzanne=True)``
+  scene_spec            the scene spec as JSON text
+  view                  the view's name ("default": the scene's own camera)
+  reference             the reference kind; reference_rays: the rays asked for (None: the default);
+                        reference_rays_per_pixel: the rays per pixel the reference used
+  repeats, warmup       the timing protocol
+  gpu_<pass>_ms         median GPU milliseconds of every key of Frame.timings, dots replaced by
+                        underscores (gpu_depth_peel_ms, gpu_depth_peel_layer0_ms, gpu_total_ms, ...)
+  time_frame_ms         median GPU time of the whole frame (Frame.timings["total"])
+  time_reflections_ms   median of trace_linear + trace_hiz + hiz_build + resolve GPU time, those
+                        present: what the thesis timed (seed 000, 3.1.2: trace and resolve passes)
+  wall_ms               median CPU milliseconds of the render call (Frame.wall_ms)
+  thesis_error, rmse, psnr, thesis_error_reflective, rmse_reflective, psnr_reflective
+                        ssrlab.metrics.image_metrics of Frame.color against the reference's
+                        colour, over all pixels and over the reference's reflective pixels
+                        (the *_reflective ones None when no pixel reflects)
+  reflective_pixels     how many pixels reflect in the reference
+  mean_fetches          depth fetches per traced ray of the last repeat (None when no ray was traced)
+  s_<field>             every ssrlab.Settings field of the configuration
+  device, gl_renderer, gl_version   the worker's renderer (Renderer.info)
+  worker                host:pid of the process that rendered the configuration
+  ssrlab_version, git_revision      of the code that ran the sweep ("unknown" outside a git checkout)
+  timestamp             UTC time the configuration finished, ISO 8601
+
+Workers: configurations fan out over any executor with ``submit(fn, *args)`` returning
+futures with ``.result()`` (concurrent.futures executors, ``dask.distributed.Client``); the
+default runs them in this process, one after another. The task is the module-level function
+``run_configuration`` with picklable arguments (settings as a dict, scene and view specs,
+never GL objects); each worker process opens its own EGL context on its first task (see
+``worker_renderer``). Parallel workers share the machine's cores, so their timings are
+slower and noisier than a sequential sweep's: compare times within one sweep, and measure
+times that you report with one worker.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import csv
+import datetime
+import io as _stdio
+import itertools
+import json
+import math
+import os
+import socket
+import statistics
+import subprocess
+import sys
+import threading
+from dataclasses import fields
+from pathlib import Path
+from typing import Any, Iterable
+
+import numpy as np
+
+from .metrics import METRIC_KEYS, image_metrics
+from .settings import Settings
+
+SETTINGS_PREFIX = "s_"
+# Passes whose GPU time the thesis counted as the cost of reflections (trace and resolve),
+# with the Hi-Z pyramid build that Hi-Z tracing needs.
+REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve")
+VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
+SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
+                   "reference_rays", "device")
+SETTINGS_FIELDS = tuple(f.name for f in fields(Settings))
+# Row columns that are times (with every gpu_<pass>_ms column).
+TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
+
+# Columns that differ between two runs of the same sweep even though the images do not
+# (with every gpu_<pass>_ms column, see is_volatile).
+VOLATILE_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms", "timestamp", "worker")
+
+
+def is_volatile(column: str) -> bool:
+    """True for the columns that change from run to run of the same configuration: times,
+    the timestamp and the worker. Everything else, the metrics included, is deterministic."""
+    return column in VOLATILE_KEYS or (column.startswith("gpu_") and column.endswith("_ms"))
+
+
+# -- grid ---------------------------------------------------------------------------------------
+def expand_grid(grid: dict[str, list]) -> list[dict]:
+    """Every combination of the grid's values (cartesian product), as a list of dicts.
+
+    The order is stable: keys in the grid's order, the last key varying fastest, values in
+    their listed order. Every key must be a Settings field and every value valid for it
+    (ValueError naming the key otherwise). An empty grid gives one empty point.
+    """
+    if not isinstance(grid, dict):
+        raise ValueError(f"grid must be a dict of Settings field -> list of values, got {type(grid).__name__}")
+    axes = {}
+    for key, values in grid.items():
+        if key not in SETTINGS_FIELDS:
+            raise ValueError(f"grid key {key!r} is not a Settings field; fields: {', '.join(SETTINGS_FIELDS)}")
+        if isinstance(values, (str, bytes, dict)) or not isinstance(values, Iterable):
+            raise ValueError(f"grid[{key!r}] must be a non-empty list of values, got {values!r}")
+        axes[key] = list(values)
+        if not axes[key]:
+            raise ValueError(f"grid[{key!r}] must be a non-empty list of values, got an empty one")
+        for v in axes[key]:
+            try:
+                Settings().replace(**{key: v})
+            except ValueError as e:
+                raise ValueError(f"grid[{key!r}]: {e}") from None
+    return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
+
+
+# -- scene and view specs ----------------------------------------------------------------------------
+def _check_scene_spec(spec, where: str = "scenes") -> Any:
+    """Validates a scene spec; returns it with a glTF path made absolute (so workers with
+    another working folder find it)."""
+    from . import scenes
+
+    if isinstance(spec, (str, os.PathLike)):
+        name, kwargs = str(spec), {}
+    elif isinstance(spec, dict):
+        if "name" not in spec or not isinstance(spec["name"], str):
+            raise ValueError(f"{where}: a scene dict needs a 'name' (a procedural scene), got {spec!r}")
+        name, kwargs = spec["name"], {k: v for k, v in spec.items() if k != "name"}
+    else:
+        raise ValueError(f"{where}: a scene spec is a scene name, a .gltf/.glb path or a dict "
+                         f"{{'name': ..., **builder options}}, got {type(spec).__name__} {spec!r}")
+    if name in scenes.SCENES:
+        import inspect
+
+        params = inspect.signature(scenes.SCENES[name]).parameters
+        unknown = sorted(set(kwargs) - set(params))
+        if unknown:
+            raise ValueError(f"{where}: scene {name!r} has no option(s) {', '.join(unknown)}; "
+                             f"options: {', '.join(params)}")
+        try:
+            json.dumps(kwargs)
+        except TypeError as e:
+            raise ValueError(f"{where}: options of scene {name!r} must be plain numbers, strings and "
+                             f"lists: {e}") from None
+        return spec
+    if Path(name).suffix.lower() in (".gltf", ".glb"):
+        if kwargs:
+            raise ValueError(f"{where}: options {sorted(kwargs)} apply to procedural scenes only, not {name}")
+        path = Path(name).expanduser()
+        if not path.is_file():
+            raise FileNotFoundError(f"{where}: scene file {path} not found")
+        return str(path.resolve())
+    raise ValueError(f"{where}: unknown scene {name!r}: expected one of {', '.join(scenes.SCENES)}, "
+                     f"a .gltf/.glb file or a dict {{'name': ..., **options}}")
+
+
+def scene_label(spec) -> str:
+    """A short readable name of a scene spec: ``box_stack``, ``hall(floor_roughness=0.3)``,
+    or a glTF file's stem."""
+    if isinstance(spec, dict):
+        options = ", ".join(f"{k}={v!r}" for k, v in spec.items() if k != "name")
+        return f"{spec['name']}({options})" if options else spec["name"]
+    name = str(spec)
+    return Path(name).stem if Path(name).suffix.lower() in (".gltf", ".glb") else name
+
+
+def _check_vector(view: dict, key: str, where: str) -> list[float]:
+    v = view[key]
+    try:
+        out = [float(x) for x in v]
+    except (TypeError, ValueError):
+        out = []
+    if len(out) != 3 or not all(math.isfinite(x) for x in out):
+        raise ValueError(f"{where}: {key} must be 3 finite numbers, got {v!r}")
+    return out
+
+
+def _check_view(view, index: int) -> Any:
+    """Validates a view spec: "default", a dict (see sweep) or an ssrlab.Camera."""
+    from ._core import Camera
+
+    where = f"views[{index}]"
+    if isinstance(view, Camera) or view == "default":
+        return view
+    if not isinstance(view, dict):
+        raise ValueError(f"{where}: a view is 'default', a dict {{name, position, target[, up, fov_y, near, "
+                         f"far]}} or an ssrlab.Camera, got {view!r}")
+    unknown = sorted(set(view) - set(VIEW_KEYS))
+    if unknown:
+        raise ValueError(f"{where}: unknown view key(s) {', '.join(unknown)}; keys: {', '.join(VIEW_KEYS)}")
+    for key in ("name", "position", "target"):
+        if key not in view:
+            raise ValueError(f"{where}: a view dict needs {key!r}")
+    if not isinstance(view["name"], str) or not view["name"]:
+        raise ValueError(f"{where}: name must be a non-empty string, got {view['name']!r}")
+    out = dict(view)
+    for key in ("position", "target", "up"):
+        if key in view:
+            out[key] = _check_vector(view, key, where)
+    for key in ("fov_y", "near", "far"):
+        if key in view:
+            v = view[key]
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
+                raise ValueError(f"{where}: {key} must be a positive number, got {v!r}")
+            out[key] = float(v)
+    if "fov_y" in out and not out["fov_y"] < 180.0:
+        raise ValueError(f"{where}: fov_y must be below 180 degrees, got {out['fov_y']!r}")
+    return out
+
+
+def view_name(view, index: int) -> str:
+    """The name a row records for a view: "default", a dict's name, or camera<index>."""
+    if isinstance(view, dict):
+        return view["name"]
+    return "default" if view == "default" else f"camera{index}"
+
+
+def view_camera(view, scene):
+    """The Camera of a view spec for `scene`. A dict's missing up, fov_y, near and far come
+    from the scene's own camera (or ssrlab.Camera's defaults when it has none)."""
+    from ._core import Camera
+
+    if isinstance(view, Camera):
+        return view
+    own = scene.camera
+    if view == "default":
+        if own is None:
+            raise ValueError(f"view 'default': scene {scene.name!r} has no camera")
+        return own
+    base = own if own is not None else Camera()
+    return Camera(position=tuple(view["position"]), target=tuple(view["target"]),
+                  up=tuple(view.get("up", base.up)), fov_y=view.get("fov_y", base.fov_y),
+                  near=view.get("near", base.near), far=view.get("far", base.far))
+
+
+# -- the worker ----------------------------------------------------------------------------------------------
+class _WorkerState(threading.local):
+    """What a worker keeps between tasks, per thread (a GL context is current on one thread)
+    and per process (a forked child must not use its parent's context)."""
+
+    def __init__(self):
+        self.pid = os.getpid()
+        self.renderers: dict[str, Any] = {}
+        self.scenes: dict[str, Any] = {}
+
+
+_STATE = _WorkerState()
+# Renderers opened by this process: (pid, thread id, device). Also keeps every Renderer a
+# forked child inherited alive, so their destructors never run on a copied context.
+_OPENED: list[tuple[int, int, str]] = []
+_INHERITED: list[Any] = []
+
+
+def _state() -> _WorkerState:
+    if _STATE.pid != os.getpid():  # a forked child: its parent's renderers are not ours
+        _INHERITED.extend(_STATE.renderers.values())
+        _STATE.__init__()
+    return _STATE
+
+
+def worker_renderer(device: str = "auto"):
+    """This process's (and thread's) Renderer for `device`, opened on first use.
+
+    Each worker process opens its own EGL context lazily, on its first configuration, and
+    keeps it for every later one: EGL contexts cannot be shared between processes, and
+    opening one (and compiling shader variants) costs far more than a small render.
+    """
+    state = _state()
+    if device not in state.renderers:
+        from .renderer import Renderer
+
+        state.renderers[device] = Renderer(device)
+        _OPENED.append((os.getpid(), threading.get_ident(), device))
+    return state.renderers[device]
+
+
+def opened_renderers() -> list[dict]:
+    """The Renderers this process opened for sweeps (pid, thread, device): lets a caller check
+    that every worker process opened its own EGL context (``client.run(opened_renderers)``)."""
+    return [{"pid": pid, "thread": tid, "device": dev} for pid, tid, dev in _OPENED if pid == os.getpid()]
+
+
+def _scene(spec):
+    """The scene of a spec, built once per worker (building and uploading cost time)."""
+    from . import scenes
+
+    state = _state()
+    key = json.dumps(spec, sort_keys=True)
+    if key not in state.scenes:
+        if isinstance(spec, dict):
+            state.scenes[key] = scenes.load(spec["name"], **{k: v for k, v in spec.items() if k != "name"})
+        else:
+            state.scenes[key] = scenes.load(str(spec))
+    return state.scenes[key]
+
+
+def _median(values: list[float]) -> float:
+    return float(statistics.median(values))
+
+
+def _timing_column(key: str) -> str:
+    return "gpu_" + key.replace(".", "_") + "_ms"
+
+
+def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats: int, warmup: int,
+                      reference: str, reference_rays: int | None, device: str,
+                      cache_folder: str | None) -> dict:
+    """Renders one configuration and measures it: the sweep's task, run in a worker.
+
+    Module-level with picklable arguments, so any executor can ship it to another process.
+    Returns the row's measured columns (see the module documentation); the caller adds the
+    sweep's own columns (index, provenance of the sweep).
+    """
+    from .reference import reference_image
+
+    renderer = worker_renderer(device)
+    scene = _scene(scene_spec)
+    camera = view_camera(view, scene)
+    s = Settings.from_dict(settings)
+    ref = reference_image(renderer, scene, camera, s, kind=reference, rays=reference_rays, cache=True,
+                          folder=cache_folder)
+    for _ in range(warmup):
+        renderer.render(scene, camera, s)
+    frames_timings, walls, reflections = [], [], []
+    frame = None
+    for _ in range(repeats):
+        frame = renderer.render(scene, camera, s)
+        t = frame.timings
+        frames_timings.append(t)
+        walls.append(frame.wall_ms)
+        reflections.append(sum(t.get(p, 0.0) for p in REFLECTION_PASSES))
+    timing_keys = sorted({k for t in frames_timings for k in t})
+    row: dict[str, Any] = {
+        "scene": scene_label(scene_spec),
+        "scene_spec": json.dumps(scene_spec, sort_keys=True),
+        "view": view_label,
+        "reference": reference,
+        "reference_rays": reference_rays,
+        "reference_rays_per_pixel": int(ref.rays_per_pixel),
+        "repeats": repeats,
+        "warmup": warmup,
+        "time_frame_ms": _median([t["total"] for t in frames_timings]),
+        "time_reflections_ms": _median(reflections),
+        "wall_ms": _median(walls),
+    }
+    reflective = np.asarray(ref.reflective, dtype=bool)
+    row.update(image_metrics(frame.color, ref.color, reflective))
+    row["reflective_pixels"] = int(reflective.sum())
+    row["mean_fetches"] = frame.rays.mean_fetches() if "rays.hit" in frame.texture_names else None
+    for k in timing_keys:
+        row[_timing_column(k)] = _median([t[k] for t in frames_timings if k in t])
+    row.update({SETTINGS_PREFIX + k: v for k, v in s.to_dict().items()})
+    info = renderer.info
+    row.update(device=info.get("device", "unknown"), gl_renderer=info.get("renderer", "unknown"),
+               gl_version=info.get("gl_version", "unknown"), worker=f"{socket.gethostname()}:{os.getpid()}",
+               timestamp=datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"))
+    return row
+
+
+# -- provenance ------------------------------------------------------------------------------------------
+def git_revision() -> str:
+    """`git rev-parse --short HEAD` of the ssrlab source checkout: the package's own folder
+    when ssrlab runs from its checkout, else the working folder if it is one (a checkout
+    that holds python/ssrlab); "unknown" otherwise."""
+    for folder in (Path(__file__).resolve().parent, Path.cwd()):
+        try:
+            top = subprocess.run(["git", "-C", str(folder), "rev-parse", "--show-toplevel"], capture_output=True,
+                                 text=True, timeout=10)
+            if top.returncode != 0 or not (Path(top.stdout.strip()) / "python" / "ssrlab").is_dir():
+                continue
+            rev = subprocess.run(["git", "-C", str(folder), "rev-parse", "--short", "HEAD"], capture_output=True,
+                                 text=True, timeout=10)
+            if rev.returncode == 0 and rev.stdout.strip():
+                return rev.stdout.strip()
+        except (OSError, subprocess.SubprocessError):
+            continue
+    return "unknown"
+
+
+# -- the sweep -------------------------------------------------------------------------------------------
+def _check_count(value, name: str, lo: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < lo:
+        raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
+    return value
+
+
+def _is_dask_client(executor) -> bool:
+    return type(executor).__module__.split(".")[0] == "distributed"
+
+
+def _completed(futures: list):
+    """Futures in completion order where the executor's futures allow it, else in order."""
+    if futures and all(isinstance(f, concurrent.futures.Future) for f in futures):
+        return concurrent.futures.as_completed(futures)
+    if futures and type(futures[0]).__module__.split(".")[0] == "distributed":
+        from distributed import as_completed
+
+        return as_completed(futures)
+    return iter(futures)
+
+
+def plan_sweep(grid: dict[str, list], scenes: list, views: list | None = None,
+               base: dict | Settings | None = None) -> list[dict]:
+    """The configurations of a sweep, in sweep order (scenes outermost, then views, then grid
+    points), without rendering anything: dicts with scene_spec, view, view_name and
+    settings (a dict of every Settings field). Checks every argument (see sweep) and raises
+    ValueError (FileNotFoundError for a missing glTF file) naming the bad one.
+    """
+    points = expand_grid(grid)
+    if isinstance(scenes, (str, dict)) or not isinstance(scenes, (list, tuple)) or not scenes:
+        raise ValueError(f"scenes must be a non-empty list of scene specs, got {scenes!r}")
+    scene_specs = [_check_scene_spec(s, f"scenes[{i}]") for i, s in enumerate(scenes)]
+    if views is None:
+        views = ["default"]
+    if isinstance(views, (str, dict)) or not isinstance(views, (list, tuple)) or not views:
+        raise ValueError(f"views must be None or a non-empty list of views, got {views!r}")
+    view_specs = [_check_view(v, i) for i, v in enumerate(views)]
+    names = [view_name(v, i) for i, v in enumerate(view_specs)]
+    if len(set(names)) != len(names):
+        raise ValueError(f"views must have distinct names, got {names}")
+    if base is None:
+        base_settings = Settings()
+    elif isinstance(base, Settings):
+        base_settings = base
+    elif isinstance(base, dict):
+        try:
+            base_settings = Settings().replace(**base)
+        except ValueError as e:
+            raise ValueError(f"base: {e}") from None
+    else:
+        raise ValueError(f"base must be a Settings, a dict of Settings fields or None, got {type(base).__name__}")
+    settings = []
+    for point in points:
+        try:
+            settings.append(base_settings.replace(**point).to_dict())
+        except ValueError as e:
+            raise ValueError(f"grid point {point}: {e}") from None
+    return [{"scene_spec": spec, "view": view, "view_name": name, "settings": dict(point_settings)}
+            for spec in scene_specs for view, name in zip(view_specs, names) for point_settings in settings]
+
+
+def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: dict | Settings | None = None,
+          repeats: int = 5, warmup: int = 2, reference: str = "converged", reference_rays: int | None = None,
+          executor=None, device: str = "auto", progress: bool = True, cache_folder=None) -> list[dict]:
+    """Measures every (scene, view, grid point) configuration; returns one row per
+    configuration, in that order (scenes outermost, grid points innermost), whatever order
+    the executor completes them in.
+
+    grid       Settings field -> list of values; the cartesian product is swept (expand_grid)
+    scenes     scene specs: a procedural scene name (ssrlab.scenes.SCENES), a .gltf/.glb path,
+               or a dict {"name": <procedural scene>, **builder options}
+    views      None (each scene's default camera) or a list of "default", dicts
+               {"name", "position", "target"[, "up", "fov_y", "near", "far"]} (missing
+               values from the scene's camera), or ssrlab.Camera objects (named camera<i>)
+    base       Settings (or a dict of fields) every configuration starts from
+    repeats    timed renders per configuration (medians are reported); warmup: untimed renders first
+    reference  reference kind ("converged" or "thesis", see ssrlab.reference); reference_rays:
+               its rays per pixel (None: the reference's default)
+    executor   None (this process, sequentially) or an object with submit(fn, *args) returning
+               futures (concurrent.futures executors, dask.distributed.Client)
+    device     the Renderer device of every worker ("auto", "gpu", "cpu")
+    progress   show a progress bar (tqdm, on stderr)
+    cache_folder  the reference cache (None: $SSRLAB_CACHE or ~/.cache/ssrlab)
+
+    Every argument is checked before anything renders: ValueError names the bad one.
+    """
+    from . import __version__
+    from .reference import KINDS
+
+    configurations = plan_sweep(grid, scenes, views, base)
+    repeats = _check_count(repeats, "repeats", 1)
+    warmup = _check_count(warmup, "warmup", 0)
+    if reference not in KINDS:
+        raise ValueError(f"reference must be one of {', '.join(KINDS)}, got {reference!r}")
+    if reference_rays is not None:
+        _check_count(reference_rays, "reference_rays", 1)
+        if reference != "converged":
+            raise ValueError(f"reference_rays applies to the converged reference only; the {reference!r} "
+                             f"reference has its own rays per pixel")
+    if device not in ("auto", "gpu", "cpu"):
+        raise ValueError(f"device must be 'auto', 'gpu' or 'cpu', got {device!r}")
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise ValueError(f"executor must have a submit(fn, *args) method, got {type(executor).__name__}")
+    cache = None if cache_folder is None else str(Path(cache_folder).expanduser().resolve())
+    tasks = [(c["scene_spec"], c["view"], c["view_name"], c["settings"], repeats, warmup, reference, reference_rays,
+              device, cache) for c in configurations]
+
+    provenance = {"ssrlab_version": __version__, "git_revision": git_revision()}
+    rows: list[dict | None] = [None] * len(tasks)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(tasks), desc="ssrlab bench", unit="config", file=sys.stderr)
+
+    def finish(i: int, measured: dict) -> None:
+        rows[i] = {"index": i, **measured, **provenance}
+        if bar is not None:
+            bar.update(1)
+
+    try:
+        if executor is None:
+            for i, args in enumerate(tasks):
+                finish(i, run_configuration(*args))
+        else:
+            dask = _is_dask_client(executor)
+            # dask caches "pure" tasks by their arguments: a second sweep on the same client
+            # would return the first one's timings without rendering. pure=False renders.
+            futures = [executor.submit(run_configuration, *args, pure=False) if dask
+                       else executor.submit(run_configuration, *args) for args in tasks]
+            index = {id(f): i for i, f in enumerate(futures)}
+            try:
+                for f in _completed(futures):
+                    finish(index[id(f)], f.result())
+            except BaseException:
+                for f in futures:
+                    f.cancel()
+                raise
+    finally:
+        if bar is not None:
+            bar.close()
+    return rows  # type: ignore[return-value]
+
+
+# -- Pareto front --------------------------------------------------------------------------------------
+def _number(row: dict, key: str) -> float | None:
+    v = row.get(key)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        return None
+    return float(v)
+
+
+def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: str = "thesis_error") -> list[dict]:
+    """The rows no other row beats in both time and error, sorted by time: the best error
+    reachable within each time budget. Lower is better under both keys (so error_key is an
+    error such as thesis_error or rmse, not psnr).
+
+    A row is on the front when every faster-or-equal row has a larger error. Of rows with
+    equal time and error the first (in `rows` order) is kept. Rows without a finite number
+    under either key are left out; ValueError if no row has both.
+    """
+    scored = [(t, e, i) for i, r in enumerate(rows)
+              if (t := _number(r, time_key)) is not None and (e := _number(r, error_key)) is not None]
+    if not scored:
+        raise ValueError(f"pareto_front: no row has finite numbers under time_key={time_key!r} and "
+                         f"error_key={error_key!r}")
+    front, best = [], math.inf
+    for t, e, i in sorted(scored):
+        if e < best:
+            front.append(rows[i])
+            best = e
+    return front
+
+
+# -- writing results ------------------------------------------------------------------------------------
+def varying_settings(rows: list[dict]) -> list[str]:
+    """Settings fields (without the prefix) whose value differs between rows, in field order."""
+    out = []
+    for name in SETTINGS_FIELDS:
+        values = {json.dumps(r.get(SETTINGS_PREFIX + name)) for r in rows}
+        if len(values) > 1:
+            out.append(name)
+    return out
+
+
+def _columns(rows: list[dict]) -> list[str]:
+    """Every column of any row, in first-seen order, the gpu_<pass>_ms columns (which differ
+    between configurations, e.g. one per layer) kept together and sorted."""
+    cols: dict[str, None] = {}
+    for r in rows:
+        cols.update(dict.fromkeys(r))
+    gpu = sorted(c for c in cols if c.startswith("gpu_") and c.endswith("_ms"))
+    out: list[str] = []
+    for c in cols:
+        if c not in gpu:
+            out.append(c)
+        elif gpu[0] not in out:  # the first timing column seen: the whole block goes here
+            out.extend(gpu)
+    return out
+
+
+def _csv_text(rows: list[dict]) -> str:
+    buf = _stdio.StringIO()
+    w = csv.DictWriter(buf, fieldnames=_columns(rows), restval="", lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: ("" if v is None else v) for k, v in r.items()})
+    return buf.getvalue()
+
+
+def _json_safe(v):
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    return v
+
+
+def result_names(rows_or_keys) -> list[str]:
+    """The files write_results writes: rows.csv, rows.json, pareto.csv, error_vs_time.png and,
+    when exactly one setting varies, <setting>.png. Takes rows, or the list of varying keys."""
+    keys = rows_or_keys
+    if rows_or_keys and isinstance(rows_or_keys[0], dict):
+        keys = varying_settings(rows_or_keys)
+    names = ["rows.csv", "rows.json", "pareto.csv", "error_vs_time.png"]
+    if len(keys) == 1:
+        names.append(f"{keys[0]}.png")
+    return names
+
+
+# Marker shapes, one per scene (colours follow matplotlib's default cycle).
+MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*", "<", ">")
+# Above this ratio between the largest and smallest time, the time axis is logarithmic.
+LOG_TIME_SPAN = 20.0
+FIGURE_SIZE = (7.0, 4.5)  # inches
+FIGURE_DPI = 120
+
+
+def _plot_error_vs_time(path: Path, rows: list[dict], front: list[dict], time_key: str, error_key: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=FIGURE_SIZE, dpi=FIGURE_DPI)
+    groups: dict[str, list[dict]] = {}
+    for r in rows:
+        groups.setdefault(r.get("scene", "?"), []).append(r)
+    for k, (scene, rs) in enumerate(groups.items()):
+        pts = [(t, e) for r in rs if (t := _number(r, time_key)) is not None and (e := _number(r, error_key))
+               is not None]
+        if pts:
+            ax.scatter(*zip(*pts), marker=MARKERS[k % len(MARKERS)], color=f"C{k % 10}", label=scene, zorder=3)
+    fx = [_number(r, time_key) for r in front]
+    fy = [_number(r, error_key) for r in front]
+    ax.step(fx, fy, where="post", color="black", linewidth=1.0, label="Pareto front", zorder=2)
+    positive = [t for r in rows if (t := _number(r, time_key)) is not None and t > 0]
+    if positive and max(positive) / min(positive) > LOG_TIME_SPAN:
+        ax.set_xscale("log")
+    ax.set_xlabel(time_key)
+    ax.set_ylabel(error_key)
+    ax.set_title(f"{error_key} against {time_key}")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="small")
+    fig.tight_layout()
+    fig.savefig(path, format="png")
+    plt.close(fig)
+
+
+def _plot_against_setting(path: Path, rows: list[dict], key: str, time_key: str, error_key: str) -> None:
+    """Error and time against one swept setting, one line per (scene, view): the thesis's
+    Figs. 3.3-3.10. Non-numeric settings (method, sampling) are placed at even spacing."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
+
+    column = SETTINGS_PREFIX + key
+    values = list(dict.fromkeys(r[column] for r in rows))
+    numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values)
+    position = (lambda v: v) if numeric else (lambda v: values.index(v))
+    fig, (ax_e, ax_t) = plt.subplots(1, 2, figsize=(2 * FIGURE_SIZE[0], FIGURE_SIZE[1]), dpi=FIGURE_DPI)
+    groups: dict[tuple, list[dict]] = {}
+    for r in rows:
+        groups.setdefault((r.get("scene", "?"), r.get("view", "default")), []).append(r)
+    for k, ((scene, view), rs) in enumerate(groups.items()):
+        label = scene if view == "default" else f"{scene} / {view}"
+        style = dict(marker=MARKERS[k % len(MARKERS)], color=f"C{k % 10}", label=label)
+        for ax, metric in ((ax_e, error_key), (ax_t, time_key)):
+            pts = sorted((position(r[column]), y) for r in rs if (y := _number(r, metric)) is not None)
+            if pts:
+                ax.plot(*zip(*pts), **style)
+    for ax, metric in ((ax_e, error_key), (ax_t, time_key)):
+        ax.set_xlabel(key)
+        ax.set_ylabel(metric)
+        ax.grid(True, alpha=0.3)
+        if not numeric:
+            ax.set_xticks(range(len(values)), [str(v) for v in values])
+        elif all(isinstance(v, int) for v in values):
+            ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax_e.set_title(f"{error_key} against {key}")
+    ax_t.set_title(f"{time_key} against {key}")
+    ax_e.legend(fontsize="small")
+    fig.tight_layout()
+    fig.savefig(path, format="png")
+    plt.close(fig)
+
+
+def write_results(rows: list[dict], folder, *, time_key: str = "time_frame_ms", error_key: str = "thesis_error",
+                  overwrite: bool = False) -> list[Path]:
+    """Writes a sweep's results into `folder` and returns the files written:
+
+    rows.csv, rows.json    every row (the columns of the module documentation)
+    pareto.csv             pareto_front(rows, time_key, error_key)
+    error_vs_time.png      every row, one marker and colour per scene, the Pareto front as a line
+    <setting>.png          when exactly one setting varies between rows: error and time against it
+
+    Never replaces a file that ssrlab did not write (ssrlab.io.OutputFolder; overwrite=True
+    to force): FileExistsError, before anything is written.
+    """
+    from .io import OutputFolder
+
+    if not rows:
+        raise ValueError("write_results: rows is empty")
+    for key, name in ((time_key, "time_key"), (error_key, "error_key")):
+        if not any(key in r for r in rows):
+            raise ValueError(f"write_results: {name}={key!r} is not a column of the rows")
+    front = pareto_front(rows, time_key, error_key)
+    keys = varying_settings(rows)
+    names = result_names(keys)
+    out = OutputFolder(folder, overwrite=overwrite)
+    out.check(names)
+    safe_rows = [{k: _json_safe(v) for k, v in r.items()} for r in rows]
+    written = [
+        out.write("rows.csv", lambda p: p.write_text(_csv_text(rows))),
+        out.write("rows.json", lambda p: p.write_text(json.dumps(safe_rows, indent=1, allow_nan=False))),
+        out.write("pareto.csv", lambda p: p.write_text(_csv_text(front))),
+        out.write("error_vs_time.png", lambda p: _plot_error_vs_time(p, rows, front, time_key, error_key)),
+    ]
+    if len(keys) == 1:
+        written.append(out.write(f"{keys[0]}.png",
+                                 lambda p: _plot_against_setting(p, rows, keys[0], time_key, error_key)))
+    return written
+
+
+# -- sweep files -------------------------------------------------------------------------------------------
+def load_sweep(path) -> dict:
+    """Reads a sweep file (TOML, or JSON for a .json file) into keyword arguments of sweep().
+
+    Top-level keys: scenes (required), views, repeats, warmup, reference, reference_rays,
+    device, description (free text, not passed on), and the tables base (Settings fields of
+    every run) and grid (Settings field -> list of values). Other keys raise ValueError
+    naming them. A relative glTF path is looked up beside the sweep file first.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"sweep file {path} not found")
+    try:
+        if path.suffix.lower() == ".json":
+            data = json.loads(path.read_text())
+        else:
+            if sys.version_info >= (3, 11):
+                import tomllib
+            else:
+                import tomli as tomllib
+            data = tomllib.loads(path.read_text())
+    except ValueError as e:  # json.JSONDecodeError and tomllib.TOMLDecodeError are ValueErrors
+        raise ValueError(f"sweep file {path}: {e}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"sweep file {path}: expected a table of keys at the top level")
+    unknown = sorted(set(data) - set(SWEEP_FILE_KEYS))
+    if unknown:
+        raise ValueError(f"sweep file {path}: unknown key(s) {', '.join(unknown)}; keys: {', '.join(SWEEP_FILE_KEYS)}")
+    if "scenes" not in data:
+        raise ValueError(f"sweep file {path}: 'scenes' is required")
+    for table in ("base", "grid"):
+        if table in data and not isinstance(data[table], dict):
+            raise ValueError(f"sweep file {path}: '{table}' must be a table of Settings fields")
+    scenes = data["scenes"]
+    if isinstance(scenes, list):
+        resolved = []
+        for spec in scenes:
+            if isinstance(spec, str) and Path(spec).suffix.lower() in (".gltf", ".glb") \
+                    and not Path(spec).is_absolute() and (path.parent / spec).is_file():
+                spec = str((path.parent / spec).resolve())
+            resolved.append(spec)
+        scenes = resolved
+    kwargs = {k: v for k, v in data.items() if k != "description"}
+    kwargs["scenes"] = scenes
+    kwargs.setdefault("grid", {})
+    return kwargs
+
+
+__all__ = ["expand_grid", "plan_sweep", "sweep", "run_configuration", "worker_renderer", "opened_renderers",
+           "pareto_front", "write_results", "result_names", "varying_settings", "load_sweep", "scene_label",
+           "view_camera", "git_revision", "is_volatile", "METRIC_KEYS", "VOLATILE_KEYS", "SETTINGS_PREFIX",
+           "TIME_KEYS"]
