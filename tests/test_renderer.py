@@ -140,3 +140,29 @@ def test_primitives_wind_counter_clockwise_from_outside():
         a, b, c = p[idx[:, 0]], p[idx[:, 1]], p[idx[:, 2]]
         face = np.cross(b - a, c - a)
         assert np.all(np.einsum("ij,ij->i", face, n[idx[:, 0]]) > 0), m["name"]
+
+
+def test_renderers_across_threads_keep_their_objects_apart(renderer):
+    """A Renderer made and used on a worker thread, then dropped on this one, must delete its
+    GL objects in its own context, never in another renderer's (which once lost its buffers)."""
+    import gc
+    import threading
+
+    scene = ssrlab.scenes.mirror_test()
+    before = renderer.render(scene, settings=small()).color
+    made = {}
+
+    def work():
+        r = ssrlab.Renderer()
+        made["renderer"] = r
+        made["color"] = r.render(scene, settings=small()).color
+
+    t = threading.Thread(target=work)
+    t.start()
+    t.join()
+    np.testing.assert_array_equal(made["color"], before)
+    # Used again from this thread, then destroyed here.
+    np.testing.assert_array_equal(made["renderer"].render(scene, settings=small()).color, before)
+    del made["renderer"]
+    gc.collect()
+    np.testing.assert_array_equal(renderer.render(scene, settings=small()).color, before)

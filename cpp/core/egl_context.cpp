@@ -155,6 +155,8 @@ EglContext::EglContext(DeviceKind kind) {
         throw DeviceError(os.str());
     }
     enable_debug_output();
+    // Give the thread back: every later call makes the context current for its duration.
+    eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
 }
 
 // Displays are never terminated here: EGL returns the same EGLDisplay for the same device to
@@ -235,6 +237,23 @@ void EglContext::make_current() {
             throw GLError("this Renderer's GL context is current on another thread: use one Renderer per thread");
         throw GLError("eglMakeCurrent failed: " + egl_error_name(e));
     }
+}
+
+CurrentContext::CurrentContext(EglContext& ctx)
+    : ctx_(ctx),
+      prev_display_(eglGetCurrentDisplay()),
+      prev_draw_(eglGetCurrentSurface(EGL_DRAW)),
+      prev_read_(eglGetCurrentSurface(EGL_READ)),
+      prev_context_(eglGetCurrentContext()) {
+    if (prev_context_ == ctx.handle()) return;
+    ctx.make_current();
+    switched_ = true;
+}
+
+CurrentContext::~CurrentContext() {
+    if (!switched_) return;
+    if (prev_context_ != EGL_NO_CONTEXT) eglMakeCurrent(prev_display_, prev_draw_, prev_read_, prev_context_);
+    else eglMakeCurrent(ctx_.display(), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
 }
 
 std::vector<std::string> EglContext::take_debug_errors() {

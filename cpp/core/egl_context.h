@@ -42,8 +42,11 @@ public:
     EglContext(const EglContext&) = delete;
     EglContext& operator=(const EglContext&) = delete;
 
-    // Makes the context current on the calling thread (cheap when it already is).
+    // Makes the context current on the calling thread (cheap when it already is). Prefer
+    // CurrentContext, which also gives the thread back afterwards.
     void make_current();
+    EGLDisplay display() const { return display_; }
+    EGLContext handle() const { return context_; }
     const DeviceInfo& info() const { return info_; }
 
     // Errors reported by GL debug output since the last call, then cleared.
@@ -60,6 +63,26 @@ private:
     std::vector<std::string> debug_errors_;
 
     friend void debug_callback_trampoline(EglContext*, const std::string&);
+};
+
+// Makes a context current for one native call and restores whatever was current before
+// (usually nothing). No context stays bound to a thread between calls, so a Renderer can be
+// used, and destroyed, from any thread: a context left current on a thread that has since
+// ended could never be made current again, and its GL objects would be deleted in whichever
+// context happened to be current.
+class CurrentContext {
+public:
+    explicit CurrentContext(EglContext& ctx);
+    ~CurrentContext();
+    CurrentContext(const CurrentContext&) = delete;
+    CurrentContext& operator=(const CurrentContext&) = delete;
+
+private:
+    EglContext& ctx_;
+    EGLDisplay prev_display_;
+    EGLSurface prev_draw_, prev_read_;
+    EGLContext prev_context_;
+    bool switched_ = false;
 };
 
 // Raises GLError if GL reported an error since the last check; `where` names the pass.

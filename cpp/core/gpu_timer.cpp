@@ -4,8 +4,13 @@
 
 namespace ssr {
 
-GpuTimer::~GpuTimer() {
+GpuTimer::~GpuTimer() { reset(); }
+
+void GpuTimer::reset() {
     if (!pool_.empty()) glDeleteQueries(GLsizei(pool_.size()), pool_.data());
+    pool_.clear();
+    used_ = 0;
+    intervals_.clear();
 }
 
 void GpuTimer::begin_frame() {

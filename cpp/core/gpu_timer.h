@@ -26,6 +26,7 @@ public:
     void end(const std::string& name);
     // Milliseconds per named interval of the frame (waits for the GPU).
     std::map<std::string, double> resolve();
+    void reset();  // deletes the queries (in the current context)
 
 private:
     GLuint query();

@@ -46,7 +46,12 @@ ShaderLibrary::ShaderLibrary(fs::path root) : root_(std::move(root)) {
 }
 
 ShaderLibrary::~ShaderLibrary() {
-    // Programs die with the context that owns this library; nothing to do when it is gone.
+    // Programs are deleted by release(), called by the Renderer with its context current.
+}
+
+void ShaderLibrary::release() {
+    for (const auto& [key, prog] : cache_) glDeleteProgram(prog);
+    cache_.clear();
 }
 
 void ShaderLibrary::append_file(const fs::path& file, const fs::path& display, Preprocessed& out,

@@ -33,6 +33,7 @@ public:
     GLuint program(const std::vector<std::string>& stages, const Defines& defines = {});
 
     const std::filesystem::path& root() const { return root_; }
+    void release();  // deletes every cached program (in the current context)
     size_t cached_programs() const { return cache_.size(); }
 
     struct Preprocessed {

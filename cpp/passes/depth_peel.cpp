@@ -87,6 +87,13 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     glDisable(GL_FRAMEBUFFER_SRGB);
 }
 
+void DepthPeelPass::release() {
+    if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
+    queries_.clear();
+    used_queries_ = 0;
+    fbo_.reset();
+}
+
 std::vector<uint64_t> DepthPeelPass::layer_samples() {
     std::vector<uint64_t> out;
     for (int i = 0; i < used_queries_; ++i) {

@@ -29,6 +29,7 @@ public:
     // Pixels (samples passing the depth test) each layer of the last frame wrote; read
     // after the frame, when the GPU has finished.
     std::vector<uint64_t> layer_samples();
+    void release();  // deletes the pass's GL objects (in the current context)
 
 private:
     Framebuffer fbo_;

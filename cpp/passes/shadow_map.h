@@ -26,6 +26,7 @@ public:
     // Which light casts the shadow and the light's frustum fitted to the scene.
     static ShadowSetup fit(const Scene& scene, const Bounds& bounds, const RenderSettings& s);
     void set_setup(const ShadowSetup& setup) { setup_ = setup; }
+    void release() { fbo_.reset(); }
 
 private:
     ShadowSetup setup_;

@@ -22,7 +22,7 @@ std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std:
 Renderer::Renderer(const std::string& device, const std::string& shader_dir)
     : ctx_(std::make_shared<EglContext>(parse_device_kind(device))),
       shaders_(std::make_unique<ShaderLibrary>(shader_dir)) {
-    ctx_->make_current();
+    CurrentContext current(*ctx_);
     frame_ubo_ = Buffer::create(sizeof(FrameUniforms));
     glCreateSamplers(1, &readback_sampler_);
     glSamplerParameteri(readback_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
@@ -32,11 +32,30 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir)
 }
 
 Renderer::~Renderer() {
+    // Every GL object of the renderer dies in its own context: current for the destructor's
+    // body and for the members' destructors that follow it (destroy_gl_objects).
     try {
-        ctx_->make_current();
+        CurrentContext current(*ctx_);
+        destroy_gl_objects();
     } catch (...) {
+        // The context is current on another thread (not possible while Python holds the GIL
+        // for every call): the objects are left to the context's own destruction.
     }
+}
+
+void Renderer::destroy_gl_objects() {
     if (readback_sampler_) glDeleteSamplers(1, &readback_sampler_);
+    readback_sampler_ = 0;
+    scenes_.clear();
+    pool_.clear();
+    frame_ubo_.reset();
+    ssr_ubo_.reset();
+    lights_ssbo_.reset();
+    readback_ssbo_.reset();
+    timer_.reset();
+    shaders_->release();
+    shadow_map_.release();
+    depth_peel_.release();
 }
 
 const GpuScene& Renderer::gpu_scene(const Scene& scene) {
@@ -108,7 +127,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate();
     camera.validate();
-    ctx_->make_current();
+    CurrentContext current(*ctx_);
     check_gl(*ctx_, "render (an earlier call left a GL error)");
 
     const GpuScene& gs = gpu_scene(scene);
@@ -202,7 +221,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
 }
 
 void Renderer::check_errors() {
-    ctx_->make_current();
+    CurrentContext current(*ctx_);
     check_gl(*ctx_, "(between calls)");
 }
 
@@ -213,7 +232,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     if (per_ray && !frame.has("rays.direction"))
         throw std::invalid_argument("reference: a per-ray reference needs a frame that traced rays");
     if (!per_ray && (rays < 1 || rays > 65536)) throw std::invalid_argument("reference: rays must be in [1, 65536]");
-    ctx_->make_current();
+    CurrentContext current(*ctx_);
     check_gl(*ctx_, "reference (an earlier call left a GL error)");
     GpuScene& gs = const_cast<GpuScene&>(gpu_scene(scene));
     const RenderSettings& s = frame.settings;
@@ -269,7 +288,7 @@ std::vector<float> Renderer::sample_reflections(const std::string& sampling, flo
     if (!(alpha >= 0.0f && alpha <= 1.0f)) throw std::invalid_argument("alpha must be in [0, 1]");
     if (!(view.z > 0.0f)) throw std::invalid_argument("view must point above the surface (view.z > 0)");
     const Sampling method = parse_enum<Sampling>("sampling", sampling);
-    ctx_->make_current();
+    CurrentContext current(*ctx_);
     const GLuint prog = shaders_->program({"tools/brdf_samples.comp"}, {});
     glUseProgram(prog);
     glUniform3f(glGetUniformLocation(prog, "u_view"), view.x, view.y, view.z);
@@ -290,14 +309,14 @@ std::vector<float> Renderer::sample_reflections(const std::string& sampling, flo
 }
 
 unsigned Renderer::compile(const std::vector<std::string>& stages, const Defines& defines) {
-    ctx_->make_current();
+    CurrentContext current(*ctx_);
     const unsigned prog = shaders_->program(stages, defines);
     check_gl(*ctx_, "shader compile");
     return prog;
 }
 
 Readback Renderer::read_texture(const Texture& tex, int level) {
-    ctx_->make_current();
+    CurrentContext current(*ctx_);
     if (level < 0 || level >= tex.levels())
         throw std::invalid_argument("mip level " + std::to_string(level) + " out of range (texture has " +
                                     std::to_string(tex.levels()) + ")");
@@ -331,12 +350,12 @@ Frame::Frame(std::shared_ptr<EglContext> ctx, std::weak_ptr<Renderer> renderer, 
     : ctx_(std::move(ctx)), renderer_(std::move(renderer)), resources_(std::move(res)) {}
 
 Frame::~Frame() {
-    // The textures may be freed now (when the renderer is gone): their context must be current.
+    // The textures may be freed now (when the renderer is gone): in their own context.
     try {
-        ctx_->make_current();
+        CurrentContext current(*ctx_);
+        resources_.reset();
     } catch (...) {
     }
-    resources_.reset();
 }
 
 Readback Frame::read(const std::string& name, int level) {

@@ -56,6 +56,7 @@ private:
     std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
     std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows, bool reflections);
     void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
+    void destroy_gl_objects();
 
     std::shared_ptr<EglContext> ctx_;  // first member: destroyed last, after every GL object
     std::unique_ptr<ShaderLibrary> shaders_;
