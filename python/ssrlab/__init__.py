@@ -10,7 +10,7 @@
 """
 
 from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
-from . import io, models, scenes, transforms
+from . import bench, experiments, io, metrics, models, reference, scenes, transforms
 from .renderer import Frame, GBuffer, Renderer, shader_dir
 from .scene import Scene, directional_light, point_light
 from .settings import Settings
