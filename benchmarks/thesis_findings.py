@@ -28,12 +28,13 @@ def main() -> None:
     ap.add_argument("--scale", default="full", choices=("full", "small"))
     ap.add_argument("--figures", default=str(ROOT / "docs" / "images"))
     ap.add_argument("--executed", default=str(ROOT / "results" / "notebooks"))
+    ap.add_argument("--only", nargs="+", choices=NOTEBOOKS, default=NOTEBOOKS, help="run only these notebooks")
     args = ap.parse_args()
     os.environ["SSRLAB_NOTEBOOK_SCALE"] = args.scale
     os.environ["SSRLAB_NOTEBOOK_OUT"] = args.figures
     os.environ.setdefault("MPLBACKEND", "Agg")
     Path(args.executed).mkdir(parents=True, exist_ok=True)
-    for name in NOTEBOOKS:
+    for name in args.only:
         start = time.time()
         nb = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
         nbclient.NotebookClient(nb, timeout=3600, kernel_name="python3",
