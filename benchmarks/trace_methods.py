@@ -18,6 +18,7 @@ import numpy as np
 
 import ssrlab
 from common import device_header, median_timings
+from ssrlab import experiments
 
 CONFIGS = [("linear", 1), ("linear", 2), ("linear", 4), ("linear", 8), ("hiz", None)]
 
@@ -62,20 +63,14 @@ def main() -> None:
     for name in args.scenes:
         scene = ssrlab.scenes.load(name)
         for layers in (1, 4):
-            lin = r.render(scene, settings=settings(args, "linear", 1, layers))
-            hiz = r.render(scene, settings=settings(args, "hiz", None, layers))
-            a, b = lin.rays, hiz.rays
-            both = a.hit & b.hit
-            h, w = a.hit.shape[1:]
-            jj, ii = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
-            dist = np.linalg.norm(b.hit_pixel - np.stack([jj, ii], -1)[None], axis=-1)
-            for lo, hi in ((0, 16), (16, 64), (64, 256), (256, 1e9)):
-                m = both & (dist >= lo) & (dist < hi)
-                if m.sum() < 20:
+            bins = experiments.fetches_by_ray_length(r, scene, settings(args, "linear", 1, layers),
+                                                     settings(args, "hiz", None, layers))
+            for b in bins:
+                if b["rays"] < 20:
                     continue
-                fl, fh = a.steps[m].mean(), b.steps[m].mean()
-                rng = f"{lo:g}-{hi:g}" if hi < 1e9 else f">= {lo:g}"
-                print(f"{name:<18} {layers:>6} {rng:>18} {m.sum():>7} {fl:>14.1f} {fh:>11.1f} {fl / fh:>5.1f}x")
+                rng = f"{b['lo']:g}-{b['hi']:g}" if b["hi"] < 1e9 else f">= {b['lo']:g}"
+                fl, fh = b["fetches_a"], b["fetches_b"]
+                print(f"{name:<18} {layers:>6} {rng:>18} {b['rays']:>7} {fl:>14.1f} {fh:>11.1f} {fl / fh:>5.1f}x")
             tl = median_timings(r, scene, settings(args, "linear", 1, layers), repeats=args.repeats)["trace_linear"]
             th = median_timings(r, scene, settings(args, "hiz", None, layers), repeats=args.repeats)
             hz = th["trace_hiz"] + th["hiz_build"]

@@ -343,3 +343,15 @@ def test_dask_workers_give_the_same_rows_as_in_process(dask_client, cache):
     assert os.getpid() not in row_pids and row_pids <= worker_pids
     for pid in row_pids:  # one context per worker process, reused by all its configurations
         assert [e["pid"] for entries in opened.values() for e in entries].count(pid) == 1
+
+
+def test_sweep_against_the_converged_reference(tmp_path):
+    """On the mirror, SSR against the traced truth: small error where rays are traced, and far
+    more without reflections; the reference is computed once and then read from the cache."""
+    rows = bench.sweep({"method": ["hiz", "off"]}, ["mirror_test"], base=dict(SMALL, sampling="mirror"),
+                       repeats=1, warmup=0, reference="converged", reference_rays=1, progress=False,
+                       cache_folder=tmp_path)
+    hiz, off = rows
+    assert hiz["reference"] == "converged" and hiz["reflective_pixels"] > 0
+    assert hiz["thesis_error_reflective"] < 0.25 * off["thesis_error_reflective"]
+    assert len(list(tmp_path.rglob("*.npz"))) == 1

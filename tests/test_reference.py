@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from analytic import ggx_shade, mirror_test_hits, pixel_rays
+from ssrlab.analytic import ggx_shade, mirror_test_hits, pixel_rays
 from conftest import assert_finite, model_path, small
 from ssrlab.scenes import MIRROR_COLORS, MIRROR_TILE, MIRROR_TILES, MIRROR_WALL_Z
 from test_tracing import floating_box

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from analytic import mirror_test_hits, pixel_rays, project, ray_box_entry
+from ssrlab.analytic import mirror_test_hits, pixel_rays, project, ray_box_entry
 from conftest import assert_finite, small
 
 

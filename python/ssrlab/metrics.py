@@ -138,3 +138,19 @@ def image_metrics(image, reference, reflective_mask) -> dict[str, float | None]:
 METRIC_KEYS = ("thesis_error", "rmse", "psnr", "thesis_error_reflective", "rmse_reflective", "psnr_reflective")
 
 __all__ = ["PSNR_CAP_DB", "METRIC_KEYS", "thesis_error", "rmse", "psnr", "error_image", "image_metrics"]
+
+
+def coverage(frame, truth=None, *, tolerance_px: float = 1.0) -> float:
+    """Share of the rays that truly hit a surface for which SSR found that surface (see
+    ssrlab.reference.coverage; `truth` is frame.reference("per_ray"), computed when omitted)."""
+    from . import reference
+
+    return reference.coverage(frame, truth, tolerance_px=tolerance_px)
+
+
+def hit_position_error(frame, truth=None) -> np.ndarray:
+    """Pixels between SSR's hit and the true hit, per ray where both hit on screen (see
+    ssrlab.reference.hit_position_error)."""
+    from . import reference
+
+    return reference.hit_position_error(frame, truth)

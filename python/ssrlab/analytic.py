@@ -1,10 +1,12 @@
-"""Closed-form references for the tracing tests."""
+"""Closed-form references: the geometry of camera rays and of mirror_test's mirror image, and
+the documented shading model in numpy. Used by the tests and benchmarks/accuracy.py to check
+the tracers and the ground truth against something no renderer computed."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ssrlab.scenes import MIRROR_TILE, MIRROR_TILES, MIRROR_WALL_Z
+from .scenes import MIRROR_TILE, MIRROR_TILES, MIRROR_WALL_Z
 
 
 def pixel_rays(frame):
