@@ -10,26 +10,18 @@ all geometry, and the discard in its fragment shader defeats early depth testing
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 
 import ssrlab
-from common import device_header, median_timings
+from common import benchmark_arguments, median_timings, open_renderer
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--width", type=int, default=640)
-    ap.add_argument("--height", type=int, default=360)
-    ap.add_argument("--repeats", type=int, default=7)
+    ap = benchmark_arguments(__doc__, repeats=7)
     ap.add_argument("--layers", type=int, nargs="+", default=[1, 2, 4, 8])
-    ap.add_argument("--scenes", nargs="+", default=["spheres_and_boxes", "hall"])
-    ap.add_argument("--device", default="auto")
     args = ap.parse_args()
 
-    renderer = ssrlab.Renderer(args.device)
-    print(device_header(renderer))
+    renderer = open_renderer(args)
     print(f"{args.width}x{args.height}, median of {args.repeats} runs after 2 warm-up runs; GPU milliseconds\n")
     print(f"{'scene':<18} {'triangles':>9} {'layers':>6} {'depth_peel':>11} {'per layer':>10} {'vs 1 layer':>10}"
           f" {'layer 0':>8} {'layers 1+ (mean)':>16}")

@@ -7,24 +7,17 @@ Prints the reference pass's GPU time and the rays per second it reached, per sce
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 
 import ssrlab
-from common import device_header
+from common import benchmark_arguments, open_renderer
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--width", type=int, default=640)
-    ap.add_argument("--height", type=int, default=360)
+    ap = benchmark_arguments(__doc__, repeats=None)
     ap.add_argument("--rays", type=int, default=256)
-    ap.add_argument("--scenes", nargs="+", default=["spheres_and_boxes", "hall"])
-    ap.add_argument("--device", default="auto")
     args = ap.parse_args()
-    r = ssrlab.Renderer(args.device)
-    print(device_header(r))
+    r = open_renderer(args)
     print(f"{args.width}x{args.height}, {args.rays} rays per reflective pixel (1 for mirrors)\n")
     print(f"{'scene':<18} {'triangles':>9} {'rays traced':>12} {'GPU s':>7} {'Mrays/s':>8}")
     for name in args.scenes:

@@ -12,12 +12,10 @@ distance the ray travelled to its hit, and the ratio of their trace times.
 
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 
 import ssrlab
-from common import device_header, median_timings
+from common import benchmark_arguments, median_timings, open_renderer
 from ssrlab import experiments
 
 CONFIGS = [("linear", 1), ("linear", 2), ("linear", 4), ("linear", 8), ("hiz", None)]
@@ -29,16 +27,10 @@ def settings(args, method, stride, layers, **kw):
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--width", type=int, default=640)
-    ap.add_argument("--height", type=int, default=360)
-    ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--scenes", nargs="+", default=["spheres_and_boxes", "hall"])
-    ap.add_argument("--device", default="auto")
+    ap = benchmark_arguments(__doc__, repeats=5)
     args = ap.parse_args()
 
-    r = ssrlab.Renderer(args.device)
-    print(device_header(r))
+    r = open_renderer(args)
     print(f"{args.width}x{args.height}, 1 ray per pixel, GGX sampling (default settings); median of "
           f"{args.repeats} runs after 2 warm-up runs; GPU milliseconds\n")
     print(f"{'scene':<18} {'layers':>6} {'method':<10} {'trace':>9} {'hiz_build':>9} {'resolve':>8} "
