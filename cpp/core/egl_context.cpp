@@ -234,7 +234,7 @@ void EglContext::make_current() {
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
         const EGLint e = eglGetError();
         if (e == EGL_BAD_ACCESS)
-            throw GLError("this Renderer's GL context is current on another thread: use one Renderer per thread");
+            throw GLError("this Renderer's GL context is in use by a call on another thread: one call at a time per Renderer");
         throw GLError("eglMakeCurrent failed: " + egl_error_name(e));
     }
 }

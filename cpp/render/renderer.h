@@ -1,5 +1,6 @@
 // The renderer: owns the EGL context, the shader library, the GPU copies of scenes and the
-// passes, and runs a frame as a chain of passes (build_chain). One Renderer per thread.
+// passes, and runs a frame as a chain of passes (build_chain). Every public call makes the
+// context current for its duration only (CurrentContext): any thread, one call at a time.
 #pragma once
 
 #include <list>

@@ -249,8 +249,9 @@ def view_camera(view, scene):
 
 # -- the worker ----------------------------------------------------------------------------------------------
 class _WorkerState(threading.local):
-    """What a worker keeps between tasks, per thread (a GL context is current on one thread)
-    and per process (a forked child must not use its parent's context)."""
+    """What a worker keeps between tasks, per thread (threads of a pool render at the same time, and
+    a Renderer serves one call at a time) and per process (a forked child must not use its
+    parent's context)."""
 
     def __init__(self):
         self.pid = os.getpid()

@@ -116,6 +116,10 @@ class ConvergedReference:
         return reflective_mask(self._frame)
 
 
+# Relative view-depth tolerance when matching a true hit to a G-buffer sample (in_gbuffer).
+IN_GBUFFER_DEPTH_TOLERANCE = 1e-3
+
+
 class PerRayReference:
     """The rays an SSR frame traced, each traced again against the triangles: (R, h, w) arrays at
     the trace resolution, like Frame.rays.
@@ -172,9 +176,10 @@ class PerRayReference:
         return self._frame.read("reference.radiance")[..., :3]
 
     @property
-    def in_gbuffer(self, depth_tolerance: float = 1e-3) -> np.ndarray:
-        """Layer holding the true hit at its pixel: the same object, at the same view depth
-        (relative tolerance 1e-3), or -1."""
+    def in_gbuffer(self) -> np.ndarray:
+        """Layer holding the true hit at its pixel: the same object, at the same view depth (within
+        IN_GBUFFER_DEPTH_TOLERANCE relative plus two pixel footprints), or -1."""
+        depth_tolerance = IN_GBUFFER_DEPTH_TOLERANCE
         g = self._frame.gbuffer
         layers = np.full(self.hit.shape, -1, np.int32)
         m = self.on_screen
@@ -193,8 +198,8 @@ class PerRayReference:
         return layers
 
     def _pixel_depth_span(self, depth: np.ndarray) -> np.ndarray:
-        """World size of one pixel at `depth`, a bound on how far a surface's depth moves within a pixel
-        when seen at a grazing angle is not captured here; used as a small absolute tolerance."""
+        """World size of one pixel at view depth `depth`: the G-buffer stores a pixel's centre while
+        the true hit lies anywhere in it, so a tilted surface's depth differs by about this much."""
         P = self._frame.projection_matrix
         return depth * 2.0 / (P[1, 1] * self._frame.settings.height)
 

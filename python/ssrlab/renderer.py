@@ -28,7 +28,8 @@ class Renderer:
 
     device: "auto" (the GPU's EGL device when there is one, else llvmpipe), "gpu" (raise
     DeviceError when there is no GPU) or "cpu" (Mesa's llvmpipe).
-    One Renderer per thread; it can render any number of scenes, cameras and settings.
+    It renders any number of scenes, cameras and settings, and may be used from any thread, one
+    call at a time (its GL context is current only during a call).
     """
 
     def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None):
