@@ -120,11 +120,15 @@ def test_node_cycle_is_detected(tmp_path):
         ssrlab.Scene.load(path)
 
 
+def _round(r):
+    return r if r == "auto" else round(r, 5)
+
+
 def scene_summary(s: ssrlab.Scene) -> dict:
     return {
         "objects": [(s.object_name(i), s.object_transform(i).round(5).tolist()) for i in range(s.object_count)],
         "materials": [(round(s.material(i).roughness, 5), round(s.material(i).metallic, 5),
-                       round(s.material(i).reflectivity, 5), tuple(round(c, 5) for c in s.material(i).base_color))
+                       _round(s.material(i).reflectivity), tuple(round(c, 5) for c in s.material(i).base_color))
                       for i in range(s.object_count)],
         "triangles": s.triangle_count,
         "lights": [(l.type, l.intensity, tuple(np.round(l.direction, 5)), l.cast_shadow) for l in s.lights],

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import ssrlab
+from ssrlab.analytic import specular_albedo_lookup
 from conftest import small
 
 
@@ -109,7 +110,8 @@ def test_composite_formula(renderer, mode):
     if mode == "linear":
         expected = r * c_r + (1 - r) * c_d
     else:
-        # Schlick's Fresnel with F0 from metallic/base colour, at the view angle.
+        # The GGX directional albedo E = F0 A + B at the view angle (split-sum table), F0 from
+        # metallic/base colour.
         V = f.view_matrix
         P = f.projection_matrix
         h, w = f.settings.height, f.settings.width
@@ -119,8 +121,8 @@ def test_composite_formula(renderer, mode):
         pos = np.stack([ndc[..., 0] * z / P[0, 0], ndc[..., 1] * z / P[1, 1], -z], -1)
         nv = np.clip(np.sum(g.normal[0] * -pos / np.linalg.norm(pos, axis=-1, keepdims=True), -1), 0, 1)
         f0 = 0.04 * (1 - g.metallic[0][..., None]) + g.albedo[0] * g.metallic[0][..., None]
-        F = f0 + (1 - f0) * (1 - nv[..., None]) ** 5
-        expected = c_d + r * F * c_r
+        ab = specular_albedo_lookup(renderer.specular_albedo_table(), nv, g.roughness[0])
+        expected = c_d + r * (f0 * ab[..., :1] + ab[..., 1:]) * c_r
     np.testing.assert_allclose(f.color[refl], expected[refl], rtol=2e-3, atol=2e-3)
     np.testing.assert_allclose(f.color[~refl & g.coverage[0]], c_d[~refl & g.coverage[0]], atol=1e-3)
 

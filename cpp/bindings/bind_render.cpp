@@ -11,7 +11,7 @@ namespace {
 py::array to_numpy(Readback&& r) {
     auto* data = new std::vector<float>(std::move(r.data));
     py::capsule owner(data, [](void* p) { delete static_cast<std::vector<float>*>(p); });
-    const std::vector<py::ssize_t> shape = {r.layers, r.height, r.width, 4};
+    const std::vector<py::ssize_t> shape = {r.layers, r.height, r.width, r.channels};
     return py::array_t<float>(shape, data->data(), owner);
 }
 
@@ -90,6 +90,10 @@ void bind_render(py::module_& m) {
         .def("has", &Frame::has)
         .def_readonly("timings", &Frame::timings)
         .def_readonly("wall_ms", &Frame::wall_ms)
+        .def_readonly("warmup_runs", &Frame::warmup_runs,
+                      "Untimed runs of the chain before the timed one: 1 when this variant (passes, texture "
+                      "sizes, defines) was new to the renderer, so compilation and first-use costs were paid "
+                      "outside the timers.")
         .def_readonly("passes", &Frame::passes)
         .def_readonly("layer_samples", &Frame::layer_samples)
         .def_readonly("camera", &Frame::camera)
@@ -104,16 +108,30 @@ void bind_render(py::module_& m) {
         .def(
             "reference",
             [](Renderer& r, const Scene& scene, Frame& frame, const std::string& mode, int rays, uint32_t seed,
-               const std::string& sampling, const std::string& viewer) {
+               const std::string& sampling, const std::string& viewer, const std::string& shadows) {
                 if (mode != "per_ray" && mode != "converged")
                     throw std::invalid_argument("reference mode must be 'per_ray' or 'converged', got '" + mode + "'");
                 if (viewer != "camera" && viewer != "ray")
                     throw std::invalid_argument("reference viewer must be 'camera' or 'ray', got '" + viewer + "'");
+                if (shadows != "map" && shadows != "traced")
+                    throw std::invalid_argument("reference shadows must be 'map' or 'traced', got '" + shadows + "'");
                 return r.reference(scene, frame, mode == "per_ray", rays, seed, parse_enum<Sampling>("sampling", sampling),
-                                   viewer == "ray");
+                                   viewer == "ray", shadows == "traced");
             },
             py::arg("scene"), py::arg("frame"), py::arg("mode"), py::arg("rays") = 256, py::arg("seed") = 0,
-            py::arg("sampling") = "vndf", py::arg("viewer") = "camera")
+            py::arg("sampling") = "vndf", py::arg("viewer") = "camera", py::arg("shadows") = "traced")
+        .def(
+            "specular_albedo_table",
+            [](Renderer& r) {
+                Readback t = r.specular_albedo_table();
+                const int h = t.height, w = t.width;
+                return to_numpy(std::move(t)).attr("reshape")(h, w, 2);
+            },
+            "The split-sum table (A, B) of the GGX directional albedo E = F0 A + B that the pbr composite and "
+            "glTF materials' reflectivity use: float32 (32, 32, 2), rows perceptual roughness 0..1, columns "
+            "n.v 0..1 (cell centres at both ends), integrated with the tracers' own VNDF sampler.")
+        .def_property_readonly("compiled_programs", &Renderer::compiled_programs,
+                               "Shader programs this renderer has compiled (each once per variant).")
         .def("check_gl", &Renderer::check_errors, "Raises GLError if GL reported an error since the last check.")
         .def(
             "sample_reflections",

@@ -54,6 +54,23 @@ void check_object(const Scene& s, int obj) {
                               std::to_string(s.objects.size()) + " objects)");
 }
 
+// Material.reflectivity from Python: a number, or "auto" (kAutoReflectivity).
+float reflectivity_from_python(const py::object& v) {
+    if (py::isinstance<py::str>(v)) {
+        if (v.cast<std::string>() != "auto")
+            throw std::invalid_argument("Material.reflectivity must be a number in [0, 1] or 'auto', got '" +
+                                        v.cast<std::string>() + "'");
+        return kAutoReflectivity;
+    }
+    if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v) ||
+                                          py::hasattr(v, "__float__")))
+        throw py::type_error("Material.reflectivity must be a number in [0, 1] or 'auto'");
+    const float r = v.cast<float>();
+    if (!(r >= 0.0f && r <= 1.0f))
+        throw std::invalid_argument("Material.reflectivity must be in [0, 1] or 'auto', got " + std::to_string(r));
+    return r;
+}
+
 void validate_material(const Material& m, const Scene* scene) {
     auto unit = [](float v, const char* name) {
         if (!(v >= 0.0f && v <= 1.0f))
@@ -64,7 +81,7 @@ void validate_material(const Material& m, const Scene* scene) {
             throw std::invalid_argument("Material.base_color components must be finite and >= 0");
     unit(m.metallic, "metallic");
     unit(m.roughness, "roughness");
-    unit(m.reflectivity, "reflectivity");
+    if (!m.auto_reflectivity()) unit(m.reflectivity, "reflectivity");
     if (scene) {
         for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture})
             if (t->image >= int(scene->images.size()))
@@ -89,11 +106,14 @@ A glTF 2.0 metallic-roughness material plus the thesis's reflectivity.
 base_color   linear RGBA, each >= 0 (default (0.8, 0.8, 0.8, 1))
 metallic     0..1
 roughness    perceptual roughness 0..1, as in glTF; GGX alpha = roughness**2
-reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000, 2.4)
+reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000, 2.4); or "auto":
+             the surface reflects as its metallic-roughness parameters say (r = luminance of its
+             GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
+             extras load so)
 double_sided back faces show the other side (normals flipped), as glTF's doubleSided
 *_texture    image index in the scene (-1: none); see Scene.add_image
 )doc")
-        .def(py::init([](py::object base_color, float metallic, float roughness, float reflectivity, bool double_sided,
+        .def(py::init([](py::object base_color, float metallic, float roughness, py::object reflectivity, bool double_sided,
                          const std::string& name, int base_color_texture, int metallic_roughness_texture,
                          int normal_texture, float normal_scale) {
                  Material mat;
@@ -105,7 +125,7 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
                  }
                  mat.metallic = metallic;
                  mat.roughness = roughness;
-                 mat.reflectivity = reflectivity;
+                 mat.reflectivity = reflectivity_from_python(reflectivity);
                  mat.double_sided = double_sided;
                  mat.name = name;
                  mat.base_color_texture.image = base_color_texture;
@@ -123,7 +143,20 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
         .def_readwrite("base_color", &Material::base_color)
         .def_readwrite("metallic", &Material::metallic)
         .def_readwrite("roughness", &Material::roughness)
-        .def_readwrite("reflectivity", &Material::reflectivity)
+        .def_property(
+            "reflectivity",
+            [](const Material& x) -> py::object {
+                if (x.auto_reflectivity()) return py::str("auto");
+                return py::float_(x.reflectivity);
+            },
+            [](Material& x, py::object v) {
+                const float r = reflectivity_from_python(v);
+                if (!(r == kAutoReflectivity || (r >= 0.0f && r <= 1.0f)))
+                    throw std::invalid_argument("Material.reflectivity must be in [0, 1] or 'auto', got " +
+                                                std::to_string(r));
+                x.reflectivity = r;
+            },
+            "r in [0, 1] of the thesis's composite, or 'auto' (reflects as the metallic-roughness parameters say)")
         .def_readwrite("double_sided", &Material::double_sided)
         .def_readwrite("emissive", &Material::emissive)
         .def_readwrite("normal_scale", &Material::normal_scale)
@@ -140,7 +173,8 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
             return "Material(name='" + x.name + "', base_color=(" + std::to_string(x.base_color.r) + ", " +
                    std::to_string(x.base_color.g) + ", " + std::to_string(x.base_color.b) +
                    "), metallic=" + std::to_string(x.metallic) + ", roughness=" + std::to_string(x.roughness) +
-                   ", reflectivity=" + std::to_string(x.reflectivity) + ")";
+                   ", reflectivity=" + (x.auto_reflectivity() ? std::string("'auto'") : std::to_string(x.reflectivity)) +
+                   ")";
         });
 
     py::class_<Light>(m, "Light", R"doc(

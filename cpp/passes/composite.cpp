@@ -9,7 +9,7 @@ void CompositePass::execute(FrameContext& ctx) {
     d["REFLECTIONS"] = reflections_ ? "1" : "0";
     glUseProgram(ctx.shaders.program({"passes/composite.comp"}, d));
     auto& r = ctx.resources;
-    glBindTextureUnit(0, r.get("lit").id());
+    glBindTextureUnit(0, r.get(direct_).id());
     glBindTextureUnit(1, r.get("gbuffer.material").id());
     if (reflections_) {
         glBindTextureUnit(2, r.get(reflection_).id());

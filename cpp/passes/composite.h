@@ -14,12 +14,15 @@ class CompositePass : public RenderPass {
 public:
     // `reflection` and `output` name the textures read and written (the reference composites
     // its own reflection into reference.color with the same code).
-    explicit CompositePass(bool reflections, std::string reflection = "reflection", std::string output = "color")
-        : reflections_(reflections), reflection_(std::move(reflection)), output_(std::move(output)) {}
+    // `direct` names the surfaces' own light (the reference's exact reference.direct).
+    explicit CompositePass(bool reflections, std::string reflection = "reflection", std::string output = "color",
+                           std::string direct = "lit")
+        : reflections_(reflections), reflection_(std::move(reflection)), output_(std::move(output)),
+          direct_(std::move(direct)) {}
     std::string name() const override { return output_ == "color" ? "composite" : "composite." + output_; }
     std::vector<std::string> inputs() const override {
-        if (!reflections_) return {"lit", "gbuffer.material"};
-        return {"lit", "gbuffer.material", reflection_, "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
+        if (!reflections_) return {direct_, "gbuffer.material"};
+        return {direct_, "gbuffer.material", reflection_, "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{output_, GL_RGBA32F, s.width, s.height, 0, 1}};
@@ -28,7 +31,7 @@ public:
 
 private:
     bool reflections_;
-    std::string reflection_, output_;
+    std::string reflection_, output_, direct_;
 };
 
 }  // namespace ssr

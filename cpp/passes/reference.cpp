@@ -17,7 +17,7 @@ std::vector<std::string> ReferencePass::inputs() const {
         in.push_back("rays.direction");
         in.push_back("rays.sample");
     }
-    if (shadows_) in.push_back("shadow_map");
+    if (shadows_ && !traced_shadows_) in.push_back("shadow_map");
     return in;
 }
 
@@ -29,21 +29,27 @@ std::vector<ResourceDesc> ReferencePass::outputs(const RenderSettings& s) const 
                 {"reference.radiance", GL_RGBA32F, w, h, r, 1}};
     }
     return {{"reference.accum", GL_RGBA32F, s.width, s.height, 0, 1},
-            {"reference.reflection", GL_RGBA32F, s.width, s.height, 0, 1}};
+            {"reference.reflection", GL_RGBA32F, s.width, s.height, 0, 1},
+            {"reference.direct", GL_RGBA32F, s.width, s.height, 1, 1}};
+}
+
+GLuint ReferencePass::program(FrameContext& ctx) const {
+    Defines d = ctx.defines;
+    d["MODE"] = per_ray_ ? "0" : "1";
+    d["SHADOWS"] = shadows_ && !traced_shadows_ ? "1" : "0";
+    d["TRACED_SHADOWS"] = shadows_ && traced_shadows_ ? "1" : "0";
+    return ctx.shaders.program({"passes/reference.comp"}, d);
 }
 
 void ReferencePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
-    Defines d = ctx.defines;
-    d["MODE"] = per_ray_ ? "0" : "1";
-    d["SHADOWS"] = shadows_ ? "1" : "0";
-    const GLuint prog = ctx.shaders.program({"passes/reference.comp"}, d);
+    const GLuint prog = program(ctx);
     glUseProgram(prog);
     glBindTextureUnit(0, r.get("linear_depth").id());
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
+    if (shadows_ && !traced_shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
     const GLint loc_first = glGetUniformLocation(prog, "u_first_ray");
     const GLint loc_count = glGetUniformLocation(prog, "u_ray_count");
     const GLint loc_last = glGetUniformLocation(prog, "u_last");
@@ -67,6 +73,7 @@ void ReferencePass::execute(FrameContext& ctx) {
     } else {
         bind_image_layered(0, r.get("reference.accum"), GL_READ_WRITE);
         bind_image_layered(1, r.get("reference.reflection"), GL_WRITE_ONLY);
+        bind_image_layered(2, r.get("reference.direct"), GL_WRITE_ONLY);
         const long long per_ray = (long long)s.width * s.height;
         const int chunk = int(std::max(1LL, std::min<long long>(rays_, kRaysPerDispatch / per_ray)));
         for (int first = 0; first < rays_; first += chunk) {

@@ -7,7 +7,10 @@
 //                           (view-space hit, on-screen flag), reference.radiance (rgb, weight),
 //                           at the trace resolution, one layer per ray
 //   converged mode inputs : linear_depth, gbuffer.* (+ shadow_map)
-//                  outputs: reference.accum (sum w c, sum w), reference.reflection, full resolution
+//                  outputs: reference.accum (sum w c, sum w), reference.reflection, reference.direct
+//                           (the pixel's own direct light at its exact point), full resolution
+// Shadows come from the frame's shadow map, or from shadow rays traced against the triangles
+// (traced_shadows: exact, the reference's default).
 #pragma once
 
 #include "render/render_pass.h"
@@ -16,15 +19,20 @@ namespace ssr {
 
 class ReferencePass : public RenderPass {
 public:
-    ReferencePass(bool per_ray, bool shadows, int rays, bool viewer_is_ray)
-        : per_ray_(per_ray), shadows_(shadows), viewer_is_ray_(viewer_is_ray), rays_(rays) {}
+    // shadows: the frame has a shadowed light; traced_shadows: trace its shadows instead of
+    // reading the frame's shadow map.
+    ReferencePass(bool per_ray, bool shadows, bool traced_shadows, int rays, bool viewer_is_ray)
+        : per_ray_(per_ray), shadows_(shadows), traced_shadows_(traced_shadows), viewer_is_ray_(viewer_is_ray),
+          rays_(rays) {}
     std::string name() const override { return "reference"; }
     std::vector<std::string> inputs() const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
+    // Compiles the program before the timed execution.
+    GLuint program(FrameContext& ctx) const;
 
 private:
-    bool per_ray_, shadows_, viewer_is_ray_;
+    bool per_ray_, shadows_, traced_shadows_, viewer_is_ray_;
     int rays_;
 };
 

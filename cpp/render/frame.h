@@ -37,6 +37,7 @@ public:
 
     std::map<std::string, double> timings;  // GPU milliseconds per pass (and per part)
     double wall_ms = 0.0;                   // CPU time of Renderer::render, GPU finished
+    int warmup_runs = 0;                    // untimed runs of the chain before the timed one (first use)
     RenderSettings settings;
     Camera camera;
     FrameUniforms uniforms{};

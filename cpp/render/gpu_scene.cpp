@@ -92,7 +92,7 @@ GpuScene::GpuScene(const Scene& scene) : revision_(scene.revision()) {
     }
     objects_ = Buffer::create(objs.size() * sizeof(GpuObject), objs.data());
     bounds_ = scene.bounds();
-    for (const Object& o : scene.objects) reflective_ = reflective_ || scene.materials[size_t(o.material)].reflectivity > 0.0f;
+    for (const Object& o : scene.objects) reflective_ = reflective_ || scene.materials[size_t(o.material)].reflectivity != 0.0f;
 
     if (scene.environment.type == Environment::Type::Map) {
         const FloatImage img = read_float_image(scene.environment.map_path);

@@ -13,6 +13,12 @@ namespace ssr {
 namespace {
 constexpr size_t kSceneCacheSize = 8;
 constexpr size_t kPoolSize = 4;  // idle texture sets kept for reuse
+constexpr size_t kMaxWarmedVariants = 1024;  // forgotten (and warmed again) beyond this
+// The split-sum table (shaders/lib/specular_albedo.glsl): its size, texture unit and samples
+// per cell (a Hammersley set of 4096 VNDF directions: the table is converged to ~1e-4).
+constexpr int kSpecularAlbedoSize = 32;
+constexpr int kSpecularAlbedoUnit = 13;
+constexpr unsigned kSpecularAlbedoSamples = 4096;
 }  // namespace
 
 std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std::string& shader_dir) {
@@ -52,6 +58,7 @@ void Renderer::destroy_gl_objects() {
     ssr_ubo_.reset();
     lights_ssbo_.reset();
     readback_ssbo_.reset();
+    specular_albedo_.reset();
     timer_.reset();
     shaders_->release();
     shadow_map_.release();
@@ -103,6 +110,57 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     }
     chain.push_back(reflections ? &composite_reflections_ : &composite_plain_);
     return chain;
+}
+
+// What makes two frames share their first-use costs: the passes, their textures' formats and
+// sizes, and the common shader defines (render() adds the scene: its buffers' first use).
+std::string Renderer::variant_key(const std::vector<RenderPass*>& chain, const std::vector<ResourceDesc>& descs,
+                                  const Defines& defines) {
+    std::string key;
+    for (RenderPass* p : chain) key += p->name() + ";";
+    for (const auto& d : descs)
+        key += d.name + ":" + std::to_string(d.format) + "," + std::to_string(d.width) + "x" + std::to_string(d.height) +
+               "x" + std::to_string(d.layers) + "/" + std::to_string(d.levels) + ";";
+    for (const auto& [k, v] : defines) key += k + "=" + v + ";";
+    return key;
+}
+
+void Renderer::bind_specular_albedo() {
+    if (!specular_albedo_) {
+        specular_albedo_ = Texture::create_2d(GL_RG32F, kSpecularAlbedoSize, kSpecularAlbedoSize, 1);
+        specular_albedo_.set_filter(GL_LINEAR, GL_LINEAR);
+        specular_albedo_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+        const GLuint prog = shaders_->program({"tools/specular_albedo.comp"}, {});
+        glUseProgram(prog);
+        glUniform1ui(glGetUniformLocation(prog, "u_samples"), kSpecularAlbedoSamples);
+        glBindImageTexture(0, specular_albedo_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+        glDispatchCompute((kSpecularAlbedoSize + 7) / 8, (kSpecularAlbedoSize + 7) / 8, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        check_gl(*ctx_, "specular albedo table");
+    }
+    glBindTextureUnit(kSpecularAlbedoUnit, specular_albedo_.id());
+}
+
+Readback Renderer::specular_albedo_table() {
+    {
+        CurrentContext current(*ctx_);
+        bind_specular_albedo();
+    }
+    Readback r = read_texture(specular_albedo_, 0);
+    // Keep the two channels.
+    std::vector<float> ab;
+    ab.reserve(size_t(r.width) * size_t(r.height) * 2);
+    // Readback puts the texture's last row first (row 0 = top of an image); the table keeps
+    // its own order: row i is roughness i / (size - 1).
+    for (int y = r.height - 1; y >= 0; --y)
+        for (int x = 0; x < r.width; ++x) {
+            const size_t i = size_t(y) * size_t(r.width) + size_t(x);
+            ab.push_back(r.data[4 * i]);
+            ab.push_back(r.data[4 * i + 1]);
+        }
+    r.data = std::move(ab);
+    r.channels = 2;
+    return r;
 }
 
 void Renderer::upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light) {
@@ -167,6 +225,8 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     ssr_ubo_.upload(&su, sizeof(su));
     glBindBufferBase(GL_UNIFORM_BUFFER, kSsrSettingsBinding, ssr_ubo_.id());
     if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
+    bind_specular_albedo();
+    gs.bind_geometry();  // the scene's objects and materials, for every pass that reads them
 
     // The chain, its resources, and a check that every input is written before it is read.
     const bool reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
@@ -190,14 +250,32 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
     auto frame = std::make_shared<Frame>(ctx_, weak_from_this(), resources);
-    timer_.begin_frame();
-    for (RenderPass* p : chain) {
-        {
-            GpuScope t(timer_, p->name());
-            p->execute(fc);
+    // Timings never include first-use costs. The first run of a variant (this chain, these
+    // defines and texture sizes, this scene) compiles its programs, and drivers such as llvmpipe compile
+    // shader variants at their first dispatch or draw; so a variant not seen before runs the
+    // chain once untimed and the frame reports the second run. A timed run that still had to
+    // compile a program (a pass choosing a define from the settings) is also run again.
+    const std::string variant = variant_key(chain, descs, defines) + "scene:" + std::to_string(scene.id()) + "/" +
+                                std::to_string(scene.revision());
+    bool warm = warmed_variants_.count(variant) != 0;
+    for (int run = 0;; ++run) {
+        const size_t programs_before = shaders_->cached_programs();
+        timer_.begin_frame();
+        frame->passes.clear();
+        for (RenderPass* p : chain) {
+            {
+                GpuScope t(timer_, p->name());
+                p->execute(fc);
+            }
+            check_gl(*ctx_, p->name().c_str());
+            frame->passes.push_back(p->name());
         }
-        check_gl(*ctx_, p->name().c_str());
-        frame->passes.push_back(p->name());
+        const bool compiled = shaders_->cached_programs() != programs_before;
+        if ((warm && !compiled) || run >= 2) break;
+        warm = true;
+        if (warmed_variants_.size() >= kMaxWarmedVariants) warmed_variants_.clear();
+        warmed_variants_.insert(variant);
+        ++frame->warmup_runs;
     }
     frame->timings = timer_.resolve();
     frame->layer_samples = depth_peel_.layer_samples();
@@ -226,7 +304,8 @@ void Renderer::check_errors() {
 }
 
 std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& frame, bool per_ray, int rays,
-                                                  uint32_t seed, Sampling sampling, bool viewer_is_ray) {
+                                                  uint32_t seed, Sampling sampling, bool viewer_is_ray,
+                                                  bool traced_shadows) {
     if (frame.scene_id != scene.id() || frame.scene_revision != scene.revision())
         throw std::invalid_argument("reference: this is not the scene the frame was rendered from (or it changed since)");
     if (per_ray && !frame.has("rays.direction"))
@@ -253,10 +332,12 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     ssr_ubo_.upload(&su, sizeof(su));
     glBindBufferBase(GL_UNIFORM_BUFFER, kSsrSettingsBinding, ssr_ubo_.id());
     if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
+    bind_specular_albedo();
 
-    const bool shadows = frame.shadow_light >= 0 && frame.has("shadow_map");
-    ReferencePass pass(per_ray, shadows, rays, viewer_is_ray);
-    CompositePass composite(true, "reference.reflection", "reference.color");
+    if (frame.shadow_light >= 0 && !traced_shadows && !frame.has("shadow_map"))
+        throw std::invalid_argument("reference: the frame's shadow map is gone; use traced shadows");
+    ReferencePass pass(per_ray, frame.shadow_light >= 0, traced_shadows, rays, viewer_is_ray);
+    CompositePass composite(true, "reference.reflection", "reference.color", "reference.direct");
     std::vector<RenderPass*> chain = {&pass};
     if (!per_ray) chain.push_back(&composite);
     for (RenderPass* p : chain) frame.resources().add(p->outputs(s));
@@ -268,6 +349,13 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
                     defines};
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
+    // Compile before timing (timings never include compilation).
+    pass.program(fc);
+    {
+        Defines d = defines;
+        d["REFLECTIONS"] = "1";
+        shaders_->program({"passes/composite.comp"}, d);
+    }
     check_gl(*ctx_, "reference set-up");
     timer_.begin_frame();
     for (RenderPass* p : chain) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <list>
+#include <set>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,8 +37,10 @@ public:
     // rays) or converged (`rays` rays per pixel drawn with `sampling`). The textures join the
     // frame (frame.read("reference.reflection"), ...). Returns the GPU milliseconds spent.
     std::map<std::string, double> reference(const Scene& scene, Frame& frame, bool per_ray, int rays, uint32_t seed,
-                                            Sampling sampling, bool viewer_is_ray);
+                                            Sampling sampling, bool viewer_is_ray, bool traced_shadows);
     DeviceInfo info() const { return ctx_->info(); }
+    // Programs compiled so far (every program is compiled once per renderer and variant).
+    size_t compiled_programs() const { return shaders_->cached_programs(); }
     void check_errors();
     ShaderLibrary& shaders() { return *shaders_; }
     // Compiles a program in this renderer's context (tests and tooling); raises ShaderError.
@@ -47,6 +50,10 @@ public:
     // `count` rows of (l.x, l.y, l.z, weight, pdf, u1, u2, 0) for a local view direction.
     std::vector<float> sample_reflections(const std::string& sampling, float alpha, const glm::vec3& view, int count,
                                           uint32_t seed, bool stratified);
+
+    // The split-sum table (A, B) of the GGX directional albedo (shaders/lib/specular_albedo.glsl),
+    // integrated once per renderer: (size, size, 2) floats, rows roughness, columns n.v.
+    Readback specular_albedo_table();
 
     // Used by Frame::read: copies a texture level into host memory through readback.comp.
     Readback read_texture(const Texture& tex, int level);
@@ -58,12 +65,17 @@ private:
     std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows, bool reflections);
     void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
     void destroy_gl_objects();
+    // Integrates the specular-albedo table on first use and binds it to its texture unit.
+    void bind_specular_albedo();
+    static std::string variant_key(const std::vector<RenderPass*>& chain, const std::vector<ResourceDesc>& descs,
+                                   const Defines& defines);
 
     std::shared_ptr<EglContext> ctx_;  // first member: destroyed last, after every GL object
     std::unique_ptr<ShaderLibrary> shaders_;
     GpuTimer timer_;
     Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_;
     GLuint readback_sampler_ = 0;
+    Texture specular_albedo_;
 
     struct CachedScene {
         uint64_t id = 0;
@@ -71,6 +83,7 @@ private:
     };
     std::list<CachedScene> scenes_;  // most recently used first
     std::vector<std::shared_ptr<FrameResources>> pool_;
+    std::set<std::string> warmed_variants_;  // variants whose first-use costs were paid untimed
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;

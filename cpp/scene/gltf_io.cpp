@@ -278,6 +278,9 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
                                                    pbr.metallicRoughnessTexture.texCoord, image_base, r, what);
         m.normal_texture = texture_ref(model, gm.normalTexture.index, gm.normalTexture.texCoord, image_base, r, what);
         m.normal_scale = float(gm.normalTexture.scale);
+        // The thesis's explicit reflectivity where ssrlab wrote it; otherwise the material
+        // reflects as its metallic-roughness parameters say (kAutoReflectivity).
+        m.reflectivity = kAutoReflectivity;
         if (gm.extras.Has("reflectivity")) m.reflectivity = float(gm.extras.Get("reflectivity").GetNumberAsDouble());
         scene.materials.push_back(m);
     }
@@ -601,7 +604,8 @@ void save_gltf(const Scene& scene, const std::string& path) {
         gm.normalTexture.index = texture(m.normal_texture);
         gm.normalTexture.texCoord = m.normal_texture.texcoord;
         gm.normalTexture.scale = m.normal_scale;
-        gm.extras = tinygltf::Value(tinygltf::Value::Object{{"reflectivity", tinygltf::Value(double(m.reflectivity))}});
+        if (!m.auto_reflectivity())
+            gm.extras = tinygltf::Value(tinygltf::Value::Object{{"reflectivity", tinygltf::Value(double(m.reflectivity))}});
         model.materials.push_back(gm);
     }
 

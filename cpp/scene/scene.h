@@ -30,13 +30,20 @@ struct TextureRef {
     bool valid() const { return image >= 0; }
 };
 
+// Material::reflectivity of a material that reflects as its metallic-roughness parameters say:
+// r is then the luminance of its GGX specular albedo at the pixel's view angle
+// (shaders/lib/specular_albedo.glsl), computed in the G-buffer pass.
+constexpr float kAutoReflectivity = -1.0f;
+
 // glTF 2.0 metallic-roughness material plus the thesis's reflectivity.
 struct Material {
     std::string name;
     glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f};  // linear RGB, alpha
     float metallic = 0.0f;
     float roughness = 0.5f;      // perceptual roughness as in glTF; GGX alpha = roughness^2
-    float reflectivity = 0.0f;   // r of the thesis's composite c = r*c_r + (1-r)*c_d (seed 000, 2.4)
+    float reflectivity = 0.0f;   // r of the thesis's composite c = r*c_r + (1-r)*c_d (seed 000, 2.4),
+                                 // or kAutoReflectivity (glTF materials without the thesis's extras)
+    bool auto_reflectivity() const { return reflectivity < 0.0f; }
     glm::vec3 emissive{0.0f};
     TextureRef base_color_texture;          // sRGB
     TextureRef metallic_roughness_texture;  // linear: G = roughness, B = metallic

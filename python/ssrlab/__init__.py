@@ -11,14 +11,14 @@
 
 from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
 from . import bench, experiments, io, metrics, models, reference, scenes, transforms
-from .renderer import Frame, GBuffer, Renderer, shader_dir
+from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, shader_dir
 from .scene import Scene, directional_light, point_light
 from .settings import Settings
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Camera", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material", "Renderer",
+    "Camera", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material", "NoReflectionWarning", "Renderer",
     "Scene", "SceneError", "Settings", "ShaderError", "directional_light", "models", "point_light", "scenes",
     "shader_dir", "transforms",
 ]

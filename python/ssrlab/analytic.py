@@ -93,3 +93,18 @@ def ggx_shade(albedo, metallic, roughness, n, v, lights, ambient):
         diffuse = (1 - F) * np.asarray(albedo) / np.pi
         out = out + np.where((nl > 0)[..., None], (diffuse + spec) * np.asarray(irradiance) * nl[..., None], 0)
     return out
+
+
+def specular_albedo_lookup(table: np.ndarray, nov, roughness) -> np.ndarray:
+    """(..., 2) entries (A, B) of Renderer.specular_albedo_table() at n.v and perceptual
+    roughness, interpolated bilinearly between cells as the shaders do
+    (shaders/lib/specular_albedo.glsl: cell centres at both ends of each range)."""
+    nov, roughness = np.asarray(nov, np.float64), np.asarray(roughness, np.float64)
+    n = table.shape[0] - 1
+    x, y = np.clip(nov, 0, 1) * n, np.clip(roughness, 0, 1) * n
+    x0 = np.minimum(np.floor(x).astype(int), n - 1)
+    y0 = np.minimum(np.floor(y).astype(int), n - 1)
+    fx, fy = (x - x0)[..., None], (y - y0)[..., None]
+    t = table.astype(np.float64)
+    return ((t[y0, x0] * (1 - fx) + t[y0, x0 + 1] * fx) * (1 - fy) +
+            (t[y0 + 1, x0] * (1 - fx) + t[y0 + 1, x0 + 1] * fx) * fy)

@@ -18,6 +18,7 @@ scene's content hash, the camera, and the settings that change the reference.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import os
@@ -71,7 +72,22 @@ def _camera_key(camera) -> list:
     return [list(camera.position), list(camera.target), list(camera.up), camera.fov_y, camera.near, camera.far]
 
 
-def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, seed: int) -> str:
+@functools.lru_cache(maxsize=None)
+def shader_sources_hash() -> str:
+    """A digest of every GLSL file the package renders with: a reference computed by other
+    shader code is another reference."""
+    from .renderer import shader_dir
+
+    h = hashlib.sha256()
+    root = shader_dir()
+    for f in sorted(p for p in root.rglob("*") if p.is_file()):
+        h.update(str(f.relative_to(root)).encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, seed: int,
+              shadows: str = "traced") -> str:
     from . import __version__
 
     if kind == "converged":
@@ -79,7 +95,9 @@ def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, se
     else:
         fields = thesis_ground_truth_settings(settings).to_dict()
     payload = {"kind": kind, "scene": scene.content_hash(), "camera": _camera_key(camera), "settings": fields,
-               "rays": rays, "seed": seed, "version": __version__}
+               "rays": rays, "seed": seed, "version": __version__, "shaders": shader_sources_hash()}
+    if kind == "converged":
+        payload["shadows"] = shadows
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:32]
 
 
@@ -245,15 +263,16 @@ def hit_position_error(frame, truth: PerRayReference | None = None) -> np.ndarra
 
 def reference_image(renderer, scene, camera=None, settings: Settings | None = None, *, kind: str = "converged",
                     rays: int | None = None, seed: int = 0, cache: bool = True,
-                    folder=None) -> ReferenceImage:
-    """The reference image of `kind` for this scene, camera and settings (cached on disk)."""
+                    folder=None, shadows: str = "traced") -> ReferenceImage:
+    """The reference image of `kind` for this scene, camera and settings (cached on disk).
+    `shadows` (converged only): "traced" (exact) or "map" (the frame's shadow map)."""
     if kind not in KINDS:
         raise ValueError(f"reference kind must be one of {', '.join(KINDS)}, got {kind!r}")
     settings = settings if settings is not None else Settings()
     camera = camera if camera is not None else scene.camera
     if camera is None:
         raise ValueError("reference_image: the scene has no default camera; pass camera=")
-    path = cache_dir(folder) / f"{cache_key(kind, scene, camera, settings, rays, seed)}.npz"
+    path = cache_dir(folder) / f"{cache_key(kind, scene, camera, settings, rays, seed, shadows)}.npz"
     if cache and path.is_file():
         try:
             return ReferenceImage.load(path)
@@ -265,7 +284,7 @@ def reference_image(renderer, scene, camera=None, settings: Settings | None = No
                              THESIS_GROUND_TRUTH["rays_per_pixel"])
     else:
         frame = renderer.render(scene, camera, settings.replace(method="off"))
-        converged = frame.reference("converged", rays=rays, seed=seed)
+        converged = frame.reference("converged", rays=rays, seed=seed, shadows=shadows)
         ref = ReferenceImage("converged", converged.color, converged.reflection, converged.reflective,
                              converged.rays_per_pixel)
     if cache:

@@ -9,6 +9,7 @@ are cached as float32 numpy arrays, row 0 at the top of the image).
 from __future__ import annotations
 
 import functools
+import warnings
 from importlib import resources
 from pathlib import Path
 
@@ -16,6 +17,10 @@ import numpy as np
 
 from . import _core
 from .settings import Settings
+
+
+class NoReflectionWarning(UserWarning):
+    """A render that asked for reflections traced none: nothing in the scene reflects."""
 
 
 def shader_dir() -> Path:
@@ -60,7 +65,34 @@ class Renderer:
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
         native = self._native.render(scene, camera, settings.to_native())
-        return Frame(native, settings, renderer=self, scene=scene)
+        frame = Frame(native, settings, renderer=self, scene=scene)
+        if settings.method != "off" and not any(p.startswith("trace") for p in native.passes):
+            warnings.warn(f"render traced no reflection rays: no surface of scene {scene.name!r} reflects "
+                          "(every material has reflectivity 0; glTF materials reflect by default with "
+                          "reflectivity='auto')", NoReflectionWarning, stacklevel=2)
+        return frame
+
+    def prepare(self, settings: Settings | None = None, scene=None, camera=None) -> None:
+        """Compiles and warms up every program the frame chain of `settings` uses, so that the
+        first timed render pays no compilation (render() also does this by itself: the first
+        render of a new variant runs the chain once untimed, see Frame.warmup_runs). Without a
+        scene, a small built-in scene with a shadowed sun and a mirror floor stands in, which
+        needs every pass of the chain."""
+        if scene is None:
+            from .scenes import mirror_test
+
+            scene = mirror_test()
+        self.render(scene, camera, settings)
+
+    @property
+    def compiled_programs(self) -> int:
+        """Shader programs compiled so far (each once per variant)."""
+        return self._native.compiled_programs
+
+    def specular_albedo_table(self) -> np.ndarray:
+        """(32, 32, 2) split-sum table (A, B) of the GGX directional albedo E = F0 A + B, rows
+        perceptual roughness 0..1, columns n.v 0..1 (see shaders/lib/specular_albedo.glsl)."""
+        return np.asarray(self._native.specular_albedo_table())
 
     def sample_reflections(self, sampling: str, alpha: float, view, count: int, *, seed: int = 0,
                            stratified: bool = False) -> dict[str, np.ndarray]:
@@ -99,6 +131,13 @@ class Frame:
         """GPU milliseconds per pass (GL timestamp queries); parts such as
         ``depth_peel.layer0`` are listed beside their pass, ``total`` sums the passes."""
         return dict(self._native.timings)
+
+    @property
+    def warmup_runs(self) -> int:
+        """Untimed runs of the chain before the timed one: 1 when this variant (passes, texture
+        sizes, defines, scene) was new to the renderer. Timings never include compilation or
+        first-use costs."""
+        return self._native.warmup_runs
 
     @property
     def wall_ms(self) -> float:
@@ -164,7 +203,7 @@ class Frame:
         return RayResults(self)
 
     def reference(self, kind: str = "converged", *, rays: int | None = None, seed: int = 0,
-                  sampling: str = "vndf", viewer: str = "camera"):
+                  sampling: str = "vndf", viewer: str = "camera", shadows: str = "traced"):
         """Ground truth for this frame, traced against the scene's triangles (ssrlab.reference).
 
         kind="converged": `rays` rays per pixel (default 256; one for mirror pixels) drawn with
@@ -173,7 +212,17 @@ class Frame:
         camera sees them, like the lit G-buffer SSR fetches from (so the two differ only by what
         screen space cannot see); viewer="ray" views them from the ray's origin (the physical
         reflection; only view-dependent specular changes).
+
+        The converged reference finds each pixel's surface point exactly (the camera ray traced
+        against the triangles) and offsets reflection rays from it robustly (Waechter & Binder,
+        Ray Tracing Gems ch. 6), independent of SSR's origin_bias. shadows="traced" (default)
+        traces a shadow ray toward the light the frame shadows from every shaded point, the
+        pixel's own included; shadows="map" uses the frame's shadow map as the lit G-buffer does
+        (isolating what SSR itself gets wrong from the shadow map's blur). Per-ray references
+        trace the SSR rays as they were (from SSR's own origins).
         """
+        if shadows not in ("traced", "map"):
+            raise ValueError(f"shadows must be 'traced' or 'map', got {shadows!r}")
         if viewer not in ("camera", "ray"):
             raise ValueError(f"viewer must be 'camera' or 'ray', got {viewer!r}")
         from .reference import ConvergedReference, PerRayReference
@@ -182,15 +231,15 @@ class Frame:
             raise ValueError("this frame does not know its renderer and scene")
         if kind == "per_ray":
             timings = self._renderer._native.reference(self._scene, self._native, "per_ray", 1, seed, sampling,
-                                                      viewer)
+                                                      viewer, shadows)
             for name in ("reference.hit", "reference.position", "reference.radiance"):
                 self._cache.pop(f"{name}@0", None)
             return PerRayReference(self, dict(timings))
         if kind == "converged":
             rays = 256 if rays is None else int(rays)
             timings = self._renderer._native.reference(self._scene, self._native, "converged", rays, seed, sampling,
-                                                      viewer)
-            for name in ("reference.reflection", "reference.color", "reference.accum"):
+                                                      viewer, shadows)
+            for name in ("reference.reflection", "reference.color", "reference.accum", "reference.direct"):
                 self._cache.pop(f"{name}@0", None)
             return ConvergedReference(self, rays, dict(timings))
         raise ValueError(f"reference kind must be 'converged' or 'per_ray', got {kind!r}")

@@ -177,7 +177,8 @@ SCENES = {
 
 
 def load(name_or_path: str, **kwargs) -> Scene:
-    """A procedural scene by name (keyword arguments go to its builder), or a glTF file."""
+    """A procedural scene by name (keyword arguments go to its builder), or a glTF file; a file
+    without a camera, lights or an environment gets a camera that frames it, a sun and a sky."""
     if name_or_path in SCENES:
         return SCENES[name_or_path](**kwargs)
     from pathlib import Path
@@ -190,6 +191,11 @@ def load(name_or_path: str, **kwargs) -> Scene:
             scene.camera = frame_camera(scene)
         if not scene.lights:
             scene.add_light(directional_light((-0.4, -1.0, -0.5), intensity=3.0))
+        env = scene.environment
+        if env.type == "constant" and not any(env.color):
+            # glTF has no environment: a file that sets none (and ssrlab's extras set none)
+            # gets the procedural scenes' sky, so what its surfaces reflect is not black.
+            scene.environment = _sky()
         return scene
     raise ValueError(f"unknown scene {name_or_path!r}: expected one of {', '.join(SCENES)} or a .gltf/.glb file")
 

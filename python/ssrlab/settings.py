@@ -149,8 +149,9 @@ class Settings:
     fade_distance_end: float = _setting(0.0, "...and are fully faded at this distance", "world units", 0.0, 1e7,
                                         group="fades")
     composite: str = _setting(
-        "linear", "'linear': c = r c_r + (1 - r) c_d (thesis 2.4.2); 'pbr': c = c_d + r F c_r with "
-        "Schlick's Fresnel F from metallic and base colour", choices=("linear", "pbr"), group="fades")
+        "linear", "'linear': c = r c_r + (1 - r) c_d (thesis 2.4.2); 'pbr': c = c_d + k E c_r, E = F0 A + B the "
+        "GGX directional albedo (split-sum table integrated by the tracers' sampler), k = r (1 for 'auto' "
+        "materials): the physically based image", choices=("linear", "pbr"), group="fades")
 
     # ---------------------------------------------------------------------------------------------
     def __setattr__(self, name: str, value: Any) -> None:

@@ -1,14 +1,15 @@
 // Direct lighting of a surface point: Lambert diffuse + GGX specular for every punctual
-// light, the shadow map for the light that casts it, and a constant ambient term.
+// light, each light's visibility, and a constant ambient term.
 // This is the one shading function of the project: the lighting pass shades every
 // G-buffer layer with it, and ground-truth reflections shade their hit points with it, so
 // the two differ only in which points they see.
 //
-// The including shader defines the shadow lookup:
-//     float shadow_visibility(vec3 p_view, vec3 n_view);
+// The including shader defines how much of a light reaches the point (the frame's shadow
+// map in lib/shadow_map.glsl; a traced shadow ray in the reference pass):
+//     float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance);
 // Needs frame_uniforms.glsl, brdf.glsl, lights.glsl, gbuffer.glsl.
 
-float shadow_visibility(vec3 p_view, vec3 n_view);
+float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance);
 
 // p: view-space position, v: unit vector from p toward the viewer.
 vec3 shade_surface(GSample g, vec3 p, vec3 v) {
@@ -24,19 +25,21 @@ vec3 shade_surface(GSample g, vec3 p, vec3 v) {
         LightData light = lights[i];
         vec3 l;
         vec3 irradiance = light.radiance.rgb;
+        float light_distance = 3.4e38;  // a directional light: no end
         if (light.position_type.w == 0.0) {
             l = -normalize(light.direction_shadow.xyz);
         } else {
             vec3 to_light = light.position_type.xyz - p;
             float d2 = max(dot(to_light, to_light), 1e-8);
             l = to_light * inversesqrt(d2);
+            light_distance = sqrt(d2);
             irradiance /= d2;  // inverse-square falloff of a point light's intensity
         }
         float NoL = dot(n, l);
         if (NoL <= 0.0) continue;
-        if (light.direction_shadow.w > 0.5) {
-            irradiance *= shadow_visibility(p, n);
-        }
+        float visibility = light_visibility(light, p, n, l, light_distance);
+        if (visibility <= 0.0) continue;
+        irradiance *= visibility;
         vec3 h = normalize(l + v);
         float NoH = max(dot(n, h), 0.0);
         float VoH = max(dot(v, h), 0.0);

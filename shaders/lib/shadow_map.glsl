@@ -1,6 +1,7 @@
-// The shadow-map lookup of shading.glsl's shadow_visibility(): percentage-closer filtering
+// shading.glsl's light_visibility() from the frame's shadow map: percentage-closer filtering
 // of the directional light's shadow map at a view-space point, offset along its normal
-// against acne. Needs frame_uniforms.glsl; the including shader declares
+// against acne, for the light that casts it; every other light is unshadowed.
+// Needs frame_uniforms.glsl, lights.glsl; the including shader declares
 //     layout(binding = N) uniform sampler2DShadow u_shadow_map;
 // and defines SHADOWS (0 or 1).
 
@@ -20,3 +21,7 @@ float shadow_visibility(vec3 p_view, vec3 n_view) {
 #else
 float shadow_visibility(vec3 p_view, vec3 n_view) { return 1.0; }
 #endif
+
+float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance) {
+    return light.direction_shadow.w > 0.5 ? shadow_visibility(p_view, n_view) : 1.0;
+}

@@ -2,8 +2,14 @@
 // composite: the final image. Where a surface covers the pixel, its lit colour c_d, blended
 // with its reflection c_r when there is one:
 //   linear (seed 000, 2.4.2): c = r c_r + (1 - r) c_d
-//   pbr:                      c = c_d + r F c_r, F Schlick's Fresnel from metallic/base colour
+//   pbr:                      c = c_d + k E c_r
 // with r the surface's reflectivity; the environment where no surface covers the pixel.
+// In the pbr composite, c_r is the lobe-weighted mean radiance the resolve returns (its weights
+// are normalised), so the split-sum approximation (Karis 2013) turns it into reflected
+// radiance with the GGX directional albedo E = F0 A(n.v, roughness) + B(n.v, roughness)
+// (lib/specular_albedo.glsl): a rough surface reflects less than F(n.v) says. k is the
+// thesis's reflectivity r as a scale, or 1 for a material that reflects as its
+// metallic-roughness parameters say ("auto"), whose G-buffer r is the luminance of E itself.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/environment.glsl"
@@ -11,6 +17,8 @@
 #include "../lib/ssr_settings.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/brdf.glsl"
+#include "../lib/scene_data.glsl"
+#include "../lib/specular_albedo.glsl"
 #endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -22,6 +30,7 @@ layout(binding = 2) uniform sampler2D u_reflection;
 layout(binding = 3) uniform sampler2DArray u_albedo;
 layout(binding = 4) uniform sampler2DArray u_normal;
 layout(binding = 5) uniform sampler2DArray u_linear_depth;
+layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;
 #endif
 
 layout(binding = 0, rgba32f) writeonly uniform image2D o_color;
@@ -44,7 +53,9 @@ void main() {
                                            material);
                 vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
                 float NoV = max(dot(g.normal, normalize(-pos)), 0.0);
-                c += r * fresnel_schlick(specular_f0(g.albedo, g.metallic), NoV) * reflection;
+                vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
+                bool auto_r = g.object_id >= 0 && materials[objects[g.object_id].material.x].params.z < 0.0;
+                c += (auto_r ? 1.0 : r) * specular_albedo(specular_f0(g.albedo, g.metallic), ab) * reflection;
             }
         }
 #endif

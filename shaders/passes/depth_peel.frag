@@ -8,11 +8,14 @@
 #include "../lib/gbuffer.glsl"
 #include "../lib/normal_mapping.glsl"
 #include "../lib/material.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/specular_albedo.glsl"
 
 layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
 layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
 layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent space
 layout(binding = 3) uniform sampler2D u_previous_layer_depth;        // depth of layer i-1
+layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
 
 uniform int u_object;
 uniform int u_layer;
@@ -45,5 +48,12 @@ void main() {
     }
     GSample g = material_sample(m, texture(u_base_color_texture, fs.uv), texture(u_metallic_roughness_texture, fs.uv),
                                 texture(u_normal_texture, fs.uv).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
+    if (m.params.z < 0.0) {
+        // A material without the thesis's explicit r (glTF files from other tools): it reflects
+        // the share of light its GGX lobe does at this view angle, E = F0 A + B.
+        float NoV = max(dot(g.normal, normalize(-fs.view_position)), 0.0);
+        vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
+        g.reflectivity = specular_reflectivity(specular_f0(g.albedo, g.metallic), ab);
+    }
     gbuffer_encode(g, o_albedo_metallic, o_normal_roughness, o_material);
 }

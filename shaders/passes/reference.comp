@@ -10,7 +10,14 @@
 //                  invocation per (trace pixel, ray): true hit, its position, its radiance.
 //   CONVERGED (1): one invocation per pixel, rays_per_pixel rays drawn from the pixel's BRDF
 //                  (one for a mirror), accumulated over dispatches of u_ray_count rays into
-//                  (sum w c, sum w); the last dispatch writes the normalised reflection.
+//                  (sum w c, sum w); the last dispatch writes the normalised reflection and
+//                  the pixel's own direct light. The pixel's surface point is found exactly:
+//                  the camera ray through the pixel centre is traced against the triangles,
+//                  and reflection rays leave the hit point by the ulp offset of lib/ray_offset
+//                  (Waechter and Binder 2019), not by SSR's origin_bias, so contact regions
+//                  are neither darkened nor leaked through.
+// Shadows: SHADOWS with the frame's shadow map (as the lit G-buffer has them), or
+// TRACED_SHADOWS: a shadow ray from every shaded point toward the light the frame shadows.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"
@@ -27,6 +34,7 @@
 #include "../lib/bvh.glsl"
 #include "../lib/scene_geometry.glsl"
 #include "../lib/scene_textures.glsl"
+#include "../lib/ray_offset.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -35,7 +43,24 @@ layout(binding = 1) uniform sampler2DArray u_albedo;
 layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
 layout(binding = 4) uniform sampler2DShadow u_shadow_map;
+
+// The surface point being shaded, in world space, with its geometric normal on the side its
+// viewer is: what a traced shadow ray leaves from (light_visibility has no room for it).
+vec3 surface_point_w;
+vec3 surface_normal_w;
+
+#if TRACED_SHADOWS
+// The lights the frame shadows (the shadow map's), with a ray instead of the map.
+float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance) {
+    if (light.direction_shadow.w <= 0.5) return 1.0;
+    vec3 l_w = normalize(mat3(frame.inv_view) * l_view);
+    if (dot(surface_normal_w, l_w) <= 0.0) return 0.0;  // the surface itself is in the way
+    TraceHit h = trace_closest(offset_ray_origin(surface_point_w, surface_normal_w), l_w, 0.0, light_distance);
+    return h.triangle >= 0 ? 0.0 : 1.0;
+}
+#else
 #include "../lib/shadow_map.glsl"
+#endif
 #include "../lib/shading.glsl"
 
 uniform int u_first_ray;   // first ray index of this dispatch
@@ -52,6 +77,7 @@ layout(binding = 2, rgba32f) writeonly uniform image2DArray o_radiance;  // radi
 #else
 layout(binding = 0, rgba32f) uniform image2D o_accum;                    // (sum w c, sum w)
 layout(binding = 1, rgba32f) writeonly uniform image2D o_reflection;
+layout(binding = 2, rgba32f) writeonly uniform image2DArray o_direct;    // the pixel's own direct light
 #endif
 
 GSample pixel_sample(ivec2 p) {
@@ -67,20 +93,34 @@ struct ShadedHit {
     vec3 radiance;
 };
 
-// Traces a view-space ray through the scene and shades what it hits (or the environment).
-ShadedHit trace_and_shade(vec3 origin, vec3 dir) {
+// A hit's world-space point, interpolated from its triangle's vertices (so that it lies on
+// the triangle to a few ulps, as lib/ray_offset.glsl assumes), and the triangle's unit
+// geometric normal on the side `toward` points to.
+vec3 hit_point_w(TraceHit h) {
+    BvhTriangle tri = bvh_triangles[h.triangle];
+    return tri.v0.xyz * (1.0 - h.b1 - h.b2) + tri.v1.xyz * h.b1 + tri.v2.xyz * h.b2;
+}
+vec3 hit_normal_w(TraceHit h, vec3 toward) {
+    BvhTriangle tri = bvh_triangles[h.triangle];
+    vec3 n = normalize(cross(tri.v1.xyz - tri.v0.xyz, tri.v2.xyz - tri.v0.xyz));
+    return dot(n, toward) >= 0.0 ? n : -n;
+}
+
+// Traces a world-space ray through the scene and shades what it hits (or the environment).
+ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w) {
     ShadedHit s;
-    vec3 origin_w = (frame.inv_view * vec4(origin, 1.0)).xyz;
-    vec3 dir_w = normalize(mat3(frame.inv_view) * dir);
     TraceHit h = trace_closest(origin_w, dir_w, 0.0, ssr.max_distance);
     s.hit = h.triangle >= 0;
     s.object = -1;
     s.t = h.t;
-    s.position = origin + dir * h.t;
+    s.position = (frame.view * vec4(origin_w + dir_w * h.t, 1.0)).xyz;
     if (!s.hit) {
         s.radiance = environment_radiance(dir_w);
         return s;
     }
+    surface_point_w = hit_point_w(h);
+    surface_normal_w = hit_normal_w(h, -dir_w);
+    s.position = (frame.view * vec4(surface_point_w, 1.0)).xyz;
     BvhTriangle tri = bvh_triangles[h.triangle];
     s.object = floatBitsToInt(tri.v0.w);
     ObjectData o = objects[s.object];
@@ -101,9 +141,14 @@ ShadedHit trace_and_shade(vec3 origin, vec3 dir) {
                                 sample_image(m.images.y, a.uv, m.wraps.y, false),
                                 sample_image(m.images.z, a.uv, m.wraps.z, false).xyz, n, t, b, has_frame,
                                 front_facing, s.object);
-    vec3 viewer = u_viewer == 0 ? normalize(-s.position) : -dir;
+    vec3 viewer = u_viewer == 0 ? normalize(-s.position) : -normalize(mat3(frame.view) * dir_w);
     s.radiance = shade_surface(g, s.position, viewer);
     return s;
+}
+
+// The same for a view-space ray.
+ShadedHit trace_and_shade(vec3 origin, vec3 dir) {
+    return trace_and_shade_w((frame.inv_view * vec4(origin, 1.0)).xyz, normalize(mat3(frame.inv_view) * dir));
 }
 
 void main() {
@@ -139,6 +184,20 @@ void main() {
     vec4 acc = u_first_ray == 0 ? vec4(0.0) : imageLoad(o_accum, p);
     GSample g = pixel_sample(p);
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    // The pixel's surface point, exactly: the camera ray through the pixel centre. Where it
+    // finds another object than the G-buffer's (a silhouette the two sample differently), the
+    // G-buffer point and SSR's origin offset stand in.
+    vec3 camera_w = frame.inv_view[3].xyz;
+    vec3 pixel_dir_w = normalize(mat3(frame.inv_view) * normalize(view_position(vec2(p) + 0.5, 1.0)));
+    TraceHit primary = trace_closest(camera_w, pixel_dir_w, 0.0, 3.4e38);
+    bool exact = g.covered && primary.triangle >= 0 && floatBitsToInt(bvh_triangles[primary.triangle].v0.w) == g.object_id;
+    vec3 origin_w = vec3(0.0);
+    if (exact) {
+        vec3 point_w = hit_point_w(primary);
+        vec3 normal_w = hit_normal_w(primary, -pixel_dir_w);
+        pos = (frame.view * vec4(point_w, 1.0)).xyz;
+        origin_w = offset_ray_origin(point_w, normal_w);
+    }
     // The truth reflects wherever a surface does, whatever SSR's roughness cutoff (the
     // uploaded settings set it to 1).
     if (is_reflective(g)) {
@@ -147,7 +206,9 @@ void main() {
             if (mirror && r > 0) break;  // one ray serves a mirror
             ReflectionRay ray = generate_ray(g, pos, p, r);
             if (ray.weight <= 0.0) continue;
-            acc += vec4(ray.weight * trace_and_shade(ray.origin, ray.dir).radiance, ray.weight);
+            ShadedHit s = exact ? trace_and_shade_w(origin_w, normalize(mat3(frame.inv_view) * ray.dir))
+                                : trace_and_shade(ray.origin, ray.dir);
+            acc += vec4(ray.weight * s.radiance, ray.weight);
         }
     }
     imageStore(o_accum, p, acc);
@@ -158,6 +219,20 @@ void main() {
             reflection = acc.w > 0.0 ? acc.rgb / acc.w
                                      : environment_radiance(normalize(mat3(frame.inv_view) * reflect(-v, g.normal)));
         imageStore(o_reflection, p, vec4(reflection, 1.0));
+        // The pixel's own direct light, shaded at its exact point (as the lighting pass shades
+        // the G-buffer's), so that the reference's final image has exact shadows too.
+        vec3 direct = vec3(0.0);
+        if (g.covered) {
+            if (exact) {
+                surface_point_w = hit_point_w(primary);
+                surface_normal_w = hit_normal_w(primary, -pixel_dir_w);
+            } else {
+                surface_point_w = (frame.inv_view * vec4(pos + g.normal * (ssr.origin_bias * -pos.z), 1.0)).xyz;
+                surface_normal_w = normalize(mat3(frame.inv_view) * g.normal);
+            }
+            direct = shade_surface(g, pos, normalize(-pos));
+        }
+        imageStore(o_direct, ivec3(p, 0), vec4(direct, 1.0));
     }
 #endif
 }

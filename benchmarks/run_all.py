@@ -1,0 +1,96 @@
+"""Every benchmark at its full size on one device, in one command.
+
+    python benchmarks/run_all.py [--device auto|gpu|cpu] [--out benchmarks/results] [--only NAME ...] [--quick]
+
+Runs each benchmark script below as its own process on the chosen device, one after the other
+(never side by side: they would time each other), and writes
+    <out>/<device>/run_all.json   the device, each benchmark's command, exit status, seconds and output
+    <out>/<device>/tables.md      each benchmark's printed tables, for the README
+<device> is a slug of the renderer string (e.g. nvidia-h100-80gb-hbm3, llvmpipe-llvm-15-0-6-256-bits).
+--quick runs every benchmark at a reduced size (a smoke run of this script, not figures to quote).
+On a machine with a GPU, `--device gpu` fails at once when the EGL device cannot be opened.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+# name: (arguments at full size, arguments at --quick size)
+BENCHMARKS = {
+    "first_render": ([], ["--repeats", "3", "--scenes", "spheres_and_boxes"]),
+    "peel_layers": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--layers", "1", "2"]),
+    "trace_methods": ([], ["--width", "160", "--height", "90", "--repeats", "2"]),
+    "reference_speed": ([], ["--width", "160", "--height", "90", "--rays", "16"]),
+    "accuracy": ([], []),
+    "mitsuba_crosscheck": ([], ["--quick"]),
+    "thesis_findings": (["--scale", "full"], ["--scale", "small"]),
+}
+
+
+def slug(text: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")[:60]
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--device", default="auto", choices=("auto", "gpu", "cpu"))
+    ap.add_argument("--out", default=str(HERE / "results"))
+    ap.add_argument("--only", nargs="+", choices=sorted(BENCHMARKS))
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+
+    import ssrlab
+
+    info = ssrlab.Renderer(args.device).info  # fails here, before any benchmark, without the device
+    folder = Path(args.out) / slug(f"{info['renderer']}")
+    folder.mkdir(parents=True, exist_ok=True)
+    print(f"device: {info['renderer']} ({info['device']}), {info['vendor']}, OpenGL {info['gl_version']}")
+    results = {"device": info, "started": datetime.datetime.now(datetime.timezone.utc).isoformat(),
+               "quick": args.quick, "python": sys.version, "ssrlab": ssrlab.__version__, "benchmarks": {}}
+    names = args.only or list(BENCHMARKS)
+    for name in names:
+        script = HERE / f"{name}.py"
+        if not script.is_file():
+            print(f"[run_all] {name}: no {script.name} here, skipped")
+            continue
+        full, quick = BENCHMARKS[name]
+        extra = quick if args.quick else full
+        cmd = [sys.executable, str(script), *extra]
+        if "--device" in subprocess.run([sys.executable, str(script), "--help"], capture_output=True,
+                                        text=True).stdout:
+            cmd += ["--device", args.device]
+        print(f"[run_all] {' '.join(cmd[1:])}", flush=True)
+        t0 = time.perf_counter()
+        p = subprocess.run(cmd, capture_output=True, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+        seconds = time.perf_counter() - t0
+        print(p.stdout, end="")
+        if p.returncode:
+            print(p.stderr[-4000:], file=sys.stderr)
+        results["benchmarks"][name] = {"command": " ".join(["python", f"benchmarks/{name}.py", *cmd[2:]]),
+                                       "exit": p.returncode, "seconds": round(seconds, 1), "output": p.stdout,
+                                       "stderr_tail": p.stderr[-4000:]}
+        (folder / "run_all.json").write_text(json.dumps(results, indent=1))
+    md = [f"# Benchmarks on {info['renderer']}", "",
+          f"{info['vendor']}, OpenGL {info['gl_version']}, device `{info['device']}`; "
+          f"{results['started'][:16]} UTC; `python benchmarks/run_all.py --device {args.device}"
+          f"{' --quick' if args.quick else ''}`", ""]
+    for name, r in results["benchmarks"].items():
+        md += [f"## {name} ({r['seconds']:.0f} s, exit {r['exit']})", "", f"`{r['command']}`", "", "```",
+               r["output"].rstrip(), "```", ""]
+    (folder / "tables.md").write_text("\n".join(md))
+    print(f"[run_all] wrote {folder / 'run_all.json'} and {folder / 'tables.md'}")
+    return 1 if any(r["exit"] for r in results["benchmarks"].values()) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
