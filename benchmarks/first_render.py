@@ -31,17 +31,14 @@ def main() -> None:
     ap = benchmark_arguments(__doc__, repeats=9)
     ap.set_defaults(width=160, height=90)
     args = ap.parse_args()
+    print(device_header(ssrlab.Renderer(args.device)))
     print(f"{args.width}x{args.height}; each variant in a fresh renderer; GPU milliseconds (total of the passes)")
-    header_done = False
     print(f"\n{'scene':<18} {'variant':<24} {'first':>8} {'later median':>13} {'IQR':>7} {'first/later':>11}"
           f" {'first wall':>10}  verdict (within 20 %?)")
     for name in args.scenes:
         scene = ssrlab.scenes.load(name)
         for label, kw in VARIANTS.items():
             r = ssrlab.Renderer(args.device)
-            if not header_done:
-                print(device_header(r))
-                header_done = True
             s = ssrlab.Settings(width=args.width, height=args.height, **kw)
             first = r.render(scene, settings=s)
             later = [r.render(scene, settings=s).timings["total"] for _ in range(args.repeats)]
