@@ -64,8 +64,7 @@ def main() -> None:
         _, ok = mirror_test_hits(f)
         ok &= f.gbuffer.coverage[0] & (f.gbuffer.reflectivity[0] > 0.5)
         p = cam + d * (-cam[1] / d[..., 1])[..., None]
-        view_depth = -(p @ f.view_matrix[:3, :3].T.astype(np.float64) + f.view_matrix[:3, 3])[..., 2]
-        p = p + np.array([0.0, 1.0, 0.0]) * (f.settings.origin_bias * view_depth)[..., None]
+        # The reference's rays leave the exact floor point (no origin_bias).
         rr = d * np.array([1.0, -1.0, 1.0])
         hit = p + rr * ((ssrlab.scenes.MIRROR_WALL_Z - p[..., 2]) / rr[..., 2])[..., None]
         fx, fy = (hit[..., 0] + 4.0) % 1, hit[..., 1] % 1
