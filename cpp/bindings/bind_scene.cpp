@@ -536,6 +536,14 @@ void bind_io(py::module_& m) {
             std::vector<glm::vec3> o(n), d(n);
             std::memcpy(o.data(), origins.data(), n * 12);
             std::memcpy(d.data(), directions.data(), n * 12);
+            // Embree asserts (aborting the process) on a NaN or Inf ray: refuse them here.
+            for (size_t i = 0; i < n; ++i)
+                if (!std::isfinite(o[i].x + o[i].y + o[i].z) || !std::isfinite(d[i].x + d[i].y + d[i].z) ||
+                    glm::dot(d[i], d[i]) == 0.0f)
+                    throw std::invalid_argument("embree_intersect: ray " + std::to_string(i) +
+                                                " has a non-finite origin or direction, or a zero direction");
+            if (!(t_min >= 0.0f) || !(t_max >= t_min))
+                throw std::invalid_argument("embree_intersect: need 0 <= t_min <= t_max (t_max may be inf)");
             std::vector<CpuHit> hits;
             {
                 py::gil_scoped_release release;

@@ -396,7 +396,7 @@ class RayResults:
 # pixel of the per-ray reference, as measured by benchmarks/depth_precision.py on llvmpipe
 # (README, "Depth precision"). Beyond it the 24-bit-like precision of a standard [0, 1] float
 # depth near 1 (seed 000 2.3.4; seed 002 4.6.3) shows as acne and false hits.
-STANDARD_DEPTH_SAFE_RATIO = 1e4
+STANDARD_DEPTH_SAFE_RATIO = 1e6
 
 
 class DepthPrecisionWarning(UserWarning):
