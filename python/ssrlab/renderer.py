@@ -407,7 +407,8 @@ def _warn_depth_precision(camera, settings: Settings) -> None:
     if settings.depth_mode != "standard":
         return
     near, far = float(camera.near), float(camera.far)
-    if near > 0 and far / near > STANDARD_DEPTH_SAFE_RATIO:
+    # (1 + 1e-6): a ratio of exactly the safe one, after float32 rounding of near and far, is safe
+    if near > 0 and far / near > STANDARD_DEPTH_SAFE_RATIO * (1 + 1e-6):
         warnings.warn(
             f"the camera's far/near ratio is {far / near:.3g} (near {near:g}, far {far:g}), beyond the "
             f"{STANDARD_DEPTH_SAFE_RATIO:.0e} up to which depth_mode='standard' keeps reflection hits within a "
