@@ -104,7 +104,11 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         qz += dqz;
         k += dk;
         if (p.x * step_dir > end_x) break;
-        float z_next = -(qz + 0.5 * dqz) / (k + 0.5 * dk);  // half a step on
+        // Half a step on, but not past the segment's end (issue 8): beyond it 1/w (k) of a ray
+        // running toward its vanishing point can reach 0 or less, and the step's depth range
+        // then spanned everything in front of the origin, a false hit far off the ray.
+        float half_step = clamp((end_x - p.x * step_dir) / ssr.stride, 0.0, 0.5);
+        float z_next = -(qz + half_step * dqz) / (k + half_step * dk);
         float lo = min(z_prev, z_next), hi = max(z_prev, z_next);
         z_prev = z_next;
         float thick = ssr.thickness_mode == THICKNESS_RAY_STEP ? max(ssr.thickness, ssr.thickness_scale * (hi - lo))
