@@ -393,9 +393,10 @@ class RayResults:
 
 
 # The largest far/near ratio at which depth_mode="standard" keeps SSR hit positions within a
-# pixel of the per-ray reference, as measured by benchmarks/depth_precision.py on llvmpipe
-# (README, "Depth precision"). Beyond it the 24-bit-like precision of a standard [0, 1] float
-# depth near 1 (seed 000 2.3.4; seed 002 4.6.3) shows as acne and false hits.
+# pixel of the per-ray reference for both tracers, as measured by benchmarks/depth_precision.py
+# on llvmpipe at 320x180 (README, "Depth precision": Hi-Z up to 1e6, linear up to 1e7 with
+# 0.87 px). Beyond it the float depth buffer's few distinct values near 1 (seed 000 2.3.4;
+# seed 002 4.6.3) show as acne and false hits; reversed-Z held to 1e8.
 STANDARD_DEPTH_SAFE_RATIO = 1e6
 
 

@@ -125,7 +125,7 @@ HizHit trace_hiz(ReflectionRay ray) {
             vec2 lo, hi;
             hiz_cell_bounds(cell, level, lo, hi);
             result.hit = true;
-            result.pixel = clamp(o.xy + v.xy * th, lo, hi - 0.001);
+            result.pixel = clamp(o.xy + v.xy * th, lo + 0.001, hi - 0.001);  // off the cell's edges (issue 8)
             result.layer = layer;
             result.s = front;
             return result;

@@ -144,7 +144,9 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         vec2 hp = p + dp * s;
         hp = permute ? hp.yx : hp;
         result.hit = true;
-        result.pixel = clamp(hp, vec2(pixel), vec2(pixel) + 0.999);  // stay in the pixel whose surface was hit
+        // Stay inside the pixel whose surface was hit, off its edges too (issue 8): a hit exactly on
+        // the lower edge read back as the neighbouring row in hit_uv's top-down convention.
+        result.pixel = clamp(hp, vec2(pixel) + 0.001, vec2(pixel) + 0.999);
         result.layer = layer;
         result.depth = surface;
         return result;
