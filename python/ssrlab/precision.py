@@ -21,7 +21,6 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from .reference import hit_position_error  # noqa: F401  (documented companion)
 from .scene import Camera, Environment, Material, Scene, directional_light
 from .settings import Settings
 
