@@ -36,3 +36,18 @@ def test_notebook_runs_at_reduced_size(name, figures, tmp_path, monkeypatch):
     assert "| finding (source) | ours | verdict |" in text
     rows = [l for l in text.splitlines() if l.startswith("| ") and "**" in l]
     assert rows and all(any(v in l for v in ("**agree**", "**partly**", "**disagree**")) for l in rows)
+
+
+def test_numerical_stability_notebook_runs_at_reduced_size(tmp_path, monkeypatch):
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_SCALE", "small")
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_OUT", str(tmp_path / "figures"))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(NOTEBOOKS / "numerical_stability.ipynb", as_version=4)
+    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    assert (tmp_path / "figures" / "depth_precision.png").stat().st_size > 10_000
+    text = "\n".join(o.get("data", {}).get("text/markdown", "") for c in nb.cells if c.cell_type == "code"
+                     for o in c.get("outputs", []))
+    assert "| standard | 1e+08 |" in text and "| reversed_z | 1e+02 |" in text
+    verdicts = [l for l in text.splitlines() if "hit-position error under 1 px up to" in l]
+    assert len(verdicts) == 2

@@ -88,6 +88,9 @@ void bind_render(py::module_& m) {
             "Reads every layer of a texture's mip level as float32 (layers, height, width, 4); row 0 = top.")
         .def_property_readonly("texture_names", &Frame::texture_names)
         .def("has", &Frame::has)
+        .def("release", &Frame::release, "Frees the frame's own textures now; later reads raise.")
+        .def_property_readonly("released", &Frame::released)
+        .def_property_readonly("gpu_bytes", &Frame::gpu_bytes, "Bytes of the frame's own textures.")
         .def_readonly("timings", &Frame::timings)
         .def_readonly("wall_ms", &Frame::wall_ms)
         .def_readonly("warmup_runs", &Frame::warmup_runs,
@@ -132,6 +135,11 @@ void bind_render(py::module_& m) {
             "n.v 0..1 (cell centres at both ends), integrated with the tracers' own VNDF sampler.")
         .def_property_readonly("compiled_programs", &Renderer::compiled_programs,
                                "Shader programs this renderer has compiled (each once per variant).")
+        .def_property_readonly("gpu_bytes", &Renderer::gpu_bytes,
+                               "Bytes of every frame texture set (live or pooled) and the shared scratch.")
+        .def_property_readonly("scratch_bytes", &Renderer::scratch_bytes)
+        .def("recycle", &Renderer::recycle, py::arg("force") = true,
+             "Frees idle texture sets beyond the pool and returns freed heap memory to the OS.")
         .def("check_gl", &Renderer::check_errors, "Raises GLError if GL reported an error since the last check.")
         .def(
             "sample_reflections",

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <pybind11/functional.h>
@@ -17,8 +18,19 @@ namespace ssr {
 
 namespace {
 
+// The last line behind ssrlab.Scene.add_mesh's own checks: forcecast would turn bool,
+// complex (dropping the imaginary part), strings and dates into numbers without a word.
+void require_real(const py::handle& obj, const char* what) {
+    if (!py::isinstance<py::array>(obj)) return;  // lists etc.: forcecast parses them or fails
+    const char kind = py::reinterpret_borrow<py::array>(obj).dtype().kind();
+    if (kind != 'i' && kind != 'u' && kind != 'f')
+        throw py::type_error(std::string(what) + " must hold real numbers (integer or float), got dtype kind '" +
+                             kind + "'");
+}
+
 template <typename T, int N>
 std::vector<glm::vec<N, float>> rows_of(const py::handle& obj, const char* what, size_t expect = 0) {
+    require_real(obj, what);
     auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(obj);
     if (!a || a.ndim() != 2 || a.shape(1) != N)
         throw std::invalid_argument(std::string(what) + " must be an array of shape (n, " + std::to_string(N) + ")");
@@ -33,8 +45,18 @@ std::vector<glm::vec<N, float>> rows_of(const py::handle& obj, const char* what,
 }
 
 std::vector<uint32_t> indices_of(const py::handle& obj) {
+    require_real(obj, "indices");
+    // Fractional or NaN indices would be truncated by the cast below: refuse them first.
+    if (auto f = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj)) {
+        const double* q = f.data();
+        for (py::ssize_t i = 0; i < f.size(); ++i)
+            if (!std::isfinite(q[i]) || q[i] != std::floor(q[i]))
+                throw std::invalid_argument("indices must be whole numbers: " + std::to_string(q[i]) +
+                                            " at position " + std::to_string(i));
+    }
     auto a = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(obj);
     if (!a) throw std::invalid_argument("indices must be an integer array of shape (m, 3) or (3m,)");
+    if (a.size() == 0) throw std::invalid_argument("indices is empty; pass None for a non-indexed triangle list");
     if (!(a.ndim() == 1 || (a.ndim() == 2 && a.shape(1) == 3)))
         throw std::invalid_argument("indices must have shape (m, 3) or (3m,)");
     std::vector<uint32_t> out(size_t(a.size()));
@@ -548,6 +570,14 @@ void bind_io(py::module_& m) {
             std::vector<glm::vec3> o(n), d(n);
             std::memcpy(o.data(), origins.data(), n * 12);
             std::memcpy(d.data(), directions.data(), n * 12);
+            // Embree asserts (aborting the process) on a NaN or Inf ray: refuse them here.
+            for (size_t i = 0; i < n; ++i)
+                if (!std::isfinite(o[i].x + o[i].y + o[i].z) || !std::isfinite(d[i].x + d[i].y + d[i].z) ||
+                    glm::dot(d[i], d[i]) == 0.0f)
+                    throw std::invalid_argument("embree_intersect: ray " + std::to_string(i) +
+                                                " has a non-finite origin or direction, or a zero direction");
+            if (!(t_min >= 0.0f) || !(t_max >= t_min))
+                throw std::invalid_argument("embree_intersect: need 0 <= t_min <= t_max (t_max may be inf)");
             std::vector<CpuHit> hits;
             {
                 py::gil_scoped_release release;

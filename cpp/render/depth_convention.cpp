@@ -43,8 +43,9 @@ void DepthConvention::add_defines(Defines& d) const {
 
 float DepthConvention::linearize(float d, float n, float f) const {
     if (mode == DepthMode::Standard) {
-        const float zs = 2.0f * d - 1.0f;
-        return -2.0f * f * n / (zs * (f - n) - (f + n));  // thesis formula gives z_view < 0
+        // The thesis's 2fn / (z_s (f - n) - (f + n)), z_s = 2d - 1, rearranged without its
+        // cancellation (as in shaders/lib/depth_convention.glsl; issue 8).
+        return f * n / (f * (1.0f - d) + n * d);
     }
     return f * n / (d * (f - n) + n);
 }

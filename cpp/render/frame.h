@@ -1,6 +1,9 @@
 // The result of Renderer::render: the frame's textures stay on the GPU and are read back
 // only when asked for (read()). A Frame keeps its textures (and the GL context) alive;
-// the renderer reuses a texture set once no Frame holds it any more.
+// the renderer reuses a texture set once no Frame holds it any more. Scratch textures
+// (shadow map, Hi-Z pyramid) belong to the renderer and are shared by every frame: a frame
+// can read them only until the next render overwrites them (issue 8: a kept frame no
+// longer holds a 16 MiB shadow map). release() gives the frame's own textures back early.
 #pragma once
 
 #include <map>
@@ -32,8 +35,13 @@ public:
     // All layers of a texture's mip `level`, as float RGBA (depth in channel 0).
     Readback read(const std::string& name, int level = 0);
     std::vector<std::string> texture_names() const;
-    bool has(const std::string& name) const { return resources_->has(name); }
-    FrameResources& resources() { return *resources_; }
+    bool has(const std::string& name) const;
+    FrameResources& resources();
+    // Frees the frame's own textures now (later reads raise); idempotent.
+    void release();
+    bool released() const { return !resources_; }
+    size_t gpu_bytes() const { return resources_ ? resources_->bytes() : 0; }
+    uint64_t serial = 0;  // which render made it: scratch textures name the frame they hold
 
     std::map<std::string, double> timings;  // GPU milliseconds per pass (and per part)
     double wall_ms = 0.0;                   // CPU time of Renderer::render, GPU finished

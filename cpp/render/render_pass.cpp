@@ -1,21 +1,44 @@
 #include "render/render_pass.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/errors.h"
 
 namespace ssr {
 
+size_t texture_bytes(const ResourceDesc& d) {
+    size_t texel = 16;
+    switch (d.format) {
+        case GL_R8: texel = 1; break;
+        case GL_R32F: case GL_DEPTH_COMPONENT32F: case GL_RGBA8: case GL_SRGB8_ALPHA8: case GL_RG16F: texel = 4; break;
+        case GL_RG32F: case GL_RGBA16F: texel = 8; break;
+        default: texel = 16; break;  // RGBA32F and anything wider: an upper bound
+    }
+    const int levels = d.levels > 0 ? d.levels : 1 + int(std::floor(std::log2(double(std::max({d.width, d.height, 1})))));
+    size_t texels = 0;
+    for (int l = 0; l < levels; ++l) texels += size_t(std::max(d.width >> l, 1)) * size_t(std::max(d.height >> l, 1));
+    return texels * size_t(std::max(d.layers, 1)) * texel;
+}
+
+size_t FrameResources::bytes() const {
+    size_t total = 0;
+    for (const auto& d : descs_) total += texture_bytes(d);
+    return total;
+}
+
 Texture& FrameResources::get(const std::string& name) {
     auto it = textures_.find(name);
-    if (it == textures_.end()) throw GLError("frame has no texture '" + name + "'");
-    return it->second;
+    if (it != textures_.end()) return it->second;
+    if (scratch_ && scratch_->has(name)) return scratch_->get(name);
+    throw GLError("frame has no texture '" + name + "'");
 }
 
 const Texture& FrameResources::get(const std::string& name) const {
     auto it = textures_.find(name);
-    if (it == textures_.end()) throw GLError("frame has no texture '" + name + "'");
-    return it->second;
+    if (it != textures_.end()) return it->second;
+    if (scratch_ && scratch_->has(name)) return static_cast<const FrameResources*>(scratch_)->get(name);
+    throw GLError("frame has no texture '" + name + "'");
 }
 
 void FrameResources::allocate(const std::vector<ResourceDesc>& descs) {

@@ -34,12 +34,22 @@ struct ResourceDesc {
     }
 };
 
-// The textures of one frame, by name.
+// GPU bytes of a texture described by `d` (every mip level and layer).
+size_t texture_bytes(const ResourceDesc& d);
+
+// The textures of one frame, by name. While a chain runs, the renderer attaches its
+// per-renderer scratch set (shadow map, Hi-Z pyramid: textures no one reads after the frame,
+// issue 8): get() and has() fall back to it, descs() and bytes() list the frame's own only.
 class FrameResources {
 public:
     Texture& get(const std::string& name);
     const Texture& get(const std::string& name) const;
-    bool has(const std::string& name) const { return textures_.count(name) != 0; }
+    bool has(const std::string& name) const {
+        return textures_.count(name) != 0 || (scratch_ && scratch_->has(name));
+    }
+    bool owns(const std::string& name) const { return textures_.count(name) != 0; }
+    void attach_scratch(FrameResources* scratch) { scratch_ = scratch; }
+    size_t bytes() const;
     void allocate(const std::vector<ResourceDesc>& descs);
     // Adds (or replaces) textures after allocation, e.g. a reference computed for a frame.
     void add(const std::vector<ResourceDesc>& descs);
@@ -48,6 +58,7 @@ public:
 private:
     std::map<std::string, Texture> textures_;
     std::vector<ResourceDesc> descs_;
+    FrameResources* scratch_ = nullptr;
 };
 
 // What a pass may use while it executes.

@@ -4,6 +4,9 @@
 #include <chrono>
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
+#if defined(__GLIBC__)
+#include <malloc.h>  // malloc_trim
+#endif
 
 #include "core/errors.h"
 #include "render/ssr_uniforms.h"
@@ -19,6 +22,10 @@ constexpr size_t kMaxWarmedVariants = 1024;  // forgotten (and warmed again) bey
 constexpr int kSpecularAlbedoSize = 32;
 constexpr int kSpecularAlbedoUnit = 13;
 constexpr unsigned kSpecularAlbedoSamples = 4096;
+// llvmpipe keeps textures in host memory from malloc; glibc keeps freed blocks in its heap,
+// so memory of dropped frames stayed with the process (6.9 GB after 400 kept-then-dropped
+// frames, issue 8) until malloc_trim returns it, once this much was freed since the last trim.
+constexpr size_t kTrimBytes = size_t(8) << 20;
 }  // namespace
 
 std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std::string& shader_dir) {
@@ -54,6 +61,7 @@ void Renderer::destroy_gl_objects() {
     readback_sampler_ = 0;
     scenes_.clear();
     pool_.clear();
+    scratch_ = FrameResources();
     frame_ubo_.reset();
     ssr_ubo_.reset();
     lights_ssbo_.reset();
@@ -83,7 +91,12 @@ std::shared_ptr<FrameResources> Renderer::acquire(const std::vector<ResourceDesc
     // when its descriptions match.
     for (auto& r : pool_)
         if (r.use_count() == 1 && r->descs() == descs) return r;
-    pool_.erase(std::remove_if(pool_.begin(), pool_.end(), [](const auto& r) { return r.use_count() == 1; }),
+    pool_.erase(std::remove_if(pool_.begin(), pool_.end(),
+                               [&](const auto& r) {
+                                   if (r.use_count() != 1) return false;
+                                   freed_since_trim_ += r->bytes();
+                                   return true;
+                               }),
                 pool_.end());
     auto fresh = std::make_shared<FrameResources>();
     fresh->allocate(descs);
@@ -242,7 +255,18 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
             written.insert(d.name);
         }
     }
-    auto resources = acquire(descs);
+    // Scratch textures (shadow map, Hi-Z) live once per renderer; the frame gets the rest.
+    std::vector<ResourceDesc> own, scratch;
+    for (const auto& d : descs) (is_scratch(d.name) ? scratch : own).push_back(d);
+    auto resources = acquire(own);
+    scratch_.add(scratch);
+    const uint64_t serial = next_serial_++;
+    for (const auto& d : scratch) scratch_owner_.erase(d.name);  // until the chain has written them
+    resources->attach_scratch(&scratch_);
+    struct Detach {
+        FrameResources& r;
+        ~Detach() { r.attach_scratch(nullptr); }
+    } detach{*resources};
     check_gl(*ctx_, "frame allocation");
 
     Defines defines;
@@ -289,13 +313,54 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->scene_id = scene.id();
     frame->scene_revision = scene.revision();
     frame->shadow_light = shadow.enabled ? shadow.light : -1;
+    frame->serial = serial;
+    for (const auto& d : scratch) scratch_owner_[d.name] = serial;
     frame->wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
-    // Keep at most kPoolSize idle sets.
+    recycle();
+    return frame;
+}
+
+bool Renderer::is_scratch(const std::string& name) {
+    // Read by later passes of the same frame only. Python may still read them right after the
+    // render (tests look at the pyramid), and the reference pass re-renders the shadow map.
+    return name == "shadow_map" || name == "hiz";
+}
+
+const Texture* Renderer::scratch_of(const std::string& name, uint64_t serial) const {
+    auto it = scratch_owner_.find(name);
+    if (it == scratch_owner_.end() || it->second != serial || !scratch_.owns(name)) return nullptr;
+    return &scratch_.get(name);
+}
+
+std::vector<std::string> Renderer::scratch_names_of(uint64_t serial) const {
+    std::vector<std::string> names;
+    for (const auto& [name, owner] : scratch_owner_)
+        if (owner == serial && scratch_.owns(name)) names.push_back(name);
+    return names;
+}
+
+void Renderer::recycle(bool force) {
+    CurrentContext current(*ctx_);
     size_t idle = 0;
     pool_.erase(std::remove_if(pool_.begin(), pool_.end(),
-                               [&](const auto& r) { return r.use_count() == 1 && ++idle > kPoolSize; }),
+                               [&](const auto& r) {
+                                   if (r.use_count() != 1 || ++idle <= kPoolSize) return false;
+                                   freed_since_trim_ += r->bytes();
+                                   return true;
+                               }),
                 pool_.end());
-    return frame;
+#if defined(__GLIBC__)
+    if (freed_since_trim_ >= kTrimBytes || (force && freed_since_trim_ > 0)) {
+        malloc_trim(0);
+        freed_since_trim_ = 0;
+    }
+#endif
+}
+
+size_t Renderer::gpu_bytes() const {
+    size_t total = scratch_.bytes();
+    for (const auto& r : pool_) total += r->bytes();
+    return total;
 }
 
 void Renderer::check_errors() {
@@ -334,9 +399,28 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
     bind_specular_albedo();
 
-    if (frame.shadow_light >= 0 && !traced_shadows && !frame.has("shadow_map"))
-        throw std::invalid_argument("reference: the frame's shadow map is gone; use traced shadows");
-    ReferencePass pass(per_ray, frame.shadow_light >= 0, traced_shadows, rays, viewer_is_ray);
+    const bool shadows = frame.shadow_light >= 0;
+    if (shadows && !traced_shadows && !scratch_of("shadow_map", frame.serial)) {
+        // The shared shadow map holds a later frame's (or none): render this frame's again. The
+        // scene is the frame's own (same revision, checked above) and the fit depends only on
+        // the scene and the settings, so the map is the one the frame was lit with.
+        const ShadowSetup setup = ShadowMapPass::fit(scene, gs.bounds(), s);
+        scratch_.add(shadow_map_.outputs(s));
+        shadow_map_.set_setup(setup);
+        const DepthConvention dc{s.depth_mode};
+        Defines d;
+        dc.add_defines(d);
+        FrameContext sfc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, dc, frame.uniforms, scratch_, d};
+        shadow_map_.execute(sfc);
+        check_gl(*ctx_, "shadow_map (again, for the reference)");
+        scratch_owner_["shadow_map"] = frame.serial;
+    }
+    frame.resources().attach_scratch(&scratch_);
+    struct Detach {
+        FrameResources& r;
+        ~Detach() { r.attach_scratch(nullptr); }
+    } detach{frame.resources()};
+    ReferencePass pass(per_ray, shadows, traced_shadows, rays, viewer_is_ray);
     CompositePass composite(true, "reference.reflection", "reference.color", "reference.direct");
     std::vector<RenderPass*> chain = {&pass};
     if (!per_ray) chain.push_back(&composite);
@@ -360,7 +444,8 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     timer_.begin_frame();
     for (RenderPass* p : chain) {
         for (const auto& in : p->inputs())
-            if (!frame.has(in)) throw GLError("pass " + p->name() + " reads '" + in + "', which the frame lacks");
+            if (!frame.resources().has(in))
+                throw GLError("pass " + p->name() + " reads '" + in + "', which the frame lacks");
         {
             GpuScope t(timer_, p->name());
             p->execute(fc);
@@ -442,24 +527,53 @@ Frame::~Frame() {
     try {
         CurrentContext current(*ctx_);
         resources_.reset();
+        if (auto r = renderer_.lock()) r->recycle();
     } catch (...) {
     }
 }
 
+void Frame::release() {
+    if (!resources_) return;
+    CurrentContext current(*ctx_);
+    resources_.reset();
+    if (auto r = renderer_.lock()) r->recycle(true);
+}
+
+FrameResources& Frame::resources() {
+    if (!resources_) throw std::invalid_argument("this frame was released (Frame.release()); its textures are gone");
+    return *resources_;
+}
+
+bool Frame::has(const std::string& name) const {
+    if (!resources_) return false;
+    if (resources_->owns(name)) return true;
+    auto r = renderer_.lock();
+    return r && r->scratch_of(name, serial) != nullptr;
+}
+
 Readback Frame::read(const std::string& name, int level) {
+    if (!resources_)
+        throw std::invalid_argument("cannot read '" + name + "': this frame was released (Frame.release()); read "
+                                    "what you need before releasing it");
     auto r = renderer_.lock();
     if (!r) throw GLError("the Renderer that made this frame has been closed; read what you need before closing it");
-    if (!resources_->has(name)) {
-        std::string known;
-        for (const auto& n : texture_names()) known += (known.empty() ? "" : ", ") + n;
-        throw std::invalid_argument("frame has no texture '" + name + "' (it has: " + known + ")");
-    }
-    return r->read_texture(resources_->get(name), level);
+    if (resources_->owns(name)) return r->read_texture(resources_->get(name), level);
+    if (const Texture* t = r->scratch_of(name, serial)) return r->read_texture(*t, level);
+    if (Renderer::is_scratch(name))
+        throw std::invalid_argument("'" + name + "' is per-renderer scratch shared by all frames, and a later render "
+                                    "has overwritten it (or this frame did not make one): read it right after "
+                                    "rendering the frame");
+    std::string known;
+    for (const auto& n : texture_names()) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("frame has no texture '" + name + "' (it has: " + known + ")");
 }
 
 std::vector<std::string> Frame::texture_names() const {
     std::vector<std::string> names;
+    if (!resources_) return names;
     for (const auto& d : resources_->descs()) names.push_back(d.name);
+    if (auto r = renderer_.lock())
+        for (const auto& n : r->scratch_names_of(serial)) names.push_back(n);
     return names;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <list>
+#include <map>
 #include <set>
 #include <memory>
 #include <string>
@@ -58,6 +59,20 @@ public:
     // Used by Frame::read: copies a texture level into host memory through readback.comp.
     Readback read_texture(const Texture& tex, int level);
 
+    // Per-renderer scratch (issue 8): textures no one reads after the frame, shared by all
+    // frames instead of one copy per kept frame.
+    static bool is_scratch(const std::string& name);
+    // The scratch texture `name` if it still holds frame `serial`'s content, else null.
+    const Texture* scratch_of(const std::string& name, uint64_t serial) const;
+    std::vector<std::string> scratch_names_of(uint64_t serial) const;
+    // Drops idle texture sets beyond the pool's size and gives freed heap memory back to the
+    // OS (malloc_trim) once enough was freed, or at once with force. Frames call it when they
+    // release or die.
+    void recycle(bool force = false);
+    // GPU bytes held: every frame texture set (live or pooled) plus scratch.
+    size_t gpu_bytes() const;
+    size_t scratch_bytes() const { return scratch_.bytes(); }
+
 private:
     Renderer(const std::string& device, const std::string& shader_dir);
     const GpuScene& gpu_scene(const Scene& scene);
@@ -84,6 +99,10 @@ private:
     std::list<CachedScene> scenes_;  // most recently used first
     std::vector<std::shared_ptr<FrameResources>> pool_;
     std::set<std::string> warmed_variants_;  // variants whose first-use costs were paid untimed
+    FrameResources scratch_;                        // shadow map, hiz: see is_scratch
+    std::map<std::string, uint64_t> scratch_owner_;  // scratch name -> serial of the frame it holds
+    uint64_t next_serial_ = 1;
+    size_t freed_since_trim_ = 0;  // bytes of texture sets freed since the last malloc_trim
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;

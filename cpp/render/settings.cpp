@@ -92,7 +92,11 @@ void RenderSettings::validate() const {
           "Settings.shadow_normal_offset must be finite and >= 0");
     check(shadow_pcf_radius >= 0 && shadow_pcf_radius <= 4,
           "Settings.shadow_pcf_radius must be in [0, 4], got " + std::to_string(shadow_pcf_radius));
-    auto range = [](double v, double lo, double hi, const char* name) {
+    // The fields are float32 while the documented bounds are decimal doubles: 1e-6 as a float
+    // is 9.99999997e-7 < 1e-6, so comparing in double rejected the documented lower bounds
+    // themselves (issue 8). Bounds are rounded to float first, the precision of the field.
+    auto range = [](double v, double lo_d, double hi_d, const char* name) {
+        const double lo = double(float(lo_d)), hi = double(float(hi_d));
         check(std::isfinite(v) && v >= lo && v <= hi,
               std::string("Settings.") + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
                   "], got " + std::to_string(v));
@@ -109,7 +113,9 @@ void RenderSettings::validate() const {
     range(hiz_start_level, 0, 15, "hiz_start_level");
     range(hiz_stop_level, 0, 15, "hiz_stop_level");
     range(hiz_max_level, 0, 15, "hiz_max_level");
-    check(hiz_stop_level <= hiz_max_level, "Settings.hiz_stop_level must be <= Settings.hiz_max_level");
+    check(hiz_stop_level <= hiz_max_level,
+          "Settings.hiz_stop_level (" + std::to_string(hiz_stop_level) + ") must be <= Settings.hiz_max_level (" +
+              std::to_string(hiz_max_level) + ")");
     range(hiz_linear_steps, 0, 64, "hiz_linear_steps");
     range(hiz_crossing_offset, 1e-5, 0.5, "hiz_crossing_offset");
     check(downscale == 1 || downscale == 2 || downscale == 4,

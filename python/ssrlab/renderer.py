@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import warnings
+import weakref
 from importlib import resources
 from pathlib import Path
 
@@ -43,6 +44,18 @@ class Renderer:
         folder = Path(shader_dir) if shader_dir is not None else globals()["shader_dir"]()
         self._native = _core.Renderer(device=device, shader_dir=str(folder))
         self.device = device
+        self._frames: "weakref.WeakSet[Frame]" = weakref.WeakSet()
+
+    @property
+    def live_frames(self) -> list["Frame"]:
+        """The frames of this renderer still alive and not released (each holds its textures)."""
+        return [f for f in list(self._frames) if not f.released]
+
+    @property
+    def gpu_bytes(self) -> int:
+        """Bytes of GPU textures held: every live frame's, the pool of idle texture sets kept
+        for reuse (at most 4) and the scratch shared by all frames (shadow map, Hi-Z)."""
+        return int(self._native.gpu_bytes)
 
     @functools.cached_property
     def info(self) -> dict:
@@ -64,12 +77,14 @@ class Renderer:
             camera = scene.camera
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
+        _warn_depth_precision(camera, settings)
         native = self._native.render(scene, camera, settings.to_native())
         frame = Frame(native, settings, renderer=self, scene=scene)
         if settings.method != "off" and not any(p.startswith("trace") for p in native.passes):
             warnings.warn(f"render traced no reflection rays: no surface of scene {scene.name!r} reflects "
                           "(every material has reflectivity 0; glTF materials reflect by default with "
                           "reflectivity='auto')", NoReflectionWarning, stacklevel=2)
+        self._frames.add(frame)
         return frame
 
     def prepare(self, settings: Settings | None = None, scene=None, camera=None) -> None:
@@ -125,6 +140,35 @@ class Frame:
         self._scene = scene
         self._cache: dict[str, np.ndarray] = {}
 
+    # -- lifetime -------------------------------------------------------------------------------
+    def release(self) -> None:
+        """Frees this frame's textures now (and its cached arrays); later reads raise
+        ValueError. Scratch shared with other frames is not the frame's to free. Idempotent."""
+        self._cache.clear()
+        self.__dict__.pop("gbuffer", None)
+        self.__dict__.pop("rays", None)
+        self._native.release()
+
+    @property
+    def released(self) -> bool:
+        return bool(self._native.released)
+
+    @property
+    def gpu_bytes(self) -> int:
+        """Bytes of the GPU textures this frame holds (0 once released)."""
+        return int(self._native.gpu_bytes)
+
+    def __enter__(self) -> "Frame":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
+    def _check_live(self, what: str) -> None:
+        if self._native.released:
+            raise ValueError(f"cannot read {what}: this frame was released (Frame.release() or the end of its "
+                             "with block); read what you need before releasing it")
+
     # -- metadata -------------------------------------------------------------------------------
     @property
     def timings(self) -> dict[str, float]:
@@ -173,6 +217,7 @@ class Frame:
     # -- images -------------------------------------------------------------------------------
     def read(self, name: str, level: int = 0) -> np.ndarray:
         """Every layer of a texture as float32 (layers, height, width, 4), cached."""
+        self._check_live(repr(name))
         key = f"{name}@{level}"
         if key not in self._cache:
             self._cache[key] = self._native.read(name, level)
@@ -187,6 +232,7 @@ class Frame:
     def reflection(self) -> np.ndarray:
         """The resolved reflection colour c_r, float32 (height, width, 3); 0 where a pixel does
         not reflect (or nothing was traced)."""
+        self._check_live("the reflection")
         if "reflection" not in self.texture_names:
             return np.zeros((self.settings.height, self.settings.width, 3), np.float32)
         return self.read("reflection")[0, :, :, :3]
@@ -198,6 +244,7 @@ class Frame:
     @functools.cached_property
     def rays(self) -> "RayResults":
         """Per-ray results of the trace pass (raises if the frame traced no rays)."""
+        self._check_live("the rays")
         if "rays.hit" not in self.texture_names:
             raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
         return RayResults(self)
@@ -229,6 +276,7 @@ class Frame:
 
         if self._renderer is None or self._scene is None:
             raise ValueError("this frame does not know its renderer and scene")
+        self._check_live("a reference")
         if kind == "per_ray":
             timings = self._renderer._native.reference(self._scene, self._native, "per_ray", 1, seed, sampling,
                                                       viewer, shadows)
@@ -389,3 +437,28 @@ class RayResults:
         """Mean depth fetches per traced ray."""
         m = np.broadcast_to(self.traced, self.steps.shape)
         return float(self.steps[m].mean()) if m.any() else 0.0
+
+
+# The largest far/near ratio at which depth_mode="standard" keeps SSR hit positions within a
+# pixel of the per-ray reference for both tracers, as measured by benchmarks/depth_precision.py
+# on llvmpipe at 320x180 (README, "Depth precision": Hi-Z up to 1e6, linear up to 1e7 with
+# 0.87 px). Beyond it the float depth buffer's few distinct values near 1 (seed 000 2.3.4;
+# seed 002 4.6.3) show as acne and false hits; reversed-Z held to 1e8.
+STANDARD_DEPTH_SAFE_RATIO = 1e6
+
+
+class DepthPrecisionWarning(UserWarning):
+    """A camera's near/far ratio is beyond what the chosen depth convention resolves."""
+
+
+def _warn_depth_precision(camera, settings: Settings) -> None:
+    if settings.depth_mode != "standard":
+        return
+    near, far = float(camera.near), float(camera.far)
+    # (1 + 1e-6): a ratio of exactly the safe one, after float32 rounding of near and far, is safe
+    if near > 0 and far / near > STANDARD_DEPTH_SAFE_RATIO * (1 + 1e-6):
+        warnings.warn(
+            f"the camera's far/near ratio is {far / near:.3g} (near {near:g}, far {far:g}), beyond the "
+            f"{STANDARD_DEPTH_SAFE_RATIO:.0e} up to which depth_mode='standard' keeps reflection hits within a "
+            "pixel; expect depth acne and false hits. Use Settings(depth_mode=\"reversed_z\"), or move the "
+            "near plane out.", DepthPrecisionWarning, stacklevel=3)

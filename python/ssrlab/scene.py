@@ -21,6 +21,68 @@ def _matrix(transform) -> np.ndarray:
     return m
 
 
+_REAL_KINDS = "iuf"  # numpy dtype kinds that are real numbers; bool, complex, text, objects and dates are not
+
+
+def _as_array(value, what: str) -> np.ndarray:
+    try:
+        a = np.asarray(value)
+    except (ValueError, TypeError) as e:  # ragged nested lists and the like
+        raise ValueError(f"{what} is not a rectangular array: {e}") from None
+    if a.dtype.kind not in _REAL_KINDS:
+        kind = {"b": "bool", "c": "complex", "U": "string", "S": "bytes", "O": "object", "M": "datetime",
+                "m": "timedelta", "V": "structured"}.get(a.dtype.kind, str(a.dtype))
+        raise TypeError(f"{what} must hold real numbers (integer or float), got a {kind} array (dtype {a.dtype})")
+    return a
+
+
+def _vertex_rows(value, what: str, columns: int, vertices: int | None = None) -> np.ndarray:
+    """A float32 (n, columns) array of finite values, or an error naming `what`."""
+    a = _as_array(value, what)
+    if a.ndim != 2 or a.shape[1] != columns:
+        raise ValueError(f"{what} must be an array of shape (n, {columns}), got shape {a.shape}")
+    if vertices is not None and a.shape[0] != vertices:
+        raise ValueError(f"{what} has {a.shape[0]} rows, expected {vertices} (one per vertex)")
+    with np.errstate(over="ignore", invalid="ignore"):
+        f = np.ascontiguousarray(a, dtype=np.float32)  # values beyond float32's range become inf: caught next
+    bad = ~np.isfinite(f)
+    if bad.any():
+        row, col = (int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(f"{what} must be finite (no NaN or Inf, within float32's range): row {row}, component {col} is "
+                         f"{a[row, col].item()!r} ({int(bad.any(axis=1).sum())} rows affected)")
+    return f
+
+
+def _index_array(value, vertices: int) -> np.ndarray:
+    """A uint32 index array of shape (m, 3) or (3m,), every value an existing vertex."""
+    a = _as_array(value, "indices")
+    if a.size == 0:
+        raise ValueError("indices is an empty array; pass indices=None for a non-indexed triangle list")
+    if not (a.ndim == 1 or (a.ndim == 2 and a.shape[1] == 3)):
+        raise ValueError(f"indices must have shape (m, 3) or (3m,), got shape {a.shape}")
+    if a.ndim == 1 and a.size % 3:
+        raise ValueError(f"indices has {a.size} values, not a multiple of 3 (one triangle per 3)")
+    flat = a.reshape(-1)
+
+    def where(i: int) -> str:
+        return f"at position {i} (triangle {i // 3}, corner {i % 3})"
+
+    if a.dtype.kind == "f":
+        bad = ~np.isfinite(flat) | (flat != np.floor(flat))
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(f"indices must be whole numbers: {flat[i].item()!r} {where(i)}")
+    neg = flat < 0
+    if neg.any():
+        i = int(np.argmax(neg))
+        raise ValueError(f"indices must be >= 0: {flat[i].item()!r} {where(i)}")
+    big = flat >= vertices
+    if big.any():
+        i = int(np.argmax(big))
+        raise ValueError(f"index {flat[i].item()!r} {where(i)} is out of range ({vertices} vertices)")
+    return np.ascontiguousarray(flat, dtype=np.uint32).reshape(a.shape)
+
+
 class Scene(_core.Scene):
     """A scene. Objects are meshes with a transform and a material; ``add_*`` return the new
     object's index (``add_gltf`` a list of them)."""
@@ -42,9 +104,22 @@ class Scene(_core.Scene):
                  material: Material | None = None, transform=None, name: str = "mesh") -> int:
         """Adds a triangle mesh from arrays: positions (n, 3); indices (m, 3) or (3m,) — or None
         for a non-indexed list; optional normals (n, 3, computed when absent), uvs (n, 2),
-        tangents (n, 4)."""
-        return self._add_mesh(positions, indices, normals, uvs, tangents, material or Material(),
-                              _matrix(transform), name)
+        tangents (n, 4).
+
+        Every array must hold real numbers (TypeError for bool, complex, text, object or date
+        arrays) and be finite (ValueError naming the array and the first bad row); indices must
+        be whole numbers of existing vertices, and an empty index array is an error (None means
+        non-indexed). Normals may be zero (they are replaced by +y) but not NaN.
+        """
+        p = _vertex_rows(positions, "positions", 3)
+        n = p.shape[0]
+        if n == 0:
+            raise ValueError("positions is empty: a mesh needs vertices")
+        idx = None if indices is None else _index_array(indices, n)
+        nrm = None if normals is None else _vertex_rows(normals, "normals", 3, n)
+        uv = None if uvs is None else _vertex_rows(uvs, "uvs", 2, n)
+        tan = None if tangents is None else _vertex_rows(tangents, "tangents", 4, n)
+        return self._add_mesh(p, idx, nrm, uv, tan, material or Material(), _matrix(transform), name)
 
     def add_plane(self, center=(0.0, 0.0, 0.0), size=(1.0, 1.0), *, normal=(0.0, 1.0, 0.0),
                   material: Material | None = None, uv_tiles: float = 1.0, name: str = "plane",

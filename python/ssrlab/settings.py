@@ -154,6 +154,18 @@ class Settings:
         "materials): the physically based image", choices=("linear", "pbr"), group="fades")
 
     # ---------------------------------------------------------------------------------------------
+    def __post_init__(self) -> None:
+        # Construction, replace() and from_dict() end here: the fields are checked one by one
+        # by __setattr__, the constraints between fields here (see CONSTRAINTS).
+        self.check_constraints()
+
+    def check_constraints(self) -> None:
+        """Raises ValueError naming both fields when a constraint between fields (CONSTRAINTS)
+        fails. Checked when Settings is built or replaced and again before every render (single
+        assignments are checked per field only, so that related fields can be set in turn)."""
+        for c in CONSTRAINTS:
+            c.check(self)
+
     def __setattr__(self, name: str, value: Any) -> None:
         # Every assignment, the dataclass __init__'s included, goes through the field's check.
         spec = _FIELDS.get(name)
@@ -183,6 +195,7 @@ class Settings:
         return json.dumps(self.to_dict(), sort_keys=True)
 
     def to_native(self) -> "_core.RenderSettings":
+        self.check_constraints()
         native = _core.RenderSettings()
         for name in _NATIVE_FIELDS:
             setattr(native, name, getattr(self, name))
@@ -205,6 +218,10 @@ class Settings:
                 rng = f"[{m['lo']}, {m['hi']}]" + (f" or {m['off']} (off)" if m["off"] is not None else "")
             unit = f" {m['unit']}" if m["unit"] else ""
             lines.append(f"  {f.name} = {f.default!r}{unit}  {rng}\n      {m['doc']}")
+        lines.append("\n[constraints] (between fields; checked when Settings is built or replaced, and at render)")
+        for c in CONSTRAINTS:
+            lines.append(f"  {c.rule}\n      {c.why}")
+        lines.append("  (allowed) fade_camera_end <= fade_camera_start\n      switches the fade toward the camera off")
         return "\n".join(lines).lstrip("\n")
 
 
@@ -246,6 +263,43 @@ def _check(f: dataclasses.Field, value: Any) -> Any:
         raise ValueError(f"{name} must be in [{lo}, {hi}]{unit}{off}, got {value!r}")
     return value
 
+
+@dataclass(frozen=True)
+class Constraint:
+    """A rule between fields: `rule` as users read it, `ok(settings)` the test, `why` what
+    breaks otherwise."""
+    fields: tuple
+    rule: str
+    ok: Any
+    why: str
+
+    def check(self, s: "Settings") -> None:
+        if not self.ok(s):
+            got = ", ".join(f"{n}={getattr(s, n)!r}" for n in self.fields)
+            raise ValueError(f"Settings: {self.rule} is violated ({got}); {self.why}")
+
+
+# Every cross-field rule, also enforced (where a pass depends on it) by the native
+# RenderSettings::validate(). Rules whose violation the renderer would silently ignore (a
+# clamped level, a fade that never happens) are errors too, so that a setting always acts.
+CONSTRAINTS = (
+    Constraint(("hiz_stop_level", "hiz_max_level"), "hiz_stop_level <= hiz_max_level",
+               lambda s: s.hiz_stop_level <= s.hiz_max_level,
+               "the traversal never descends below the stop level, so it cannot stop above the coarsest level"),
+    Constraint(("hiz_start_level", "hiz_max_level"), "hiz_start_level <= hiz_max_level",
+               lambda s: s.hiz_start_level <= s.hiz_max_level,
+               "a start level above the coarsest level would be clamped to it without a word"),
+    Constraint(("fade_distance_start", "fade_distance_end"),
+               "fade_distance_end > fade_distance_start when fade_distance_start > 0",
+               lambda s: s.fade_distance_start == 0.0 or s.fade_distance_end > s.fade_distance_start,
+               "the distance fade runs from start to end; with end <= start it would never happen"),
+    Constraint(("fade_distance_start", "fade_distance_end"),
+               "fade_distance_end == 0 when fade_distance_start == 0",
+               lambda s: s.fade_distance_start > 0.0 or s.fade_distance_end == 0.0,
+               "fade_distance_start = 0 switches the distance fade off, so an end distance would be ignored; "
+               "set fade_distance_start > 0 to fade"),
+)
+# Documented, not an error: fade_camera_end <= fade_camera_start switches the camera fade off.
 
 _FIELDS = {f.name: f for f in fields(Settings)}
 _NATIVE_FIELDS = [n for n in _FIELDS if hasattr(_core.RenderSettings(), n)]

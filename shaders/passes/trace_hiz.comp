@@ -86,6 +86,10 @@ HizHit trace_hiz(ReflectionRay ray) {
     vec3 o = vec3(a.xy, screen_depth_of_view(-ray.origin.z));
     vec3 e = vec3(b.xy, screen_depth_of_view(-end.z));
     e = mix(o, e, screen_exit(o.xy, e.xy, frame.viewport.xy));
+    // Issue 8: an origin pushed off its surface by a large origin_bias can project outside the
+    // image, where the pyramid has no cells (texelFetch outside a level is undefined and gave
+    // hits off the screen): such a ray is not traced.
+    if (any(lessThan(o.xy, vec2(0.0))) || any(greaterThanEqual(o.xy, frame.viewport.xy))) return result;
     o.xy = floor(o.xy) + 0.5;  // snap the origin to its pixel centre: never on a cell edge
     vec3 v = e - o;
     float major = max(abs(v.x), abs(v.y));
@@ -121,7 +125,7 @@ HizHit trace_hiz(ReflectionRay ray) {
             vec2 lo, hi;
             hiz_cell_bounds(cell, level, lo, hi);
             result.hit = true;
-            result.pixel = clamp(o.xy + v.xy * th, lo, hi - 0.001);
+            result.pixel = clamp(o.xy + v.xy * th, lo + 0.001, hi - 0.001);  // off the cell's edges (issue 8)
             result.layer = layer;
             result.s = front;
             return result;

@@ -104,7 +104,11 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         qz += dqz;
         k += dk;
         if (p.x * step_dir > end_x) break;
-        float z_next = -(qz + 0.5 * dqz) / (k + 0.5 * dk);  // half a step on
+        // Half a step on, but not past the segment's end (issue 8): beyond it 1/w (k) of a ray
+        // running toward its vanishing point can reach 0 or less, and the step's depth range
+        // then spanned everything in front of the origin, a false hit far off the ray.
+        float half_step = clamp((end_x - p.x * step_dir) / ssr.stride, 0.0, 0.5);
+        float z_next = -(qz + half_step * dqz) / (k + half_step * dk);
         float lo = min(z_prev, z_next), hi = max(z_prev, z_next);
         z_prev = z_next;
         float thick = ssr.thickness_mode == THICKNESS_RAY_STEP ? max(ssr.thickness, ssr.thickness_scale * (hi - lo))
@@ -140,7 +144,9 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         vec2 hp = p + dp * s;
         hp = permute ? hp.yx : hp;
         result.hit = true;
-        result.pixel = clamp(hp, vec2(pixel), vec2(pixel) + 0.999);  // stay in the pixel whose surface was hit
+        // Stay inside the pixel whose surface was hit, off its edges too (issue 8): a hit exactly on
+        // the lower edge read back as the neighbouring row in hit_uv's top-down convention.
+        result.pixel = clamp(hp, vec2(pixel) + 0.001, vec2(pixel) + 0.999);
         result.layer = layer;
         result.depth = surface;
         return result;

@@ -1,0 +1,173 @@
+"""Issue 8: numpy input that is not real numeric data, and Settings' bounds and cross-field
+constraints, raise errors naming the argument or both fields."""
+
+import datetime
+
+import numpy as np
+import pytest
+
+import ssrlab
+
+TRI = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+
+
+@pytest.mark.parametrize("what", ["positions", "normals", "uvs", "tangents"])
+@pytest.mark.parametrize("bad", [
+    lambda shape: np.ones(shape, bool),
+    lambda shape: np.ones(shape, complex),
+    lambda shape: np.full(shape, "1.0"),
+    lambda shape: np.full(shape, b"1"),
+    lambda shape: np.full(shape, 1.0, dtype=object),
+    lambda shape: np.full(shape, np.datetime64("2020-01-01")),
+    lambda shape: np.full(shape, np.timedelta64(1, "s")),
+], ids=["bool", "complex", "str", "bytes", "object", "datetime", "timedelta"])
+def test_non_numeric_vertex_arrays_raise_type_error_naming_the_argument(what, bad):
+    columns = {"positions": 3, "normals": 3, "uvs": 2, "tangents": 4}[what]
+    arrays = {"positions": TRI}
+    arrays[what] = bad((3, columns))
+    s = ssrlab.Scene()
+    with pytest.raises(TypeError, match=what):
+        s.add_mesh(arrays.pop("positions"), [0, 1, 2], **arrays)
+    assert s.object_count == 0
+
+
+def test_datetime_objects_in_lists_are_rejected():
+    s = ssrlab.Scene()
+    with pytest.raises(TypeError, match="positions"):
+        s.add_mesh([[datetime.datetime(2020, 1, 1)] * 3] * 3, [0, 1, 2])
+
+
+@pytest.mark.parametrize("what", ["positions", "normals", "uvs", "tangents"])
+@pytest.mark.parametrize("value", [np.nan, np.inf, -np.inf, 1e39])
+def test_non_finite_vertex_data_raises_value_error(what, value):
+    columns = {"positions": 3, "normals": 3, "uvs": 2, "tangents": 4}[what]
+    a = np.ones((3, columns))
+    a[2, 1] = value
+    kw = {"positions": TRI.copy()}
+    kw[what] = a
+    with pytest.raises(ValueError, match=rf"{what} must be finite.*row 2, component 1"):
+        ssrlab.Scene().add_mesh(kw.pop("positions"), [0, 1, 2], **kw)
+
+
+def test_zero_normals_are_sanitised_and_render_finite(renderer):
+    s = ssrlab.Scene()
+    s.add_mesh(TRI, [0, 1, 2], normals=np.zeros((3, 3)))
+    n = s.object_mesh(0)["normals"]
+    assert np.all(np.isfinite(n)) and np.allclose(np.linalg.norm(n, axis=1), 1)
+
+
+@pytest.mark.parametrize("indices, message", [
+    (np.array([0, 1, 2.5]), r"whole numbers: 2.5 at position 2 \(triangle 0, corner 2\)"),
+    (np.array([0, np.nan, 2]), r"whole numbers: nan at position 1"),
+    (np.array([0, 1, np.inf]), r"whole numbers: inf at position 2"),
+    (np.array([0, 1, -1]), r">= 0: -1 at position 2"),
+    (np.array([[0, 1, 2], [0, 7, 1]]), r"index 7 at position 4 \(triangle 1, corner 1\) is out of range \(3 vertices\)"),
+    (np.array([0, 1, 2**40], np.int64), r"index 1099511627776 at position 2"),
+    (np.array([0, 1, 2**63 + 5], np.uint64), r"index 9223372036854775813 at position 2"),
+    (np.array([], np.int32), r"empty array; pass indices=None"),
+    (np.zeros((0, 3), np.int32), r"empty array"),
+    (np.array([0, 1, 2, 0]), r"not a multiple of 3"),
+    (np.zeros((2, 2), np.int32), r"shape \(m, 3\) or \(3m,\)"),
+])
+def test_bad_indices_report_the_value_and_position(indices, message):
+    with pytest.raises(ValueError, match=message):
+        ssrlab.Scene().add_mesh(TRI, indices)
+
+
+@pytest.mark.parametrize("indices", [np.array([True, False, True]), np.array([0, 1, 2], complex),
+                                     np.array(["0", "1", "2"])])
+def test_non_numeric_indices_raise_type_error(indices):
+    with pytest.raises(TypeError, match="indices"):
+        ssrlab.Scene().add_mesh(TRI, indices)
+
+
+def test_whole_float_indices_and_none_are_accepted():
+    s = ssrlab.Scene()
+    s.add_mesh(TRI, np.array([0.0, 1.0, 2.0]))
+    s.add_mesh(TRI, None)
+    s.add_mesh(TRI, np.array([[0, 1, 2]], np.uint16))
+    assert s.object_count == 3 and s.triangle_count == 3
+
+
+def test_native_binding_is_the_last_line():
+    """Behind Scene.add_mesh's Python checks, the native _add_mesh refuses the same input."""
+    s = ssrlab.Scene()
+    eye, mat = np.eye(4, dtype=np.float32), ssrlab.Material()
+    with pytest.raises(TypeError, match="positions"):
+        s._add_mesh(TRI.astype(complex), None, None, None, None, mat, eye, "x")
+    with pytest.raises(TypeError, match="indices"):
+        s._add_mesh(TRI, np.array([True, True, False]), None, None, None, mat, eye, "x")
+    with pytest.raises(ValueError, match="whole numbers"):
+        s._add_mesh(TRI, np.array([0, 1, 1.5]), None, None, None, mat, eye, "x")
+    with pytest.raises(ValueError, match="whole numbers"):
+        s._add_mesh(TRI, np.array([0, 1, np.nan]), None, None, None, mat, eye, "x")
+    with pytest.raises(ValueError, match="empty"):
+        s._add_mesh(TRI, np.array([], np.int64), None, None, None, mat, eye, "x")
+    assert s.object_count == 0
+
+
+# -- Settings ------------------------------------------------------------------------------------
+
+FLOAT_BOUNDS = [(f, end) for f, spec in ssrlab.settings._FIELDS.items()
+                if spec.metadata["lo"] is not None and spec.type in ("float", float) for end in ("lo", "hi")]
+
+
+@pytest.mark.parametrize("name, end", FLOAT_BOUNDS)
+def test_documented_float_bounds_are_accepted_by_the_native_validation(name, end):
+    value = ssrlab.settings._FIELDS[name].metadata[end]
+    kw = {name: value}
+    if name == "fade_distance_start" and value > 0:  # the distance fade's constraint ties the two
+        if value >= 1e7:
+            pytest.skip("start = 1e7 leaves no room for an end > start")
+        kw["fade_distance_end"] = 1e7
+    if name == "fade_distance_end" and value > 0:
+        kw["fade_distance_start"] = value / 2
+    ssrlab.Settings(**kw).to_native()  # "must be in [0.000001, ...], got 0.000001" before issue 8
+
+
+def test_issue_8_lower_bounds():
+    ssrlab.Settings(edge_depth_sigma=1e-6).to_native()
+    ssrlab.Settings(hiz_crossing_offset=1e-5).to_native()
+    with pytest.raises(ValueError, match="edge_depth_sigma"):
+        ssrlab.Settings(edge_depth_sigma=0.9e-6)
+
+
+@pytest.mark.parametrize("kw, fields", [
+    (dict(hiz_stop_level=5, hiz_max_level=3), ("hiz_stop_level", "hiz_max_level")),
+    (dict(hiz_start_level=4, hiz_max_level=3), ("hiz_start_level", "hiz_max_level")),
+    (dict(fade_distance_start=5.0, fade_distance_end=5.0), ("fade_distance_start", "fade_distance_end")),
+    (dict(fade_distance_start=5.0), ("fade_distance_start", "fade_distance_end")),
+    (dict(fade_distance_end=3.0), ("fade_distance_start", "fade_distance_end")),
+])
+def test_cross_field_constraints_name_both_fields(kw, fields):
+    for make in (lambda: ssrlab.Settings(**kw), lambda: ssrlab.Settings().replace(**kw),
+                 lambda: ssrlab.Settings.from_dict(kw)):
+        with pytest.raises(ValueError) as e:
+            make()
+        assert all(f in str(e.value) for f in fields), str(e.value)
+
+
+def test_constraints_are_checked_at_render_after_single_assignments(renderer):
+    s = ssrlab.Settings(width=16, height=16, method="hiz")
+    s.hiz_max_level = 2  # assignments are checked per field, so related fields can be set in turn...
+    s.hiz_start_level = 1
+    s.hiz_stop_level = 3
+    with pytest.raises(ValueError, match="hiz_stop_level.*hiz_max_level"):  # ...and together at render
+        renderer.render(ssrlab.scenes.mirror_test(), settings=s)
+    s.hiz_stop_level = 1
+    renderer.render(ssrlab.scenes.mirror_test(), settings=s)
+
+
+def test_valid_combinations_pass():
+    ssrlab.Settings(hiz_start_level=3, hiz_stop_level=3, hiz_max_level=3)
+    ssrlab.Settings(fade_distance_start=1.0, fade_distance_end=3.0)
+    ssrlab.Settings(fade_camera_start=0.9, fade_camera_end=0.5)  # documented: no camera fade
+
+
+def test_describe_lists_the_constraints():
+    text = ssrlab.Settings.describe()
+    assert "[constraints]" in text
+    for c in ssrlab.settings.CONSTRAINTS:
+        assert c.rule in text
+    assert "hiz_stop_level <= hiz_max_level" in text
+    assert "fade_camera_end <= fade_camera_start" in text
