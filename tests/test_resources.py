@@ -72,17 +72,17 @@ def test_scratch_is_readable_until_the_next_render(fresh):
 
 
 def test_reference_re_renders_the_shared_shadow_map(fresh):
-    """A per-ray reference of an older frame shades with that frame's shadow map, though a
+    """A per-ray reference (shadows="map") of an older frame shades with that frame's shadow map, though a
     later frame with another shadow-map size has overwritten the shared one."""
     scene = ssrlab.scenes.spheres_and_boxes()
     s = small(width=64, height=48, sampling="mirror")
     a = fresh.render(scene, settings=s)
-    first = a.reference("per_ray").radiance.copy()
+    first = a.reference("per_ray", shadows="map").radiance.copy()
     b = fresh.render(scene, settings=s.replace(shadow_map_size=256))
     assert "shadow_map" in b.passes and "shadow_map" not in a.texture_names
-    other = b.reference("per_ray").radiance
+    other = b.reference("per_ray", shadows="map").radiance
     assert np.abs(other - first).max() > 1e-3  # the shadow map's size shows in the shading...
-    again = a.reference("per_ray").radiance
+    again = a.reference("per_ray", shadows="map").radiance
     np.testing.assert_array_equal(first, again)  # ...and a's reference got a's shadow map back
 
 
