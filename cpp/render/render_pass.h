@@ -63,6 +63,11 @@ struct FrameContext {
     const FrameUniforms& uniforms;
     FrameResources& resources;
     Defines defines;  // common shader defines (depth convention, ...)
+    // The previous frame of a sequence (render/sequence.h): its textures and constants, null
+    // outside a sequence, on its first frame, or when its size or scene differ. Temporal passes
+    // only read them, so running the chain again (the untimed first-use run) is harmless.
+    const FrameResources* history = nullptr;
+    const FrameUniforms* history_uniforms = nullptr;
 };
 
 class RenderPass {

@@ -108,7 +108,12 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         }
         chain.push_back(&resolve_);
     }
-    chain.push_back(reflections ? &composite_reflections_ : &composite_plain_);
+    // Frames in time (issue 10): reprojection whenever a temporal technique is on, the
+    // reflection's temporal accumulation when there is a reflection to accumulate.
+    if (s.temporal_reflections) chain.push_back(&reproject_);
+    const bool temporal = reflections && s.temporal_reflections;
+    if (temporal) chain.push_back(&temporal_);
+    chain.push_back(temporal ? &composite_temporal_ : reflections ? &composite_reflections_ : &composite_plain_);
     return chain;
 }
 
@@ -181,7 +186,8 @@ void Renderer::upload_lights(const Scene& scene, const glm::mat4& view, int shad
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_ssbo_.id());
 }
 
-std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s) {
+std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s,
+                                        Sequence* sequence) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate();
     camera.validate();
@@ -249,6 +255,10 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     depth.add_defines(defines);
     defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
+    if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
+        fc.history = sequence->previous.get();
+        fc.history_uniforms = &sequence->previous_uniforms;
+    }
     auto frame = std::make_shared<Frame>(ctx_, weak_from_this(), resources);
     // Timings never include first-use costs. The first run of a variant (this chain, these
     // defines and texture sizes, this scene) compiles its programs, and drivers such as llvmpipe compile
@@ -290,6 +300,16 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->scene_revision = scene.revision();
     frame->shadow_light = shadow.enabled ? shadow.light : -1;
     frame->wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
+    // The frame becomes its sequence's history only now, after every run of the chain: the
+    // untimed first-use run and the timed run read the same history and write the same result.
+    if (sequence) {
+        sequence->previous = resources;
+        sequence->previous_uniforms = u;
+        sequence->previous_settings = s;
+        sequence->scene_id = scene.id();
+        sequence->scene_revision = scene.revision();
+        ++sequence->frames;
+    }
     // Keep at most kPoolSize idle sets.
     size_t idle = 0;
     pool_.erase(std::remove_if(pool_.begin(), pool_.end(),

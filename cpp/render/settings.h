@@ -73,6 +73,13 @@ struct RenderSettings {
     float roughness_cutoff = 1.0f;
     CompositeMode composite = CompositeMode::Linear;
 
+    // Frames in time (seed 000 4.4, seed 002 4.6.5 and 4.7.4); units in python/ssrlab/settings.py.
+    bool temporal_reflections = false;   // reproject + temporal passes: accumulate the resolved reflection
+    int temporal_max_history = 32;       // frames; the current frame weighs 1 / min(history, this)
+    float reject_depth = 0.05f;          // relative depth difference that rejects history; 0: off
+    float reject_normal = 0.9f;          // minimum normal cosine that keeps history; -1: off
+    bool reject_offscreen = true;        // history outside the previous image is rejected
+
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }
 

@@ -1,0 +1,128 @@
+"""Frames in time (issue 10): sequences, reprojection, temporal accumulation of reflections."""
+
+import numpy as np
+import pytest
+
+import ssrlab
+from ssrlab import analytic, metrics, scenes
+
+
+def _shifted(camera, offset):
+    o = np.asarray(offset, np.float64)
+    return ssrlab.Camera(position=tuple(np.asarray(camera.position) + o), target=tuple(np.asarray(camera.target) + o),
+                         up=tuple(camera.up), fov_y=camera.fov_y, near=camera.near, far=camera.far)
+
+
+# -- camera paths and settings (no rendering) -----------------------------------------------------------
+def test_camera_path_interpolates_keyframes_linearly():
+    path = ssrlab.CameraPath([(0, 1, 5), (2, 1, 5), (2, 3, 5)], [(0, 0, 0)], frames=5)
+    assert len(path) == 5
+    pos = np.array([tuple(c.position) for c in path])
+    np.testing.assert_allclose(pos, [(0, 1, 5), (1, 1, 5), (2, 1, 5), (2, 2, 5), (2, 3, 5)], atol=1e-6)
+    assert all(tuple(c.target) == (0, 0, 0) for c in path)
+    assert tuple(path[-1].position) == pytest.approx((2, 3, 5))
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(positions=[(0, 0, 1)], targets=[(0, 0, 0), (1, 0, 0)], frames=3), "targets"),
+    (dict(positions=[(0, 0, 1)], targets=[(0, 0, 0)], frames=0), "frames"),
+    (dict(positions=[(0, 0)], targets=[(0, 0, 0)], frames=2), "positions"),
+    (dict(positions=[(0, 0, 0)], targets=[(0, 0, 0)], frames=2), "coincide"),
+    (dict(positions=[(0, 0, np.nan)], targets=[(0, 0, 0)], frames=2), "non-finite"),
+])
+def test_camera_path_rejects_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        ssrlab.CameraPath(**kwargs)
+
+
+@pytest.mark.parametrize("field, value", [("temporal_max_history", 0), ("reject_depth", -0.1),
+                                          ("reject_normal", 1.5), ("temporal_reflections", 1)])
+def test_temporal_settings_are_validated(field, value):
+    with pytest.raises(ValueError, match=f"Settings.{field}"):
+        ssrlab.Settings(**{field: value})
+
+
+def test_render_sequence_rejects_bad_cameras(renderer):
+    with pytest.raises(ValueError, match="empty"):
+        renderer.render_sequence(scenes.mirror_test(), [])
+    with pytest.raises(TypeError, match=r"cameras\[1\]"):
+        renderer.render_sequence(scenes.mirror_test(), [scenes.mirror_test().camera, "x"])
+
+
+# -- reprojection ----------------------------------------------------------------------------------------
+SMALL = dict(width=96, height=64, shadow_map_size=256)
+
+
+def test_reprojection_is_the_identity_for_a_static_camera(renderer):
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(temporal_reflections=True, **SMALL)
+    first, second = renderer.render_sequence(scene, [scene.camera] * 2, s)
+    assert "reproject" in first.passes and "temporal" in first.passes
+    assert (first.reprojection.reason == ssrlab.Reprojection.NO_HISTORY).all()  # first frame: nothing to reuse
+    r = second.reprojection
+    covered = second.gbuffer.coverage[0]
+    assert covered.any() and (~covered).any()
+    assert r.valid[covered].all() and not r.valid[~covered].any()
+    j, i = np.meshgrid(np.arange(s.width) + 0.5, np.arange(s.height) + 0.5)
+    err = np.abs(r.pixel - np.stack([j, i], -1))[covered]
+    assert err.max() < 1e-3, err.max()
+
+
+def test_reprojection_matches_the_analytic_projection_under_camera_translation(renderer):
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(temporal_reflections=True, **SMALL)
+    cams = [scene.camera, _shifted(scene.camera, (0.31, 0.07, -0.23))]
+    prev, cur = renderer.render_sequence(scene, cams, s)
+    # Every pixel showing the mirror floor (y = 0): its camera ray meets the plane at p, whose
+    # previous-frame pixel is the previous camera's projection of p (float64, no renderer involved).
+    cam, d = analytic.pixel_rays(cur)
+    floor = (cur.gbuffer.object_id[0] == 0) & (d[..., 1] < 0)
+    p = cam + d * (-cam[1] / d[..., 1])[..., None]
+    expected = analytic.project(prev, p)
+    r = cur.reprojection
+    inside = (expected[..., 0] > 1) & (expected[..., 0] < s.width - 1) & (expected[..., 1] > 1) & \
+        (expected[..., 1] < s.height - 1)
+    sel = floor & inside
+    assert sel.sum() > 500
+    err = np.abs(r.pixel - expected)[sel]
+    assert err.max() < 0.01, err.max()
+    assert r.valid[sel].mean() > 0.99
+    # Points that left the image are rejected as off-screen.
+    out = floor & ~((expected[..., 0] >= 0) & (expected[..., 0] < s.width) & (expected[..., 1] >= 0) &
+                    (expected[..., 1] < s.height))
+    assert out.any()
+    assert (r.reason[out] == ssrlab.Reprojection.OFFSCREEN).all()
+
+
+# -- temporal accumulation -------------------------------------------------------------------------------
+def test_temporal_accumulation_of_one_ray_beats_a_four_ray_frame(renderer):
+    scene = scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=0.2)
+    s = ssrlab.Settings(width=96, height=64, shadow_map_size=512, rays_per_pixel=1, temporal_reflections=True,
+                        temporal_max_history=32)
+    frames = list(renderer.render_sequence(scene, [scene.camera] * 16, s))
+    assert [f.settings.seed for f in frames] == list(range(16))  # new rays every frame
+    last = frames[-1]
+    assert "temporal" in last.timings and "reproject" in last.timings
+    assert last.read("reflection.temporal")[0, ..., 3].max() == 16  # 16 frames of history where kept
+    ref = last.reference("converged", rays=64)
+    mask = ref.reflective & (last.gbuffer.roughness[0] > 0.1)
+    assert mask.sum() > 1000
+    truth = ref.reflection
+    err_one = metrics.rmse(last.read("reflection")[0, ..., :3], truth, mask)  # this frame alone
+    err_acc = metrics.rmse(last.reflection, truth, mask)
+    four = renderer.render(scene, settings=s.replace(rays_per_pixel=4, temporal_reflections=False))
+    err_four = metrics.rmse(four.reflection, truth, mask)
+    print(f"rmse: 1 ray {err_one:.4f}, 4 rays {err_four:.4f}, 16 frames x 1 ray {err_acc:.4f}")
+    assert err_acc < err_four < err_one
+
+
+def test_history_is_dropped_between_sequences(renderer):
+    scene = scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=0.2)
+    s = ssrlab.Settings(width=64, height=48, shadow_map_size=256, temporal_reflections=True)
+    a = list(renderer.render_sequence(scene, [scene.camera] * 3, s))
+    b = list(renderer.render_sequence(scene, [scene.camera] * 1, s))
+    assert a[-1].read("reflection.temporal")[0, ..., 3].max() == 3
+    assert b[0].read("reflection.temporal")[0, ..., 3].max() == 1  # a new sequence starts from nothing
+    # A single render is outside any sequence: no history, and the same image as the sequence's first frame.
+    single = renderer.render(scene, settings=s)
+    np.testing.assert_array_equal(single.color, b[0].color)
