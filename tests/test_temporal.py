@@ -126,3 +126,54 @@ def test_history_is_dropped_between_sequences(renderer):
     # A single render is outside any sequence: no history, and the same image as the sequence's first frame.
     single = renderer.render(scene, settings=s)
     np.testing.assert_array_equal(single.color, b[0].color)
+
+
+# -- TAA -------------------------------------------------------------------------------------------------
+def _halton(i, b):
+    f, r = 1.0, 0.0
+    while i > 0:
+        f /= b
+        r += f * (i % b)
+        i //= b
+    return r
+
+
+def test_taa_jitters_the_projection_by_halton_and_by_the_thesis_pair(renderer):
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(taa="clamped", **SMALL)
+    frames = list(renderer.render_sequence(scene, [scene.camera] * 4, s))
+    P0 = np.asarray(scene.camera.projection_matrix(s.width / s.height, "standard"))
+    for i, f in enumerate(frames):
+        jx, jy = _halton(i + 1, 2) - 0.5, _halton(i + 1, 3) - 0.5
+        P = f.projection_matrix
+        assert P[0, 2] == pytest.approx(P0[0, 2] - 2 * jx / s.width, abs=1e-6)
+        assert P[1, 2] == pytest.approx(P0[1, 2] - 2 * jy / s.height, abs=1e-6)
+        # The reprojection undoes the jitter: a static camera maps every pixel to itself.
+        if i > 0:
+            covered = f.gbuffer.coverage[0]
+            j, k = np.meshgrid(np.arange(s.width) + 0.5, np.arange(s.height) + 0.5)
+            err = np.abs(f.reprojection.pixel - np.stack([j, k], -1))[covered]
+            assert err.max() < 1e-3
+    thesis = list(renderer.render_sequence(scene, [scene.camera] * 3, s.replace(taa="thesis")))
+    P = [f.projection_matrix for f in thesis]
+    np.testing.assert_array_equal(P[0], P[2])
+    assert P[0][0, 2] == pytest.approx(P0[0, 2] - 0.5 / s.width, abs=1e-6)
+    assert P[1][0, 2] == pytest.approx(P0[0, 2] + 0.5 / s.width, abs=1e-6)
+    # The thesis's blend: the mean of this frame and the previous one, pixel by pixel.
+    np.testing.assert_allclose(thesis[2].color, 0.5 * (thesis[2].read("color")[0, ..., :3] +
+                                                       thesis[1].read("color")[0, ..., :3]), rtol=1e-6, atol=1e-6)
+    np.testing.assert_array_equal(thesis[0].color, thesis[0].read("color")[0, ..., :3])  # no history yet
+
+
+def test_clamped_taa_of_a_static_camera_approaches_the_supersampled_image(renderer):
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(**SMALL)
+    big = renderer.render(scene, settings=s.replace(width=4 * s.width, height=4 * s.height, taa="off"))
+    truth = big.color.reshape(s.height, 4, s.width, 4, 3).mean(axis=(1, 3))
+    plain = renderer.render(scene, settings=s)
+    frames = list(renderer.render_sequence(scene, [scene.camera] * 16, s.replace(taa="clamped")))
+    assert "taa" in frames[-1].timings
+    e_plain = metrics.rmse(plain.color, truth)
+    e_taa = metrics.rmse(frames[-1].color, truth)
+    print(f"rmse against 4x4 supersampling: no TAA {e_plain:.4f}, clamped TAA after 16 frames {e_taa:.4f}")
+    assert e_taa < 0.8 * e_plain

@@ -17,13 +17,14 @@ void ReprojectPass::execute(FrameContext& ctx) {
     glm::mat4 to_prev_clip(1.0f), prev_to_view(1.0f);
     if (history) {
         const FrameUniforms& h = *ctx.history_uniforms;
-        const glm::dmat4 prev_vp = glm::dmat4(h.proj) * glm::dmat4(h.view);
+        const glm::dmat4 prev_vp = glm::dmat4(ctx.history_unjittered_proj) * glm::dmat4(h.view);
         to_prev_clip = glm::mat4(prev_vp * glm::inverse(glm::dmat4(ctx.uniforms.view)));
         prev_to_view = glm::mat4(glm::dmat4(ctx.uniforms.view) * glm::inverse(glm::dmat4(h.view)));
     }
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_view_to_previous_clip"), 1, GL_FALSE, glm::value_ptr(to_prev_clip));
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_previous_view_to_view"), 1, GL_FALSE, glm::value_ptr(prev_to_view));
     glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
+    glUniform2f(glGetUniformLocation(prog, "u_jitter"), ctx.jitter_px.x, ctx.jitter_px.y);
     glUniform1f(glGetUniformLocation(prog, "u_reject_depth"), ctx.settings.reject_depth);
     glUniform1f(glGetUniformLocation(prog, "u_reject_normal"), ctx.settings.reject_normal);
     glUniform1i(glGetUniformLocation(prog, "u_reject_offscreen"), ctx.settings.reject_offscreen ? 1 : 0);

@@ -20,6 +20,7 @@
 #include "passes/reproject.h"
 #include "passes/resolve.h"
 #include "passes/shadow_map.h"
+#include "passes/taa.h"
 #include "passes/temporal.h"
 #include "passes/trace_hiz.h"
 #include "passes/trace_linear.h"
@@ -40,6 +41,7 @@ public:
                                   Sequence* sequence = nullptr);
     // A new, empty sequence of frames (its history lives as long as it does).
     std::shared_ptr<Sequence> begin_sequence() { return std::make_shared<Sequence>(ctx_); }
+    static glm::vec2 taa_jitter(TaaMode mode, int index);
 
     // Ground truth for a rendered frame (passes/reference.h): per-ray (the frame's own SSR
     // rays) or converged (`rays` rays per pixel drawn with `sampling`). The textures join the
@@ -102,6 +104,7 @@ private:
     ResolvePass resolve_;
     ReprojectPass reproject_;
     TemporalPass temporal_;
+    TaaPass taa_;
     CompositePass composite_plain_{false}, composite_reflections_{true};
     CompositePass composite_temporal_{true, "reflection.temporal"};
 };

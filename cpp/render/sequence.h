@@ -30,6 +30,7 @@ public:
 
     std::shared_ptr<FrameResources> previous;  // the previous frame's textures (null: no history)
     FrameUniforms previous_uniforms{};
+    glm::mat4 previous_unjittered_proj{1.0f};  // its projection without the TAA jitter
     RenderSettings previous_settings;
     uint64_t scene_id = 0, scene_revision = 0;
     int frames = 0;  // frames rendered so far in this sequence

@@ -52,6 +52,12 @@ const std::vector<std::pair<CompositeMode, std::string>>& names() {
                                                                          {CompositeMode::Pbr, "pbr"}};
     return n;
 }
+template <>
+const std::vector<std::pair<TaaMode, std::string>>& names() {
+    static const std::vector<std::pair<TaaMode, std::string>> n = {
+        {TaaMode::Off, "off"}, {TaaMode::Thesis, "thesis"}, {TaaMode::Clamped, "clamped"}};
+    return n;
+}
 }  // namespace
 
 template <typename E>
@@ -80,6 +86,7 @@ SSR_INSTANTIATE(Noise)
 SSR_INSTANTIATE(ThicknessMode)
 SSR_INSTANTIATE(ReuseWeighting)
 SSR_INSTANTIATE(CompositeMode)
+SSR_INSTANTIATE(TaaMode)
 #undef SSR_INSTANTIATE
 
 void RenderSettings::validate() const {
@@ -126,6 +133,7 @@ void RenderSettings::validate() const {
     range(temporal_max_history, 1, 1024, "temporal_max_history");
     range(reject_depth, 0, 10, "reject_depth");
     range(reject_normal, -1, 1, "reject_normal");
+    range(taa_history_weight, 0, 0.99, "taa_history_weight");
 }
 
 }  // namespace ssr

@@ -16,6 +16,7 @@ enum class Noise { Pcg, ThesisHash };
 enum class ThicknessMode { Constant, RayStep };
 enum class ReuseWeighting { Thesis, Brdf };
 enum class CompositeMode { Linear, Pbr };
+enum class TaaMode { Off, Thesis, Clamped };
 
 // Names <-> values, for Python and for error messages.
 template <typename E> E parse_enum(const std::string& field, const std::string& name);
@@ -79,6 +80,8 @@ struct RenderSettings {
     float reject_depth = 0.05f;          // relative depth difference that rejects history; 0: off
     float reject_normal = 0.9f;          // minimum normal cosine that keeps history; -1: off
     bool reject_offscreen = true;        // history outside the previous image is rejected
+    TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
+    float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
 
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }

@@ -212,7 +212,10 @@ class Frame:
 
     @property
     def color(self) -> np.ndarray:
-        """The final image: linear radiance, float32 (height, width, 3)."""
+        """The final image: linear radiance, float32 (height, width, 3); with Settings.taa, the
+        anti-aliased image (this frame's own: read("color"))."""
+        if "color.taa" in self.texture_names:
+            return self.read("color.taa")[0, :, :, :3]
         return self.read("color")[0, :, :, :3]
 
     @property

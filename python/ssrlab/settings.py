@@ -172,6 +172,14 @@ class Settings:
     reject_offscreen: bool = _setting(
         True, "reject history whose reprojected position lies outside the previous image (False: clamp to "
         "its edge)", group="temporal")
+    taa: str = _setting(
+        "off", "temporal anti-aliasing of the final image over a sequence (frame.color): 'thesis' (seed 000 2.5: "
+        "two alternating quarter-pixel jitters, the mean of this and the previous frame, no reprojection), "
+        "'clamped' (Halton(2,3) jitter, reprojected history clamped to the YCoCg min/max of the 3x3 "
+        "neighbourhood) or 'off'", choices=("off", "thesis", "clamped"), group="temporal")
+    taa_history_weight: float = _setting(
+        0.9, "taa='clamped': weight of the clamped history in the blend (the current frame gets the rest)", "",
+        0.0, 0.99, group="temporal")
 
     # ---------------------------------------------------------------------------------------------
     def __setattr__(self, name: str, value: Any) -> None:

@@ -25,6 +25,11 @@ layout(binding = 0, rgba32f) writeonly uniform image2D o_reprojection;
 uniform mat4 u_view_to_previous_clip;  // VP_prev * V_curr^-1
 uniform mat4 u_previous_view_to_view;  // V_curr * V_prev^-1 (previous normals into this view)
 uniform int u_has_history;
+// This frame's TAA jitter in pixels. The matrix leads to the previous frame's unjittered image;
+// the point sampled at this pixel centre lies at centre - jitter in this frame's unjittered
+// image, so adding the jitter gives where the unjittered pixel centre was (exact for a static
+// camera, first order under motion).
+uniform vec2 u_jitter;
 uniform float u_reject_depth;   // relative; 0: off
 uniform float u_reject_normal;  // minimum cosine; -1: off
 uniform int u_reject_offscreen;
@@ -37,7 +42,7 @@ void main() {
     bool covered = texelFetch(u_material, ivec3(pixel, 0), 0).g > 0.5;
     vec3 p = view_position(vec2(pixel) + 0.5, z);
     vec3 prev = reproject_to_previous(u_view_to_previous_clip, p, frame.viewport.xy);
-    vec2 pos = prev.xy;
+    vec2 pos = prev.xy + u_jitter;
     float reason = REPROJECT_VALID;
     if (u_has_history == 0) {
         reason = REPROJECT_NO_HISTORY;
