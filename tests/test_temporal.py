@@ -177,3 +177,40 @@ def test_clamped_taa_of_a_static_camera_approaches_the_supersampled_image(render
     e_taa = metrics.rmse(frames[-1].color, truth)
     print(f"rmse against 4x4 supersampling: no TAA {e_plain:.4f}, clamped TAA after 16 frames {e_taa:.4f}")
     assert e_taa < 0.8 * e_plain
+
+
+# -- bounces from history ----------------------------------------------------------------------------------
+def _facing_mirrors():
+    s = ssrlab.Scene()
+    s.name = "mirror_box_on_mirror"
+    mirror = ssrlab.Material(base_color=(0.9, 0.9, 0.9), roughness=0.0, metallic=1.0, reflectivity=1.0)
+    s.add_plane((0, 0, -3), (20, 20), name="floor", material=mirror)
+    s.add_box((0, 1.5, -6), (6, 3, 0.5), name="mirror_wall", material=mirror)
+    s.add_box((0, 0.6, 0), (1.2, 1.2, 1.2), name="red", material=ssrlab.Material(base_color=(0.9, 0.1, 0.1)))
+    s.lights.append(ssrlab.directional_light((-0.3, -1, -0.5), intensity=3.0))
+    s.environment = ssrlab.Environment.constant((0.5, 0.6, 0.8))  # what the wall's rays mostly bring
+    s.camera = ssrlab.Camera(position=(0, 2.5, 5), target=(0, 0.5, -4), fov_y=60)
+    return s
+
+
+def test_bounces_from_history_fetch_the_previous_final_colour(renderer):
+    scene = _facing_mirrors()
+    s = ssrlab.Settings(width=96, height=64, shadow_map_size=256, sampling="mirror", bounces="history")
+    f0, f1 = renderer.render_sequence(scene, [scene.camera] * 2, s)
+    assert "reproject" in f1.passes
+    # Frame 0 has no history: it is the single-bounce image.
+    single = renderer.render(scene, settings=s.replace(bounces="single"))
+    np.testing.assert_array_equal(f0.color, single.color)
+    # Frame 1: a floor ray that hit layer 0 of the mirror wall brings frame 0's final colour there
+    # (which holds the wall's own reflection: the second bounce), not the wall's lit colour.
+    rays = f1.rays
+    hit = rays.hit[0] & (rays.hit_layer[0] == 1) & (rays.fade[0] > 0.999) & rays.traced
+    hp = np.floor(f1.read("rays.hit")[0, ..., :2]).astype(int)  # GL window pixels of the hits
+    col, row = hp[..., 0], s.height - 1 - hp[..., 1]
+    wall = hit & (f1.gbuffer.object_id[0][row.clip(0, s.height - 1), col.clip(0, s.width - 1)] == 1)
+    assert wall.sum() > 50
+    prev = f0.read("color")[0, ..., :3][row[wall], col[wall]]
+    lit = f1.gbuffer.lit[0][row[wall], col[wall]]
+    refl = f1.read("reflection")[0, ..., :3][wall]
+    np.testing.assert_allclose(refl, prev, rtol=2e-3, atol=2e-3)
+    assert np.abs(prev - lit).max() > 0.05  # the wall's final colour differs from its lit colour

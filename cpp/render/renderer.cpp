@@ -99,6 +99,9 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     if (shadows) chain.push_back(&shadow_map_);
     chain.push_back(&depth_peel_);
     chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
+    // Frames in time (issue 10): reprojection whenever a temporal technique is on, before the
+    // resolve (bounces="history" reads it there).
+    if (s.temporal_reflections || s.taa != TaaMode::Off || s.bounces == Bounces::History) chain.push_back(&reproject_);
     if (reflections) {
         if (s.method == TraceMethod::Hiz) {
             chain.push_back(&hiz_build_);
@@ -108,9 +111,7 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         }
         chain.push_back(&resolve_);
     }
-    // Frames in time (issue 10): reprojection whenever a temporal technique is on, the
-    // reflection's temporal accumulation when there is a reflection to accumulate.
-    if (s.temporal_reflections || s.taa != TaaMode::Off) chain.push_back(&reproject_);
+    // The reflection's temporal accumulation, when there is a reflection to accumulate.
     const bool temporal = reflections && s.temporal_reflections;
     if (temporal) chain.push_back(&temporal_);
     chain.push_back(temporal ? &composite_temporal_ : reflections ? &composite_reflections_ : &composite_plain_);

@@ -58,6 +58,12 @@ const std::vector<std::pair<TaaMode, std::string>>& names() {
         {TaaMode::Off, "off"}, {TaaMode::Thesis, "thesis"}, {TaaMode::Clamped, "clamped"}};
     return n;
 }
+template <>
+const std::vector<std::pair<Bounces, std::string>>& names() {
+    static const std::vector<std::pair<Bounces, std::string>> n = {{Bounces::Single, "single"},
+                                                                   {Bounces::History, "history"}};
+    return n;
+}
 }  // namespace
 
 template <typename E>
@@ -87,6 +93,7 @@ SSR_INSTANTIATE(ThicknessMode)
 SSR_INSTANTIATE(ReuseWeighting)
 SSR_INSTANTIATE(CompositeMode)
 SSR_INSTANTIATE(TaaMode)
+SSR_INSTANTIATE(Bounces)
 #undef SSR_INSTANTIATE
 
 void RenderSettings::validate() const {

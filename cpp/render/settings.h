@@ -17,6 +17,7 @@ enum class ThicknessMode { Constant, RayStep };
 enum class ReuseWeighting { Thesis, Brdf };
 enum class CompositeMode { Linear, Pbr };
 enum class TaaMode { Off, Thesis, Clamped };
+enum class Bounces { Single, History };
 
 // Names <-> values, for Python and for error messages.
 template <typename E> E parse_enum(const std::string& field, const std::string& name);
@@ -82,6 +83,7 @@ struct RenderSettings {
     bool reject_offscreen = true;        // history outside the previous image is rejected
     TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
     float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
+    Bounces bounces = Bounces::Single;   // history: hits fetch the previous final colour (seed 002, 4.6.4)
 
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }

@@ -180,6 +180,11 @@ class Settings:
     taa_history_weight: float = _setting(
         0.9, "taa='clamped': weight of the clamped history in the blend (the current frame gets the rest)", "",
         0.0, 0.99, group="temporal")
+    bounces: str = _setting(
+        "single", "'single': rays bring the lit colour of what they hit; 'history' (seed 002, 4.6.4): rays that "
+        "hit layer 0 bring the previous frame's final colour at the hit's reprojected position (this frame's "
+        "lit colour where that history is rejected), so mirrors facing mirrors gain a bounce per frame",
+        choices=("single", "history"), group="temporal")
 
     # ---------------------------------------------------------------------------------------------
     def __setattr__(self, name: str, value: Any) -> None:
