@@ -40,6 +40,20 @@ def main() -> None:
           f"{med['temporal']:.3f}, frame {med['total']:.3f}: "
           f"{100 * (med['reproject'] + med['temporal']) / med['total']:.1f} % of the frame")
 
+    # TAA of a static camera over mirror_test against a 4x4-supersampled image of the same frame.
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(width=args.width, height=args.height, shadow_map_size=512)
+    big = r.render(scene, settings=s.replace(width=4 * s.width, height=4 * s.height))
+    truth = big.color.reshape(s.height, 4, s.width, 4, 3).mean(axis=(1, 3))
+    print(f"mirror_test, {args.width}x{args.height}, rmse of the final image against 4x4 supersampling")
+    print(f"  no TAA: {metrics.rmse(r.render(scene, settings=s).color, truth):.4f}")
+    for taa in ("thesis", "clamped"):
+        frames = list(r.render_sequence(scene, [scene.camera] * args.frames, s.replace(taa=taa)))
+        ms = statistics.median(f.timings["taa"] + f.timings["reproject"] for f in frames[1:])
+        total = statistics.median(f.timings["total"] for f in frames[1:])
+        print(f"  taa={taa!r} after {args.frames} frames: {metrics.rmse(frames[-1].color, truth):.4f}; "
+              f"reproject + taa {ms:.3f} ms of {total:.3f} ms ({100 * ms / total:.1f} %)")
+
 
 if __name__ == "__main__":
     main()
