@@ -214,3 +214,30 @@ def test_bounces_from_history_fetch_the_previous_final_colour(renderer):
     refl = f1.read("reflection")[0, ..., :3][wall]
     np.testing.assert_allclose(refl, prev, rtol=2e-3, atol=2e-3)
     assert np.abs(prev - lit).max() > 0.05  # the wall's final colour differs from its lit colour
+
+
+def test_reprojection_rejects_disoccluded_history_by_depth(renderer):
+    scene = scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=0.2)
+    s = ssrlab.Settings(width=96, height=64, shadow_map_size=256, temporal_reflections=True)
+    cam = scene.camera
+    prev, cur = renderer.render_sequence(scene, [cam, _shifted(cam, (1.5, 0.0, 0.0))], s)
+    r = cur.reprojection
+    pos = np.floor(r.pixel).astype(int)
+    on = (pos[..., 0] >= 0) & (pos[..., 0] < s.width) & (pos[..., 1] >= 0) & (pos[..., 1] < s.height)
+    covered = cur.gbuffer.coverage[0]
+    px, py = pos[..., 0].clip(0, s.width - 1), pos[..., 1].clip(0, s.height - 1)
+    # Where the previous frame showed, at the reprojected pixel and all its neighbours, a surface
+    # at least 20 % nearer than this point was, the point was hidden: a disocclusion.
+    d_prev = prev.gbuffer.depth[0]
+    near = np.ones_like(covered)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            q = d_prev[(py + dy).clip(0, s.height - 1), (px + dx).clip(0, s.width - 1)]
+            near &= q < 0.8 * cur.gbuffer.depth[0]  # the camera moved sideways: depths barely change
+    disoccluded = covered & on & near
+    assert disoccluded.sum() > 5
+    assert (r.reason[disoccluded] == ssrlab.Reprojection.DEPTH).all()
+    # Without the depth and normal tests that history is kept: what a ghost trail is made of.
+    _, ghost = renderer.render_sequence(scene, [cam, _shifted(cam, (1.5, 0.0, 0.0))],
+                                        s.replace(reject_depth=0.0, reject_normal=-1.0))
+    assert ghost.reprojection.valid[disoccluded].all()
