@@ -241,3 +241,25 @@ def test_reprojection_rejects_disoccluded_history_by_depth(renderer):
     _, ghost = renderer.render_sequence(scene, [cam, _shifted(cam, (1.5, 0.0, 0.0))],
                                         s.replace(reject_depth=0.0, reject_normal=-1.0))
     assert ghost.reprojection.valid[disoccluded].all()
+
+
+# -- CLI ------------------------------------------------------------------------------------------------
+def test_cli_renders_a_sequence_along_a_path(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    out = tmp_path / "seq"
+    args = [sys.executable, "-m", "ssrlab", "render", "--scene", "mirror_test", "--width", "64", "--height", "40",
+            "--frames", "3", "--path", "0,2,6;1,2,6", "--set", "temporal_reflections=true", "--set",
+            "shadow_map_size=256", "--out", str(out)]
+    r = subprocess.run(args, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
+    assert names == ["frame_0000.png", "frame_0001.png", "frame_0002.png", "frames.gif", "timings.json"]
+    t = json.loads((out / "timings.json").read_text())
+    assert len(t["frames"]) == 3 and all("temporal" in f for f in t["frames"])
+    png, _ = ssrlab.io.read_image(out / "frame_0002.png")
+    assert png.shape[:2] == (40, 64)
+    bad = subprocess.run(args[:-2] + ["--path", "0,2", "--out", str(tmp_path / "bad")], capture_output=True, text=True)
+    assert bad.returncode != 0 and "--path" in bad.stderr
