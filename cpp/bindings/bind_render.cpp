@@ -69,6 +69,14 @@ void bind_render(py::module_& m) {
         .def_readwrite("fade_distance_start", &RenderSettings::fade_distance_start)
         .def_readwrite("fade_distance_end", &RenderSettings::fade_distance_end)
         .def_readwrite("roughness_cutoff", &RenderSettings::roughness_cutoff)
+        .def_readwrite("temporal_reflections", &RenderSettings::temporal_reflections)
+        .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
+        .def_readwrite("reject_depth", &RenderSettings::reject_depth)
+        .def_readwrite("reject_normal", &RenderSettings::reject_normal)
+        .def_readwrite("reject_offscreen", &RenderSettings::reject_offscreen)
+        .def_readwrite("taa_history_weight", &RenderSettings::taa_history_weight)
+        .def_property("taa", enum_getter(&RenderSettings::taa), enum_setter("taa", &RenderSettings::taa))
+        .def_property("bounces", enum_getter(&RenderSettings::bounces), enum_setter("bounces", &RenderSettings::bounces))
         .def_property("method", enum_getter(&RenderSettings::method), enum_setter("method", &RenderSettings::method))
         .def_property("sampling", enum_getter(&RenderSettings::sampling), enum_setter("sampling", &RenderSettings::sampling))
         .def_property("noise", enum_getter(&RenderSettings::noise), enum_setter("noise", &RenderSettings::noise))
@@ -79,6 +87,10 @@ void bind_render(py::module_& m) {
         .def_property("composite", enum_getter(&RenderSettings::composite),
                       enum_setter("composite", &RenderSettings::composite))
         .def("validate", &RenderSettings::validate);
+
+    py::class_<Sequence, std::shared_ptr<Sequence>>(m, "Sequence", "The history of a sequence of frames.")
+        .def_readonly("frames", &Sequence::frames)
+        .def_property_readonly("has_history", [](const Sequence& q) { return bool(q.previous); });
 
     py::class_<Frame, std::shared_ptr<Frame>>(m, "Frame")
         .def(
@@ -106,7 +118,14 @@ void bind_render(py::module_& m) {
 
     py::class_<Renderer, std::shared_ptr<Renderer>>(m, "Renderer")
         .def(py::init(&Renderer::create), py::arg("device") = "auto", py::arg("shader_dir"))
-        .def("render", &Renderer::render, py::arg("scene"), py::arg("camera"), py::arg("settings"))
+        .def(
+            "render",
+            [](Renderer& r, const Scene& scene, const Camera& camera, const RenderSettings& s,
+               std::shared_ptr<Sequence> sequence) { return r.render(scene, camera, s, sequence.get()); },
+            py::arg("scene"), py::arg("camera"), py::arg("settings"), py::arg("sequence") = nullptr)
+        .def("begin_sequence", &Renderer::begin_sequence,
+             "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
+             "its history is dropped with it.")
         .def("info", [](const Renderer& r) { return r.info().as_dict(); })
         .def(
             "reference",

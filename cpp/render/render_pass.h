@@ -74,6 +74,15 @@ struct FrameContext {
     const FrameUniforms& uniforms;
     FrameResources& resources;
     Defines defines;  // common shader defines (depth convention, ...)
+    // The previous frame of a sequence (render/sequence.h): its textures and constants, null
+    // outside a sequence, on its first frame, or when its size or scene differ. Temporal passes
+    // only read them, so running the chain again (the untimed first-use run) is harmless.
+    const FrameResources* history = nullptr;
+    const FrameUniforms* history_uniforms = nullptr;
+    // Sub-pixel jitter of this frame (Settings.taa), in pixels, and the previous frame's
+    // projection without its jitter: reprojection works on unjittered positions.
+    glm::vec2 jitter_px{0.0f};
+    glm::mat4 history_unjittered_proj{1.0f};
 };
 
 class RenderPass {

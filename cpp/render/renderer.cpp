@@ -112,6 +112,9 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     if (shadows) chain.push_back(&shadow_map_);
     chain.push_back(&depth_peel_);
     chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
+    // Frames in time (issue 10): reprojection whenever a temporal technique is on, before the
+    // resolve (bounces="history" reads it there).
+    if (s.temporal_reflections || s.taa != TaaMode::Off || s.bounces == Bounces::History) chain.push_back(&reproject_);
     if (reflections) {
         if (s.method == TraceMethod::Hiz) {
             chain.push_back(&hiz_build_);
@@ -121,7 +124,11 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         }
         chain.push_back(&resolve_);
     }
-    chain.push_back(reflections ? &composite_reflections_ : &composite_plain_);
+    // The reflection's temporal accumulation, when there is a reflection to accumulate.
+    const bool temporal = reflections && s.temporal_reflections;
+    if (temporal) chain.push_back(&temporal_);
+    chain.push_back(temporal ? &composite_temporal_ : reflections ? &composite_reflections_ : &composite_plain_);
+    if (s.taa != TaaMode::Off) chain.push_back(&taa_);
     return chain;
 }
 
@@ -194,7 +201,27 @@ void Renderer::upload_lights(const Scene& scene, const glm::mat4& view, int shad
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, lights_ssbo_.id());
 }
 
-std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s) {
+// The sub-pixel jitter of frame `index` of a sequence, in pixels within [-0.5, 0.5)^2.
+// clamped: the Halton (2, 3) sequence, points 1, 2, ... (point 0 is the origin); thesis: the
+// thesis's two alternating jitters (seed 000, 2.5: even frames share one, odd frames the other),
+// a quarter pixel along the diagonal either way.
+glm::vec2 Renderer::taa_jitter(TaaMode mode, int index) {
+    if (mode == TaaMode::Thesis) return (index % 2 == 0) ? glm::vec2(0.25f, 0.25f) : glm::vec2(-0.25f, -0.25f);
+    auto radical_inverse = [](unsigned i, unsigned base) {
+        double f = 1.0, r = 0.0;
+        while (i > 0) {
+            f /= base;
+            r += f * (i % base);
+            i /= base;
+        }
+        return r;
+    };
+    const unsigned i = unsigned(index % 1024) + 1;
+    return glm::vec2(float(radical_inverse(i, 2) - 0.5), float(radical_inverse(i, 3) - 0.5));
+}
+
+std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s,
+                                        Sequence* sequence) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate();
     camera.validate();
@@ -213,6 +240,13 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     u.view = camera.view();
     u.inv_view = glm::inverse(u.view);
     u.proj = camera.projection(depth, aspect);
+    const glm::mat4 unjittered_proj = u.proj;
+    // TAA's sub-pixel jitter (seed 000, 2.5): a shift of the whole projection by a fraction of a
+    // pixel, a different one each frame of a sequence (frame 0 outside one).
+    const glm::vec2 jitter_px = s.taa == TaaMode::Off ? glm::vec2(0.0f) : taa_jitter(s.taa, sequence ? sequence->frames : 0);
+    // ndc.x = P00 x / d - P[2][0] (d the positive view depth): subtracting 2 j / W shifts the image by +j pixels.
+    u.proj[2][0] -= 2.0f * jitter_px.x / float(s.width);
+    u.proj[2][1] -= 2.0f * jitter_px.y / float(s.height);
     u.inv_proj = glm::inverse(u.proj);
     const glm::mat4 to_unit = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f));
     u.view_to_shadow = to_unit * shadow.light_view_proj * u.inv_view;
@@ -273,6 +307,12 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     depth.add_defines(defines);
     defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
+    if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
+        fc.history = sequence->previous.get();
+        fc.history_uniforms = &sequence->previous_uniforms;
+        fc.history_unjittered_proj = sequence->previous_unjittered_proj;
+    }
+    fc.jitter_px = jitter_px;
     auto frame = std::make_shared<Frame>(ctx_, weak_from_this(), resources);
     // Timings never include first-use costs. The first run of a variant (this chain, these
     // defines and texture sizes, this scene) compiles its programs, and drivers such as llvmpipe compile
@@ -316,6 +356,17 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->serial = serial;
     for (const auto& d : scratch) scratch_owner_[d.name] = serial;
     frame->wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
+    // The frame becomes its sequence's history only now, after every run of the chain: the
+    // untimed first-use run and the timed run read the same history and write the same result.
+    if (sequence) {
+        sequence->previous = resources;
+        sequence->previous_uniforms = u;
+        sequence->previous_unjittered_proj = unjittered_proj;
+        sequence->previous_settings = s;
+        sequence->scene_id = scene.id();
+        sequence->scene_revision = scene.revision();
+        ++sequence->frames;
+    }
     recycle();
     return frame;
 }

@@ -18,12 +18,16 @@
 #include "passes/hiz_build.h"
 #include "passes/lighting.h"
 #include "passes/reference.h"
+#include "passes/reproject.h"
 #include "passes/resolve.h"
 #include "passes/shadow_map.h"
+#include "passes/taa.h"
+#include "passes/temporal.h"
 #include "passes/trace_hiz.h"
 #include "passes/trace_linear.h"
 #include "render/frame.h"
 #include "render/gpu_scene.h"
+#include "render/sequence.h"
 
 namespace ssr {
 
@@ -32,7 +36,13 @@ public:
     static std::shared_ptr<Renderer> create(const std::string& device, const std::string& shader_dir);
     ~Renderer();
 
-    std::shared_ptr<Frame> render(const Scene& scene, const Camera& camera, const RenderSettings& settings);
+    // `sequence` (optional): the frame is the next of that sequence; temporal passes read the
+    // previous frame's textures from it, and the frame becomes its history (render/sequence.h).
+    std::shared_ptr<Frame> render(const Scene& scene, const Camera& camera, const RenderSettings& settings,
+                                  Sequence* sequence = nullptr);
+    // A new, empty sequence of frames (its history lives as long as it does).
+    std::shared_ptr<Sequence> begin_sequence() { return std::make_shared<Sequence>(ctx_); }
+    static glm::vec2 taa_jitter(TaaMode mode, int index);
 
     // Ground truth for a rendered frame (passes/reference.h): per-ray (the frame's own SSR
     // rays) or converged (`rays` rays per pixel drawn with `sampling`). The textures join the
@@ -111,7 +121,11 @@ private:
     TraceLinearPass trace_linear_;
     TraceHizPass trace_hiz_;
     ResolvePass resolve_;
+    ReprojectPass reproject_;
+    TemporalPass temporal_;
+    TaaPass taa_;
     CompositePass composite_plain_{false}, composite_reflections_{true};
+    CompositePass composite_temporal_{true, "reflection.temporal"};
 };
 
 }  // namespace ssr

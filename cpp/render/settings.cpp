@@ -52,6 +52,18 @@ const std::vector<std::pair<CompositeMode, std::string>>& names() {
                                                                          {CompositeMode::Pbr, "pbr"}};
     return n;
 }
+template <>
+const std::vector<std::pair<TaaMode, std::string>>& names() {
+    static const std::vector<std::pair<TaaMode, std::string>> n = {
+        {TaaMode::Off, "off"}, {TaaMode::Thesis, "thesis"}, {TaaMode::Clamped, "clamped"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<Bounces, std::string>>& names() {
+    static const std::vector<std::pair<Bounces, std::string>> n = {{Bounces::Single, "single"},
+                                                                   {Bounces::History, "history"}};
+    return n;
+}
 }  // namespace
 
 template <typename E>
@@ -80,6 +92,8 @@ SSR_INSTANTIATE(Noise)
 SSR_INSTANTIATE(ThicknessMode)
 SSR_INSTANTIATE(ReuseWeighting)
 SSR_INSTANTIATE(CompositeMode)
+SSR_INSTANTIATE(TaaMode)
+SSR_INSTANTIATE(Bounces)
 #undef SSR_INSTANTIATE
 
 void RenderSettings::validate() const {
@@ -129,6 +143,10 @@ void RenderSettings::validate() const {
     range(fade_distance_start, 0, 1e7, "fade_distance_start");
     range(fade_distance_end, 0, 1e7, "fade_distance_end");
     range(roughness_cutoff, 0, 1, "roughness_cutoff");
+    range(temporal_max_history, 1, 1024, "temporal_max_history");
+    range(reject_depth, 0, 10, "reject_depth");
+    range(reject_normal, -1, 1, "reject_normal");
+    range(taa_history_weight, 0, 0.99, "taa_history_weight");
 }
 
 }  // namespace ssr

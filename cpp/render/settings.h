@@ -16,6 +16,8 @@ enum class Noise { Pcg, ThesisHash };
 enum class ThicknessMode { Constant, RayStep };
 enum class ReuseWeighting { Thesis, Brdf };
 enum class CompositeMode { Linear, Pbr };
+enum class TaaMode { Off, Thesis, Clamped };
+enum class Bounces { Single, History };
 
 // Names <-> values, for Python and for error messages.
 template <typename E> E parse_enum(const std::string& field, const std::string& name);
@@ -72,6 +74,16 @@ struct RenderSettings {
     float fade_distance_end = 0.0f;
     float roughness_cutoff = 1.0f;
     CompositeMode composite = CompositeMode::Linear;
+
+    // Frames in time (seed 000 4.4, seed 002 4.6.5 and 4.7.4); units in python/ssrlab/settings.py.
+    bool temporal_reflections = false;   // reproject + temporal passes: accumulate the resolved reflection
+    int temporal_max_history = 32;       // frames; the current frame weighs 1 / min(history, this)
+    float reject_depth = 0.05f;          // relative depth difference that rejects history; 0: off
+    float reject_normal = 0.9f;          // minimum normal cosine that keeps history; -1: off
+    bool reject_offscreen = true;        // history outside the previous image is rejected
+    TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
+    float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
+    Bounces bounces = Bounces::Single;   // history: hits fetch the previous final colour (seed 002, 4.6.4)
 
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }

@@ -11,14 +11,15 @@
 
 from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
 from . import bench, experiments, io, metrics, models, reference, scenes, transforms
-from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, shader_dir
+from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, shader_dir
+from .sequence import CameraPath
 from .scene import Scene, directional_light, point_light
 from .settings import Settings
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Camera", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material", "NoReflectionWarning", "Renderer",
+    "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material", "NoReflectionWarning", "Renderer", "Reprojection",
     "Scene", "SceneError", "Settings", "ShaderError", "directional_light", "models", "point_light", "scenes",
     "shader_dir", "transforms",
 ]

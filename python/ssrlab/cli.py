@@ -58,8 +58,75 @@ def cmd_scenes(args) -> int:
     return 0
 
 
+def _camera_path(args, scene):
+    from .sequence import CameraPath
+
+    if args.frames < 1:
+        raise SystemExit(f"ssrlab: --frames must be >= 1, got {args.frames}")
+    cam = scene.camera
+    positions = [tuple(cam.position)]
+    if args.path:
+        try:
+            positions = [tuple(float(v) for v in key.split(",")) for key in args.path.split(";") if key.strip()]
+        except ValueError:
+            raise SystemExit(f"ssrlab: --path expects X,Y,Z;X,Y,Z;..., got {args.path!r}") from None
+    try:
+        return CameraPath(positions, [tuple(cam.target)], args.frames, up=tuple(cam.up), fov_y=cam.fov_y,
+                          near=cam.near, far=cam.far)
+    except ValueError as e:
+        raise SystemExit(f"ssrlab: --path: {e}") from None
+
+
+def cmd_render_sequence(args) -> int:
+    import json as _json
+
+    from . import scenes
+    from .io import OutputFolder, linear_to_srgb, write_image
+    from .renderer import Renderer
+
+    settings = _settings_from_args(args)
+    out = Path(args.out) if args.out else Path("renders") / (Path(args.scene).stem + "_sequence")
+    renderer = Renderer(args.device)
+    kwargs = {"seed": args.seed} if args.seed is not None else {}
+    scene = scenes.load(args.scene, **kwargs)
+    path = _camera_path(args, scene)
+    names = [f"frame_{i:04d}.png" for i in range(len(path))] + ["frames.gif", "timings.json"]
+    folder = OutputFolder(out, overwrite=args.overwrite)
+    try:
+        folder.check(names)
+    except FileExistsError as e:
+        print(f"ssrlab: {e}", file=sys.stderr)
+        return 1
+    images, timings = [], []
+    for i, frame in enumerate(renderer.render_sequence(scene, path, settings)):
+        srgb = linear_to_srgb(frame.color, args.exposure)
+        folder.write(names[i], lambda p, a=srgb: write_image(p, a))
+        images.append(srgb)
+        timings.append(frame.timings)
+        print(f"frame {i}: {frame.timings['total']:.3f} ms (GPU)")
+    try:  # Pillow comes with matplotlib; without it the numbered images stand alone
+        from PIL import Image
+
+        import numpy as np
+
+        def gif(p):
+            pics = [Image.fromarray(np.clip(np.rint(a * 255), 0, 255).astype(np.uint8)) for a in images]
+            pics[0].save(p, format="GIF", save_all=True, append_images=pics[1:], duration=40, loop=0)
+
+        folder.write("frames.gif", gif)
+    except ImportError:
+        pass
+    folder.write("timings.json", lambda p: p.write_text(_json.dumps(
+        {"scene": scene.name, "device": renderer.info, "settings": settings.to_dict(), "frames": timings}, indent=1)))
+    print(f"wrote {len(images)} frames to {out}")
+    return 0
+
+
 def cmd_render(args) -> int:
     from tqdm import tqdm
+
+    if args.frames != 1 or args.path:
+        return cmd_render_sequence(args)
 
     from . import scenes
     from .renderer import Renderer
@@ -200,6 +267,12 @@ def main(argv=None) -> int:
     r.add_argument("--exposure", type=float, default=1.0, help="scale of linear radiance before sRGB encoding")
     r.add_argument("--overwrite", action="store_true",
                    help="replace existing files even if ssrlab did not write them")
+    r.add_argument("--frames", type=int, default=1,
+                   help="render a sequence of this many frames (Renderer.render_sequence), written as "
+                        "frame_NNNN.png, frames.gif and timings.json")
+    r.add_argument("--path", metavar="X,Y,Z;X,Y,Z;...",
+                   help="camera position keyframes of the sequence (ssrlab.CameraPath), looking at the scene "
+                        "camera's target; default: the scene camera, static")
     r.set_defaults(func=cmd_render)
 
     bench_error_keys = ("thesis_error", "rmse", "thesis_error_reflective", "rmse_reflective")

@@ -87,6 +87,41 @@ class Renderer:
         self._frames.add(frame)
         return frame
 
+    def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, **overrides):
+        """Renders the frames of a camera path as one sequence and yields their Frames in order.
+
+        `cameras`: a list of ssrlab.Camera or an ssrlab.CameraPath. Frame i is rendered with seed
+        ``settings.seed + i`` (so every frame draws new rays) and, with a temporal technique on
+        (Settings.temporal_reflections), reads the previous frame's textures: the renderer keeps them
+        between the frames of this sequence and drops them at its end (when the generator is exhausted
+        or closed). Each Frame reports its own timings, the temporal passes' included.
+        """
+        settings = settings if settings is not None else Settings()
+        if not isinstance(settings, Settings):
+            raise TypeError(f"settings must be an ssrlab.Settings, got {type(settings).__name__}")
+        if overrides:
+            settings = settings.replace(**overrides)
+        cameras = list(cameras)
+        if not cameras:
+            raise ValueError("render_sequence: cameras is empty")
+        for i, c in enumerate(cameras):
+            if not isinstance(c, _core.Camera):
+                raise TypeError(f"render_sequence: cameras[{i}] must be an ssrlab.Camera, got {type(c).__name__}")
+        return self._sequence(scene, cameras, settings)
+
+    def _sequence(self, scene, cameras, settings):
+        sequence = self._native.begin_sequence()
+        try:
+            for i, camera in enumerate(cameras):
+                s = settings.replace(seed=(settings.seed + i) % 2**31)
+                _warn_depth_precision(camera, s)
+                native = self._native.render(scene, camera, s.to_native(), sequence)
+                frame = Frame(native, s, renderer=self, scene=scene)
+                self._frames.add(frame)
+                yield frame
+        finally:
+            del sequence  # the history's textures go with it
+
     def prepare(self, settings: Settings | None = None, scene=None, camera=None) -> None:
         """Compiles and warms up every program the frame chain of `settings` uses, so that the
         first timed render pays no compilation (render() also does this by itself: the first
@@ -225,17 +260,30 @@ class Frame:
 
     @property
     def color(self) -> np.ndarray:
-        """The final image: linear radiance, float32 (height, width, 3)."""
+        """The final image: linear radiance, float32 (height, width, 3); with Settings.taa, the
+        anti-aliased image (this frame's own: read("color"))."""
+        if "color.taa" in self.texture_names:
+            return self.read("color.taa")[0, :, :, :3]
         return self.read("color")[0, :, :, :3]
 
     @property
     def reflection(self) -> np.ndarray:
-        """The resolved reflection colour c_r, float32 (height, width, 3); 0 where a pixel does
-        not reflect (or nothing was traced)."""
+        """The resolved reflection colour c_r the composite used, float32 (height, width, 3); 0 where
+        a pixel does not reflect (or nothing was traced). With temporal_reflections, the accumulation
+        over the sequence's frames (this frame's own: read("reflection"))."""
         self._check_live("the reflection")
+        if "reflection.temporal" in self.texture_names:
+            return self.read("reflection.temporal")[0, :, :, :3]
         if "reflection" not in self.texture_names:
             return np.zeros((self.settings.height, self.settings.width, 3), np.float32)
         return self.read("reflection")[0, :, :, :3]
+
+    @functools.cached_property
+    def reprojection(self) -> "Reprojection":
+        """Each pixel's position in the previous frame of its sequence (the reproject pass)."""
+        if "reprojection" not in self.texture_names:
+            raise ValueError("this frame has no reprojection (Settings.temporal_reflections is off)")
+        return Reprojection(self)
 
     @functools.cached_property
     def gbuffer(self) -> "GBuffer":
@@ -462,3 +510,41 @@ def _warn_depth_precision(camera, settings: Settings) -> None:
             f"{STANDARD_DEPTH_SAFE_RATIO:.0e} up to which depth_mode='standard' keeps reflection hits within a "
             "pixel; expect depth acne and false hits. Use Settings(depth_mode=\"reversed_z\"), or move the "
             "near plane out.", DepthPrecisionWarning, stacklevel=3)
+
+
+class Reprojection:
+    """The reproject pass's result (shaders/passes/reproject.comp), arrays (height, width, ...).
+
+    pixel   (H, W, 2) previous-frame position in pixels, x = column, y = row from the top (pixel
+            centres at .5, as RayResults.hit_pixel)
+    uv      (H, W, 2) the same in [0, 1]^2, (0, 0) the image's top-left corner
+    valid   (H, W) bool: the history there is kept
+    reason  (H, W) int: 0 valid, 1 no history (first frame), 2 no surface, 3 off-screen,
+            4 depth differs (disocclusion), 5 normal differs
+    """
+
+    VALID, NO_HISTORY, NO_SURFACE, OFFSCREEN, DEPTH, NORMAL = range(6)
+
+    def __init__(self, frame: Frame):
+        self._frame = frame
+
+    def _raw(self) -> np.ndarray:
+        return self._frame.read("reprojection")[0]
+
+    @property
+    def pixel(self) -> np.ndarray:
+        r = self._raw()
+        return np.stack([r[..., 0], self._frame.settings.height - r[..., 1]], axis=-1).astype(np.float32)
+
+    @property
+    def uv(self) -> np.ndarray:
+        s = self._frame.settings
+        return (self.pixel / np.array([s.width, s.height], np.float32)).astype(np.float32)
+
+    @property
+    def valid(self) -> np.ndarray:
+        return self._raw()[..., 2] > 0.5
+
+    @property
+    def reason(self) -> np.ndarray:
+        return np.rint(self._raw()[..., 3]).astype(np.int32)

@@ -153,6 +153,39 @@ class Settings:
         "GGX directional albedo (split-sum table integrated by the tracers' sampler), k = r (1 for 'auto' "
         "materials): the physically based image", choices=("linear", "pbr"), group="fades")
 
+    # -- frames in time (seed 002, 4.6.5 and 4.7.4; seed 000, 4.4): Renderer.render_sequence ------
+    temporal_reflections: bool = _setting(
+        False, "accumulate the resolved reflection over a sequence's frames: the reproject and temporal "
+        "passes; the composite uses the accumulation (frame.reflection). Each frame of a sequence draws new "
+        "rays (seed + frame index)", group="temporal")
+    temporal_max_history: int = _setting(
+        32, "history length cap n_max: the current frame weighs 1/n with n = min(frames of valid history + 1, "
+        "n_max), i.e. the plain mean of the last frames up to n_max, then an exponential average whose history "
+        "weight is 1 - 1/n_max", "frames", 1, 1024, group="temporal")
+    reject_depth: float = _setting(
+        0.05, "history is rejected where the previous view depth at the reprojected position differs from the "
+        "point's by more than this share of it (disocclusion); 0 turns the test off", "relative", 0.0, 10.0,
+        group="temporal")
+    reject_normal: float = _setting(
+        0.9, "history is rejected where the cosine between this and the previous normal is below this; -1 "
+        "turns the test off", "cos", -1.0, 1.0, group="temporal")
+    reject_offscreen: bool = _setting(
+        True, "reject history whose reprojected position lies outside the previous image (False: clamp to "
+        "its edge)", group="temporal")
+    taa: str = _setting(
+        "off", "temporal anti-aliasing of the final image over a sequence (frame.color): 'thesis' (seed 000 2.5: "
+        "two alternating quarter-pixel jitters, the mean of this and the previous frame, no reprojection), "
+        "'clamped' (Halton(2,3) jitter, reprojected history clamped to the YCoCg min/max of the 3x3 "
+        "neighbourhood) or 'off'", choices=("off", "thesis", "clamped"), group="temporal")
+    taa_history_weight: float = _setting(
+        0.9, "taa='clamped': weight of the clamped history in the blend (the current frame gets the rest)", "",
+        0.0, 0.99, group="temporal")
+    bounces: str = _setting(
+        "single", "'single': rays bring the lit colour of what they hit; 'history' (seed 002, 4.6.4): rays that "
+        "hit layer 0 bring the previous frame's final colour at the hit's reprojected position (this frame's "
+        "lit colour where that history is rejected), so mirrors facing mirrors gain a bounce per frame",
+        choices=("single", "history"), group="temporal")
+
     # ---------------------------------------------------------------------------------------------
     def __post_init__(self) -> None:
         # Construction, replace() and from_dict() end here: the fields are checked one by one

@@ -35,6 +35,29 @@ layout(binding = 7) uniform sampler2DArray u_material;
 
 layout(binding = 0, rgba16f) writeonly uniform image2D o_reflection;
 
+#if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
+// Multiple bounces over frames (seed 002, 4.6.4): a ray that hits layer 0 brings the previous
+// frame's final colour at the hit's reprojected position, which already holds that surface's
+// own reflection, instead of this frame's lit colour; each frame adds one bounce.
+layout(binding = 8) uniform sampler2D u_reprojection;
+layout(binding = 9) uniform sampler2D u_previous_color;
+uniform int u_has_history;
+
+vec3 previous_final(ivec2 hp, vec3 lit) {
+    vec4 r = texelFetch(u_reprojection, hp, 0);
+    if (u_has_history == 0 || r.z < 0.5) return lit;
+    ivec2 size = textureSize(u_previous_color, 0);
+    vec2 t = r.xy - 0.5;
+    ivec2 b = ivec2(floor(t));
+    vec2 f = t - vec2(b);
+    vec3 c00 = texelFetch(u_previous_color, clamp(b, ivec2(0), size - 1), 0).rgb;
+    vec3 c10 = texelFetch(u_previous_color, clamp(b + ivec2(1, 0), ivec2(0), size - 1), 0).rgb;
+    vec3 c01 = texelFetch(u_previous_color, clamp(b + ivec2(0, 1), ivec2(0), size - 1), 0).rgb;
+    vec3 c11 = texelFetch(u_previous_color, clamp(b + ivec2(1, 1), ivec2(0), size - 1), 0).rgb;
+    return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+}
+#endif
+
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
 
@@ -115,7 +138,11 @@ void main() {
             float dist = -1.0;
             if (hit.z > 0.5) {
                 ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
-                c = mix(c, texelFetch(u_lit, hp, 0).rgb, hit.w);
+                vec3 lit = texelFetch(u_lit, hp, 0).rgb;
+#if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
+                if (hp.z == 0) lit = previous_final(hp.xy, lit);
+#endif
+                c = mix(c, lit, hit.w);
                 dist = distance(view_position(hit.xy, texelFetch(u_linear_depth, hp, 0).r), s_origin[e].xyz);
             }
             s_color[e] = vec4(c, smp.x);

@@ -1,0 +1,25 @@
+// taa: temporal anti-aliasing of the final image over a sequence's jittered frames
+// (shaders/passes/taa.comp).
+//   thesis : the thesis's two-frame blend (seed 000, 2.5, after Sousa): the mean of this frame's
+//            colour and the previous frame's colour at the same pixel, no reprojection
+//   clamped: the reprojected previous TAA output, clamped to the min/max box of this frame's
+//            3x3 neighbourhood in YCoCg, blended with weight Settings.taa_history_weight
+//   inputs : color, reprojection (+ the previous frame's color or color.taa)
+//   outputs: color.taa (RGBA32F; Frame.color reads it when present)
+#pragma once
+
+#include "render/render_pass.h"
+
+namespace ssr {
+
+class TaaPass : public RenderPass {
+public:
+    std::string name() const override { return "taa"; }
+    std::vector<std::string> inputs() const override { return {"color", "reprojection"}; }
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
+        return {{"color.taa", GL_RGBA32F, s.width, s.height, 0, 1}};
+    }
+    void execute(FrameContext& ctx) override;
+};
+
+}  // namespace ssr

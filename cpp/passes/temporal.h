@@ -1,0 +1,23 @@
+// temporal: accumulation of the resolved reflection over a sequence's frames (seed 002,
+// 4.7.4; seed 000, 4.4; shaders/passes/temporal.comp).
+//   inputs : reflection, reprojection (+ the previous frame's reflection.temporal)
+//   outputs: reflection.temporal (RGBA32F: rgb accumulated reflection, a history length)
+// In the chain when Settings.temporal_reflections is on and the frame traces reflections; the
+// composite then reads reflection.temporal.
+#pragma once
+
+#include "render/render_pass.h"
+
+namespace ssr {
+
+class TemporalPass : public RenderPass {
+public:
+    std::string name() const override { return "temporal"; }
+    std::vector<std::string> inputs() const override { return {"reflection", "reprojection"}; }
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
+        return {{"reflection.temporal", GL_RGBA32F, s.width, s.height, 0, 1}};
+    }
+    void execute(FrameContext& ctx) override;
+};
+
+}  // namespace ssr

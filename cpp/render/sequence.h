@@ -1,0 +1,48 @@
+// The history of a sequence of frames (Renderer::render with a Sequence): the previous
+// frame's textures and constants, which the temporal passes read (seed 002, 4.6.5 and 4.7.4;
+// seed 000, 4.4). The renderer replaces them after every frame of the sequence; they are
+// dropped with the Sequence, so nothing carries over from one sequence to the next.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "core/egl_context.h"
+#include "render/frame_uniforms.h"
+#include "render/render_pass.h"
+#include "render/settings.h"
+
+namespace ssr {
+
+class Sequence {
+public:
+    explicit Sequence(std::shared_ptr<EglContext> ctx) : ctx_(std::move(ctx)) {}
+    ~Sequence() {
+        // The textures die in their own context.
+        try {
+            CurrentContext current(*ctx_);
+            previous.reset();
+        } catch (...) {
+        }
+    }
+    Sequence(const Sequence&) = delete;
+    Sequence& operator=(const Sequence&) = delete;
+
+    std::shared_ptr<FrameResources> previous;  // the previous frame's textures (null: no history)
+    FrameUniforms previous_uniforms{};
+    glm::mat4 previous_unjittered_proj{1.0f};  // its projection without the TAA jitter
+    RenderSettings previous_settings;
+    uint64_t scene_id = 0, scene_revision = 0;
+    int frames = 0;  // frames rendered so far in this sequence
+
+    // The history usable by a frame of `s` showing `scene_id`: same image size, same scene.
+    bool usable(const RenderSettings& s, uint64_t id, uint64_t revision) const {
+        return previous && previous_settings.width == s.width && previous_settings.height == s.height &&
+               scene_id == id && scene_revision == revision;
+    }
+
+private:
+    std::shared_ptr<EglContext> ctx_;
+};
+
+}  // namespace ssr

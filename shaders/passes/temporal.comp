@@ -1,0 +1,50 @@
+#version 450 core
+// temporal (seed 002, 4.7.4; seed 000, 4.4): accumulates the resolved reflection over the
+// frames of a sequence. Where the reprojection kept the history, the previous accumulated
+// reflection is fetched at the pixel's previous position (bilinear) and blended with this
+// frame's: c = c_prev + (c_cur - c_prev) / n, n = min(n_prev + 1, max_history) frames. Up to
+// max_history frames this is the plain mean of every frame's samples (each frame draws new
+// rays: the sequence changes the seed); beyond it an exponential average whose current frame
+// weighs 1 / max_history. Rejected history falls back to the current frame (n = 1).
+//   output (RGBA32F): rgb accumulated reflection, a history length n in frames
+#include "../lib/frame_uniforms.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(binding = 0) uniform sampler2D u_reflection;
+layout(binding = 1) uniform sampler2D u_reprojection;
+layout(binding = 2) uniform sampler2D u_history;  // previous reflection.temporal
+
+layout(binding = 0, rgba32f) writeonly uniform image2D o_accumulated;
+
+uniform int u_has_history;
+uniform int u_max_history;
+
+// Bilinear fetch at window position `pos` (pixel centres at .5), clamped to the edge.
+vec4 history_at(vec2 pos, ivec2 size) {
+    vec2 t = pos - 0.5;
+    ivec2 b = ivec2(floor(t));
+    vec2 f = t - vec2(b);
+    vec4 c00 = texelFetch(u_history, clamp(b, ivec2(0), size - 1), 0);
+    vec4 c10 = texelFetch(u_history, clamp(b + ivec2(1, 0), ivec2(0), size - 1), 0);
+    vec4 c01 = texelFetch(u_history, clamp(b + ivec2(0, 1), ivec2(0), size - 1), 0);
+    vec4 c11 = texelFetch(u_history, clamp(b + ivec2(1, 1), ivec2(0), size - 1), 0);
+    return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+}
+
+void main() {
+    ivec2 size = ivec2(frame.viewport.xy);
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(pixel, size))) return;
+    vec3 current = texelFetch(u_reflection, pixel, 0).rgb;
+    vec4 r = texelFetch(u_reprojection, pixel, 0);
+    vec3 result = current;
+    float n = 1.0;
+    if (u_has_history != 0 && r.z > 0.5) {
+        vec4 h = history_at(r.xy, size);
+        n = min(floor(h.a + 0.5) + 1.0, float(u_max_history));
+        n = max(n, 1.0);
+        result = h.rgb + (current - h.rgb) / n;
+    }
+    imageStore(o_accumulated, pixel, vec4(result, n));
+}
