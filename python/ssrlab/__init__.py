@@ -12,13 +12,13 @@
 from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
 from . import bench, experiments, io, metrics, models, reference, scenes, transforms
 from .renderer import Frame, GBuffer, Renderer, shader_dir
-from .scene import Scene, directional_light, point_light
+from .scene import Scene, SceneWarning, directional_light, point_light
 from .settings import Settings
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Camera", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material", "Renderer",
-    "Scene", "SceneError", "Settings", "ShaderError", "directional_light", "models", "point_light", "scenes",
+    "Scene", "SceneError", "SceneWarning", "Settings", "ShaderError", "directional_light", "models", "point_light", "scenes",
     "shader_dir", "transforms",
 ]
