@@ -756,6 +756,29 @@ void check_model_values(const tinygltf::Model& model, const GltfReader& r, std::
     }
 }
 
+// World-space coordinates beyond this lose float precision to the point where view
+// directions and depths are noise (a camera at 1e9 resolves no step finer than ~100 units).
+constexpr double kMaxWorldCoordinate = 1e9;
+
+bool within_world(const glm::vec3& p) {
+    return std::abs(p.x) <= kMaxWorldCoordinate && std::abs(p.y) <= kMaxWorldCoordinate &&
+           std::abs(p.z) <= kMaxWorldCoordinate;
+}
+
+// Whether an object's transform can be drawn: its 3x3 part must be invertible, since
+// normals are transformed by the inverse transpose (a zero scale makes them NaN).
+bool invertible_transform(const glm::mat4& m) {
+    const glm::dmat3 a{glm::mat3(m)};
+    const double scale = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
+    const double det = glm::determinant(a);
+    if (!std::isfinite(scale) || !(scale > 0.0) || !(std::abs(det) > 1e-6 * scale)) return false;
+    const glm::mat3 n = glm::transpose(glm::inverse(glm::mat3(m)));
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (!std::isfinite(n[c][r])) return false;
+    return true;
+}
+
 // A checked vec3 direction: finite and of non-zero length.
 bool usable_direction(const glm::vec3& v) {
     const float len = glm::length(v);
@@ -1019,9 +1042,23 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 r.fail(what + ": mesh index " + std::to_string(node.mesh) +
                        " is out of range (the file has " + std::to_string(model.meshes.size()) + " meshes)");
             const auto& gmesh = model.meshes[size_t(node.mesh)];
-            for (int p = 0; p < int(gmesh.primitives.size()); ++p) {
+            const bool drawable = invertible_transform(world);
+            if (!drawable && !gmesh.primitives.empty())
+                warnings.push_back(path + ": " + what + ": its world transform is singular (a zero scale); mesh " +
+                                   std::to_string(node.mesh) + " skipped");
+            for (int p = 0; drawable && p < int(gmesh.primitives.size()); ++p) {
                 auto [mesh, material] = primitive(node.mesh, p);
                 if (mesh < 0) continue;
+                Bounds b;
+                for (const auto& q : scene.meshes[size_t(mesh)].positions) b.extend(q);
+                for (int k = 0; k < 8; ++k) {
+                    const glm::vec3 corner((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+                                           (k & 4) ? b.max.z : b.min.z);
+                    const glm::vec3 w(world * glm::vec4(corner, 1.0f));
+                    if (!within_world(w))
+                        r.fail(what + ": mesh " + std::to_string(node.mesh) + " reaches (" + num(w.x) + ", " + num(w.y) +
+                               ", " + num(w.z) + ") in world space, beyond +-" + num(kMaxWorldCoordinate));
+                }
                 std::string name = node.name.empty() ? scene.meshes[size_t(mesh)].name : node.name;
                 if (gmesh.primitives.size() > 1) name += "/" + std::to_string(p);
                 scene.add_object(mesh, material, world, name);
@@ -1039,7 +1076,12 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 r.fail(what + ": camera " + std::to_string(node.camera) + "'s node transform is degenerate (no view direction)");
             CameraDesc cam;
             cam.position = glm::vec3(world[3]);
-            cam.target = cam.position - glm::normalize(back);  // glTF cameras look down -z
+            if (!within_world(cam.position))
+                r.fail(what + ": camera " + std::to_string(node.camera) + " stands beyond +-" + num(kMaxWorldCoordinate) +
+                       " in world space");
+            // glTF cameras look down -z; the target far enough away to differ in float from the position.
+            const float reach = std::max(1.0f, 1e-3f * glm::length(cam.position));
+            cam.target = cam.position - glm::normalize(back) * reach;
             cam.up = glm::normalize(up);
             cam.fov_y_degrees = float(glm::degrees(pc.yfov));
             cam.near_plane = float(pc.znear);
@@ -1061,6 +1103,9 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             l.color = vec3_from(gl.color, glm::vec3(1.0f));
             l.intensity = float(gl.intensity);
             l.position = glm::vec3(world[3]);
+            if (!within_world(l.position))
+                r.fail(what + ": light " + std::to_string(li) + " stands beyond +-" + num(kMaxWorldCoordinate) +
+                       " in world space");
             const glm::vec3 dir = -glm::vec3(world[2]);
             if (gl.type == "directional") {
                 l.type = Light::Type::Directional;
@@ -1074,7 +1119,9 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             }
             const bool explicit_dir = gl.extras.Has("direction");
             l.direction = explicit_dir ? vec3_from_value(gl.extras.Get("direction"), dir, r, lwhat + ": extras.direction") : dir;
-            if (gl.extras.Has("position")) l.position = vec3_from_value(gl.extras.Get("position"), l.position, r, lwhat + ": extras.position");
+            if (gl.extras.Has("position"))
+                l.position = vec3_from_value(gl.extras.Get("position"), l.position, r, lwhat + ": extras.position",
+                                             -kMaxWorldCoordinate, kMaxWorldCoordinate);
             if (l.type == Light::Type::Directional && !usable_direction(l.direction))
                 r.fail(explicit_dir ? lwhat + ": extras.direction is a zero vector"
                                     : what + ": light " + std::to_string(li) + " has no direction (its node's transform is degenerate)");
@@ -1099,8 +1146,10 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 const std::string cw = w + ".camera";
                 if (!c.IsObject()) r.fail(cw + " is not an object");
                 CameraDesc cam = scene.camera.value_or(CameraDesc{});
-                cam.position = vec3_from_value(c.Get("position"), cam.position, r, cw + ".position");
-                cam.target = vec3_from_value(c.Get("target"), cam.target, r, cw + ".target");
+                cam.position = vec3_from_value(c.Get("position"), cam.position, r, cw + ".position",
+                                               -kMaxWorldCoordinate, kMaxWorldCoordinate);
+                cam.target = vec3_from_value(c.Get("target"), cam.target, r, cw + ".target",
+                                             -kMaxWorldCoordinate, kMaxWorldCoordinate);
                 cam.up = vec3_from_value(c.Get("up"), cam.up, r, cw + ".up");
                 if (c.Has("fov_y")) cam.fov_y_degrees = float(number_from_value(c.Get("fov_y"), r, cw + ".fov_y", 1e-4, 179.9));
                 if (c.Has("near")) cam.near_plane = float(number_from_value(c.Get("near"), r, cw + ".near", 1e-30, 1e30));

@@ -313,6 +313,24 @@ def _(d):
     return d
 
 
+@case("node_zero_scale.gltf", warn("node 0", "singular", "mesh 0 skipped"))
+def _(d):
+    d["nodes"][0]["scale"] = [1, 1, 0]  # the triangle is flat in z, but its normals would be NaN
+    return d
+
+
+@case("node_far_from_origin.gltf", err("node 0", "world space", "1e+09"))
+def _(d):
+    d["nodes"][0]["translation"] = [3e12, 0, 0]
+    return d
+
+
+@case("camera_far_from_origin.gltf", err("node 1", "camera 0", "world space"))
+def _(d):
+    d["nodes"][1]["translation"] = [0, 0, 2 ** 40]
+    return d
+
+
 @case("camera_yfov_zero.gltf", err("camera 0", "yfov"))
 def _(d):
     d["cameras"][0]["perspective"]["yfov"] = 0
