@@ -400,6 +400,10 @@ def child_main() -> None:
     for line in sys.stdin:
         job = json.loads(line)
         print("BEGIN " + str(job["id"]), flush=True)
+        if job.get("selftest") == "crash":  # --selftest: the parent must record these
+            os.kill(os.getpid(), signal.SIGSEGV)
+        if job.get("selftest") == "hang":
+            time.sleep(3600)
         result = {"id": job["id"], "outcome": "refused"}
         try:
             scene = ssrlab.Scene.load(job["path"], allow_external_files=job["external"])
@@ -510,11 +514,12 @@ def run(args) -> dict:
         mutant = work / f"seed{si:02d}" / f"mutant{seed.path.suffix}"
         mutant.write_bytes(data)
         n += 1
+        selftest = args.selftest[n - 1] if args.selftest and n <= len(args.selftest) else None
         if child is None:
             child = Child(args.device)
             if child.readline(120) != "READY":
                 raise SystemExit("fuzz child did not start:\n" + child.stderr_tail())
-        job = {"id": n, "path": str(mutant), "external": external}
+        job = {"id": n, "path": str(mutant), "external": external, "selftest": selftest}
         child.proc.stdin.write(json.dumps(job) + "\n")
         child.proc.stdin.flush()
         begin = child.readline(30)
@@ -576,6 +581,8 @@ def main(argv=None) -> int:
     ap.add_argument("--device", default="auto", choices=("auto", "gpu", "cpu"))
     ap.add_argument("--keep-work", action="store_true", help="keep the work folder with the last mutants")
     ap.add_argument("--verbose", action="store_true")
+    ap.add_argument("--selftest", nargs="*", choices=("crash", "hang", "none"), default=[],
+                    help="make the first children crash or hang on purpose, to check that both are recorded")
     args = ap.parse_args(argv)
     stats = run(args)
     print(f"fuzz_gltf: {stats['mutants']} mutants in {stats['seconds']} s from {stats['seeds']} seeds (seed "
