@@ -410,6 +410,113 @@ void precheck_json(const nlohmann::json& j, const PathPolicy& pol, const std::st
     }
     if (scenes)
         for (size_t i = 0; i < scenes->size(); ++i) object((*scenes)[i], "scene " + std::to_string(i));
+
+    // Every index into another array: tinygltf silently drops a primitive whose attribute is
+    // not an integer, ignores non-integer indices and truncates large ones to int.
+    auto count_of = [&](const char* key) -> size_t {
+        const auto it = j.find(key);
+        return it != j.end() && it->is_array() ? it->size() : 0;
+    };
+    const size_t n_accessors = count_of("accessors"), n_images = count_of("images"), n_samplers = count_of("samplers"),
+                 n_textures = count_of("textures"), n_materials = count_of("materials"), n_meshes = count_of("meshes"),
+                 n_nodes = count_of("nodes"), n_cameras = count_of("cameras"), n_skins = count_of("skins");
+    auto index_list = [&](const nlohmann::json& o, const char* key, const std::string& what, size_t count,
+                          const char* target) {
+        const auto it = o.find(key);
+        if (it == o.end()) return;
+        if (!it->is_array()) fail(what + ": " + key + " is not an array");
+        for (size_t k = 0; k < it->size(); ++k) {
+            const nlohmann::json wrapper{{key, (*it)[k]}};
+            index_field(wrapper, key, what + " " + key + "[" + std::to_string(k) + "]", count, target);
+        }
+    };
+    auto sub_object = [&](const nlohmann::json& o, const char* key, const std::string& what) -> const nlohmann::json* {
+        const auto it = o.find(key);
+        if (it == o.end()) return nullptr;
+        object(*it, what + ": " + key);
+        return &*it;
+    };
+    auto small_int = [&](const nlohmann::json& o, const char* key, const std::string& what) {
+        if (o.contains(key) && uint_field(o, key, what, false, 0) > 0x7FFFFFFF)
+            fail(what + ": " + key + " " + excerpt(o[key]) + " is out of range");
+    };
+    if (n_textures)
+        for (size_t i = 0; i < n_textures; ++i) {
+            const auto& t = j["textures"][i];
+            const std::string what = "texture " + std::to_string(i);
+            index_field(t, "source", what, n_images, "images");
+            index_field(t, "sampler", what, n_samplers, "samplers");
+        }
+    for (size_t i = 0; i < n_materials; ++i) {
+        const auto& m = j["materials"][i];
+        const std::string what = "material " + std::to_string(i);
+        auto texture_info = [&](const nlohmann::json& parent, const char* key) {
+            if (const auto* t = sub_object(parent, key, what)) {
+                index_field(*t, "index", what + " " + key, n_textures, "textures");
+                small_int(*t, "texCoord", what + " " + key);
+            }
+        };
+        if (const auto* pbr = sub_object(m, "pbrMetallicRoughness", what)) {
+            texture_info(*pbr, "baseColorTexture");
+            texture_info(*pbr, "metallicRoughnessTexture");
+        }
+        for (const char* key : {"normalTexture", "occlusionTexture", "emissiveTexture"}) texture_info(m, key);
+    }
+    for (size_t i = 0; i < n_meshes; ++i) {
+        const auto& mesh = j["meshes"][i];
+        const auto prims = mesh.find("primitives");
+        if (prims == mesh.end()) continue;
+        if (!prims->is_array()) fail("mesh " + std::to_string(i) + ": primitives is not an array");
+        for (size_t p = 0; p < prims->size(); ++p) {
+            const std::string what = "mesh " + std::to_string(i) + " primitive " + std::to_string(p);
+            const auto& prim = (*prims)[p];
+            object(prim, what);
+            if (const auto* attrs = sub_object(prim, "attributes", what))
+                for (const auto& [name, value] : attrs->items())
+                    index_field(nlohmann::json{{"accessor", value}}, "accessor", what + " attribute " + name, n_accessors,
+                                "accessors");
+            index_field(prim, "indices", what, n_accessors, "accessors");
+            index_field(prim, "material", what, n_materials, "materials");
+            small_int(prim, "mode", what);
+            if (const auto it = prim.find("targets"); it != prim.end()) {
+                if (!it->is_array()) fail(what + ": targets is not an array");
+                for (size_t t = 0; t < it->size(); ++t) {
+                    object((*it)[t], what + " target " + std::to_string(t));
+                    for (const auto& [name, value] : (*it)[t].items())
+                        index_field(nlohmann::json{{"accessor", value}}, "accessor",
+                                    what + " target " + std::to_string(t) + " " + name, n_accessors, "accessors");
+                }
+            }
+        }
+    }
+    size_t n_lights = 0;
+    if (const auto ext = j.find("extensions"); ext != j.end() && ext->is_object())
+        if (const auto lp = ext->find("KHR_lights_punctual"); lp != ext->end() && lp->is_object())
+            if (const auto lights = lp->find("lights"); lights != lp->end()) {
+                if (!lights->is_array()) fail("KHR_lights_punctual.lights is not an array");
+                n_lights = lights->size();
+                for (size_t i = 0; i < n_lights; ++i) object((*lights)[i], "light " + std::to_string(i));
+            }
+    for (size_t i = 0; i < n_nodes; ++i) {
+        const auto& n = j["nodes"][i];
+        const std::string what = "node " + std::to_string(i);
+        index_field(n, "mesh", what, n_meshes, "meshes");
+        index_field(n, "camera", what, n_cameras, "cameras");
+        index_field(n, "skin", what, n_skins, "skins");
+        index_list(n, "children", what, n_nodes, "nodes");
+        if (const auto* ext = sub_object(n, "extensions", what))
+            if (const auto* lp = sub_object(*ext, "KHR_lights_punctual", what + " extensions"))
+                index_field(*lp, "light", what + " KHR_lights_punctual", n_lights, "lights");
+    }
+    if (scenes)
+        for (size_t i = 0; i < scenes->size(); ++i) index_list((*scenes)[i], "nodes", "scene " + std::to_string(i), n_nodes, "nodes");
+    for (size_t i = 0; i < n_skins; ++i) {
+        const auto& sk = j["skins"][i];
+        const std::string what = "skin " + std::to_string(i);
+        index_list(sk, "joints", what, n_nodes, "nodes");
+        index_field(sk, "skeleton", what, n_nodes, "nodes");
+        index_field(sk, "inverseBindMatrices", what, n_accessors, "accessors");
+    }
 }
 
 // Decodes every image through OpenImageIO rather than tinygltf's stb_image.

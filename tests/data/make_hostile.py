@@ -376,9 +376,33 @@ def _(d):
     return d
 
 
-@case("primitive_attribute_out_of_range.gltf", err("mesh 0", "accessor index 7"))
+@case("primitive_attribute_out_of_range.gltf", err("mesh 0 primitive 0 attribute POSITION", "accessor 7", "out of range"))
 def _(d):
     d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 7
+    return d
+
+
+@case("primitive_attribute_not_integer.gltf", err("mesh 0 primitive 0 attribute POSITION", "integer", "0.5"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 0.5
+    return d
+
+
+@case("primitive_attribute_huge_index.gltf", err("mesh 0 primitive 0 attribute POSITION", "out of range"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 2 ** 40  # an int cast makes it 0
+    return d
+
+
+@case("primitive_indices_string.gltf", err("mesh 0 primitive 0", "indices", "integer"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["indices"] = "x"
+    return d
+
+
+@case("node_light_index_out_of_range.gltf", err("node 2", "light", "out of range"))
+def _(d):
+    d["nodes"][2]["extensions"]["KHR_lights_punctual"]["light"] = 5
     return d
 
 
