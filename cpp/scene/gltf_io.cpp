@@ -1286,6 +1286,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                     const std::string ref = string_from_value(e.Get("map"), r, ew + ".map");
                     // Checked now, not when the renderer reads it: a device or FIFO would hang the reader.
                     env.map_path = resolve_reference(pol, ref, "environment map").string();
+                    probe_image_file(env.map_path, path + ": environment map");
                 }
                 scene.environment = env;
             }

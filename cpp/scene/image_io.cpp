@@ -121,6 +121,14 @@ FloatImage read_float_image(const std::string& path) {
     return img;
 }
 
+void probe_image_file(const std::string& path, const std::string& what) {
+    if (!std::filesystem::is_regular_file(path))
+        throw SceneError(what + ": '" + path + "' is not a regular file (a folder, device, FIFO or socket)");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw SceneError(what + ": '" + path + "' is not an image OpenImageIO can read: " + OIIO::geterror());
+    check_image_size(in->spec(), what + " '" + path + "'");
+}
+
 void write_float_image(const std::string& path, const FloatImage& image, bool half) {
     auto out = OIIO::ImageOutput::create(path);
     if (!out) throw SceneError(path + ": no image writer for this file type: " + OIIO::geterror());

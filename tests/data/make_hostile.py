@@ -184,6 +184,12 @@ def _(d):
     return d
 
 
+@case("envmap_not_an_image.gltf", err("environment map", "not an image"), allow_external_files=True)
+def _(d):
+    d["scenes"][0].update(ssrlab_extras(environment={"type": "map", "map": "/etc/passwd"}))
+    return d
+
+
 @case("image_uri_etc_passwd.gltf", err("image 0", "/etc/passwd", "absolute path"))
 def _(d):
     d["images"][0] = {"uri": "/etc/passwd"}
