@@ -872,13 +872,18 @@ bool within_world(const glm::vec3& p) {
            std::abs(p.z) <= kMaxWorldCoordinate;
 }
 
-// Whether an object's transform can be drawn: its 3x3 part must be invertible, since
-// normals are transformed by the inverse transpose (a zero scale makes them NaN).
+// Whether an object's transform can be drawn: its 3x3 part must be well-conditioned, since
+// normals are transformed by the inverse transpose (a zero scale makes them NaN, and a scale
+// ratio of 1e19 underflows them to zero length in float).
+constexpr double kMaxScaleRatio = 1e6;
+
 bool invertible_transform(const glm::mat4& m) {
     const glm::dmat3 a{glm::mat3(m)};
-    const double scale = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
+    const double l0 = glm::length(a[0]), l1 = glm::length(a[1]), l2 = glm::length(a[2]);
+    const double scale = l0 * l1 * l2;
     const double det = glm::determinant(a);
     if (!std::isfinite(scale) || !(scale > 0.0) || !(std::abs(det) > 1e-6 * scale)) return false;
+    if (std::max({l0, l1, l2}) > kMaxScaleRatio * std::min({l0, l1, l2})) return false;
     const glm::mat3 n = glm::transpose(glm::inverse(glm::mat3(m)));
     for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 3; ++r)
@@ -1151,7 +1156,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             const auto& gmesh = model.meshes[size_t(node.mesh)];
             const bool drawable = invertible_transform(world);
             if (!drawable && !gmesh.primitives.empty())
-                warnings.push_back(path + ": " + what + ": its world transform is singular (a zero scale); mesh " +
+                warnings.push_back(path + ": " + what + ": its world transform is singular or degenerate (a zero scale, or axes scaled more than 1e6 apart); mesh " +
                                    std::to_string(node.mesh) + " skipped");
             for (int p = 0; drawable && p < int(gmesh.primitives.size()); ++p) {
                 auto [mesh, material] = primitive(node.mesh, p);

@@ -325,6 +325,12 @@ def _(d):
     return d
 
 
+@case("node_scale_ratio_1e19.gltf", warn("node 0", "degenerate", "mesh 0 skipped"))
+def _(d):
+    d["nodes"][0]["scale"] = [1, 1, 1.8e19]  # fuzzer finding: normals underflowed to zero length, NaN image
+    return d
+
+
 @case("node_far_from_origin.gltf", err("node 0", "world space", "1e+09"))
 def _(d):
     d["nodes"][0]["translation"] = [3e12, 0, 0]
