@@ -276,6 +276,8 @@ colour, a procedural gradient sky, or an equirectangular map (EXR/HDR/PNG via Op
             "map",
             [](const std::string& path, float intensity) {
                 if (!std::filesystem::exists(path)) throw FileNotFound("environment map not found: " + path);
+                if (!std::filesystem::is_regular_file(path))  // a device or FIFO would hang the reader
+                    throw SceneError("environment map '" + path + "' is not a regular file");
                 Environment e;
                 e.type = Environment::Type::Map;
                 e.map_path = std::filesystem::absolute(path).string();
@@ -441,13 +443,16 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
             py::arg("segments") = 48)
         .def(
             "_add_gltf",
-            [](Scene& s, const std::string& path, const glm::mat4& transform) {
-                const int first = load_gltf(s, path, transform);
+            [](Scene& s, const std::string& path, const glm::mat4& transform, bool allow_external_files) {
+                GltfLoadOptions options;
+                options.allow_external_files = allow_external_files;
+                std::vector<std::string> warnings;
+                const int first = load_gltf(s, path, transform, options, &warnings);
                 std::vector<int> ids;
                 for (int i = first; i < int(s.objects.size()); ++i) ids.push_back(i);
-                return ids;
+                return py::make_tuple(ids, warnings);  // the Python wrapper emits the warnings
             },
-            py::arg("path"), py::arg("transform"))
+            py::arg("path"), py::arg("transform"), py::arg("allow_external_files") = false)
         .def("_save", [](const Scene& s, const std::string& path) { save_gltf(s, path); })
         .def(
             "add_image",

@@ -1,16 +1,22 @@
 #include "scene/gltf_io.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <tiny_gltf.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <functional>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <map>
+#include <new>
+#include <nlohmann/json.hpp>
 #include <set>
+#include <string_view>
 
 #include "core/errors.h"
 #include "scene/image_io.h"
@@ -24,8 +30,494 @@ namespace {
 constexpr int kModeTriangles = 4, kModeStrip = 5, kModeFan = 6;
 
 // ---------------------------------------------------------------------------------------
-// Reading
+// Reading hostile files. Everything the file says is checked where it is read: sizes and
+// offsets with overflow-checked arithmetic, JSON nesting before any parser sees it (the
+// parsers recurse), file references against the model's folder and for being regular
+// files before anything is opened for reading, numbers for being finite and in range.
 // ---------------------------------------------------------------------------------------
+
+constexpr uint64_t kMaxFileBytes = uint64_t(1) << 30;  // per file read: the model, each buffer, each image
+constexpr int kMaxJsonDepth = 64;                      // real files nest ~8 deep; extras rarely more
+constexpr int kMaxNodeDepth = 1000;                    // node hierarchy levels
+// Radiance the lighting buffers can hold: "lit" and the reflection are RGBA16F (largest
+// finite value 65504), so light colour x intensity and the ambient/environment terms are
+// capped well below where a lit pixel would overflow to Inf.
+constexpr double kMaxLightPower = 1e4;
+constexpr double kMaxRadiance = 1e3;
+
+bool checked_add(uint64_t a, uint64_t b, uint64_t* out) { return !__builtin_add_overflow(a, b, out); }
+bool checked_mul(uint64_t a, uint64_t b, uint64_t* out) { return !__builtin_mul_overflow(a, b, out); }
+
+// Length of the well-formed UTF-8 sequence at p[0..n) (RFC 3629: no overlong forms, no
+// surrogates, nothing above U+10FFFF), or 0 when it is not one.
+size_t utf8_sequence(const unsigned char* p, size_t n) {
+    const unsigned c = p[0];
+    if (c < 0x80) return 1;
+    size_t len;
+    unsigned lo = 0x80, hi = 0xBF;
+    if (c >= 0xC2 && c <= 0xDF) len = 2;
+    else if (c == 0xE0) len = 3, lo = 0xA0;
+    else if (c == 0xED) len = 3, hi = 0x9F;
+    else if (c >= 0xE1 && c <= 0xEF) len = 3;
+    else if (c == 0xF0) len = 4, lo = 0x90;
+    else if (c >= 0xF1 && c <= 0xF3) len = 4;
+    else if (c == 0xF4) len = 4, hi = 0x8F;
+    else return 0;
+    if (n < len) return 0;
+    if (p[1] < lo || p[1] > hi) return 0;
+    for (size_t i = 2; i < len; ++i)
+        if (p[i] < 0x80 || p[i] > 0xBF) return 0;
+    return len;
+}
+
+// A message Python can always decode: bytes that are not UTF-8, and control characters,
+// become \xNN (a file name or a JSON parser's excerpt can hold anything).
+std::string printable(std::string_view s) {
+    static const char* hex = "0123456789abcdef";
+    std::string out;
+    out.reserve(s.size());
+    const auto* p = reinterpret_cast<const unsigned char*>(s.data());
+    for (size_t i = 0; i < s.size();) {
+        const size_t len = utf8_sequence(p + i, s.size() - i);
+        if (len == 0 || (p[i] < 0x20 && p[i] != '\n' && p[i] != '\t') || p[i] == 0x7F) {
+            out += "\\x";
+            out += hex[p[i] >> 4];
+            out += hex[p[i] & 15];
+            ++i;
+        } else {
+            out.append(s.data() + i, len);
+            i += len;
+        }
+    }
+    return out;
+}
+
+// A short excerpt of a JSON value for a message.
+std::string excerpt(const nlohmann::json& v) {
+    std::string s = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+// Reads a regular file of at most kMaxFileBytes. The type is checked with stat before the
+// file is opened, and again on the open descriptor (O_NONBLOCK: opening a FIFO does not wait
+// for a writer), so devices, FIFOs and folders are refused before a single byte is read.
+std::vector<uint8_t> read_regular_file(const std::string& path, const std::string& what) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) throw SceneError(what + ": cannot read '" + path + "': " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        throw SceneError(what + ": '" + path + "' is not a regular file (a folder, device, FIFO or socket)");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) throw SceneError(what + ": cannot open '" + path + "': " + std::strerror(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))
+        throw SceneError(what + ": '" + path + "' is not a regular file");
+    if (uint64_t(st.st_size) > kMaxFileBytes)
+        throw SceneError(what + ": '" + path + "' is " + std::to_string(st.st_size) + " bytes, more than the " +
+                         std::to_string(kMaxFileBytes >> 20) + " MiB limit");
+    std::vector<uint8_t> data(size_t(st.st_size));
+    size_t got = 0;
+    while (got < data.size()) {
+        const ssize_t n = ::read(fd, data.data() + got, data.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw SceneError(what + ": error reading '" + path + "': " + std::strerror(errno));
+        if (n == 0) break;  // the file shrank while we read it
+        got += size_t(n);
+    }
+    data.resize(got);
+    return data;
+}
+
+// Where a model may read files from.
+struct PathPolicy {
+    std::string file;      // the model, for messages
+    fs::path dir;          // its folder (absolute)
+    fs::path dir_real;     // the same with symlinks resolved
+    bool allow_external = false;
+};
+
+// Resolves a file the model refers to (a buffer or image uri, an environment map) and checks
+// that it may be read: relative, inside the model's folder once symlinks are resolved (unless
+// the caller allowed external files), a regular file, not too large. Returns the real path.
+fs::path resolve_reference(const PathPolicy& pol, const std::string& ref, const std::string& what) {
+    const std::string fail_prefix = pol.file + ": " + what + ": ";
+    const std::string opt_in = "; pass allow_external_files=True to allow files outside the model's folder";
+    if (ref.empty()) throw SceneError(fail_prefix + "the uri is empty");
+    if (ref.find('\0') != std::string::npos) throw SceneError(fail_prefix + "the uri contains a NUL character");
+    const fs::path p(ref);
+    if (p.is_absolute() && !pol.allow_external)
+        throw SceneError(fail_prefix + "uri '" + ref + "' is an absolute path" + opt_in);
+    const fs::path full = p.is_absolute() ? p : pol.dir / p;
+    struct stat st {};
+    if (::stat(full.c_str(), &st) != 0)
+        throw SceneError(fail_prefix + "file not found (looked for " + full.string() + ")");
+    std::error_code ec;
+    const fs::path real = fs::canonical(full, ec);
+    if (ec) throw SceneError(fail_prefix + "cannot resolve '" + full.string() + "': " + ec.message());
+    if (!pol.allow_external) {
+        const fs::path rel = real.lexically_relative(pol.dir_real);
+        if (rel.empty() || *rel.begin() == "..")
+            throw SceneError(fail_prefix + "uri '" + ref + "' leads outside the model's folder (to " + real.string() +
+                             ")" + opt_in);
+    }
+    if (!S_ISREG(st.st_mode))
+        throw SceneError(fail_prefix + "'" + ref + "' is not a regular file (a folder, device, FIFO or socket)");
+    if (uint64_t(st.st_size) > kMaxFileBytes)
+        throw SceneError(fail_prefix + "'" + ref + "' is " + std::to_string(st.st_size) + " bytes, more than the " +
+                         std::to_string(kMaxFileBytes >> 20) + " MiB limit");
+    return real;
+}
+
+// tinygltf's percent-decoding of uris (dlib's urldecode), so our check sees the path it opens.
+std::string uri_decode(const std::string& s) {
+    auto hexval = [](unsigned char c) -> unsigned {
+        if (c >= '0' && c <= '9') return c - '0';
+        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+        return 0;
+    };
+    std::string out;
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '+') out += ' ';
+        else if (s[i] == '%' && s.size() > i + 2) {
+            out += char((hexval(uint8_t(s[i + 1])) << 4) | hexval(uint8_t(s[i + 2])));
+            i += 2;
+        } else out += s[i];
+    }
+    return out;
+}
+
+std::string join_path(const std::string& a, const std::string& b) {  // tinygltf's JoinPath
+    if (a.empty()) return b;
+    return a.back() == '/' ? a + b : a + "/" + b;
+}
+
+// tinygltf opens external files only through these: a path the pre-check approved (keyed by
+// the path tinygltf builds) is read from its checked real location; anything else is refused.
+struct FsContext {
+    std::map<std::string, std::string> approved;
+};
+
+bool fs_exists(const std::string& path, void* user) { return static_cast<FsContext*>(user)->approved.count(path) > 0; }
+std::string fs_expand(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    const auto* ctx = static_cast<FsContext*>(user);
+    const auto it = ctx->approved.find(path);
+    if (it == ctx->approved.end()) {
+        if (err) *err += "refused: not a checked file reference";
+        return false;
+    }
+    try {
+        *out = read_regular_file(it->second, path);
+        return true;
+    } catch (const std::exception& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+}
+bool fs_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "writing is disabled while loading";
+    return false;
+}
+
+// Checks the JSON text before a parser sees it: valid UTF-8, and nesting of arrays and
+// objects (outside strings) no deeper than kMaxJsonDepth. Returns an empty string or the problem.
+std::string check_json_text(std::string_view text) {
+    const auto* p = reinterpret_cast<const unsigned char*>(text.data());
+    for (size_t i = 0; i < text.size();) {
+        const size_t len = utf8_sequence(p + i, text.size() - i);
+        if (len == 0) return "the JSON is not valid UTF-8 (byte " + std::to_string(i) + ")";
+        i += len;
+    }
+    int depth = 0;
+    bool in_string = false, escaped = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                return "the JSON nests arrays and objects deeper than " + std::to_string(kMaxJsonDepth) +
+                       " levels (at byte " + std::to_string(i) + ")";
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+    return {};
+}
+
+uint32_t read_u32(const uint8_t* p) {  // GLB is little-endian
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+const std::set<std::string>& implemented_extensions() {
+    static const std::set<std::string> names{"KHR_lights_punctual"};
+    return names;
+}
+
+// Checks what tinygltf would otherwise trust: array types, buffer/bufferView/accessor sizes
+// and offsets (overflow-checked; tinygltf indexes buffers with them unchecked), file references,
+// required extensions, the default scene. Approves the external files tinygltf may then read.
+void precheck_json(const nlohmann::json& j, const PathPolicy& pol, const std::string& base_dir, bool glb,
+                   uint64_t glb_bin_size, FsContext* ctx) {
+    const std::string& file = pol.file;
+    auto fail = [&](const std::string& what) { throw SceneError(file + ": " + what); };
+    if (!j.is_object()) fail("the JSON's top level is not an object");
+    auto array = [&](const char* key) -> const nlohmann::json* {
+        const auto it = j.find(key);
+        if (it == j.end()) return nullptr;
+        if (!it->is_array()) fail(std::string("'") + key + "' is not an array");
+        return &*it;
+    };
+    auto object = [&](const nlohmann::json& v, const std::string& what) {
+        if (!v.is_object()) fail(what + " is not a JSON object");
+    };
+    // A non-negative integer field (glTF's integer: JSON numbers like 4 or 4.0).
+    auto uint_field = [&](const nlohmann::json& o, const char* key, const std::string& what, bool required,
+                          uint64_t fallback) -> uint64_t {
+        const auto it = o.find(key);
+        if (it == o.end()) {
+            if (required) fail(what + ": '" + key + "' is missing");
+            return fallback;
+        }
+        if (it->is_number_unsigned()) return it->get<uint64_t>();
+        if (it->is_number_float()) {
+            const double d = it->get<double>();
+            if (std::isfinite(d) && d >= 0.0 && d <= 9007199254740992.0 && d == std::floor(d)) return uint64_t(d);
+        }
+        fail(what + ": " + key + " must be a non-negative integer below 2^53, got " + excerpt(*it));
+        return 0;
+    };
+    auto index_field = [&](const nlohmann::json& o, const char* key, const std::string& what, size_t count,
+                           const char* target) -> int64_t {
+        if (!o.contains(key)) return -1;
+        const uint64_t v = uint_field(o, key, what, false, 0);
+        if (v >= count)
+            fail(what + ": " + key + " " + std::to_string(v) + " is out of range (the file has " + std::to_string(count) +
+                 " " + target + ")");
+        return int64_t(v);
+    };
+
+    if (const auto it = j.find("extensionsRequired"); it != j.end()) {
+        if (!it->is_array()) fail("'extensionsRequired' is not an array");
+        for (const auto& e : *it) {
+            if (!e.is_string()) fail("extensionsRequired holds a non-string " + excerpt(e));
+            const std::string name = e.get<std::string>();
+            if (!implemented_extensions().count(name))
+                fail("the file requires extension '" + name + "', which ssrlab does not implement");
+        }
+    }
+    const auto* scenes = array("scenes");
+    if (j.contains("scene")) {
+        const size_t n = scenes ? scenes->size() : 0;
+        if (n == 0) fail("'scene' names a default scene but the file has no 'scenes' array");
+        index_field(j, "scene", "the default scene", n, "scenes");
+    }
+
+    std::vector<uint64_t> buffer_bytes;
+    if (const auto* buffers = array("buffers")) {
+        for (size_t i = 0; i < buffers->size(); ++i) {
+            const std::string what = "buffer " + std::to_string(i);
+            const auto& b = (*buffers)[i];
+            object(b, what);
+            const uint64_t len = uint_field(b, "byteLength", what, true, 0);
+            if (len == 0) fail(what + ": byteLength is 0");
+            if (len > kMaxFileBytes)
+                fail(what + ": byteLength " + std::to_string(len) + " is more than the " +
+                     std::to_string(kMaxFileBytes >> 20) + " MiB limit");
+            if (const auto u = b.find("uri"); u != b.end()) {
+                if (!u->is_string()) fail(what + ": uri is not a string");
+                const std::string uri = u->get<std::string>();
+                if (uri.rfind("data:", 0) != 0) {
+                    const std::string decoded = uri_decode(uri);
+                    ctx->approved[join_path(base_dir, decoded)] =
+                        resolve_reference(pol, decoded, what + " ('" + uri + "')").string();
+                }
+            } else if (!(glb && i == 0)) {
+                fail(what + " has no uri (only a GLB file's first buffer is stored in the file)");
+            } else if (len > glb_bin_size) {
+                fail(what + ": byteLength " + std::to_string(len) + " is more than the GLB's BIN chunk (" +
+                     std::to_string(glb_bin_size) + " bytes)");
+            }
+            buffer_bytes.push_back(len);
+        }
+    }
+    std::vector<std::pair<uint64_t, uint64_t>> views;  // (buffer, byteLength)
+    if (const auto* bvs = array("bufferViews")) {
+        for (size_t i = 0; i < bvs->size(); ++i) {
+            const std::string what = "bufferView " + std::to_string(i);
+            const auto& v = (*bvs)[i];
+            object(v, what);
+            const uint64_t b = uint_field(v, "buffer", what, true, 0);
+            if (b >= buffer_bytes.size())
+                fail(what + ": buffer " + std::to_string(b) + " is out of range (the file has " +
+                     std::to_string(buffer_bytes.size()) + " buffers)");
+            const uint64_t off = uint_field(v, "byteOffset", what, false, 0);
+            const uint64_t len = uint_field(v, "byteLength", what, true, 0);
+            uint64_t end = 0;
+            if (len == 0) fail(what + ": byteLength is 0");
+            if (!checked_add(off, len, &end) || end > buffer_bytes[b])
+                fail(what + ": byteOffset " + std::to_string(off) + " + byteLength " + std::to_string(len) +
+                     " lies outside buffer " + std::to_string(b) + " (" + std::to_string(buffer_bytes[b]) + " bytes)");
+            if (v.contains("byteStride")) {
+                const uint64_t s = uint_field(v, "byteStride", what, false, 0);
+                if (s < 4 || s > 252 || s % 4 != 0)
+                    fail(what + ": byteStride " + std::to_string(s) + " is not a multiple of 4 in [4, 252]");
+            }
+            views.emplace_back(b, len);
+        }
+    }
+    if (const auto* images = array("images")) {
+        for (size_t i = 0; i < images->size(); ++i) {
+            const std::string what = "image " + std::to_string(i);
+            const auto& im = (*images)[i];
+            object(im, what);
+            index_field(im, "bufferView", what, views.size(), "bufferViews");
+            if (const auto u = im.find("uri"); u != im.end()) {
+                if (!u->is_string()) fail(what + ": uri is not a string");
+                const std::string uri = u->get<std::string>();
+                if (uri.rfind("data:", 0) != 0) {
+                    const std::string decoded = uri_decode(uri);
+                    ctx->approved[join_path(base_dir, decoded)] =
+                        resolve_reference(pol, decoded, what + " ('" + uri + "')").string();
+                }
+            } else if (!im.contains("bufferView")) {
+                fail(what + " has neither a uri nor a bufferView");
+            }
+        }
+    }
+    if (const auto* accessors = array("accessors")) {
+        for (size_t i = 0; i < accessors->size(); ++i) {
+            const std::string what = "accessor " + std::to_string(i);
+            const auto& a = (*accessors)[i];
+            object(a, what);
+            const uint64_t count = uint_field(a, "count", what, true, 0);
+            if (count == 0) fail(what + ": count is 0");
+            uint_field(a, "byteOffset", what, false, 0);
+            index_field(a, "bufferView", what, views.size(), "bufferViews");
+        }
+    }
+    // The object arrays tinygltf walks: each must be an array of objects.
+    for (const char* key : {"nodes", "meshes", "materials", "textures", "samplers", "cameras", "skins", "animations"}) {
+        if (const auto* arr = array(key))
+            for (size_t i = 0; i < arr->size(); ++i) object((*arr)[i], std::string(key) + "[" + std::to_string(i) + "]");
+    }
+    if (scenes)
+        for (size_t i = 0; i < scenes->size(); ++i) object((*scenes)[i], "scene " + std::to_string(i));
+
+    // Every index into another array: tinygltf silently drops a primitive whose attribute is
+    // not an integer, ignores non-integer indices and truncates large ones to int.
+    auto count_of = [&](const char* key) -> size_t {
+        const auto it = j.find(key);
+        return it != j.end() && it->is_array() ? it->size() : 0;
+    };
+    const size_t n_accessors = count_of("accessors"), n_images = count_of("images"), n_samplers = count_of("samplers"),
+                 n_textures = count_of("textures"), n_materials = count_of("materials"), n_meshes = count_of("meshes"),
+                 n_nodes = count_of("nodes"), n_cameras = count_of("cameras"), n_skins = count_of("skins");
+    auto index_list = [&](const nlohmann::json& o, const char* key, const std::string& what, size_t count,
+                          const char* target) {
+        const auto it = o.find(key);
+        if (it == o.end()) return;
+        if (!it->is_array()) fail(what + ": " + key + " is not an array");
+        for (size_t k = 0; k < it->size(); ++k) {
+            const nlohmann::json wrapper{{key, (*it)[k]}};
+            index_field(wrapper, key, what + " " + key + "[" + std::to_string(k) + "]", count, target);
+        }
+    };
+    auto sub_object = [&](const nlohmann::json& o, const char* key, const std::string& what) -> const nlohmann::json* {
+        const auto it = o.find(key);
+        if (it == o.end()) return nullptr;
+        object(*it, what + ": " + key);
+        return &*it;
+    };
+    auto small_int = [&](const nlohmann::json& o, const char* key, const std::string& what) {
+        if (o.contains(key) && uint_field(o, key, what, false, 0) > 0x7FFFFFFF)
+            fail(what + ": " + key + " " + excerpt(o[key]) + " is out of range");
+    };
+    if (n_textures)
+        for (size_t i = 0; i < n_textures; ++i) {
+            const auto& t = j["textures"][i];
+            const std::string what = "texture " + std::to_string(i);
+            index_field(t, "source", what, n_images, "images");
+            index_field(t, "sampler", what, n_samplers, "samplers");
+        }
+    for (size_t i = 0; i < n_materials; ++i) {
+        const auto& m = j["materials"][i];
+        const std::string what = "material " + std::to_string(i);
+        auto texture_info = [&](const nlohmann::json& parent, const char* key) {
+            if (const auto* t = sub_object(parent, key, what)) {
+                index_field(*t, "index", what + " " + key, n_textures, "textures");
+                small_int(*t, "texCoord", what + " " + key);
+            }
+        };
+        if (const auto* pbr = sub_object(m, "pbrMetallicRoughness", what)) {
+            texture_info(*pbr, "baseColorTexture");
+            texture_info(*pbr, "metallicRoughnessTexture");
+        }
+        for (const char* key : {"normalTexture", "occlusionTexture", "emissiveTexture"}) texture_info(m, key);
+    }
+    for (size_t i = 0; i < n_meshes; ++i) {
+        const auto& mesh = j["meshes"][i];
+        const auto prims = mesh.find("primitives");
+        if (prims == mesh.end()) continue;
+        if (!prims->is_array()) fail("mesh " + std::to_string(i) + ": primitives is not an array");
+        for (size_t p = 0; p < prims->size(); ++p) {
+            const std::string what = "mesh " + std::to_string(i) + " primitive " + std::to_string(p);
+            const auto& prim = (*prims)[p];
+            object(prim, what);
+            if (const auto* attrs = sub_object(prim, "attributes", what))
+                for (const auto& [name, value] : attrs->items())
+                    index_field(nlohmann::json{{"accessor", value}}, "accessor", what + " attribute " + name, n_accessors,
+                                "accessors");
+            index_field(prim, "indices", what, n_accessors, "accessors");
+            index_field(prim, "material", what, n_materials, "materials");
+            small_int(prim, "mode", what);
+            if (const auto it = prim.find("targets"); it != prim.end()) {
+                if (!it->is_array()) fail(what + ": targets is not an array");
+                for (size_t t = 0; t < it->size(); ++t) {
+                    object((*it)[t], what + " target " + std::to_string(t));
+                    for (const auto& [name, value] : (*it)[t].items())
+                        index_field(nlohmann::json{{"accessor", value}}, "accessor",
+                                    what + " target " + std::to_string(t) + " " + name, n_accessors, "accessors");
+                }
+            }
+        }
+    }
+    size_t n_lights = 0;
+    if (const auto ext = j.find("extensions"); ext != j.end() && ext->is_object())
+        if (const auto lp = ext->find("KHR_lights_punctual"); lp != ext->end() && lp->is_object())
+            if (const auto lights = lp->find("lights"); lights != lp->end()) {
+                if (!lights->is_array()) fail("KHR_lights_punctual.lights is not an array");
+                n_lights = lights->size();
+                for (size_t i = 0; i < n_lights; ++i) object((*lights)[i], "light " + std::to_string(i));
+            }
+    for (size_t i = 0; i < n_nodes; ++i) {
+        const auto& n = j["nodes"][i];
+        const std::string what = "node " + std::to_string(i);
+        index_field(n, "mesh", what, n_meshes, "meshes");
+        index_field(n, "camera", what, n_cameras, "cameras");
+        index_field(n, "skin", what, n_skins, "skins");
+        index_list(n, "children", what, n_nodes, "nodes");
+        if (const auto* ext = sub_object(n, "extensions", what))
+            if (const auto* lp = sub_object(*ext, "KHR_lights_punctual", what + " extensions"))
+                index_field(*lp, "light", what + " KHR_lights_punctual", n_lights, "lights");
+    }
+    if (scenes)
+        for (size_t i = 0; i < scenes->size(); ++i) index_list((*scenes)[i], "nodes", "scene " + std::to_string(i), n_nodes, "nodes");
+    for (size_t i = 0; i < n_skins; ++i) {
+        const auto& sk = j["skins"][i];
+        const std::string what = "skin " + std::to_string(i);
+        index_list(sk, "joints", what, n_nodes, "nodes");
+        index_field(sk, "skeleton", what, n_nodes, "nodes");
+        index_field(sk, "inverseBindMatrices", what, n_accessors, "accessors");
+    }
+}
 
 // Decodes every image through OpenImageIO rather than tinygltf's stb_image.
 bool decode_with_oiio(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
@@ -35,6 +527,7 @@ bool decode_with_oiio(tinygltf::Image* image, const int index, std::string* err,
         if (hint.empty() && !image->uri.empty()) hint = fs::path(image->uri).extension().string();
         const std::string what =
             "image " + std::to_string(index) + (image->uri.empty() ? "" : " ('" + image->uri + "')");
+        if (size <= 0) throw SceneError(what + ": image data is empty");
         Image img = decode_image_memory(bytes, size_t(size), hint, what);
         image->width = img.width;
         image->height = img.height;
@@ -65,6 +558,13 @@ public:
         if (comps != N)
             fail(what + ": accessor " + std::to_string(index) + " has " + std::to_string(comps) +
                  " components, expected " + std::to_string(N));
+        switch (acc.componentType) {
+            case TINYGLTF_COMPONENT_TYPE_FLOAT: case TINYGLTF_COMPONENT_TYPE_BYTE:
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: case TINYGLTF_COMPONENT_TYPE_SHORT:
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: break;
+            default: fail(what + ": accessor " + std::to_string(index) + " has component type " +
+                          std::to_string(acc.componentType) + ", not one glTF allows for vertex attributes");
+        }
         const auto [data, stride, elem] = view(acc, index, what);
         std::vector<glm::vec<N, float>> out(acc.count);
         for (size_t i = 0; i < acc.count; ++i) {
@@ -81,6 +581,11 @@ public:
         const auto& acc = accessor(index, what);
         if (acc.sparse.isSparse) fail(what + ": sparse accessor " + std::to_string(index) + " is not supported");
         if (acc.type != TINYGLTF_TYPE_SCALAR) fail(what + ": index accessor " + std::to_string(index) + " is not SCALAR");
+        if (acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+            acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            fail(what + ": index accessor " + std::to_string(index) + " has component type " +
+                 std::to_string(acc.componentType) + "; indices must be unsigned byte, short or int");
         const auto [data, stride, elem] = view(acc, index, what);
         std::vector<uint32_t> out(acc.count);
         for (size_t i = 0; i < acc.count; ++i) {
@@ -88,8 +593,7 @@ public:
             switch (acc.componentType) {
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: out[i] = *p; break;
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); out[i] = v; break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); out[i] = v; break; }
-                default: fail(what + ": index accessor " + std::to_string(index) + " has a non-integer component type");
+                default: { uint32_t v; std::memcpy(&v, p, 4); out[i] = v; break; }
             }
         }
         return out;
@@ -109,28 +613,39 @@ private:
         size_t elem;
     };
 
+    // The accessor's bytes inside its bufferView inside its buffer. Every sum and product is
+    // overflow-checked: offsets near 2^64 must not wrap into a small, in-bounds-looking value.
     View view(const tinygltf::Accessor& acc, int index, const std::string& what) const {
         const std::string a = what + ": accessor " + std::to_string(index);
-        if (acc.bufferView < 0 || acc.bufferView >= int(model_.bufferViews.size()))
+        if (acc.bufferView < 0)
+            fail(a + " has no bufferView (accessors without data are not supported)");
+        if (acc.bufferView >= int(model_.bufferViews.size()))
             fail(a + " refers to bufferView " + std::to_string(acc.bufferView) + ", out of range (the file has " +
                  std::to_string(model_.bufferViews.size()) + ")");
         const auto& bv = model_.bufferViews[size_t(acc.bufferView)];
+        const std::string v = "bufferView " + std::to_string(acc.bufferView);
         if (bv.buffer < 0 || bv.buffer >= int(model_.buffers.size()))
-            fail(a + ": bufferView " + std::to_string(acc.bufferView) + " refers to buffer " + std::to_string(bv.buffer) +
-                 ", out of range");
+            fail(a + ": " + v + " refers to buffer " + std::to_string(bv.buffer) + ", out of range");
         const auto& buf = model_.buffers[size_t(bv.buffer)];
         const int comp_size = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
         const int comps = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
         if (comp_size <= 0 || comps <= 0) fail(a + " has an invalid component type or element type");
-        const size_t elem = size_t(comp_size) * size_t(comps);
-        const size_t stride = bv.byteStride ? bv.byteStride : elem;
-        const size_t begin = bv.byteOffset + acc.byteOffset;
-        const size_t need = acc.count ? begin + stride * (acc.count - 1) + elem : begin;
-        if (acc.byteOffset + (acc.count ? stride * (acc.count - 1) + elem : 0) > bv.byteLength ||
-            bv.byteOffset + bv.byteLength > buf.data.size() || need > buf.data.size())
-            fail(a + " reads past the end of its buffer (" + std::to_string(need) + " bytes needed, buffer " +
-                 std::to_string(bv.buffer) + " has " + std::to_string(buf.data.size()) + ")");
-        return View{buf.data.data() + begin, stride, elem};
+        if (acc.count == 0) fail(a + " has count 0");
+        const uint64_t elem = uint64_t(comp_size) * uint64_t(comps);
+        const uint64_t stride = bv.byteStride ? uint64_t(bv.byteStride) : elem;
+        if (stride < elem)
+            fail(a + ": " + v + "'s byteStride " + std::to_string(stride) + " is smaller than an element (" +
+                 std::to_string(elem) + " bytes)");
+        uint64_t view_end = 0, span = 0, acc_end = 0, begin = 0;
+        if (!checked_add(bv.byteOffset, bv.byteLength, &view_end) || view_end > buf.data.size())
+            fail(v + ": byteOffset " + std::to_string(bv.byteOffset) + " + byteLength " + std::to_string(bv.byteLength) +
+                 " lies outside buffer " + std::to_string(bv.buffer) + " (" + std::to_string(buf.data.size()) + " bytes)");
+        if (!checked_mul(stride, uint64_t(acc.count) - 1, &span) || !checked_add(span, elem, &span) ||
+            !checked_add(acc.byteOffset, span, &acc_end) || acc_end > bv.byteLength)
+            fail(a + ": byteOffset " + std::to_string(acc.byteOffset) + " and count " + std::to_string(acc.count) +
+                 " read past the end of " + v + " (" + std::to_string(bv.byteLength) + " bytes)");
+        checked_add(bv.byteOffset, acc.byteOffset, &begin);  // < view_end, cannot overflow
+        return View{buf.data.data() + begin, size_t(stride), size_t(elem)};
     }
 
     static float component_as_float(const uint8_t* p, int type, int c, bool normalized) {
@@ -149,20 +664,56 @@ private:
     std::string file_;
 };
 
-glm::mat4 node_local_transform(const tinygltf::Node& n) {
-    if (n.matrix.size() == 16) {
+// Number checks: `v` converted to float is finite and inside [lo, hi].
+bool in_range(double v, double lo, double hi) {
+    return std::isfinite(v) && std::isfinite(float(v)) && v >= lo && v <= hi;
+}
+
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+void check_finite_list(const GltfReader& r, const std::vector<double>& v, const std::string& what) {
+    for (double x : v)
+        if (!in_range(x, -3.0e38, 3.0e38)) r.fail(what + " holds " + num(x) + ", not a finite float");
+}
+
+glm::mat4 node_local_transform(const tinygltf::Node& n, const GltfReader& r, const std::string& what) {
+    if (!n.matrix.empty()) {
+        if (n.matrix.size() != 16) r.fail(what + ": matrix has " + std::to_string(n.matrix.size()) + " values, not 16");
+        check_finite_list(r, n.matrix, what + ": matrix");
         glm::mat4 m;
         for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(n.matrix[size_t(i)]);  // column-major
         return m;
     }
-    glm::mat4 t(1.0f), r(1.0f), s(1.0f);
-    if (n.translation.size() == 3)
+    glm::mat4 t(1.0f), rot(1.0f), s(1.0f);
+    if (!n.translation.empty()) {
+        if (n.translation.size() != 3) r.fail(what + ": translation does not have 3 values");
+        check_finite_list(r, n.translation, what + ": translation");
         t = glm::translate(glm::mat4(1.0f), glm::vec3(n.translation[0], n.translation[1], n.translation[2]));
-    if (n.rotation.size() == 4)  // glTF stores (x, y, z, w)
-        r = glm::mat4_cast(glm::normalize(glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]),
-                                                    float(n.rotation[2]))));
-    if (n.scale.size() == 3) s = glm::scale(glm::mat4(1.0f), glm::vec3(n.scale[0], n.scale[1], n.scale[2]));
-    return t * r * s;
+    }
+    if (!n.rotation.empty()) {  // glTF stores (x, y, z, w)
+        if (n.rotation.size() != 4) r.fail(what + ": rotation does not have 4 values");
+        check_finite_list(r, n.rotation, what + ": rotation");
+        const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
+        const double len = glm::length(q);
+        if (!(len > 1e-6) || !std::isfinite(len)) r.fail(what + ": rotation quaternion has (near) zero length");
+        rot = glm::mat4_cast(glm::quat(glm::normalize(q)));
+    }
+    if (!n.scale.empty()) {
+        if (n.scale.size() != 3) r.fail(what + ": scale does not have 3 values");
+        check_finite_list(r, n.scale, what + ": scale");
+        s = glm::scale(glm::mat4(1.0f), glm::vec3(n.scale[0], n.scale[1], n.scale[2]));
+    }
+    return t * rot * s;
+}
+
+bool finite_matrix(const glm::mat4& m) {
+    for (int i = 0; i < 16; ++i)
+        if (!std::isfinite(glm::value_ptr(m)[i])) return false;
+    return true;
 }
 
 // Turns strips and fans into a triangle list.
@@ -187,13 +738,17 @@ TextureRef texture_ref(const tinygltf::Model& model, int texture_index, int texc
     if (texture_index >= int(model.textures.size()))
         r.fail(what + ": texture index " + std::to_string(texture_index) + " is out of range (the file has " +
                std::to_string(model.textures.size()) + " textures)");
+    if (texcoord < 0 || texcoord > 7) r.fail(what + ": texCoord " + std::to_string(texcoord) + " is not a valid set");
     const auto& tex = model.textures[size_t(texture_index)];
     if (tex.source < 0 || tex.source >= int(model.images.size()))
         r.fail("texture " + std::to_string(texture_index) + ": image index " + std::to_string(tex.source) +
                " is out of range (the file has " + std::to_string(model.images.size()) + " images)");
     ref.image = image_base + tex.source;
     ref.texcoord = texcoord;
-    if (tex.sampler >= 0 && tex.sampler < int(model.samplers.size())) {
+    if (tex.sampler >= int(model.samplers.size()) || tex.sampler < -1)
+        r.fail("texture " + std::to_string(texture_index) + ": sampler index " + std::to_string(tex.sampler) +
+               " is out of range (the file has " + std::to_string(model.samplers.size()) + " samplers)");
+    if (tex.sampler >= 0) {
         ref.wrap_s = model.samplers[size_t(tex.sampler)].wrapS;
         ref.wrap_t = model.samplers[size_t(tex.sampler)].wrapT;
     }
@@ -204,50 +759,232 @@ glm::vec3 vec3_from(const std::vector<double>& v, glm::vec3 fallback) {
     return v.size() >= 3 ? glm::vec3(float(v[0]), float(v[1]), float(v[2])) : fallback;
 }
 
-glm::vec3 vec3_from_value(const tinygltf::Value& v, glm::vec3 fallback) {
-    if (!v.IsArray() || v.ArrayLen() < 3) return fallback;
+// An [x, y, z] array of numbers in [lo, hi] from the file's extras.
+glm::vec3 vec3_from_value(const tinygltf::Value& v, glm::vec3 fallback, const GltfReader& r, const std::string& what,
+                          double lo = -1e30, double hi = 1e30) {
+    if (v.Type() == tinygltf::NULL_TYPE) return fallback;
+    if (!v.IsArray() || v.ArrayLen() != 3) r.fail(what + " must be an array of 3 numbers");
     glm::vec3 out;
-    for (int i = 0; i < 3; ++i) out[i] = float(v.Get(i).GetNumberAsDouble());
+    for (int i = 0; i < 3; ++i) {
+        const auto& x = v.Get(i);
+        if (!x.IsNumber() && !x.IsInt()) r.fail(what + " must be an array of 3 numbers");
+        const double d = x.GetNumberAsDouble();
+        if (!in_range(d, lo, hi)) r.fail(what + " holds " + num(d) + ", outside [" + num(lo) + ", " + num(hi) + "]");
+        out[i] = float(d);
+    }
     return out;
 }
 
-}  // namespace
+double number_from_value(const tinygltf::Value& v, const GltfReader& r, const std::string& what, double lo, double hi) {
+    if (!v.IsNumber() && !v.IsInt()) r.fail(what + " must be a number");
+    const double d = v.GetNumberAsDouble();
+    if (!in_range(d, lo, hi)) r.fail(what + " is " + num(d) + ", outside [" + num(lo) + ", " + num(hi) + "]");
+    return d;
+}
 
-int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform) {
+std::string string_from_value(const tinygltf::Value& v, const GltfReader& r, const std::string& what) {
+    if (!v.IsString()) r.fail(what + " must be a string");
+    return v.Get<std::string>();
+}
+
+// The numbers of every sampler, camera, light and material, each checked against glTF's
+// ranges (and the lighting buffers' capacity) before anything is built from them.
+void check_model_values(const tinygltf::Model& model, const GltfReader& r, std::vector<std::string>& warnings,
+                        const std::string& file) {
+    static const std::set<int> wraps{10497, 33071, 33648};
+    static const std::set<int> mag_filters{-1, 9728, 9729};
+    static const std::set<int> min_filters{-1, 9728, 9729, 9984, 9985, 9986, 9987};
+    for (size_t i = 0; i < model.samplers.size(); ++i) {
+        const auto& s = model.samplers[i];
+        const std::string what = "sampler " + std::to_string(i);
+        if (!wraps.count(s.wrapS)) r.fail(what + ": wrapS " + std::to_string(s.wrapS) + " is not a glTF wrap mode (33071, 33648, 10497)");
+        if (!wraps.count(s.wrapT)) r.fail(what + ": wrapT " + std::to_string(s.wrapT) + " is not a glTF wrap mode (33071, 33648, 10497)");
+        if (!mag_filters.count(s.magFilter)) r.fail(what + ": magFilter " + std::to_string(s.magFilter) + " is not a glTF filter");
+        if (!min_filters.count(s.minFilter)) r.fail(what + ": minFilter " + std::to_string(s.minFilter) + " is not a glTF filter");
+    }
+    for (size_t i = 0; i < model.cameras.size(); ++i) {
+        const auto& c = model.cameras[i];
+        const std::string what = "camera " + std::to_string(i);
+        if (c.type == "perspective") {
+            const auto& p = c.perspective;
+            if (!in_range(p.yfov, 1e-6, 3.14159)) r.fail(what + ": yfov " + num(p.yfov) + " is not an angle in (0, pi) radians");
+            if (!in_range(p.znear, 1e-30, 1e30) || !(float(p.znear) > 0.0f)) r.fail(what + ": znear " + num(p.znear) + " must be finite and > 0");
+            if (p.zfar != 0.0 && (!in_range(p.zfar, 0.0, 1e30) || !(float(p.zfar) > float(p.znear))))
+                r.fail(what + ": zfar " + num(p.zfar) + " must be finite and greater than znear " + num(p.znear));
+            if (!in_range(p.aspectRatio, 0.0, 1e6)) r.fail(what + ": aspectRatio " + num(p.aspectRatio) + " must be finite and >= 0");
+        } else if (c.type == "orthographic") {
+            warnings.push_back(file + ": " + what + " is orthographic; only perspective cameras are used, it was skipped");
+        } else {
+            r.fail(what + ": type '" + c.type + "' is neither perspective nor orthographic");
+        }
+    }
+    for (size_t i = 0; i < model.lights.size(); ++i) {
+        const auto& l = model.lights[i];
+        const std::string what = "light " + std::to_string(i) + " ('" + l.name + "')";
+        if (l.type != "directional" && l.type != "point" && l.type != "spot")
+            r.fail(what + ": type '" + l.type + "' is not directional, point or spot");
+        if (!l.color.empty() && l.color.size() != 3) r.fail(what + ": color does not have 3 values");
+        double peak = 1.0;
+        if (!l.color.empty()) {
+            peak = 0.0;
+            for (double x : l.color) {
+                if (!in_range(x, 0.0, kMaxLightPower)) r.fail(what + ": color holds " + num(x) + ", outside [0, " + num(kMaxLightPower) + "]");
+                peak = std::max(peak, x);
+            }
+        }
+        if (!in_range(l.intensity, 0.0, kMaxLightPower))
+            r.fail(what + ": intensity " + num(l.intensity) + " is outside [0, " + num(kMaxLightPower) + "]");
+        if (peak * l.intensity > kMaxLightPower)
+            r.fail(what + ": color x intensity " + num(peak * l.intensity) + " is more than " + num(kMaxLightPower) +
+                   " (the half-float lighting buffers would overflow)");
+        if (l.range != 0.0 && !in_range(l.range, 1e-30, 1e30)) r.fail(what + ": range " + num(l.range) + " must be finite and > 0");
+        if (l.type == "spot") {
+            if (!in_range(l.spot.innerConeAngle, 0.0, 1.5708) || !in_range(l.spot.outerConeAngle, 0.0, 1.5708))
+                r.fail(what + ": spot cone angles must be in [0, pi/2]");
+            warnings.push_back(file + ": " + what + " is a spot light; it is rendered as a point light (no cone)");
+        }
+    }
+    for (size_t i = 0; i < model.materials.size(); ++i) {
+        const auto& m = model.materials[i];
+        const std::string what = "material " + std::to_string(i) + " ('" + m.name + "')";
+        const auto& pbr = m.pbrMetallicRoughness;
+        if (pbr.baseColorFactor.size() != 4) r.fail(what + ": baseColorFactor does not have 4 values");
+        for (double x : pbr.baseColorFactor)
+            if (!in_range(x, 0.0, 1.0)) r.fail(what + ": baseColorFactor holds " + num(x) + ", outside [0, 1]");
+        if (!in_range(pbr.metallicFactor, 0.0, 1.0)) r.fail(what + ": metallicFactor " + num(pbr.metallicFactor) + " is outside [0, 1]");
+        if (!in_range(pbr.roughnessFactor, 0.0, 1.0)) r.fail(what + ": roughnessFactor " + num(pbr.roughnessFactor) + " is outside [0, 1]");
+        if (!m.emissiveFactor.empty() && m.emissiveFactor.size() != 3) r.fail(what + ": emissiveFactor does not have 3 values");
+        for (double x : m.emissiveFactor)
+            if (!in_range(x, 0.0, 1.0)) r.fail(what + ": emissiveFactor holds " + num(x) + ", outside [0, 1]");
+        if (!in_range(m.normalTexture.scale, -1e3, 1e3)) r.fail(what + ": normalTexture.scale " + num(m.normalTexture.scale) + " is not finite");
+        if (!in_range(m.alphaCutoff, 0.0, 1e30)) r.fail(what + ": alphaCutoff " + num(m.alphaCutoff) + " must be finite and >= 0");
+        if (m.extras.Has("reflectivity"))
+            number_from_value(m.extras.Get("reflectivity"), r, what + ": extras.reflectivity", 0.0, 1.0);
+    }
+}
+
+// World-space coordinates beyond this lose float precision to the point where view
+// directions and depths are noise (a camera at 1e9 resolves no step finer than ~100 units).
+constexpr double kMaxWorldCoordinate = 1e9;
+
+bool within_world(const glm::vec3& p) {
+    return std::abs(p.x) <= kMaxWorldCoordinate && std::abs(p.y) <= kMaxWorldCoordinate &&
+           std::abs(p.z) <= kMaxWorldCoordinate;
+}
+
+// Whether an object's transform can be drawn: its 3x3 part must be well-conditioned, since
+// normals are transformed by the inverse transpose (a zero scale makes them NaN, and a scale
+// ratio of 1e19 underflows them to zero length in float).
+constexpr double kMaxScaleRatio = 1e6;
+
+bool invertible_transform(const glm::mat4& m) {
+    const glm::dmat3 a{glm::mat3(m)};
+    const double l0 = glm::length(a[0]), l1 = glm::length(a[1]), l2 = glm::length(a[2]);
+    const double scale = l0 * l1 * l2;
+    const double det = glm::determinant(a);
+    if (!std::isfinite(scale) || !(scale > 0.0) || !(std::abs(det) > 1e-6 * scale)) return false;
+    if (std::max({l0, l1, l2}) > kMaxScaleRatio * std::min({l0, l1, l2})) return false;
+    const glm::mat3 n = glm::transpose(glm::inverse(glm::mat3(m)));
+    for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r)
+            if (!std::isfinite(n[c][r])) return false;
+    return true;
+}
+
+// A checked vec3 direction: finite and of non-zero length.
+bool usable_direction(const glm::vec3& v) {
+    const float len = glm::length(v);
+    return std::isfinite(len) && len > 1e-20f && std::isfinite(1.0f / len);
+}
+
+int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& transform, const GltfLoadOptions& options,
+                      std::vector<std::string>& warnings) {
     if (!fs::exists(path)) throw FileNotFound("glTF file not found: " + path);
     if (fs::is_directory(path)) throw SceneError(path + ": is a folder, not a glTF file");
+    const std::vector<uint8_t> bytes = read_regular_file(path, path);
+
+    PathPolicy pol;
+    pol.file = path;
+    pol.dir = fs::absolute(fs::path(path)).parent_path();
+    std::error_code ec;
+    pol.dir_real = fs::canonical(pol.dir, ec);
+    if (ec) throw SceneError(path + ": cannot resolve the model's folder: " + ec.message());
+    pol.allow_external = options.allow_external_files;
+    const std::string base_dir = pol.dir.string();
+
+    // GLB: a 12-byte header, a JSON chunk, an optional BIN chunk; every length checked in 64 bits.
+    const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    std::string_view json_text;
+    uint64_t glb_length = 0, glb_bin = 0;
+    if (glb) {
+        if (bytes.size() < 20) throw SceneError(path + ": GLB file is shorter than its 20-byte header");
+        const uint32_t version = read_u32(bytes.data() + 4);
+        if (version != 2) throw SceneError(path + ": GLB version " + std::to_string(version) + " is not 2");
+        glb_length = read_u32(bytes.data() + 8);
+        if (glb_length > bytes.size() || glb_length < 20)
+            throw SceneError(path + ": GLB header says " + std::to_string(glb_length) + " bytes, the file has " +
+                             std::to_string(bytes.size()));
+        const uint64_t json_len = read_u32(bytes.data() + 12);
+        if (read_u32(bytes.data() + 16) != 0x4E4F534Au) throw SceneError(path + ": GLB's first chunk is not JSON");
+        if (20 + json_len > glb_length)
+            throw SceneError(path + ": GLB JSON chunk (" + std::to_string(json_len) + " bytes) runs past the file's end");
+        json_text = std::string_view(reinterpret_cast<const char*>(bytes.data()) + 20, size_t(json_len));
+        const uint64_t bin_at = 20 + json_len;
+        if (bin_at + 8 <= glb_length) {
+            const uint64_t bin_len = read_u32(bytes.data() + bin_at);
+            if (read_u32(bytes.data() + bin_at + 4) != 0x004E4942u)
+                throw SceneError(path + ": GLB's second chunk is not BIN");
+            if (bin_at + 8 + bin_len > glb_length)
+                throw SceneError(path + ": GLB BIN chunk (" + std::to_string(bin_len) + " bytes) runs past the file's end");
+            glb_bin = bin_len;
+        }
+    } else {
+        if (fs::path(path).extension() == ".glb")
+            throw SceneError(path + ": not a GLB file (it does not start with the magic 'glTF')");
+        json_text = std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    }
+    if (const std::string problem = check_json_text(json_text); !problem.empty())
+        throw SceneError(path + ": " + problem);
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(json_text.begin(), json_text.end());
+    } catch (const nlohmann::json::exception& e) {
+        throw SceneError(path + ": not valid JSON: " + e.what());
+    }
+    FsContext fsctx;
+    precheck_json(j, pol, base_dir, glb, glb_bin, &fsctx);
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(decode_with_oiio, nullptr);
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, &fsctx});
     tinygltf::Model model;
     std::string err, warn;
-    bool binary = fs::path(path).extension() == ".glb";
-    {
-        std::ifstream probe(path, std::ios::binary);
-        char magic[4] = {0, 0, 0, 0};
-        probe.read(magic, 4);
-        if (std::memcmp(magic, "glTF", 4) == 0) binary = true;
-    }
-    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(glb_length), base_dir)
+                        : loader.LoadASCIIFromString(&model, &err, &warn, json_text.data(), unsigned(json_text.size()), base_dir);
     if (!ok) {
         std::string msg = err.empty() ? warn : err;
         while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
         throw SceneError(path + ": not a valid glTF 2.0 file: " + (msg.empty() ? "unknown error" : msg));
     }
     GltfReader r(model, path);
+    check_model_values(model, r, warnings, path);
+
+    if (!model.skins.empty())
+        warnings.push_back(path + ": " + std::to_string(model.skins.size()) +
+                           " skin(s) ignored: skinned meshes are drawn in their bind pose");
+    if (!model.animations.empty())
+        warnings.push_back(path + ": " + std::to_string(model.animations.size()) + " animation(s) ignored");
 
     // Images: tinygltf keeps going when an external image is missing; we do not.
     const int image_base = int(scene.images.size());
     for (size_t i = 0; i < model.images.size(); ++i) {
         const auto& gi = model.images[i];
         if (gi.image.empty()) {
-            std::string where = gi.uri.empty() ? "buffer view " + std::to_string(gi.bufferView) : "'" + gi.uri + "'";
-            std::string why = "could not be loaded";
-            if (!gi.uri.empty() && gi.uri.rfind("data:", 0) != 0 &&
-                !fs::exists(fs::path(path).parent_path() / gi.uri))
-                why = "file not found (looked for " + (fs::path(path).parent_path() / gi.uri).string() + ")";
-            r.fail("image " + std::to_string(i) + " " + where + " " + why);
+            std::string where = gi.uri.empty() ? "bufferView " + std::to_string(gi.bufferView) : "'" + gi.uri + "'";
+            std::string detail = warn.empty() ? err : warn;
+            while (!detail.empty() && (detail.back() == '\n' || detail.back() == ' ')) detail.pop_back();
+            r.fail("image " + std::to_string(i) + " " + where + " could not be loaded" +
+                   (detail.empty() ? "" : ": " + detail));
         }
         Image img;
         img.name = gi.name.empty() ? (gi.uri.empty() ? "image" + std::to_string(i) : fs::path(gi.uri).stem().string()) : gi.name;
@@ -287,6 +1024,10 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
     int default_material = -1;  // glTF's default material, added only when a primitive needs it
 
     // Meshes: one ssr::Mesh per glTF primitive, shared by every node that instances it.
+    // Primitives that are not triangles are skipped with a warning (points and lines have no
+    // surface to reflect); a triangle primitive without POSITION, or with non-integer indices,
+    // is a broken file and an error.
+    static const char* kModeNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
     std::map<std::pair<int, int>, std::pair<int, int>> primitive_cache;  // (mesh, prim) -> (mesh idx, material)
     auto primitive = [&](int mesh_index, int prim_index) -> std::pair<int, int> {
         auto key = std::make_pair(mesh_index, prim_index);
@@ -297,9 +1038,16 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
                                  std::to_string(prim_index);
         std::pair<int, int> result{-1, -1};
         if (prim.mode != kModeTriangles && prim.mode != kModeStrip && prim.mode != kModeFan && prim.mode != -1) {
-            primitive_cache[key] = result;  // points and lines have no surface to reflect
+            warnings.push_back(path + ": " + what + ": " +
+                               (prim.mode >= 0 && prim.mode < 4
+                                    ? std::string("mode ") + kModeNames[prim.mode] + " skipped (only triangles are rendered)"
+                                    : "mode " + std::to_string(prim.mode) + " is not a glTF primitive mode; skipped"));
+            primitive_cache[key] = result;
             return result;
         }
+        if (!prim.targets.empty())
+            warnings.push_back(path + ": " + what + ": " + std::to_string(prim.targets.size()) +
+                               " morph target(s) ignored (drawn with base positions)");
         auto pos = prim.attributes.find("POSITION");
         if (pos == prim.attributes.end()) r.fail(what + ": no POSITION attribute");
         Mesh mesh;
@@ -312,6 +1060,16 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
             mesh.uvs = r.read_floats<2>(it->second, what + " TEXCOORD_0");
         if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end())
             mesh.tangents = r.read_floats<4>(it->second, what + " TANGENT");
+        for (const auto* attr : {&mesh.normals})
+            if (!attr->empty() && attr->size() != mesh.positions.size())
+                r.fail(what + ": NORMAL has " + std::to_string(attr->size()) + " values for " +
+                       std::to_string(mesh.positions.size()) + " positions");
+        if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+            r.fail(what + ": TEXCOORD_0 has " + std::to_string(mesh.uvs.size()) + " values for " +
+                   std::to_string(mesh.positions.size()) + " positions");
+        if (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size())
+            r.fail(what + ": TANGENT has " + std::to_string(mesh.tangents.size()) + " values for " +
+                   std::to_string(mesh.positions.size()) + " positions");
         std::vector<uint32_t> idx;
         if (prim.indices >= 0) {
             idx = r.read_indices(prim.indices, what + " indices");
@@ -320,6 +1078,7 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
             for (size_t i = 0; i < idx.size(); ++i) idx[i] = uint32_t(i);
         }
         mesh.indices = to_triangle_list(idx, prim.mode == -1 ? kModeTriangles : prim.mode);
+        if (mesh.indices.empty()) r.fail(what + ": fewer than 3 vertices, no triangle");
         int material;
         if (prim.material >= 0) {
             if (prim.material >= int(model.materials.size()))
@@ -346,7 +1105,8 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
         return result;
     };
 
-    // Nodes: depth-first from the default scene's roots, with cycle detection (tinygltf
+    // Nodes: depth-first from the default scene's roots with an explicit stack (a file can
+    // chain nodes deeper than the C++ stack), a depth limit, and cycle detection (tinygltf
     // accepts a node that lists itself, or an ancestor, as a child).
     const int first_object = int(scene.objects.size());
     std::vector<int> roots;
@@ -360,99 +1120,181 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
         for (int i = 0; i < int(model.nodes.size()); ++i)
             if (!children.count(i)) roots.push_back(i);
     }
+    for (size_t i = 0; i < model.meshes.size(); ++i)
+        if (model.meshes[i].primitives.empty())
+            warnings.push_back(path + ": mesh " + std::to_string(i) + " ('" + model.meshes[i].name + "') has no primitives");
     std::vector<int> state(model.nodes.size(), 0);  // 0 unseen, 1 on the path, 2 done
-    std::function<void(int, const glm::mat4&)> visit = [&](int ni, const glm::mat4& parent) {
+    struct Visit {
+        int node;
+        int depth;
+        bool leave;  // true: the node's subtree is done
+        glm::mat4 parent;
+    };
+    std::vector<Visit> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, 1, false, transform});
+    while (!stack.empty()) {
+        const Visit v = stack.back();
+        stack.pop_back();
+        const int ni = v.node;
+        if (v.leave) {
+            state[size_t(ni)] = 2;
+            continue;
+        }
         if (ni < 0 || ni >= int(model.nodes.size()))
             r.fail("node index " + std::to_string(ni) + " is out of range (the file has " +
                    std::to_string(model.nodes.size()) + " nodes)");
+        const std::string what = "node " + std::to_string(ni);
         if (state[size_t(ni)] == 1) r.fail("node graph has a cycle through node " + std::to_string(ni));
-        if (state[size_t(ni)] == 2) r.fail("node " + std::to_string(ni) + " has more than one parent");
+        if (state[size_t(ni)] == 2) r.fail(what + " has more than one parent");
+        if (v.depth > kMaxNodeDepth)
+            r.fail(what + " is nested deeper than " + std::to_string(kMaxNodeDepth) + " levels in the node hierarchy");
         state[size_t(ni)] = 1;
         const auto& node = model.nodes[size_t(ni)];
-        const glm::mat4 world = parent * node_local_transform(node);
-        if (node.mesh >= 0) {
-            if (node.mesh >= int(model.meshes.size()))
-                r.fail("node " + std::to_string(ni) + ": mesh index " + std::to_string(node.mesh) +
+        const glm::mat4 world = v.parent * node_local_transform(node, r, what);
+        if (!finite_matrix(world)) r.fail(what + ": its world transform overflows to Inf or NaN");
+        if (node.mesh >= 0 || node.mesh < -1) {
+            if (node.mesh >= int(model.meshes.size()) || node.mesh < 0)
+                r.fail(what + ": mesh index " + std::to_string(node.mesh) +
                        " is out of range (the file has " + std::to_string(model.meshes.size()) + " meshes)");
             const auto& gmesh = model.meshes[size_t(node.mesh)];
-            for (int p = 0; p < int(gmesh.primitives.size()); ++p) {
+            const bool drawable = invertible_transform(world);
+            if (!drawable && !gmesh.primitives.empty())
+                warnings.push_back(path + ": " + what + ": its world transform is singular or degenerate (a zero scale, or axes scaled more than 1e6 apart); mesh " +
+                                   std::to_string(node.mesh) + " skipped");
+            for (int p = 0; drawable && p < int(gmesh.primitives.size()); ++p) {
                 auto [mesh, material] = primitive(node.mesh, p);
                 if (mesh < 0) continue;
+                Bounds b;
+                for (const auto& q : scene.meshes[size_t(mesh)].positions) b.extend(q);
+                for (int k = 0; k < 8; ++k) {
+                    const glm::vec3 corner((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y,
+                                           (k & 4) ? b.max.z : b.min.z);
+                    const glm::vec3 w(world * glm::vec4(corner, 1.0f));
+                    if (!within_world(w))
+                        r.fail(what + ": mesh " + std::to_string(node.mesh) + " reaches (" + num(w.x) + ", " + num(w.y) +
+                               ", " + num(w.z) + ") in world space, beyond +-" + num(kMaxWorldCoordinate));
+                }
                 std::string name = node.name.empty() ? scene.meshes[size_t(mesh)].name : node.name;
                 if (gmesh.primitives.size() > 1) name += "/" + std::to_string(p);
                 scene.add_object(mesh, material, world, name);
             }
         }
-        if (node.camera >= 0 && !scene.camera && node.camera < int(model.cameras.size()) &&
-            model.cameras[size_t(node.camera)].type == "perspective") {
+        if (node.skin >= int(model.skins.size()) || node.skin < -1)
+            r.fail(what + ": skin index " + std::to_string(node.skin) + " is out of range");
+        if (node.camera >= int(model.cameras.size()) || node.camera < -1)
+            r.fail(what + ": camera index " + std::to_string(node.camera) + " is out of range (the file has " +
+                   std::to_string(model.cameras.size()) + " cameras)");
+        if (node.camera >= 0 && !scene.camera && model.cameras[size_t(node.camera)].type == "perspective") {
             const auto& pc = model.cameras[size_t(node.camera)].perspective;
+            const glm::vec3 back(world[2]), up(world[1]);
+            if (!usable_direction(back) || !usable_direction(up) || !usable_direction(glm::cross(back, up)))
+                r.fail(what + ": camera " + std::to_string(node.camera) + "'s node transform is degenerate (no view direction)");
             CameraDesc cam;
             cam.position = glm::vec3(world[3]);
-            cam.target = cam.position - glm::normalize(glm::vec3(world[2]));  // glTF cameras look down -z
-            cam.up = glm::normalize(glm::vec3(world[1]));
+            if (!within_world(cam.position))
+                r.fail(what + ": camera " + std::to_string(node.camera) + " stands beyond +-" + num(kMaxWorldCoordinate) +
+                       " in world space");
+            // glTF cameras look down -z; the target far enough away to differ in float from the position.
+            const float reach = std::max(1.0f, 1e-3f * glm::length(cam.position));
+            cam.target = cam.position - glm::normalize(back) * reach;
+            cam.up = glm::normalize(up);
             cam.fov_y_degrees = float(glm::degrees(pc.yfov));
             cam.near_plane = float(pc.znear);
             cam.far_plane = pc.zfar > pc.znear ? float(pc.zfar) : 0.0f;  // 0: fitted to the scene later
             scene.camera = cam;
         }
         if (auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end() && it->second.Has("light")) {
-            const int li = it->second.Get("light").GetNumberAsInt();
-            if (li < 0 || li >= int(model.lights.size()))
-                r.fail("node " + std::to_string(ni) + ": light index " + std::to_string(li) + " is out of range");
+            const auto& lv = it->second.Get("light");
+            if (!lv.IsInt() && !lv.IsNumber()) r.fail(what + ": KHR_lights_punctual.light is not an index");
+            const double ld = lv.GetNumberAsDouble();
+            if (!(ld >= 0.0 && ld < double(model.lights.size())) || ld != std::floor(ld))
+                r.fail(what + ": light index " + num(ld) + " is out of range (the file has " +
+                       std::to_string(model.lights.size()) + " lights)");
+            const int li = int(ld);
             const auto& gl = model.lights[size_t(li)];
+            const std::string lwhat = "light " + std::to_string(li);
             Light l;
             l.name = gl.name;
             l.color = vec3_from(gl.color, glm::vec3(1.0f));
             l.intensity = float(gl.intensity);
             l.position = glm::vec3(world[3]);
-            l.direction = glm::normalize(-glm::vec3(world[2]));
+            if (!within_world(l.position))
+                r.fail(what + ": light " + std::to_string(li) + " stands beyond +-" + num(kMaxWorldCoordinate) +
+                       " in world space");
+            const glm::vec3 dir = -glm::vec3(world[2]);
             if (gl.type == "directional") {
                 l.type = Light::Type::Directional;
                 l.cast_shadow = true;
             } else {
                 l.type = Light::Type::Point;  // spot lights are treated as point lights
             }
-            if (gl.extras.Has("cast_shadow")) l.cast_shadow = gl.extras.Get("cast_shadow").Get<bool>();
-            if (gl.extras.Has("direction")) l.direction = vec3_from_value(gl.extras.Get("direction"), l.direction);
-            if (gl.extras.Has("position")) l.position = vec3_from_value(gl.extras.Get("position"), l.position);
+            if (gl.extras.Has("cast_shadow")) {
+                if (!gl.extras.Get("cast_shadow").IsBool()) r.fail(lwhat + ": extras.cast_shadow is not a boolean");
+                l.cast_shadow = gl.extras.Get("cast_shadow").Get<bool>();
+            }
+            const bool explicit_dir = gl.extras.Has("direction");
+            l.direction = explicit_dir ? vec3_from_value(gl.extras.Get("direction"), dir, r, lwhat + ": extras.direction") : dir;
+            if (gl.extras.Has("position"))
+                l.position = vec3_from_value(gl.extras.Get("position"), l.position, r, lwhat + ": extras.position",
+                                             -kMaxWorldCoordinate, kMaxWorldCoordinate);
+            if (l.type == Light::Type::Directional && !usable_direction(l.direction))
+                r.fail(explicit_dir ? lwhat + ": extras.direction is a zero vector"
+                                    : what + ": light " + std::to_string(li) + " has no direction (its node's transform is degenerate)");
+            l.direction = usable_direction(l.direction) ? glm::normalize(l.direction) : glm::vec3(0.0f, -1.0f, 0.0f);
             scene.add_light(l);
         }
-        for (int c : node.children) visit(c, world);
-        state[size_t(ni)] = 2;
-    };
-    for (int root : roots) visit(root, transform);
+        stack.push_back({ni, v.depth, true, glm::mat4(1.0f)});
+        for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, v.depth + 1, false, world});
+    }
 
     // Scene-level extras written by save_gltf.
     if (!model.scenes.empty()) {
         const auto& extras = model.scenes[size_t(model.defaultScene >= 0 ? model.defaultScene : 0)].extras;
         if (extras.Has("ssrlab")) {
             const auto& x = extras.Get("ssrlab");
-            if (x.Has("ambient")) scene.ambient = vec3_from_value(x.Get("ambient"), scene.ambient);
-            if (x.Has("name")) scene.name = x.Get("name").Get<std::string>();
-            if (x.Has("camera") && x.Get("camera").IsObject()) {
+            const std::string w = "scene extras.ssrlab";
+            if (!x.IsObject()) r.fail(w + " is not an object");
+            if (x.Has("ambient")) scene.ambient = vec3_from_value(x.Get("ambient"), scene.ambient, r, w + ".ambient", 0.0, kMaxRadiance);
+            if (x.Has("name")) scene.name = string_from_value(x.Get("name"), r, w + ".name");
+            if (x.Has("camera")) {
                 const auto& c = x.Get("camera");
+                const std::string cw = w + ".camera";
+                if (!c.IsObject()) r.fail(cw + " is not an object");
                 CameraDesc cam = scene.camera.value_or(CameraDesc{});
-                cam.position = vec3_from_value(c.Get("position"), cam.position);
-                cam.target = vec3_from_value(c.Get("target"), cam.target);
-                cam.up = vec3_from_value(c.Get("up"), cam.up);
-                if (c.Has("fov_y")) cam.fov_y_degrees = float(c.Get("fov_y").GetNumberAsDouble());
-                if (c.Has("near")) cam.near_plane = float(c.Get("near").GetNumberAsDouble());
-                if (c.Has("far")) cam.far_plane = float(c.Get("far").GetNumberAsDouble());
+                cam.position = vec3_from_value(c.Get("position"), cam.position, r, cw + ".position",
+                                               -kMaxWorldCoordinate, kMaxWorldCoordinate);
+                cam.target = vec3_from_value(c.Get("target"), cam.target, r, cw + ".target",
+                                             -kMaxWorldCoordinate, kMaxWorldCoordinate);
+                cam.up = vec3_from_value(c.Get("up"), cam.up, r, cw + ".up");
+                if (c.Has("fov_y")) cam.fov_y_degrees = float(number_from_value(c.Get("fov_y"), r, cw + ".fov_y", 1e-4, 179.9));
+                if (c.Has("near")) cam.near_plane = float(number_from_value(c.Get("near"), r, cw + ".near", 1e-30, 1e30));
+                if (c.Has("far")) cam.far_plane = float(number_from_value(c.Get("far"), r, cw + ".far", 0.0, 1e30));
+                if (!usable_direction(cam.target - cam.position)) r.fail(cw + ": target equals position");
+                if (!usable_direction(glm::cross(cam.target - cam.position, cam.up)))
+                    r.fail(cw + ": up is zero or parallel to the view direction");
+                if (cam.far_plane > 0.0f && !(cam.far_plane > cam.near_plane)) r.fail(cw + ": far must be greater than near");
                 scene.camera = cam;
             }
             if (x.Has("environment")) {
                 const auto& e = x.Get("environment");
+                const std::string ew = w + ".environment";
+                if (!e.IsObject()) r.fail(ew + " is not an object");
                 Environment env;
-                const std::string type = e.Has("type") ? e.Get("type").Get<std::string>() : "constant";
+                const std::string type = e.Has("type") ? string_from_value(e.Get("type"), r, ew + ".type") : "constant";
+                if (type != "constant" && type != "sky" && type != "map")
+                    r.fail(ew + ".type '" + type + "' is not constant, sky or map");
                 env.type = type == "sky" ? Environment::Type::Sky : type == "map" ? Environment::Type::Map : Environment::Type::Constant;
-                env.color = vec3_from_value(e.Get("color"), env.color);
-                env.sky_zenith = vec3_from_value(e.Get("zenith"), env.sky_zenith);
-                env.sky_horizon = vec3_from_value(e.Get("horizon"), env.sky_horizon);
-                env.ground = vec3_from_value(e.Get("ground"), env.ground);
-                if (e.Has("intensity")) env.intensity = float(e.Get("intensity").GetNumberAsDouble());
-                if (e.Has("map")) {
-                    fs::path p = e.Get("map").Get<std::string>();
-                    env.map_path = p.is_absolute() ? p.string() : (fs::path(path).parent_path() / p).string();
+                env.color = vec3_from_value(e.Get("color"), env.color, r, ew + ".color", 0.0, kMaxRadiance);
+                env.sky_zenith = vec3_from_value(e.Get("zenith"), env.sky_zenith, r, ew + ".zenith", 0.0, kMaxRadiance);
+                env.sky_horizon = vec3_from_value(e.Get("horizon"), env.sky_horizon, r, ew + ".horizon", 0.0, kMaxRadiance);
+                env.ground = vec3_from_value(e.Get("ground"), env.ground, r, ew + ".ground", 0.0, kMaxRadiance);
+                if (e.Has("intensity")) env.intensity = float(number_from_value(e.Get("intensity"), r, ew + ".intensity", 0.0, kMaxRadiance));
+                if (env.type == Environment::Type::Map) {
+                    if (!e.Has("map")) r.fail(ew + ": type 'map' without a 'map' path");
+                    const std::string ref = string_from_value(e.Get("map"), r, ew + ".map");
+                    // Checked now, not when the renderer reads it: a device or FIFO would hang the reader.
+                    env.map_path = resolve_reference(pol, ref, "environment map").string();
+                    probe_image_file(env.map_path, path + ": environment map");
                 }
                 scene.environment = env;
             }
@@ -465,11 +1307,42 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform)
             const glm::vec3 corner((i & 1) ? bb.max.x : bb.min.x, (i & 2) ? bb.max.y : bb.min.y, (i & 4) ? bb.max.z : bb.min.z);
             reach = std::max(reach, glm::length(corner - scene.camera->position));
         }
+        if (!std::isfinite(reach) || reach > 1e30f) r.fail("the scene is too large to fit an infinite camera's far plane");
         scene.camera->far_plane = 1.5f * reach;
+        if (!(scene.camera->far_plane > scene.camera->near_plane)) scene.camera->far_plane = scene.camera->near_plane * 2.0f;
     }
+    if (int(scene.objects.size()) == first_object)
+        warnings.push_back(path + ": no triangles were loaded (the file's default scene has nothing ssrlab can draw)");
     if (scene.name == "scene") scene.name = fs::path(path).stem().string();
     scene.touch();
     return first_object;
+}
+
+}  // namespace
+
+int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform, const GltfLoadOptions& options,
+              std::vector<std::string>* warnings) {
+    std::vector<std::string> local;
+    try {
+        const int first = load_gltf_checked(scene, path, transform, options, local);
+        if (warnings)
+            for (auto& w : local) warnings->push_back(printable(w));
+        return first;
+    } catch (const FileNotFound& e) {
+        throw FileNotFound(printable(e.what()));
+    } catch (const SceneError& e) {
+        throw SceneError(printable(e.what()));
+    } catch (const std::bad_alloc&) {
+        throw SceneError(printable(path) + ": out of memory while loading (the file's sizes are too large)");
+    } catch (const std::length_error& e) {
+        throw SceneError(printable(path) + ": a size in the file is too large (" + printable(e.what()) + ")");
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(printable(path) + ": " + printable(e.what()));
+    } catch (const std::out_of_range& e) {
+        throw SceneError(printable(path) + ": " + printable(e.what()));
+    } catch (const fs::filesystem_error& e) {
+        throw SceneError(printable(path) + ": " + printable(e.what()));
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -702,7 +1575,16 @@ void save_gltf(const Scene& scene, const std::string& path) {
         {"horizon", vec3_value(env.sky_horizon)},
         {"ground", vec3_value(env.ground)},
         {"intensity", tinygltf::Value(double(env.intensity))}};
-    if (env.type == Environment::Type::Map) env_obj["map"] = tinygltf::Value(fs::absolute(env.map_path).string());
+    if (env.type == Environment::Type::Map) {
+        // Relative to the saved file when the map lies in its folder, so the pair can be moved
+        // and loaded without allow_external_files; absolute otherwise.
+        std::error_code ec;
+        const fs::path map = fs::weakly_canonical(fs::absolute(env.map_path), ec);
+        const fs::path dir = fs::weakly_canonical(fs::absolute(out).parent_path(), ec);
+        const fs::path rel = map.lexically_relative(dir);
+        const bool inside = !ec && !rel.empty() && *rel.begin() != "..";
+        env_obj["map"] = tinygltf::Value(inside ? rel.generic_string() : fs::absolute(env.map_path).string());
+    }
     tinygltf::Value::Object ssr_obj{{"ambient", vec3_value(scene.ambient)},
                                     {"name", tinygltf::Value(scene.name)},
                                     {"environment", tinygltf::Value(env_obj)}};

@@ -3,6 +3,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/errors.h"
@@ -11,10 +12,29 @@ namespace ssr {
 
 namespace {
 
+// Largest image decoded (pixels x channels): a header can claim any size.
+constexpr uint64_t kMaxImageValues = uint64_t(1) << 28;
+
+void check_image_size(const OIIO::ImageSpec& spec, const std::string& what) {
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.nchannels > 64 ||
+        uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(std::max(spec.nchannels, 4)) > kMaxImageValues)
+        throw SceneError(what + ": image of " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+                         std::to_string(spec.nchannels) + " is empty or too large");
+}
+
+// Image files are opened by path only when they are regular files: OpenImageIO would read a
+// device such as /dev/zero for ever, and block on a FIFO.
+void check_regular_file(const std::string& path) {
+    if (!std::filesystem::exists(path)) throw FileNotFound("image file not found: " + path);
+    if (!std::filesystem::is_regular_file(path))
+        throw SceneError(path + ": not a regular file (a folder, device, FIFO or socket)");
+}
+
 Image to_rgba8(OIIO::ImageInput& in, const std::string& what) {
     const OIIO::ImageSpec& spec = in.spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         throw SceneError(what + ": image has no pixels");
+    check_image_size(spec, what);
     std::vector<uint8_t> src(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
     if (!in.read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, src.data()))
         throw SceneError(what + ": cannot decode image: " + in.geterror());
@@ -52,7 +72,7 @@ std::string extension_for(const std::string& hint) {
 }  // namespace
 
 Image decode_image_file(const std::string& path) {
-    if (!std::filesystem::exists(path)) throw FileNotFound("image file not found: " + path);
+    check_regular_file(path);
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw SceneError(path + ": cannot open image: " + OIIO::geterror());
     Image img = to_rgba8(*in, path);
@@ -85,10 +105,11 @@ std::vector<uint8_t> encode_png(const Image& image) {
 }
 
 FloatImage read_float_image(const std::string& path) {
-    if (!std::filesystem::exists(path)) throw FileNotFound("image file not found: " + path);
+    check_regular_file(path);
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw SceneError(path + ": cannot open image: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
+    check_image_size(spec, path);
     FloatImage img;
     img.width = spec.width;
     img.height = spec.height;
@@ -98,6 +119,14 @@ FloatImage read_float_image(const std::string& path) {
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
         throw SceneError(path + ": cannot decode image: " + in->geterror());
     return img;
+}
+
+void probe_image_file(const std::string& path, const std::string& what) {
+    if (!std::filesystem::is_regular_file(path))
+        throw SceneError(what + ": '" + path + "' is not a regular file (a folder, device, FIFO or socket)");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw SceneError(what + ": '" + path + "' is not an image OpenImageIO can read: " + OIIO::geterror());
+    check_image_size(in->spec(), what + " '" + path + "'");
 }
 
 void write_float_image(const std::string& path, const FloatImage& image, bool half) {

@@ -25,6 +25,9 @@ struct FloatImage {
 };
 
 FloatImage read_float_image(const std::string& path);
+// Checks, by reading its header only, that `path` is a regular image file OpenImageIO can read
+// and of a size it will decode; throws SceneError starting with `what` otherwise.
+void probe_image_file(const std::string& path, const std::string& what);
 // Writes float pixels; the file's extension picks the format. 8-bit formats (PNG, JPEG)
 // receive values clamped to [0,1] and quantised; EXR keeps float (half when `half` is true).
 void write_float_image(const std::string& path, const FloatImage& image, bool half = false);

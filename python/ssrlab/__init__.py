@@ -13,13 +13,14 @@ from ._core import Camera, DeviceError, Environment, GLError, Light, Material, S
 from . import bench, experiments, io, metrics, models, reference, scenes, transforms
 from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, shader_dir
 from .sequence import CameraPath
-from .scene import Scene, directional_light, point_light
+from .scene import Scene, SceneWarning, directional_light, point_light
 from .settings import Settings
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material", "NoReflectionWarning", "Renderer", "Reprojection",
-    "Scene", "SceneError", "Settings", "ShaderError", "directional_light", "models", "point_light", "scenes",
+    "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
+    "NoReflectionWarning", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
+    "ShaderError", "directional_light", "models", "point_light", "scenes",
     "shader_dir", "transforms",
 ]

@@ -3,6 +3,8 @@ ambient term, an environment and an optional default camera."""
 
 from __future__ import annotations
 
+import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -83,22 +85,37 @@ def _index_array(value, vertices: int) -> np.ndarray:
     return np.ascontiguousarray(flat, dtype=np.uint32).reshape(a.shape)
 
 
+class SceneWarning(UserWarning):
+    """Something in a scene file was skipped (points, lines, skins, morph targets, spot cones,
+    orthographic cameras) or the file gave nothing to draw; the message names the file and object."""
+
+
 class Scene(_core.Scene):
     """A scene. Objects are meshes with a transform and a material; ``add_*`` return the new
     object's index (``add_gltf`` a list of them)."""
 
     @classmethod
-    def load(cls, path: str | Path) -> "Scene":
+    def load(cls, path: str | Path, *, allow_external_files: bool = False) -> "Scene":
         """Loads a glTF 2.0 file (.gltf or .glb) with its node hierarchy, materials, textures,
-        KHR_lights_punctual lights and first perspective camera."""
+        KHR_lights_punctual lights and first perspective camera.
+
+        Files the model refers to (buffers, images, an environment map) must lie inside the
+        model's folder unless `allow_external_files` is true; devices, FIFOs and folders are
+        never read. A malformed file raises SceneError naming the file and the object; what is
+        skipped is reported as a SceneWarning."""
         scene = cls()
-        scene.add_gltf(path)
+        scene.add_gltf(path, allow_external_files=allow_external_files)
         scene.name = Path(path).stem
         return scene
 
-    def add_gltf(self, path: str | Path, transform=None) -> list[int]:
-        """Adds the default scene of a glTF file, every node's transform premultiplied by `transform`."""
-        return list(self._add_gltf(str(path), _matrix(transform)))
+    def add_gltf(self, path: str | Path, transform=None, *, allow_external_files: bool = False) -> list[int]:
+        """Adds the default scene of a glTF file, every node's transform premultiplied by `transform`
+        (see `load` for `allow_external_files`, errors and warnings)."""
+        # The path as the OS spells it (bytes): a name that is not valid UTF-8 still opens.
+        ids, messages = self._add_gltf(os.fsencode(os.fspath(path)), _matrix(transform), bool(allow_external_files))
+        for message in messages:
+            warnings.warn(message, SceneWarning, stacklevel=2)
+        return list(ids)
 
     def add_mesh(self, positions, indices=None, *, normals=None, uvs=None, tangents=None,
                  material: Material | None = None, transform=None, name: str = "mesh") -> int:
@@ -179,4 +196,4 @@ def point_light(position, color=(1.0, 1.0, 1.0), intensity: float = 10.0, name: 
     return Light.point(position, color, intensity, name)
 
 
-__all__ = ["Scene", "Material", "Light", "Environment", "Camera", "directional_light", "point_light"]
+__all__ = ["Scene", "SceneWarning", "Material", "Light", "Environment", "Camera", "directional_light", "point_light"]

@@ -1,0 +1,505 @@
+"""Writes tests/data/hostile/: minimal glTF files that each hit one way a file used to crash,
+hang or poison the loader (issue 8), plus manifest.json saying what loading each must give.
+
+    python tests/data/make_hostile.py      # rewrites tests/data/hostile/
+
+Each case starts from one valid triangle (buffer inline as a data: URI, so every file stands
+alone) and changes one thing. The manifest maps each file to
+  {"error": [substrings of the SceneError]} or {"warning": [substrings of a SceneWarning]},
+optionally with "kwargs" for Scene.load. tests/test_gltf_hostile.py loads every entry, and the
+fuzzer (benchmarks/fuzz_gltf.py) uses the files as part of its seed corpus.
+"""
+
+from __future__ import annotations
+
+import base64
+import copy
+import json
+import struct
+import zlib
+from pathlib import Path
+
+OUT = Path(__file__).resolve().parent / "hostile"
+
+POSITIONS = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+INDICES = struct.pack("<3H", 0, 1, 2) + b"\0\0"
+BUFFER = POSITIONS + INDICES
+
+
+def data_uri(data: bytes, mime: str = "application/octet-stream") -> str:
+    return f"data:{mime};base64," + base64.b64encode(data).decode()
+
+
+def png_1x1() -> bytes:
+    def chunk(kind: bytes, body: bytes) -> bytes:
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    raw = b"\0\xff\x80\x40\xff"
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 1, 1, 8, 6, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def base() -> dict:
+    """One lit triangle seen by a camera: every kind of object the loader checks, all valid."""
+    return {
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "buffers": [{"byteLength": len(BUFFER), "uri": data_uri(BUFFER)}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                        {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"},
+        ],
+        "images": [{"uri": data_uri(png_1x1(), "image/png")}],
+        "samplers": [{"wrapS": 10497, "wrapT": 10497, "magFilter": 9729, "minFilter": 9987}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "materials": [{"name": "red", "pbrMetallicRoughness": {
+            "baseColorFactor": [1, 0.2, 0.2, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5,
+            "baseColorTexture": {"index": 0}}}],
+        "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 100.0}}],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "directional", "color": [1, 1, 1], "intensity": 3.0}]}},
+        "nodes": [
+            {"name": "tri", "mesh": 0},
+            {"name": "camera", "camera": 0, "translation": [0.3, 0.3, 3.0]},
+            {"name": "sun", "rotation": [-0.3826834, 0, 0, 0.9238795],
+             "extensions": {"KHR_lights_punctual": {"light": 0}}},
+        ],
+        "scenes": [{"nodes": [0, 1, 2]}],
+        "scene": 0,
+    }
+
+
+def glb(json_bytes: bytes, bin_bytes: bytes | None = None) -> bytes:
+    json_bytes += b" " * (-len(json_bytes) % 4)
+    out = struct.pack("<I4s", len(json_bytes), b"JSON") + json_bytes
+    if bin_bytes is not None:
+        bin_bytes += b"\0" * (-len(bin_bytes) % 4)
+        out += struct.pack("<I4s", len(bin_bytes), b"BIN\0") + bin_bytes
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(out)) + out
+
+
+def ssrlab_extras(**values) -> dict:
+    return {"extras": {"ssrlab": values}}
+
+
+CASES: dict[str, tuple] = {}  # name -> (document: dict | bytes, expectation)
+
+
+def case(name: str, expect: dict, **kwargs):
+    def register(build):
+        doc = build(copy.deepcopy(base()))
+        CASES[name] = (doc, dict(expect, **({"kwargs": kwargs} if kwargs else {})))
+        return build
+    return register
+
+
+def err(*parts):
+    return {"error": list(parts)}
+
+
+def warn(*parts):
+    return {"warning": list(parts)}
+
+
+# --- crashes: bounds arithmetic that wrapped, recursion that overflowed the stack ----------
+@case("bufferview_offset_wraps_4k.gltf", err("bufferView 0", "outside buffer 0"))
+def _(d):
+    d["bufferViews"][0]["byteOffset"] = 2 ** 64 - 4096
+    return d
+
+
+@case("bufferview_offset_max.gltf", err("bufferView 1", "outside buffer 0"))
+def _(d):
+    d["bufferViews"][1]["byteOffset"] = 2 ** 64 - 1
+    return d
+
+
+@case("accessor_offset_wraps.gltf", err("accessor 0", "bufferView 0"))
+def _(d):
+    d["accessors"][0]["byteOffset"] = 2 ** 64 - 8
+    return d
+
+
+@case("accessor_count_huge.gltf", err("accessor 0", "count"))
+def _(d):
+    d["accessors"][0]["count"] = 2 ** 62
+    return d
+
+
+@case("accessor_count_wraps_stride.gltf", err("accessor 1", "bufferView 1"))
+def _(d):
+    d["accessors"][1]["count"] = 2 ** 63 + 1  # stride * (count - 1) wraps to 0 in 64 bits
+    return d
+
+
+@case("node_chain_10000.gltf", err("node 1000", "deeper than 1000"))
+def _(d):
+    n = 10_000
+    d["nodes"] = [{"children": [i + 1]} for i in range(n - 1)] + [{"mesh": 0}]
+    d["scenes"] = [{"nodes": [0]}]
+    return d
+
+
+@case("node_cycle.gltf", err("cycle through node 0"))
+def _(d):
+    d["nodes"][0]["children"] = [3]
+    d["nodes"].append({"children": [0]})
+    return d
+
+
+@case("extras_nested_30000.gltf", err("JSON nests", "deeper than 64"))
+def _(d):
+    depth = 30_000
+    text = json.dumps(d)
+    return text.replace('"asset": {', '"extras": ' + "[" * depth + "]" * depth + ', "asset": {', 1).encode()
+
+
+@case("extras_nested_30000.glb", err("JSON nests", "deeper than 64"))
+def _(d):
+    depth = 30_000
+    text = json.dumps(d).replace('"asset": {', '"extras": ' + "[" * depth + "]" * depth + ', "asset": {', 1)
+    return glb(text.encode())
+
+
+@case("glb_chunk_length_wraps.glb", err("GLB JSON chunk", "past the file's end"))
+def _(d):
+    data = bytearray(glb(json.dumps(d).encode()))
+    data[12:16] = struct.pack("<I", 0xFFFFFFF8)
+    return bytes(data)
+
+
+# --- hangs and reads outside the model: devices, absolute paths, '..' ----------------------
+@case("envmap_dev_zero.gltf", err("environment map", "/dev/zero", "absolute path", "allow_external_files"))
+def _(d):
+    d["scenes"][0].update(ssrlab_extras(environment={"type": "map", "map": "/dev/zero"}))
+    return d
+
+
+@case("envmap_dev_zero_allowed.gltf", err("environment map", "not a regular file"), allow_external_files=True)
+def _(d):
+    d["scenes"][0].update(ssrlab_extras(environment={"type": "map", "map": "/dev/urandom"}))
+    return d
+
+
+@case("envmap_not_an_image.gltf", err("environment map", "not an image"), allow_external_files=True)
+def _(d):
+    d["scenes"][0].update(ssrlab_extras(environment={"type": "map", "map": "/etc/passwd"}))
+    return d
+
+
+@case("image_uri_etc_passwd.gltf", err("image 0", "/etc/passwd", "absolute path"))
+def _(d):
+    d["images"][0] = {"uri": "/etc/passwd"}
+    return d
+
+
+@case("image_uri_dotdot.gltf", err("image 0", "outside the model's folder"))
+def _(d):
+    d["images"][0] = {"uri": "../" * 16 + "etc/passwd"}
+    return d
+
+
+@case("image_uri_percent_dotdot.gltf", err("image 0", "outside the model's folder"))
+def _(d):
+    d["images"][0] = {"uri": "%2e%2e/" * 16 + "etc/passwd"}
+    return d
+
+
+@case("buffer_uri_dev_zero.gltf", err("buffer 0", "/dev/zero", "absolute path"))
+def _(d):
+    d["buffers"][0]["uri"] = "/dev/zero"
+    return d
+
+
+@case("buffer_uri_dev_zero_allowed.gltf", err("buffer 0", "not a regular file"), allow_external_files=True)
+def _(d):
+    d["buffers"][0]["uri"] = "/dev/zero"
+    return d
+
+
+@case("buffer_uri_folder.gltf", err("buffer 0", "not a regular file"))
+def _(d):
+    d["buffers"][0]["uri"] = "."
+    return d
+
+
+@case("buffer_uri_missing.gltf", err("buffer 0", "file not found"))
+def _(d):
+    d["buffers"][0]["uri"] = "no_such_buffer.bin"
+    return d
+
+
+# --- poisoned renders: values that overflow to Inf/NaN in the lighting ---------------------
+@case("light_color_1e39.gltf", err("light 0", "color", "1e+39"))
+def _(d):
+    d["extensions"]["KHR_lights_punctual"]["lights"][0]["color"] = [1e39, 1, 1]
+    return d
+
+
+@case("light_intensity_1e39.gltf", err("light 0", "intensity", "1e+39"))
+def _(d):
+    d["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = 1e39
+    return d
+
+
+@case("light_intensity_negative.gltf", err("light 0", "intensity", "-5"))
+def _(d):
+    d["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = -5
+    return d
+
+
+@case("light_direction_zero.gltf", err("light 0", "direction", "zero"))
+def _(d):
+    d["extensions"]["KHR_lights_punctual"]["lights"][0]["extras"] = {"direction": [0, 0, 0]}
+    return d
+
+
+@case("light_node_zero_scale.gltf", err("node 2", "light 0", "no direction"))
+def _(d):
+    d["nodes"][2]["scale"] = [0, 0, 0]
+    return d
+
+
+@case("ambient_1e39.gltf", err("ambient", "1e+39"))
+def _(d):
+    d["scenes"][0].update(ssrlab_extras(ambient=[1e39, 0, 0]))
+    return d
+
+
+@case("environment_color_1e39.gltf", err("environment.color", "1e+39"))
+def _(d):
+    d["scenes"][0].update(ssrlab_extras(environment={"type": "constant", "color": [1, 1e39, 1]}))
+    return d
+
+
+@case("environment_intensity_1e39.gltf", err("environment.intensity", "1e+39"))
+def _(d):
+    d["scenes"][0].update(ssrlab_extras(environment={"type": "sky", "intensity": 1e39}))
+    return d
+
+
+@case("material_basecolor_1e39.gltf", err("material 0", "baseColorFactor", "1e+39"))
+def _(d):
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = [1e39, 1, 1, 1]
+    return d
+
+
+@case("material_roughness_negative.gltf", err("material 0", "roughnessFactor"))
+def _(d):
+    d["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] = -1
+    return d
+
+
+@case("node_matrix_1e39.gltf", err("node 0", "matrix", "1e+39"))
+def _(d):
+    d["nodes"][0]["matrix"] = [1e39, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+    return d
+
+
+@case("node_translation_1e39.gltf", err("node 0", "translation"))
+def _(d):
+    d["nodes"][0]["translation"] = [0, -1e39, 0]
+    return d
+
+
+@case("node_rotation_zero.gltf", err("node 0", "rotation", "zero length"))
+def _(d):
+    d["nodes"][0]["rotation"] = [0, 0, 0, 0]
+    return d
+
+
+@case("node_world_overflow.gltf", err("node 3", "world transform"))
+def _(d):
+    d["nodes"][0]["children"] = [3]
+    d["nodes"][0]["scale"] = [1e30, 1e30, 1e30]
+    d["nodes"].append({"mesh": 0, "scale": [1e30, 1e30, 1e30]})
+    return d
+
+
+@case("node_zero_scale.gltf", warn("node 0", "singular", "mesh 0 skipped"))
+def _(d):
+    d["nodes"][0]["scale"] = [1, 1, 0]  # the triangle is flat in z, but its normals would be NaN
+    return d
+
+
+@case("node_scale_ratio_1e19.gltf", warn("node 0", "degenerate", "mesh 0 skipped"))
+def _(d):
+    d["nodes"][0]["scale"] = [1, 1, 1.8e19]  # fuzzer finding: normals underflowed to zero length, NaN image
+    return d
+
+
+@case("node_far_from_origin.gltf", err("node 0", "world space", "1e+09"))
+def _(d):
+    d["nodes"][0]["translation"] = [3e12, 0, 0]
+    return d
+
+
+@case("camera_far_from_origin.gltf", err("node 1", "camera 0", "world space"))
+def _(d):
+    d["nodes"][1]["translation"] = [0, 0, 2 ** 40]
+    return d
+
+
+@case("camera_yfov_zero.gltf", err("camera 0", "yfov"))
+def _(d):
+    d["cameras"][0]["perspective"]["yfov"] = 0
+    return d
+
+
+@case("camera_znear_negative.gltf", err("camera 0", "znear"))
+def _(d):
+    d["cameras"][0]["perspective"]["znear"] = -1
+    return d
+
+
+@case("camera_zfar_below_znear.gltf", err("camera 0", "zfar"))
+def _(d):
+    d["cameras"][0]["perspective"]["zfar"] = 0.01
+    return d
+
+
+@case("sampler_wrap_invalid.gltf", err("sampler 0", "wrapS", "12345"))
+def _(d):
+    d["samplers"][0]["wrapS"] = 12345
+    return d
+
+
+@case("sampler_filter_invalid.gltf", err("sampler 0", "minFilter"))
+def _(d):
+    d["samplers"][0]["minFilter"] = 7
+    return d
+
+
+# --- silent nonsense: now an error or a warning --------------------------------------------
+@case("primitive_no_position.gltf", err("mesh 0", "primitive 0", "no POSITION"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["attributes"] = {"NORMAL": 0}
+    return d
+
+
+@case("primitive_float_indices.gltf", err("mesh 0", "indices", "accessor 1", "unsigned"))
+def _(d):
+    d["accessors"][1]["componentType"] = 5126
+    d["bufferViews"][1]["byteLength"] = 8
+    d["accessors"][1]["count"] = 2
+    return d
+
+
+@case("primitive_attribute_out_of_range.gltf", err("mesh 0 primitive 0 attribute POSITION", "accessor 7", "out of range"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 7
+    return d
+
+
+@case("primitive_attribute_not_integer.gltf", err("mesh 0 primitive 0 attribute POSITION", "integer", "0.5"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 0.5
+    return d
+
+
+@case("primitive_attribute_huge_index.gltf", err("mesh 0 primitive 0 attribute POSITION", "out of range"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 2 ** 40  # an int cast makes it 0
+    return d
+
+
+@case("primitive_indices_string.gltf", err("mesh 0 primitive 0", "indices", "integer"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["indices"] = "x"
+    return d
+
+
+@case("node_light_index_out_of_range.gltf", err("node 2", "light", "out of range"))
+def _(d):
+    d["nodes"][2]["extensions"]["KHR_lights_punctual"]["light"] = 5
+    return d
+
+
+@case("mesh_no_primitives.gltf", warn("mesh 0", "no primitives"))
+def _(d):
+    d["meshes"][0]["primitives"] = []
+    return d
+
+
+@case("mode_points.gltf", warn("mesh 0", "primitive 0", "POINTS"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["mode"] = 0
+    return d
+
+
+@case("mode_lines.gltf", warn("mesh 0", "primitive 0", "LINES"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["mode"] = 1
+    return d
+
+
+@case("mode_invalid.gltf", warn("mesh 0", "primitive 0", "mode 9"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["mode"] = 9
+    return d
+
+
+@case("morph_targets.gltf", warn("mesh 0", "morph target"))
+def _(d):
+    d["meshes"][0]["primitives"][0]["targets"] = [{"POSITION": 0}]
+    return d
+
+
+@case("skin.gltf", warn("skin"))
+def _(d):
+    d["skins"] = [{"joints": [1]}]
+    d["nodes"][0]["skin"] = 0
+    return d
+
+
+@case("empty_scene.gltf", warn("no triangles were loaded"))
+def _(d):
+    d["scenes"] = [{"nodes": [1, 2]}]
+    return d
+
+
+@case("scene_without_scenes.gltf", err("'scene'", "no 'scenes' array"))
+def _(d):
+    del d["scenes"]
+    return d
+
+
+@case("extension_required_unknown.gltf", err("KHR_draco_mesh_compression", "does not implement"))
+def _(d):
+    d["extensionsUsed"].append("KHR_draco_mesh_compression")
+    d["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    return d
+
+
+# --- exceptions that escaped without the file's name ---------------------------------------
+@case("invalid_utf8.gltf", err("not valid UTF-8"))
+def _(d):
+    return json.dumps(d).replace('"tri"', '"tri\udcff"', 1).encode("utf-8", "surrogateescape")
+
+
+@case("top_level_array.gltf", err("top level"))
+def _(d):
+    return json.dumps([d]).encode()
+
+
+def main() -> None:
+    OUT.mkdir(exist_ok=True)
+    for old in OUT.iterdir():
+        if old.suffix in (".gltf", ".glb"):
+            old.unlink()
+    manifest = {}
+    for name, (doc, expect) in CASES.items():
+        data = doc if isinstance(doc, bytes) else json.dumps(doc, indent=1).encode()
+        if len(data) > 20_000 and not isinstance(doc, bytes):
+            data = json.dumps(doc, separators=(",", ":")).encode()
+        (OUT / name).write_bytes(data)
+        manifest[name] = expect
+    (OUT / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    print(f"wrote {len(manifest)} files to {OUT}")
+
+
+if __name__ == "__main__":
+    main()
