@@ -52,6 +52,18 @@ const std::vector<std::pair<CompositeMode, std::string>>& names() {
                                                                          {CompositeMode::Pbr, "pbr"}};
     return n;
 }
+template <>
+const std::vector<std::pair<Glossy, std::string>>& names() {
+    static const std::vector<std::pair<Glossy, std::string>> n = {
+        {Glossy::Stochastic, "stochastic"}, {Glossy::Cone, "cone"}, {Glossy::BlurMips, "blur_mips"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<ConeRemainder, std::string>>& names() {
+    static const std::vector<std::pair<ConeRemainder, std::string>> n = {{ConeRemainder::Hit, "hit"},
+                                                                         {ConeRemainder::Environment, "environment"}};
+    return n;
+}
 }  // namespace
 
 template <typename E>
@@ -80,6 +92,8 @@ SSR_INSTANTIATE(Noise)
 SSR_INSTANTIATE(ThicknessMode)
 SSR_INSTANTIATE(ReuseWeighting)
 SSR_INSTANTIATE(CompositeMode)
+SSR_INSTANTIATE(Glossy)
+SSR_INSTANTIATE(ConeRemainder)
 #undef SSR_INSTANTIATE
 
 void RenderSettings::validate() const {
@@ -123,6 +137,8 @@ void RenderSettings::validate() const {
     range(fade_distance_start, 0, 1e7, "fade_distance_start");
     range(fade_distance_end, 0, 1e7, "fade_distance_end");
     range(roughness_cutoff, 0, 1, "roughness_cutoff");
+    range(cone_max_samples, 1, 64, "cone_max_samples");
+    range(cone_level_bias, -4, 4, "cone_level_bias");
 }
 
 }  // namespace ssr
