@@ -6,13 +6,17 @@
 // radius tan(theta) * d at the hit, d the ray's length on screen in pixels, and level
 // log2 of that radius (+ Settings.cone_level_bias). No visibility, no occlusion along the
 // cone: the blur mixes whatever lies around the hit on screen. Misses and faded hits take
-// the environment at the mirror direction, as the resolve does; a footprint under half a
-// pixel reads the lit layer exactly (a mirror).
+// the environment averaged over the GGX lobe (lib/glossy_common.glsl); a footprint under half
+// a pixel reads the lit layer exactly, and a mirror the environment at the mirror direction,
+// as the resolve does.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/environment.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/random.glsl"
+#include "../lib/ggx_sampling.glsl"
 #include "../lib/screen_ray.glsl"
 #include "../lib/cone_angle.glsl"
 #include "../lib/glossy_common.glsl"
@@ -48,7 +52,7 @@ void main() {
         return;
     }
     vec3 dir = texelFetch(u_direction, ivec3(q, 0), 0).xyz;
-    vec3 env = glossy_environment(dir);
+    vec3 env = glossy_environment_lobe(g.normal, v, g.roughness, dir);
     vec4 hit = texelFetch(u_hit, ivec3(q, 0), 0);
     reflection = env;
     if (hit.z > 0.5) {

@@ -11,15 +11,17 @@
 //   - the pre-integrated visibility of that layer (coverage and depth gaps, 4.4.2),
 // and weighs each sample by visibility times how much the cone's sphere there overlaps the
 // Hi-Z cell's slab [min, max + thickness] (0 above it or behind it, 1 once its centre is
-// inside, linear within its radius). The circle at the hit end sits on the surface the trace
-// found and counts fully. Weights accumulate until they reach 1. What remains comes from the
-// environment in the chapter; by default (Settings.cone_remainder="hit") from the hit
-// circle's colour instead, because in a closed room the sky is the wrong answer at every
-// silhouette (measured: issue 9 notes in README "Glossy methods"). Misses and the faded part
-// of a hit (seed 002, 4.6.1) take the environment at the mirror direction (constant and sky
-// environments: their value there, not a pre-filtered lobe integral).
-// A cone narrower than half a pixel at the hit is a mirror: it reads the lit layer exactly
-// as the resolve does, so at roughness 0 the pass equals mirror tracing.
+// inside, linear within its radius). The first circle is centred on the hit (the triangle
+// reaches one radius past it) and sits on the surface the trace found: its overlap counts
+// fully. Weights accumulate until they reach 1. What remains comes from the environment in
+// the chapter; by default (Settings.cone_remainder="hit") from the hit circle's colour
+// instead, because in a closed room the sky is the wrong answer at every silhouette
+// (measured: README "Glossy methods"). Misses and the faded part of a hit (seed 002, 4.6.1)
+// take the environment averaged over the GGX lobe (lib/glossy_common.glsl: 16 fixed VNDF
+// directions, a pre-filtered environment by quadrature, for constant, sky and map
+// environments alike). A cone narrower than half a pixel at the hit is a mirror: it reads
+// the lit layer and the mirror direction's environment exactly as the resolve does, so at
+// roughness 0 the pass equals mirror tracing.
 //
 // Deep layers: the trace finds the hit on any layer; the cone then reads the colour,
 // visibility and Hi-Z of that one layer, so a reflection of a surface hidden behind layer 0
@@ -29,6 +31,9 @@
 #include "../lib/ssr_settings.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/environment.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/random.glsl"
+#include "../lib/ggx_sampling.glsl"
 #include "../lib/screen_ray.glsl"
 #include "../lib/hiz_cells.glsl"
 #include "../lib/cone_angle.glsl"
@@ -82,7 +87,7 @@ void main() {
         return;
     }
     vec3 dir = texelFetch(u_direction, ivec3(q, 0), 0).xyz;
-    vec3 env = glossy_environment(dir);
+    vec3 env = glossy_environment_lobe(g.normal, v, g.roughness, dir);
     vec4 hit = texelFetch(u_hit, ivec3(q, 0), 0);
     reflection = env;
     if (hit.z > 0.5) {
@@ -102,11 +107,15 @@ void main() {
         float adjacent = length(p2 - p1);
         vec2 unit = adjacent > 0.0 ? (p2 - p1) / adjacent : vec2(0.0);
         float theta = cone_angle(g.roughness, clamp(dot(g.normal, v), 0.0, 1.0));
+        // The first triangle reaches past the hit so that its in-circle is centred on the hit
+        // (in the chapter the hit is the triangle's base, which centres the largest circle
+        // one radius short of it, toward the origin: measured worse at every roughness).
+        adjacent /= 1.0 - isosceles_inradius(isosceles_opposite(1.0, theta), 1.0);
         float focal = frame.proj[1][1] * frame.viewport.y * 0.5;  // pixels per unit at view depth 1
         int max_level = textureQueryLevels(u_hiz) - 1;
         vec3 sum = vec3(0.0), first = env;
         float total = 0.0;
-        for (int i = 0; i < ssr.cone_max_samples && adjacent > 0.5 && total < 1.0; ++i) {
+        for (int i = 0; i < ssr.cone_max_samples && (i == 0 || adjacent > 0.5) && total < 1.0; ++i) {
             float r = isosceles_inradius(isosceles_opposite(adjacent, theta), adjacent);
             vec2 at = p1 + unit * (adjacent - r);
             vec3 c;
@@ -129,9 +138,9 @@ void main() {
                     int cell_level = clamp(int(floor(level + 0.5)), 0, max_level);
                     overlap = sphere_overlap(at, cell_level, layer, z, r * z / focal);
                 }
-                w = coverage > 1e-6 ? visibility * overlap : 0.0;
+                w = coverage > 1e-6 ? max(visibility, i == 0 ? 1e-6 : 0.0) * overlap : 0.0;
             }
-            if (i == 0) first = c;
+            if (i == 0 && w > 0.0) first = c;
             w = min(w, 1.0 - total);
             sum += w * c;
             total += w;
