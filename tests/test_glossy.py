@@ -198,3 +198,18 @@ def test_cone_tracing_beats_one_stochastic_ray_on_a_glossy_floor(renderer):
                                                       sampling=sampling))
         e_stoch = image_metrics(stoch.color, truth.color, truth.reflective)["thesis_error_reflective"]
         assert e_cone < e_stoch, (sampling, e_cone, e_stoch)
+
+
+def test_cone_stretch_changes_only_glossy_grazing_reflections(renderer):
+    """Settings.cone_stretch (seed 002, 4.6.8) reshapes the cone's footprints: it changes a rough
+    floor's reflection, stays finite, and leaves a mirror alone."""
+    scene = ssrlab.scenes.hall(floor_roughness=0.3)
+    base = dict(width=96, height=64, method="hiz", glossy="cone")
+    plain = renderer.render(scene, settings=small(**base)).reflection
+    stretched = renderer.render(scene, settings=small(**base, cone_stretch=True)).reflection
+    assert_finite(stretched, "stretched reflection")
+    assert np.abs(stretched - plain).max() > 1e-3
+    mirror = ssrlab.scenes.mirror_test()
+    a = renderer.render(mirror, settings=small(**base)).reflection
+    b = renderer.render(mirror, settings=small(**base, cone_stretch=True)).reflection
+    np.testing.assert_array_equal(a, b)

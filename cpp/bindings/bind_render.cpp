@@ -81,6 +81,7 @@ void bind_render(py::module_& m) {
         .def_property("glossy", enum_getter(&RenderSettings::glossy), enum_setter("glossy", &RenderSettings::glossy))
         .def_readwrite("cone_max_samples", &RenderSettings::cone_max_samples)
         .def_readwrite("cone_level_bias", &RenderSettings::cone_level_bias)
+        .def_readwrite("cone_stretch", &RenderSettings::cone_stretch)
         .def_property("cone_remainder", enum_getter(&RenderSettings::cone_remainder),
                       enum_setter("cone_remainder", &RenderSettings::cone_remainder))
         .def("validate", &RenderSettings::validate);

@@ -81,6 +81,7 @@ struct RenderSettings {
     int cone_max_samples = 16;     // in-circles marched per cone
     float cone_level_bias = 1.0f;  // added to the mip level of every cone / blur_mips fetch
     ConeRemainder cone_remainder = ConeRemainder::Hit;  // what fills a cone whose weights stay below 1
+    bool cone_stretch = false;  // seed 002 4.6.8: footprints stretched along the ray at grazing angles
 
     // Rays traced per pixel: the cone and blur_mips methods trace one mirror ray.
     int traced_rays() const { return glossy == Glossy::Stochastic ? rays_per_pixel : 1; }

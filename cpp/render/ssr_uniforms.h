@@ -24,8 +24,9 @@ struct SsrUniforms {
     int32_t glossy, cone_max_samples;
     float cone_level_bias;
     int32_t cone_remainder;
+    int32_t cone_stretch, pad0, pad1, pad2;
 };
-static_assert(sizeof(SsrUniforms) == 40 * 4, "std140 layout of SsrUniforms");
+static_assert(sizeof(SsrUniforms) == 44 * 4, "std140 layout of SsrUniforms");
 
 struct RenderSettings;
 SsrUniforms ssr_uniforms(const RenderSettings& s);

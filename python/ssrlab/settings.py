@@ -174,6 +174,10 @@ class Settings:
         "'hit' (the colour of the cone's circle at the hit, since the centre ray proved a surface there) or "
         "'environment' (seed 002 4.4.5's choice; leaks the sky into closed rooms at silhouettes)",
         choices=("hit", "environment"), group="glossy")
+    cone_stretch: bool = _setting(
+        False, "vertically stretched cones at grazing angles (seed 002, 4.6.8): each cone sample's footprint "
+        "becomes r / sqrt(N.V) along the ray's screen direction and r sqrt(N.V) across it (at most 4:1), "
+        "read as up to 4 samples along the ray at the narrow side's mip level", group="glossy")
 
     # ---------------------------------------------------------------------------------------------
     def __setattr__(self, name: str, value: Any) -> None:

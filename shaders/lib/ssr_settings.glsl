@@ -51,6 +51,9 @@ layout(std140, binding = 4) uniform SsrSettings {
     int cone_max_samples;    // in-circles marched per cone (seed 002, 4.4.5)
     float cone_level_bias;   // mip levels added to every cone / blur_mips fetch
     int cone_remainder;      // CONE_REMAINDER_*: what fills a cone whose weights stay below 1
+
+    int cone_stretch;        // 1: footprints stretched along the ray at grazing angles (seed 002, 4.6.8)
+    int pad0, pad1, pad2;
 } ssr;
 
 const int SAMPLING_MIRROR = 0;

@@ -69,6 +69,32 @@ float sphere_overlap(vec2 pixel, int level, int layer, float z, float rad) {
     return clamp((z + rad - front) / rad, 0.0, 1.0) * clamp((back - (z - rad)) / rad, 0.0, 1.0);
 }
 
+// Pre-convolved colour (premultiplied) and visibility over a footprint of radius r around
+// `at`: a circle, or with Settings.cone_stretch an ellipse r / sqrt(N.V) long along the
+// ray's screen direction `unit` and r sqrt(N.V) wide (seed 002, 4.6.8: the GGX lobe spreads
+// 1 / N.V more in the plane of incidence than across it, at equal area), taken as up to 4
+// samples along `unit` at the narrow side's level.
+void footprint(vec2 at, vec2 unit, float r, float n_dot_v, int layer, out vec4 colour, out float visibility) {
+    float along = r, across = r;
+    if (ssr.cone_stretch != 0) {
+        float s = min(inversesqrt(max(n_dot_v, 1e-4)), 2.0);  // at most 4:1
+        along = r * s;
+        across = r / s;
+    }
+    float level = max(log2(max(across, 1e-6)) + ssr.cone_level_bias, 0.0);
+    int n = clamp(int(ceil(along / max(across, 1e-6))), 1, 4);
+    colour = vec4(0.0);
+    visibility = 0.0;
+    for (int k = 0; k < n; ++k) {
+        float f = n == 1 ? 0.0 : (float(k) / float(n - 1) * 2.0 - 1.0) * (along - across);
+        vec3 uv = vec3((at + unit * f) * frame.viewport.zw, float(layer));
+        colour += textureLod(u_preconvolved, uv, level);
+        visibility += textureLod(u_visibility, uv, level).r;
+    }
+    colour /= float(n);
+    visibility /= float(n);
+}
+
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ivec2(frame.viewport.xy);
@@ -106,7 +132,8 @@ void main() {
         vec2 p1 = o.xy, p2 = hit.xy;
         float adjacent = length(p2 - p1);
         vec2 unit = adjacent > 0.0 ? (p2 - p1) / adjacent : vec2(0.0);
-        float theta = cone_angle(g.roughness, clamp(dot(g.normal, v), 0.0, 1.0));
+        float n_dot_v = clamp(dot(g.normal, v), 0.0, 1.0);
+        float theta = cone_angle(g.roughness, n_dot_v);
         // The first triangle reaches past the hit so that its in-circle is centred on the hit
         // (in the chapter the hit is the triangle's base, which centres the largest circle
         // one radius short of it, toward the origin: measured worse at every roughness).
@@ -126,10 +153,10 @@ void main() {
                 w = 1.0;
             } else {
                 float level = max(log2(max(r, 1e-6)) + ssr.cone_level_bias, 0.0);
-                vec3 uv = vec3(at * frame.viewport.zw, float(layer));
-                float coverage;
-                c = unpremultiply(textureLod(u_preconvolved, uv, level), coverage);
-                float visibility = textureLod(u_visibility, uv, level).r;
+                vec4 premultiplied;
+                float coverage, visibility;
+                footprint(at, unit, r, n_dot_v, layer, premultiplied, visibility);
+                c = unpremultiply(premultiplied, coverage);
                 float overlap = 1.0;
                 if (i > 0) {
                     // The ray's depth at the circle's centre, and the sphere's radius there.
