@@ -86,6 +86,12 @@ void bind_render(py::module_& m) {
                       enum_setter("reuse_weighting", &RenderSettings::reuse_weighting))
         .def_property("composite", enum_getter(&RenderSettings::composite),
                       enum_setter("composite", &RenderSettings::composite))
+        .def_property("glossy", enum_getter(&RenderSettings::glossy), enum_setter("glossy", &RenderSettings::glossy))
+        .def_readwrite("cone_max_samples", &RenderSettings::cone_max_samples)
+        .def_readwrite("cone_level_bias", &RenderSettings::cone_level_bias)
+        .def_readwrite("cone_stretch", &RenderSettings::cone_stretch)
+        .def_property("cone_remainder", enum_getter(&RenderSettings::cone_remainder),
+                      enum_setter("cone_remainder", &RenderSettings::cone_remainder))
         .def("validate", &RenderSettings::validate);
 
     py::class_<Sequence, std::shared_ptr<Sequence>>(m, "Sequence", "The history of a sequence of frames.")

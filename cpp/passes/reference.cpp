@@ -23,7 +23,7 @@ std::vector<std::string> ReferencePass::inputs() const {
 
 std::vector<ResourceDesc> ReferencePass::outputs(const RenderSettings& s) const {
     if (per_ray_) {
-        const int w = s.trace_width(), h = s.trace_height(), r = s.rays_per_pixel;
+        const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
         return {{"reference.hit", GL_RGBA32F, w, h, r, 1},
                 {"reference.position", GL_RGBA32F, w, h, r, 1},
                 {"reference.radiance", GL_RGBA32F, w, h, r, 1}};
@@ -62,12 +62,12 @@ void ReferencePass::execute(FrameContext& ctx) {
         bind_image_layered(1, r.get("reference.position"), GL_WRITE_ONLY);
         bind_image_layered(2, r.get("reference.radiance"), GL_WRITE_ONLY);
         const long long per_ray = (long long)s.trace_width() * s.trace_height();
-        const int chunk = int(std::max(1LL, std::min<long long>(s.rays_per_pixel, kRaysPerDispatch / per_ray)));
-        for (int first = 0; first < s.rays_per_pixel; first += chunk) {
-            const int count = std::min(chunk, s.rays_per_pixel - first);
+        const int chunk = int(std::max(1LL, std::min<long long>(s.traced_rays(), kRaysPerDispatch / per_ray)));
+        for (int first = 0; first < s.traced_rays(); first += chunk) {
+            const int count = std::min(chunk, s.traced_rays() - first);
             glUniform1i(loc_first, first);
             glUniform1i(loc_count, count);
-            glUniform1i(loc_last, first + count >= s.rays_per_pixel);
+            glUniform1i(loc_last, first + count >= s.traced_rays());
             dispatch_2d(s.trace_width(), s.trace_height(), count, 8, 8);
         }
     } else {

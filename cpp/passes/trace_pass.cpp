@@ -14,7 +14,7 @@ void TracePass::run(FrameContext& ctx, GLuint program) {
     bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
     bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
-    dispatch_2d(ctx.settings.trace_width(), ctx.settings.trace_height(), ctx.settings.rays_per_pixel, 8, 8);
+    dispatch_2d(ctx.settings.trace_width(), ctx.settings.trace_height(), ctx.settings.traced_rays(), 8, 8);
 }
 
 }  // namespace ssr

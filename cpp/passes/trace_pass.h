@@ -12,7 +12,7 @@ namespace ssr {
 class TracePass : public RenderPass {
 public:
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        const int w = s.trace_width(), h = s.trace_height(), r = s.rays_per_pixel;
+        const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
         return {{"rays.hit", GL_RGBA32F, w, h, r, 1},
                 {"rays.sample", GL_RGBA32F, w, h, r, 1},
                 {"rays.direction", GL_RGBA16F, w, h, r, 1}};

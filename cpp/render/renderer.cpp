@@ -106,7 +106,8 @@ std::shared_ptr<FrameResources> Renderer::acquire(const std::vector<ResourceDesc
 
 // The frame as a chain of passes. Passes a frame does not need are left out: no shadow map
 // without a shadow caster, no tracing without a reflective surface or with method "off",
-// no Hi-Z pyramid for the linear tracer.
+// no Hi-Z pyramid for the linear tracer (unless the cone needs it), no pre-convolution or
+// pre-integrated visibility for stochastic glossy reflections.
 std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool shadows, bool reflections) {
     std::vector<RenderPass*> chain;
     if (shadows) chain.push_back(&shadow_map_);
@@ -116,13 +117,19 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     // resolve (bounces="history" reads it there).
     if (s.temporal_reflections || s.taa != TaaMode::Off || s.bounces == Bounces::History) chain.push_back(&reproject_);
     if (reflections) {
-        if (s.method == TraceMethod::Hiz) {
-            chain.push_back(&hiz_build_);
-            chain.push_back(&trace_hiz_);
+        // glossy="cone" needs the min-max pyramid whatever tracer follows the mirror ray.
+        const bool hiz = s.method == TraceMethod::Hiz || s.glossy == Glossy::Cone;
+        if (hiz) chain.push_back(&hiz_build_);
+        if (s.glossy != Glossy::Stochastic) chain.push_back(&preconvolve_);  // seed 002, 4.4.4
+        if (s.glossy == Glossy::Cone) chain.push_back(&preintegrate_);        // seed 002, 4.4.2
+        chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
+        if (s.glossy == Glossy::Cone) {
+            chain.push_back(&cone_trace_);  // seed 002, 4.4.5
+        } else if (s.glossy == Glossy::BlurMips) {
+            chain.push_back(&blur_mips_);
         } else {
-            chain.push_back(&trace_linear_);
+            chain.push_back(&resolve_);
         }
-        chain.push_back(&resolve_);
     }
     // The reflection's temporal accumulation, when there is a reflection to accumulate.
     const bool temporal = reflections && s.temporal_reflections;

@@ -13,10 +13,14 @@
 #include "core/egl_context.h"
 #include "core/gpu_timer.h"
 #include "core/shader_library.h"
+#include "passes/blur_mips.h"
 #include "passes/composite.h"
+#include "passes/cone_trace.h"
 #include "passes/depth_peel.h"
 #include "passes/hiz_build.h"
 #include "passes/lighting.h"
+#include "passes/preconvolve.h"
+#include "passes/preintegrate.h"
 #include "passes/reference.h"
 #include "passes/reproject.h"
 #include "passes/resolve.h"
@@ -124,6 +128,10 @@ private:
     ReprojectPass reproject_;
     TemporalPass temporal_;
     TaaPass taa_;
+    PreconvolvePass preconvolve_;
+    PreintegratePass preintegrate_;
+    ConeTracePass cone_trace_;
+    BlurMipsPass blur_mips_;
     CompositePass composite_plain_{false}, composite_reflections_{true};
     CompositePass composite_temporal_{true, "reflection.temporal"};
 };

@@ -64,6 +64,18 @@ const std::vector<std::pair<Bounces, std::string>>& names() {
                                                                    {Bounces::History, "history"}};
     return n;
 }
+template <>
+const std::vector<std::pair<Glossy, std::string>>& names() {
+    static const std::vector<std::pair<Glossy, std::string>> n = {
+        {Glossy::Stochastic, "stochastic"}, {Glossy::Cone, "cone"}, {Glossy::BlurMips, "blur_mips"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<ConeRemainder, std::string>>& names() {
+    static const std::vector<std::pair<ConeRemainder, std::string>> n = {{ConeRemainder::Hit, "hit"},
+                                                                         {ConeRemainder::Environment, "environment"}};
+    return n;
+}
 }  // namespace
 
 template <typename E>
@@ -94,6 +106,8 @@ SSR_INSTANTIATE(ReuseWeighting)
 SSR_INSTANTIATE(CompositeMode)
 SSR_INSTANTIATE(TaaMode)
 SSR_INSTANTIATE(Bounces)
+SSR_INSTANTIATE(Glossy)
+SSR_INSTANTIATE(ConeRemainder)
 #undef SSR_INSTANTIATE
 
 void RenderSettings::validate() const {
@@ -147,6 +161,8 @@ void RenderSettings::validate() const {
     range(reject_depth, 0, 10, "reject_depth");
     range(reject_normal, -1, 1, "reject_normal");
     range(taa_history_weight, 0, 0.99, "taa_history_weight");
+    range(cone_max_samples, 1, 64, "cone_max_samples");
+    range(cone_level_bias, -4, 4, "cone_level_bias");
 }
 
 }  // namespace ssr

@@ -18,6 +18,8 @@ enum class ReuseWeighting { Thesis, Brdf };
 enum class CompositeMode { Linear, Pbr };
 enum class TaaMode { Off, Thesis, Clamped };
 enum class Bounces { Single, History };
+enum class Glossy { Stochastic, Cone, BlurMips };  // order = GLOSSY_* in ssr_settings.glsl
+enum class ConeRemainder { Hit, Environment };     // order = CONE_REMAINDER_*
 
 // Names <-> values, for Python and for error messages.
 template <typename E> E parse_enum(const std::string& field, const std::string& name);
@@ -84,6 +86,16 @@ struct RenderSettings {
     TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
     float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
     Bounces bounces = Bounces::Single;   // history: hits fetch the previous final colour (seed 002, 4.6.4)
+    // Glossy reflections (seed 002, 4.4.2-4.4.5; issue 9): stochastic GGX rays + resolve, or one
+    // mirror ray per pixel with a cone through pre-convolved mips, or one ray and a blurred mip.
+    Glossy glossy = Glossy::Stochastic;
+    int cone_max_samples = 16;     // in-circles marched per cone
+    float cone_level_bias = 1.0f;  // added to the mip level of every cone / blur_mips fetch
+    ConeRemainder cone_remainder = ConeRemainder::Hit;  // what fills a cone whose weights stay below 1
+    bool cone_stretch = false;  // seed 002 4.6.8: footprints stretched along the ray at grazing angles
+
+    // Rays traced per pixel: the cone and blur_mips methods trace one mirror ray.
+    int traced_rays() const { return glossy == Glossy::Stochastic ? rays_per_pixel : 1; }
 
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }

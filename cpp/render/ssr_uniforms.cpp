@@ -42,6 +42,15 @@ SsrUniforms ssr_uniforms(const RenderSettings& s) {
     su.reuse_weighting = int(s.reuse_weighting);
     su.edge_aware = s.edge_aware;
     su.composite_mode = int(s.composite);
+    su.glossy = int(s.glossy);
+    su.cone_max_samples = s.cone_max_samples;
+    su.cone_level_bias = s.cone_level_bias;
+    su.cone_remainder = int(s.cone_remainder);
+    su.cone_stretch = s.cone_stretch;
+    if (s.glossy != Glossy::Stochastic) {  // one mirror ray per pixel; the cone or the mip blurs it
+        su.rays_per_pixel = 1;
+        su.sampling = int(Sampling::Mirror);
+    }
     return su;
 }
 

@@ -31,7 +31,9 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
                         underscores (gpu_depth_peel_ms, gpu_depth_peel_layer0_ms, gpu_total_ms, ...)
   time_frame_ms         median GPU time of the whole frame (Frame.timings["total"])
   time_reflections_ms   median of trace_linear + trace_hiz + hiz_build + resolve GPU time, those
-                        present: what the thesis timed (seed 000, 3.1.2: trace and resolve passes)
+                        present: what the thesis timed (seed 000, 3.1.2: trace and resolve passes);
+                        with the glossy methods' passes (preconvolve, preintegrate, cone_trace,
+                        blur_mips) where Settings.glossy runs them
   wall_ms               median CPU milliseconds of the render call (Frame.wall_ms)
   thesis_error, rmse, psnr, thesis_error_reflective, rmse_reflective, psnr_reflective
                         ssrlab.metrics.image_metrics of Frame.color against the reference's
@@ -82,7 +84,8 @@ from .settings import Settings
 SETTINGS_PREFIX = "s_"
 # Passes whose GPU time the thesis counted as the cost of reflections (trace and resolve),
 # with the Hi-Z pyramid build that Hi-Z tracing needs.
-REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve")
+REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve",
+                     "preconvolve", "preintegrate", "cone_trace", "blur_mips")  # issue 9's glossy passes
 VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
 SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
                    "reference_rays", "device")

@@ -186,6 +186,33 @@ class Settings:
         "lit colour where that history is rejected), so mirrors facing mirrors gain a bounce per frame",
         choices=("single", "history"), group="temporal")
 
+    # -- glossy reflections (seed 002, 4.4.2-4.4.5; seed 004; issue 9) ------------------------------
+    glossy: str = _setting(
+        "stochastic", "how rough surfaces blur the reflection: 'stochastic' (rays_per_pixel GGX rays drawn by "
+        "`sampling`, then the resolve); 'cone' (one mirror ray per pixel traced by `method`, then a cone "
+        "marched through the pre-convolved colour and pre-integrated visibility mips with the Hi-Z, seed "
+        "002 4.4.5; the cone's half-angle holds ssrlab.glossy.CONE_ENERGY of the GGX lobe); 'blur_mips' "
+        "(one mirror ray, the pre-convolved colour at a mip level from roughness and hit distance, seed "
+        "004). cone and blur_mips ignore rays_per_pixel, sampling and the resolve",
+        choices=("stochastic", "cone", "blur_mips"), group="glossy")
+    cone_max_samples: int = _setting(
+        16, "most in-circles of the screen-space isosceles triangle a cone samples (seed 002, 4.4.5)", "samples",
+        1, 64, group="glossy")
+    cone_level_bias: float = _setting(
+        1.0, "added to the mip level of every cone / blur_mips colour fetch (level = log2 of the in-circle "
+        "or footprint radius in pixels, + bias); 1 measured best on hall and spheres_and_boxes at "
+        "roughness 0.2 (the GGX lobe's tails blur more than its median cone)", "levels", -4.0, 4.0,
+        group="glossy")
+    cone_remainder: str = _setting(
+        "hit", "what fills the share of a cone whose weights (visibility x sphere overlap) stay below 1: "
+        "'hit' (the colour of the cone's circle at the hit, since the centre ray proved a surface there) or "
+        "'environment' (seed 002 4.4.5's choice; leaks the sky into closed rooms at silhouettes)",
+        choices=("hit", "environment"), group="glossy")
+    cone_stretch: bool = _setting(
+        False, "vertically stretched cones at grazing angles (seed 002, 4.6.8): each cone sample's footprint "
+        "becomes r / sqrt(N.V) along the ray's screen direction and r sqrt(N.V) across it (at most 4:1), "
+        "read as up to 4 samples along the ray at the narrow side's mip level", group="glossy")
+
     # ---------------------------------------------------------------------------------------------
     def __post_init__(self) -> None:
         # Construction, replace() and from_dict() end here: the fields are checked one by one

@@ -46,6 +46,14 @@ layout(std140, binding = 4) uniform SsrSettings {
     int reuse_weighting;     // REUSE_*
     int edge_aware;          // 1: depth- and normal-aware reuse and upsampling
     int composite_mode;      // COMPOSITE_*
+
+    int glossy;              // GLOSSY_*: cone and blur_mips trace one mirror ray per pixel
+    int cone_max_samples;    // in-circles marched per cone (seed 002, 4.4.5)
+    float cone_level_bias;   // mip levels added to every cone / blur_mips fetch
+    int cone_remainder;      // CONE_REMAINDER_*: what fills a cone whose weights stay below 1
+
+    int cone_stretch;        // 1: footprints stretched along the ray at grazing angles (seed 002, 4.6.8)
+    int pad0, pad1, pad2;
 } ssr;
 
 const int SAMPLING_MIRROR = 0;
@@ -64,3 +72,10 @@ const int REUSE_BRDF = 1;    // receiver's BRDF over the neighbour's pdf (Stacho
 
 const int COMPOSITE_LINEAR = 0;  // c = r c_r + (1 - r) c_d (seed 000, 2.4.2)
 const int COMPOSITE_PBR = 1;     // c = c_d + r F_schlick(n.v) c_r
+
+const int GLOSSY_STOCHASTIC = 0;  // GGX/VNDF rays + resolve (seed 000)
+const int GLOSSY_CONE = 1;        // Hi-Z cone tracing (seed 002, 4.4.5)
+const int GLOSSY_BLUR_MIPS = 2;   // one ray, one pre-convolved mip fetch (seed 004)
+
+const int CONE_REMAINDER_HIT = 0;          // the colour of the circle at the hit
+const int CONE_REMAINDER_ENVIRONMENT = 1;  // the environment (seed 002, 4.4.5)

@@ -1,0 +1,51 @@
+#include "passes/preconvolve.h"
+
+#include <algorithm>
+
+#include "passes/compute.h"
+
+namespace ssr {
+
+void PreconvolvePass::execute(FrameContext& ctx) {
+    Texture& pyramid = ctx.resources.get("lit_preconvolved");
+    Texture& scratch = ctx.resources.get("preconvolve.scratch");
+    // The glossy passes read it trilinearly (seed 002, 4.4.5).
+    pyramid.set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+    const int layers = ctx.settings.layers;
+
+    Defines level0 = ctx.defines;
+    level0["LEVEL0"] = "1";
+    glUseProgram(ctx.shaders.program({"passes/preconvolve.comp"}, level0));
+    glBindTextureUnit(0, ctx.resources.get("lit").id());
+    glBindTextureUnit(1, ctx.resources.get("gbuffer.material").id());
+    bind_image_layered(0, pyramid, GL_WRITE_ONLY, 0);
+    dispatch_2d(pyramid.width(), pyramid.height(), layers, 8, 8);
+
+    GLuint axis_prog[2];
+    for (int axis = 0; axis < 2; ++axis) {
+        Defines d = ctx.defines;
+        d["LEVEL0"] = "0";
+        d["AXIS"] = std::to_string(axis);
+        axis_prog[axis] = ctx.shaders.program({"passes/preconvolve.comp"}, d);
+    }
+    for (int level = 1; level < pyramid.levels(); ++level) {
+        const int w_in = std::max(pyramid.width() >> (level - 1), 1), h_in = std::max(pyramid.height() >> (level - 1), 1);
+        const int w_out = std::max(pyramid.width() >> level, 1), h_out = std::max(pyramid.height() >> level, 1);
+        // x: level n-1 (w_in x h_in) -> scratch (w_out x h_in)
+        glUseProgram(axis_prog[0]);
+        glUniform2i(glGetUniformLocation(axis_prog[0], "u_src_size"), w_in, h_in);
+        glUniform2i(glGetUniformLocation(axis_prog[0], "u_dst_size"), w_out, h_in);
+        bind_image_layered(1, pyramid, GL_READ_ONLY, level - 1);
+        bind_image_layered(0, scratch, GL_WRITE_ONLY, 0);
+        dispatch_2d(w_out, h_in, layers, 8, 8);
+        // y: scratch (w_out x h_in) -> level n (w_out x h_out)
+        glUseProgram(axis_prog[1]);
+        glUniform2i(glGetUniformLocation(axis_prog[1], "u_src_size"), w_out, h_in);
+        glUniform2i(glGetUniformLocation(axis_prog[1], "u_dst_size"), w_out, h_out);
+        bind_image_layered(1, scratch, GL_READ_ONLY, 0);
+        bind_image_layered(0, pyramid, GL_WRITE_ONLY, level);
+        dispatch_2d(w_out, h_out, layers, 8, 8);
+    }
+}
+
+}  // namespace ssr
