@@ -11,7 +11,7 @@ ssrlab's converged reference against Mitsuba's path tracer, for:
   references with different seeds split the difference into Monte-Carlo noise and bias, and
   the mean floor radiance ratio ssrlab / Mitsuba shows any brightness bias (± its standard error).
 
-    python benchmarks/mitsuba_crosscheck.py                 # 640x360, about 10 minutes on llvmpipe
+    python benchmarks/mitsuba_crosscheck.py                 # 640x360, about 15 minutes on llvmpipe
     python benchmarks/mitsuba_crosscheck.py --width 160 --height 90 --spp 64
 """
 
