@@ -1,0 +1,130 @@
+"""The converged reference against Mitsuba 3 on the floor of ssrlab.crosscheck's scene (issue 7).
+
+Prints PSNR on floor pixels (all of them, and the interior ones without silhouette pixels) of
+ssrlab's converged reference against Mitsuba's path tracer, for:
+
+* the white mirror floor (F = 1, so the thesis's linear composite and 'pbr' coincide):
+  at default settings, then with one cause of disagreement removed at a time, then with the
+  exact options (ssrlab.crosscheck.exact_options) — the table diagnoses where they differ;
+* a tinted Schlick mirror (F0 = copper-like base colour, composite 'pbr');
+* glossy floors (roughness 0.2 and 0.3, composite 'pbr'): two Mitsuba renders and two ssrlab
+  references with different seeds split the difference into Monte-Carlo noise and bias, and
+  the mean floor radiance ratio ssrlab / Mitsuba shows any brightness bias (± its standard error).
+
+    python benchmarks/mitsuba_crosscheck.py                 # 640x360, about 15 minutes on llvmpipe
+    python benchmarks/mitsuba_crosscheck.py --width 160 --height 90 --spp 64
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from common import benchmark_arguments, open_renderer
+
+import ssrlab
+from ssrlab import crosscheck as cc
+
+SHARP_SHADOWS = dict(shadow_map_size=8192, shadow_pcf_radius=0, shadow_normal_offset=0.5)
+TINY_BIAS = dict(origin_bias=1e-5)
+
+
+def mse(a, b, m):
+    return float(np.mean((a[m] - b[m]) ** 2))
+
+
+def main() -> None:
+    ap = benchmark_arguments(__doc__)
+    ap.add_argument("--spp", type=int, default=256, help="samples per pixel on glossy floors (both renderers)")
+    ap.add_argument("--roughness", type=float, nargs="+", default=[0.2, 0.3])
+    args = ap.parse_args()
+    renderer = open_renderer(args)
+    cc.load_mitsuba()
+    print(cc.mitsuba_version())
+    W, H = args.width, args.height
+    base = ssrlab.Settings(width=W, height=H)
+    exact, exact_kw, used = cc.exact_options(base)
+    print(f"{W}x{H}; exact options available: {', '.join(used)}; robust reference offset: "
+          f"{cc.reference_ignores_origin_bias(renderer)}")
+
+    # -- mirror floor ---------------------------------------------------------------------
+    scene = cc.crosscheck_scene(0.0)
+    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    t = time.perf_counter()
+    mit = cc.render_mitsuba(ms, spp=1)  # pixel-centre rays, delta floor: one path is exact
+    t_mit = time.perf_counter() - t
+    frame0, _ = cc.ssrlab_reference(renderer, scene, base)
+    agree = float((np.where(frame0.gbuffer.coverage[0], frame0.gbuffer.object_id[0], -1)
+                   == cc.first_hit_objects(ms)).mean())
+    print(f"\nmirror floor (white, F = 1): Mitsuba {t_mit:.1f} s; camera rays hit the same object in "
+          f"{100 * agree:.2f} % of pixels")
+    rows = [
+        ("default settings", base, {}),
+        ("origin_bias 1e-5", base.replace(**TINY_BIAS), {}),
+        ("viewer='ray'", base, {"viewer": "ray"}),
+        ("sharp shadow map", base.replace(**SHARP_SHADOWS), {}),
+        ("origin_bias 1e-5, viewer='ray'", base.replace(**TINY_BIAS), {"viewer": "ray"}),
+        ("  + sharp shadow map", base.replace(**TINY_BIAS, **SHARP_SHADOWS), {"viewer": "ray"}),
+        ("exact options, origin_bias 1e-5", exact.replace(**TINY_BIAS), exact_kw),
+        ("composite='pbr'", base.replace(composite="pbr"), {}),
+    ]
+    edges = cc.reflected_silhouettes(ms)
+    print("PSNR over all floor pixels, interior ones (no silhouette in the image) and interior ones whose\n"
+          "reflection lands on no silhouette (reflected silhouettes: where Mitsuba's larger ray offset flips hits)")
+    print(f"{'ssrlab reference':50s} {'floor':>9s} {'interior':>9s} {'smooth':>9s} {'MSE smooth':>11s}")
+    for name, s, kw in rows:
+        frame, truth = cc.ssrlab_reference(renderer, scene, s, **kw)
+        raw, inner = cc.floor_pixels(frame, interior=False), cc.floor_pixels(frame)
+        smooth = inner & ~edges
+        c = truth.color
+        print(f"{name:50s} {cc.floor_psnr(c, mit, raw):6.2f} dB {cc.floor_psnr(c, mit, inner):6.2f} dB "
+              f"{cc.floor_psnr(c, mit, smooth):6.2f} dB {mse(c, mit, smooth):11.3e}")
+    print(f"({raw.sum()} floor pixels, {inner.sum()} interior, {smooth.sum()} smooth)")
+
+    # -- tinted Schlick mirror --------------------------------------------------------------
+    tint = (0.95, 0.64, 0.54)
+    scene = cc.crosscheck_scene(0.0, floor_color=tint)
+    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    mit = cc.render_mitsuba(ms, spp=1)
+    edges = cc.reflected_silhouettes(ms)
+    print(f"\ntinted mirror (F0 = {tint}, Schlick), composite='pbr':")
+    for name, s, kw in [("composite='pbr'", base.replace(composite="pbr"), {}),
+                        ("pbr, exact options, origin_bias 1e-5", exact.replace(composite="pbr", **TINY_BIAS),
+                         exact_kw)]:
+        frame, truth = cc.ssrlab_reference(renderer, scene, s, **kw)
+        raw, inner = cc.floor_pixels(frame, interior=False), cc.floor_pixels(frame)
+        print(f"{name:50s} {cc.floor_psnr(truth.color, mit, raw):6.2f} dB "
+              f"{cc.floor_psnr(truth.color, mit, inner):6.2f} dB {cc.floor_psnr(truth.color, mit, inner & ~edges):6.2f} dB")
+
+    # -- glossy floors -----------------------------------------------------------------------
+    for rough in args.roughness:
+        scene = cc.crosscheck_scene(rough)
+        ms = cc.mitsuba_scene(scene, width=W, height=H)
+        t = time.perf_counter()
+        m1 = cc.render_mitsuba(ms, spp=args.spp, seed=1)
+        m2 = cc.render_mitsuba(ms, spp=args.spp, seed=2)
+        t_mit = (time.perf_counter() - t) / 2
+        print(f"\nglossy floor, roughness {rough} (white metal), {args.spp} samples per pixel each "
+              f"(Mitsuba {t_mit:.1f} s per image); noise = half the MSE between two seeds")
+        print(f"{'ssrlab reference':44s} {'PSNR':>8s} {'Mit-Mit':>8s} {'ssr-ssr':>8s} {'MSE/noise':>9s} "
+              f"{'bias PSNR':>9s} {'mean ssrlab/Mitsuba':>22s}")
+        for name, s, kw in [("composite='pbr'", base.replace(composite="pbr"), {}),
+                            ("pbr, exact options, origin_bias 1e-5",
+                             exact.replace(composite="pbr", **TINY_BIAS), exact_kw),
+                            ("linear (default), exact options", exact.replace(**TINY_BIAS), exact_kw)]:
+            fa, ta = cc.ssrlab_reference(renderer, scene, s, rays=args.spp, seed=0, **kw)
+            a = ta.color.copy()
+            _, tb = cc.ssrlab_reference(renderer, scene, s, rays=args.spp, seed=1, **kw)
+            b = tb.color.copy()
+            inner = cc.floor_pixels(fa)
+            ns = cc.noise_split(a, b, m1, m2, inner)
+            bias_db = 10 * np.log10(1.0 / ns["bias2"]) if ns["bias2"] > 0 else float("inf")
+            ratio, err = cc.mean_ratio(a, b, m1, m2, inner)
+            print(f"{name:44s} {cc.floor_psnr(a, m1, inner):6.2f}dB {cc.floor_psnr(m1, m2, inner):6.2f}dB "
+                  f"{cc.floor_psnr(a, b, inner):6.2f}dB {ns['ratio']:9.3f} {bias_db:7.1f}dB "
+                  f"{ratio:14.4f} ± {err:.4f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,591 @@
+"""An independent cross-check of the converged reference against Mitsuba 3 (issue 7).
+
+The same scene is rendered by ssrlab's converged reference (``frame.reference("converged")``)
+and by Mitsuba 3's ``path`` integrator, and the two are compared on the floor's pixels.
+
+What is the same in both:
+
+* **triangles**: every object's mesh (``Scene.object_mesh``, the float32 arrays the renderer
+  uploads and ``Scene.save`` writes) moved to world space by its transform, with its
+  interpolated vertex normals as shading normals;
+* **camera**: position, target, up and vertical field of view (Mitsuba's ``look_at`` and
+  ``fov_axis="y"``); Mitsuba's camera rays go through the *pixel centres*, as ssrlab's
+  G-buffer samples them, so nothing is averaged over a pixel's footprint;
+* **lights**: a directional light's irradiance (W/m^2, light travelling along ``direction``)
+  is Mitsuba's ``directional`` emitter's ``irradiance``; a point light's W/sr its ``intensity``;
+* **BSDF**: ssrlab's material model, written out again here in Dr.Jit as a Mitsuba BSDF
+  plugin (:class:`SsrlabBSDF`, from ``shaders/lib/shading.glsl`` and ``brdf.glsl``): Lambert
+  diffuse ``(1 - F) (1 - metallic) base / pi`` plus GGX specular ``F D G / (4 NoL NoV)``
+  with separable Smith G, Schlick's F from ``F0 = mix(0.04, base, metallic)`` and
+  ``alpha = max(roughness, 0.03)^2``; surfaces with ``roughness^2 < 1e-4`` are ideal mirrors
+  with Schlick's F (the reference traces one mirror ray for them).
+
+What ssrlab has and physics has not, so the comparable scene leaves it out (checked by
+:func:`check_comparable`): the **ambient** term (``ambient * albedo`` added to every surface)
+must be 0, and the **environment** black: ssrlab shows its environment in reflections and
+the background but lights no surface with it, while a Mitsuba ``constant`` emitter would light
+everything. Light transport is Mitsuba's ``path`` integrator with ``max_depth=3``: camera ->
+floor -> object -> light, i.e. the floor's direct light and its reflection of directly lit
+surfaces, which is exactly what ``frame.reference("converged")`` composites.
+
+Mitsuba 3.7.1 with Dr.Jit 1.2.0 (``pip install ssrlab[mitsuba]``) runs its ``llvm_ad_rgb``
+variant on Debian 12's LLVM 15 (newer Mitsuba releases need a newer LLVM); the tests skip where
+it does not load.
+"""
+
+from __future__ import annotations
+
+import glob
+import inspect
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .settings import Settings
+
+# The harness renders whole images of rays at once (Dr.Jit arrays), so it needs a JIT variant:
+# the LLVM one runs on any CPU with libLLVM (Mesa's llvmpipe brings it). scalar_rgb would work
+# ray by ray from Python, far too slowly to be worth it.
+VARIANTS = ("llvm_ad_rgb",)
+
+_mi = None  # the mitsuba module once a variant is set
+
+
+def _find_libllvm() -> str | None:
+    for pattern in ("/usr/lib/x86_64-linux-gnu/libLLVM-1[5-9]*.so*", "/usr/lib/llvm-1[5-9]/lib/libLLVM*.so*",
+                    "/usr/lib/*/libLLVM*.so*"):
+        found = sorted(glob.glob(pattern))
+        if found:
+            return found[0]
+    return None
+
+
+def load_mitsuba(variant: str | None = None):
+    """Imports mitsuba and sets a variant: `variant`, else the first of VARIANTS that loads.
+    Raises ImportError naming what failed."""
+    global _mi
+    try:
+        import mitsuba as mi
+    except Exception as e:  # pragma: no cover - depends on the machine
+        raise ImportError(f"mitsuba cannot be imported ({e}); pip install 'ssrlab[mitsuba]'") from e
+    if variant is None and mi.variant() in VARIANTS:
+        _mi = mi
+        if _BSDF_VARIANT != mi.variant():
+            _register()
+        return mi
+    if "DRJIT_LIBLLVM_PATH" not in os.environ:
+        lib = _find_libllvm()
+        if lib:
+            os.environ["DRJIT_LIBLLVM_PATH"] = lib
+    errors = []
+    for v in ([variant] if variant else VARIANTS):
+        try:
+            mi.set_variant(v)
+            _mi = mi
+            _register()
+            return mi
+        except Exception as e:
+            errors.append(f"{v}: {e}")
+    raise ImportError("no usable mitsuba variant: " + "; ".join(errors))
+
+
+def mitsuba_version() -> str:
+    mi = _mi or load_mitsuba()
+    import drjit as dr
+
+    return f"mitsuba {mi.__version__} ({mi.variant()}), drjit {dr.__version__}"
+
+
+# ---------------------------------------------------------------------------------------------
+# ssrlab's material model as a Mitsuba BSDF
+# ---------------------------------------------------------------------------------------------
+
+MIRROR_ROUGHNESS2 = 1e-4   # reference.comp: roughness^2 below this reflects one mirror ray
+ALPHA_FLOOR = 0.03         # brdf.glsl ggx_alpha: perceptual roughness floor for punctual lights
+
+_BSDF_VARIANT = None
+
+
+def _register():
+    """Defines SsrlabBSDF for the current variant (Mitsuba's classes depend on it)."""
+    global _BSDF_VARIANT, SsrlabBSDF
+    mi = _mi
+    import drjit as dr
+
+    class _SsrlabBSDF(mi.BSDF):
+        """ssrlab's lighting BRDF (shading.glsl) as a Mitsuba BSDF. Set ``base``, ``metallic``
+        and ``roughness`` with :meth:`configure` after construction."""
+
+        def __init__(self, props=None):
+            mi.BSDF.__init__(self, props if props is not None else mi.Properties())
+            self.configure((0.8, 0.8, 0.8), 0.0, 0.5)
+
+        def configure(self, base, metallic: float, roughness: float):
+            self.base = [float(c) for c in base[:3]]
+            self.metallic = float(np.clip(metallic, 0.0, 1.0))
+            self.roughness = float(np.clip(roughness, 0.0, 1.0))
+            self.mirror = self.roughness * self.roughness < MIRROR_ROUGHNESS2
+            r = max(self.roughness, ALPHA_FLOOR)
+            self.alpha = r * r
+            self.f0 = [0.04 + (b - 0.04) * self.metallic for b in self.base]
+            self.diffuse = [b * (1.0 - self.metallic) for b in self.base]
+            self.has_diffuse = max(self.diffuse) > 0.0
+            # Probability of sampling the specular lobe (the diffuse lobe gets the rest).
+            self.p_spec = 1.0 if not self.has_diffuse else 0.5
+            spec = mi.BSDFFlags.DeltaReflection if self.mirror else mi.BSDFFlags.GlossyReflection
+            comps = [spec | mi.BSDFFlags.FrontSide]
+            if self.has_diffuse:
+                comps.append(mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide)
+            self.m_components = comps
+            flags = comps[0]
+            for c in comps[1:]:
+                flags = flags | c
+            self.m_flags = flags
+            return self
+
+        # -- shading.glsl, term by term ------------------------------------------------------
+        def _fresnel(self, c):
+            f = dr.power(dr.clip(1.0 - c, 0.0, 1.0), 5.0)
+            f0 = mi.Color3f(*self.f0)
+            return f0 + (1.0 - f0) * f
+
+        def _g1(self, c):
+            c2 = dr.maximum(c * c, 1e-8)
+            tan2 = dr.maximum(1.0 - c2, 0.0) / c2
+            return 2.0 / (1.0 + dr.sqrt(1.0 + self.alpha * self.alpha * tan2))
+
+        def _d(self, noh):
+            a2 = self.alpha * self.alpha
+            d = noh * noh * (a2 - 1.0) + 1.0
+            return a2 / dr.maximum(dr.pi * d * d, 1e-12)
+
+        def _eval_smooth(self, wi, wo):
+            """f(wi, wo) cos(wo) of the non-delta lobes; wi toward the viewer, wo toward the light."""
+            nov = dr.maximum(mi.Frame3f.cos_theta(wi), 1e-4)
+            nol = mi.Frame3f.cos_theta(wo)
+            h = dr.normalize(wi + wo)
+            noh = dr.maximum(h.z, 0.0)
+            voh = dr.maximum(dr.dot(wi, h), 0.0)
+            F = self._fresnel(voh)
+            value = mi.Color3f(0.0)
+            if not self.mirror:
+                value += F * (self._d(noh) * self._g1(nol) * self._g1(nov) / (4.0 * dr.maximum(nol, 1e-8) * nov))
+            if self.has_diffuse:
+                value += (1.0 - F) * mi.Color3f(*self.diffuse) / dr.pi
+            return value * dr.maximum(nol, 0.0)
+
+        def _distribution(self):
+            return mi.MicrofacetDistribution(mi.MicrofacetType.GGX, self.alpha, True)
+
+        def _pdf_smooth(self, wi, wo):
+            pdf = mi.Float(0.0)
+            if not self.mirror:
+                m = dr.normalize(wi + wo)
+                pdf += self.p_spec * self._distribution().pdf(wi, m) / (4.0 * dr.maximum(dr.abs(dr.dot(wo, m)), 1e-8))
+            if self.has_diffuse:
+                pdf += (1.0 - self.p_spec) * mi.warp.square_to_cosine_hemisphere_pdf(wo)
+            return pdf
+
+        def _valid(self, si, wo, active):
+            return active & (mi.Frame3f.cos_theta(si.wi) > 0.0) & (mi.Frame3f.cos_theta(wo) > 0.0)
+
+        def eval(self, ctx, si, wo, active=True):
+            ok = self._valid(si, wo, active)
+            return dr.select(ok, self._eval_smooth(si.wi, wo), mi.Color3f(0.0))
+
+        def pdf(self, ctx, si, wo, active=True):
+            ok = self._valid(si, wo, active)
+            return dr.select(ok, self._pdf_smooth(si.wi, wo), 0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            wi = si.wi
+            front = active & (mi.Frame3f.cos_theta(wi) > 0.0)
+            bs = mi.BSDFSample3f()
+            bs.eta = 1.0
+            pick_spec = sample1 < self.p_spec
+            if self.mirror:
+                wo_spec = mi.reflect(wi)
+            else:
+                m, _ = self._distribution().sample(wi, sample2)
+                wo_spec = mi.reflect(wi, m)
+            if self.has_diffuse:
+                wo_diff = mi.warp.square_to_cosine_hemisphere(sample2)
+                wo = dr.select(pick_spec, wo_spec, wo_diff)
+            else:
+                wo = wo_spec
+            bs.wo = wo
+            if self.mirror:
+                # The delta lobe: Schlick's F at the mirror angle, chosen with probability p_spec.
+                spec_weight = self._fresnel(mi.Frame3f.cos_theta(wi)) / self.p_spec
+                if self.has_diffuse:
+                    diff_value = self._eval_smooth(wi, wo)
+                    diff_pdf = (1.0 - self.p_spec) * mi.warp.square_to_cosine_hemisphere_pdf(wo)
+                    weight = dr.select(pick_spec, spec_weight, diff_value / dr.maximum(diff_pdf, 1e-12))
+                    bs.pdf = dr.select(pick_spec, self.p_spec, diff_pdf)
+                    bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
+                                                mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
+                    bs.sampled_component = dr.select(pick_spec, mi.UInt32(0), mi.UInt32(1))
+                else:
+                    weight = spec_weight
+                    bs.pdf = mi.Float(1.0)
+                    bs.sampled_type = mi.UInt32(+mi.BSDFFlags.DeltaReflection)
+                    bs.sampled_component = mi.UInt32(0)
+            else:
+                pdf = self._pdf_smooth(wi, wo)
+                weight = self._eval_smooth(wi, wo) / dr.maximum(pdf, 1e-12)
+                bs.pdf = pdf
+                if self.has_diffuse:
+                    bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.GlossyReflection),
+                                                mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
+                    bs.sampled_component = dr.select(pick_spec, mi.UInt32(0), mi.UInt32(1))
+                else:
+                    bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+                    bs.sampled_component = mi.UInt32(0)
+            ok = front & (mi.Frame3f.cos_theta(wo) > 0.0) & (bs.pdf > 0.0)
+            return bs, dr.select(ok, weight, mi.Color3f(0.0))
+
+        def traverse(self, callback):
+            pass
+
+        def parameters_changed(self, keys):
+            pass
+
+        def to_string(self):
+            return (f"SsrlabBSDF[base={self.base}, metallic={self.metallic}, roughness={self.roughness}, "
+                    f"mirror={self.mirror}]")
+
+    _BSDF_VARIANT = mi.variant()
+    SsrlabBSDF = _SsrlabBSDF
+
+
+SsrlabBSDF = None  # defined by load_mitsuba() for the chosen variant
+
+
+# ---------------------------------------------------------------------------------------------
+# The scene in Mitsuba
+# ---------------------------------------------------------------------------------------------
+
+def check_comparable(scene) -> None:
+    """Raises ValueError when `scene` has something ssrlab's lighting model and a path tracer
+    treat differently (so no exact comparison is possible)."""
+    amb = np.asarray(scene.ambient, dtype=float)
+    if np.any(amb > 0):
+        raise ValueError(f"crosscheck: scene.ambient is {tuple(amb)}; ssrlab's ambient term (ambient * albedo on "
+                         "every surface) has no physical counterpart: set scene.ambient = (0, 0, 0)")
+    env = scene.environment
+    black = env.type == "constant" and (np.all(np.asarray(env.color, float) == 0) or env.intensity == 0)
+    if not black:
+        raise ValueError(f"crosscheck: scene.environment is {env!r}; ssrlab shows the environment in reflections "
+                         "but lights no surface with it, a Mitsuba emitter would light every surface: use "
+                         "Environment.constant((0, 0, 0))")
+    for i in range(scene.object_count):
+        m = scene.material(i)
+        if (m.base_color_texture >= 0 or m.metallic_roughness_texture >= 0 or m.normal_texture >= 0):
+            raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) has textures; the Mitsuba "
+                             "cross-check supports untextured materials only")
+
+
+def _world_mesh(scene, i):
+    d = scene.object_mesh(i)
+    M = np.asarray(scene.object_transform(i), dtype=np.float64)
+    p = d["positions"].astype(np.float64)
+    p = p @ M[:3, :3].T + M[:3, 3]
+    n = d["normals"].astype(np.float64)
+    if len(n) == len(p):
+        N = np.linalg.inv(M[:3, :3]).T
+        n = n @ N.T
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30)
+    else:
+        n = None
+    return p.astype(np.float32), (None if n is None else n.astype(np.float32)), d["indices"].astype(np.uint32)
+
+
+@dataclass
+class MitsubaScene:
+    """A Mitsuba scene built from an ssrlab scene and camera, with the objects' order kept
+    (``shape_object[k]`` is the ssrlab object index of Mitsuba shape k)."""
+    scene: object
+    sensor: object
+    width: int
+    height: int
+    shape_object: dict = field(default_factory=dict)
+    bsdfs: list = field(default_factory=list)  # keeps the Python BSDFs alive
+
+
+def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> MitsubaScene:
+    """The ssrlab `scene` seen by `camera` (default: the scene's) as a Mitsuba scene."""
+    mi = _mi or load_mitsuba()
+    import drjit as dr
+
+    check_comparable(scene)
+    camera = camera if camera is not None else scene.camera
+    if camera is None:
+        raise ValueError("crosscheck: the scene has no default camera; pass camera=")
+    d = {"type": "scene"}
+    bsdfs = []
+    for i in range(scene.object_count):
+        p, n, idx = _world_mesh(scene, i)
+        if len(idx) == 0:
+            continue
+        m = scene.material(i)
+        bsdf = SsrlabBSDF().configure(tuple(m.base_color), m.metallic, m.roughness)
+        bsdfs.append(bsdf)
+        props = mi.Properties()
+        props["bsdf"] = bsdf
+        mesh = mi.Mesh(f"object{i:05d}", len(p), len(idx), props=props, has_vertex_normals=n is not None)
+        params = mi.traverse(mesh)
+        params["vertex_positions"] = dr.ravel(mi.Point3f(p[:, 0], p[:, 1], p[:, 2]))
+        if n is not None:
+            params["vertex_normals"] = dr.ravel(mi.Normal3f(n[:, 0], n[:, 1], n[:, 2]))
+        params["faces"] = dr.ravel(mi.Vector3u(idx[:, 0], idx[:, 1], idx[:, 2]))
+        params.update()
+        d[f"object{i:05d}"] = mesh
+    for k, light in enumerate(scene.lights):
+        rgb = [float(c) * float(light.intensity) for c in light.color]
+        if light.type == "directional":
+            d[f"light{k}"] = {"type": "directional", "direction": [float(x) for x in light.direction],
+                              "irradiance": {"type": "rgb", "value": rgb}}
+        else:
+            d[f"light{k}"] = {"type": "point", "position": [float(x) for x in light.position],
+                              "intensity": {"type": "rgb", "value": rgb}}
+    d["sensor"] = {
+        "type": "perspective", "fov_axis": "y", "fov": float(camera.fov_y),
+        "near_clip": float(camera.near), "far_clip": float(camera.far),
+        "to_world": mi.ScalarTransform4f().look_at(origin=[float(x) for x in camera.position],
+                                                   target=[float(x) for x in camera.target],
+                                                   up=[float(x) for x in camera.up]),
+        "film": {"type": "hdrfilm", "width": int(width), "height": int(height), "rfilter": {"type": "box"},
+                 "pixel_format": "rgb"},
+    }
+    ms = mi.load_dict(d)
+    shape_object = {}
+    for k, shape in enumerate(ms.shapes()):
+        shape_object[k] = int(shape.id()[len("object"):]) if shape.id().startswith("object") else -1
+    return MitsubaScene(ms, ms.sensors()[0], int(width), int(height), shape_object, bsdfs)
+
+
+def _pixel_centre_rays(ms: MitsubaScene, spp: int):
+    """Camera rays through every pixel centre, `spp` times each (row-major, top row first)."""
+    mi = _mi
+    import drjit as dr
+
+    W, H = ms.width, ms.height
+    idx = dr.arange(mi.UInt32, W * H * spp) // spp
+    x = mi.Float(idx % W) + 0.5
+    y = mi.Float(idx // W) + 0.5
+    pos = mi.Point2f(x / W, y / H)
+    ray, _ = ms.sensor.sample_ray_differential(0.0, 0.5, pos, mi.Point2f(0.5, 0.5))
+    return ray
+
+
+def render_mitsuba(ms: MitsubaScene, spp: int = 1, seed: int = 0, max_depth: int = 3,
+                   batch_paths: int = 1 << 22) -> np.ndarray:
+    """(H, W, 3) float32: Mitsuba's path integrator (max_depth 3: camera, floor, object,
+    light) on rays through every pixel centre, `spp` of them averaged per pixel."""
+    mi = _mi
+    import drjit as dr
+
+    if spp < 1:
+        raise ValueError(f"render_mitsuba: spp must be >= 1, got {spp}")
+    W, H = ms.width, ms.height
+    integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth), "hide_emitters": False})
+    out = np.zeros((H * W, 3), np.float32)
+    rows_per_batch = max(1, batch_paths // max(W * spp, 1))
+    for y0 in range(0, H, rows_per_batch):
+        y1 = min(H, y0 + rows_per_batch)
+        n = (y1 - y0) * W * spp
+        idx = dr.arange(mi.UInt32, n) // spp
+        x = mi.Float(idx % W) + 0.5
+        y = mi.Float(idx // W + y0) + 0.5
+        ray, _ = ms.sensor.sample_ray_differential(0.0, 0.5, mi.Point2f(x / W, y / H), mi.Point2f(0.5, 0.5))
+        sampler = mi.load_dict({"type": "independent"})
+        sampler.seed(seed * 7919 + y0, n)
+        L, _, _ = integrator.sample(ms.scene, sampler, ray, None, True)
+        c = np.stack([np.asarray(L[k]) for k in range(3)], -1).reshape(-1, spp, 3).mean(1)
+        out[y0 * W:y1 * W] = c
+    return out.reshape(H, W, 3)
+
+
+def _object_of(ms: MitsubaScene, si) -> np.ndarray:
+    mi = _mi
+    import drjit as dr
+
+    ptr = np.asarray(dr.reinterpret_array(mi.UInt32, si.shape))
+    valid = np.asarray(si.is_valid())
+    obj = np.full(len(valid), -1, np.int32)
+    for k, s in enumerate(ms.scene.shapes()):
+        sid = np.asarray(dr.reinterpret_array(mi.UInt32, mi.ShapePtr(s)))[0]
+        obj[(ptr == sid) & valid] = ms.shape_object.get(k, -1)
+    return obj
+
+
+def first_hit_objects(ms: MitsubaScene) -> np.ndarray:
+    """(H, W) int32: the ssrlab object index each pixel-centre camera ray hits in Mitsuba, -1 for none
+    (to check that the two scenes and cameras line up)."""
+    ray = _pixel_centre_rays(ms, 1)
+    return _object_of(ms, ms.scene.ray_intersect(ray)).reshape(ms.height, ms.width)
+
+
+def mirror_objects(ms: MitsubaScene, offset: float = 1e-5) -> np.ndarray:
+    """(H, W) int32: the object the mirror reflection of every pixel-centre camera ray hits (its
+    origin `offset` off the surface along the geometric normal), -1 for none or no first hit."""
+    mi = _mi
+    import drjit as dr
+
+    ray = _pixel_centre_rays(ms, 1)
+    si = ms.scene.ray_intersect(ray)
+    n = mi.Vector3f(si.n)
+    n = dr.select(dr.dot(n, ray.d) > 0, -n, n)
+    d = ray.d - 2.0 * dr.dot(ray.d, n) * n
+    second = ms.scene.ray_intersect(mi.Ray3f(si.p + offset * n, d), si.is_valid())
+    obj = _object_of(ms, second)
+    obj[~np.asarray(si.is_valid())] = -1
+    return obj.reshape(ms.height, ms.width)
+
+
+def reflected_silhouettes(ms: MitsubaScene) -> np.ndarray:
+    """(H, W) bool: pixels whose mirror reflection lands on a silhouette: the reflected object
+    differs within the 3x3 neighbourhood, or with Mitsuba's own ray-origin offset
+    (~1e-4 x (1 + |p|), larger than ssrlab's) instead of a 1e-5 one. There the two renderers
+    may legitimately see different objects."""
+    a = mirror_objects(ms, 1e-5)
+    b = mirror_objects(ms, 1e-3)
+    edge = a != b
+    H, W = a.shape
+    p = np.pad(a, 1, mode="edge")
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            edge |= p[1 + dy:1 + dy + H, 1 + dx:1 + dx + W] != a
+    return edge
+
+
+# ---------------------------------------------------------------------------------------------
+# The comparison
+# ---------------------------------------------------------------------------------------------
+
+def crosscheck_scene(floor_roughness: float = 0.0, floor_color=(1.0, 1.0, 1.0), *, sun_irradiance: float = 3.0,
+                     shadows: bool = True):
+    """The cross-check's scene: a metallic floor (reflectivity 1, `floor_roughness`, F0 =
+    `floor_color`) with a back wall, boxes and spheres of ssrlab's dielectric material on it,
+    lit by a shadow-casting sun; no ambient, black environment. Object 0 is the floor."""
+    from .scene import Camera, Environment, Material, Scene, directional_light
+
+    s = Scene()
+    s.name = f"crosscheck_floor_r{floor_roughness:g}"
+    s.add_plane((0, 0, -2.0), (14, 14), name="floor", material=Material(
+        base_color=tuple(floor_color), metallic=1.0, roughness=floor_roughness, reflectivity=1.0))
+    s.add_box((0, 1.5, -6.0), (10, 3, 0.2), name="wall", material=Material(
+        base_color=(0.75, 0.72, 0.65), roughness=0.8, reflectivity=0.0))
+    s.add_box((-1.6, 0.5, -2.5), (1.0, 1.0, 1.0), rotation_y=25.0, name="red_box", material=Material(
+        base_color=(0.8, 0.15, 0.1), roughness=0.5, reflectivity=0.0))
+    s.add_box((1.8, 0.75, -3.4), (0.8, 1.5, 0.8), rotation_y=-15.0, name="blue_box", material=Material(
+        base_color=(0.15, 0.3, 0.8), roughness=0.6, reflectivity=0.0))
+    s.add_sphere((0.3, 0.6, -1.6), 0.6, segments=64, name="green_sphere", material=Material(
+        base_color=(0.2, 0.7, 0.25), roughness=0.4, reflectivity=0.0))
+    s.add_sphere((-0.2, 0.35, -4.2), 0.35, segments=48, name="yellow_sphere", material=Material(
+        base_color=(0.85, 0.75, 0.2), roughness=0.3, reflectivity=0.0))
+    s.add_light(directional_light((0.45, -0.75, -0.5), intensity=sun_irradiance, cast_shadow=shadows))
+    s.ambient = (0.0, 0.0, 0.0)
+    s.environment = Environment.constant((0.0, 0.0, 0.0))
+    s.camera = Camera(position=(0.0, 1.3, 3.2), target=(0.0, 0.35, -2.5), fov_y=45.0, near=0.1, far=50.0)
+    return s
+
+
+FLOOR = 0  # crosscheck_scene's floor object
+
+
+def floor_pixels(frame, floor_object: int = FLOOR, *, interior: bool = True) -> np.ndarray:
+    """(H, W) bool: pixels whose layer 0 shows the floor; with interior=True also every
+    8-neighbour (silhouette pixels, where a pixel-centre sample lands on either side, are left
+    out)."""
+    g = frame.gbuffer
+    m = g.coverage[0] & (g.object_id[0] == floor_object)
+    if interior:
+        p = np.pad(m, 1, constant_values=False)
+        H, W = m.shape
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                m = m & p[1 + dy:1 + dy + H, 1 + dx:1 + dx + W]
+    return m
+
+
+def _setting_names() -> set:
+    return {f for f in Settings.__dataclass_fields__}
+
+
+def exact_options(settings: Settings) -> tuple[Settings, dict, list[str]]:
+    """`settings` with the most exact reference options this ssrlab has (detected, so the same
+    code runs before and after they exist), the matching keyword arguments of
+    ``frame.reference`` and a list of what was turned on."""
+    names = _setting_names()
+    changes, used = {}, []
+    if "reference_shadows" in names:
+        changes["reference_shadows"] = "traced"
+        used.append("reference_shadows='traced'")
+    s = settings.replace(**changes) if changes else settings
+    kwargs = {}
+    from .renderer import Frame
+
+    viewer = inspect.signature(Frame.reference).parameters.get("viewer")
+    if viewer is not None and viewer.default != "ray":
+        # The physical view of the reflected surface: its specular seen from the floor point.
+        kwargs["viewer"] = "ray"
+        used.append("viewer='ray'")
+    return s, kwargs, used
+
+
+def ssrlab_reference(renderer, scene, settings: Settings, *, rays: int = 256, seed: int = 0, **reference_kwargs):
+    """The frame (method off) and its converged reference: (frame, truth)."""
+    frame = renderer.render(scene, settings=settings.replace(method="off"))
+    truth = frame.reference("converged", rays=rays, seed=seed, **reference_kwargs)
+    return frame, truth
+
+
+def floor_psnr(image, reference, mask) -> float:
+    from .metrics import psnr
+
+    return psnr(image, reference, mask)
+
+
+def noise_split(ssr_a, ssr_b, mit_a, mit_b, mask) -> dict:
+    """Separates bias from Monte-Carlo noise, for two independent ssrlab references (seeds a, b)
+    and two independent Mitsuba images: with independent noise,
+    E|s - m|^2 = var_s + var_m + bias^2, var_s = E|s_a - s_b|^2 / 2, var_m likewise. Returns the
+    MSEs (per channel value over `mask`) and the bias estimate (may come out slightly negative)."""
+    def mse(a, b):
+        return float(np.mean((a[mask] - b[mask]) ** 2))
+
+    cross = mse(ssr_a, mit_a)
+    var_s = mse(ssr_a, ssr_b) / 2.0
+    var_m = mse(mit_a, mit_b) / 2.0
+    return {"mse": cross, "noise_ssrlab": var_s, "noise_mitsuba": var_m, "bias2": cross - var_s - var_m,
+            "ratio": cross / max(var_s + var_m, 1e-30)}
+
+
+def mean_ratio(ssr_a, ssr_b, mit_a, mit_b, mask) -> tuple[float, float]:
+    """Mean floor radiance of ssrlab over Mitsuba (each the mean of its two images) and the
+    ratio's standard error from the per-pixel spread of the differences (pixels' noise is
+    independent): a brightness bias shows as a ratio many standard errors away from 1."""
+    s = (ssr_a[mask] + ssr_b[mask]) / 2.0
+    m = (mit_a[mask] + mit_b[mask]) / 2.0
+    d = (s - m).mean(axis=1)  # per pixel, over RGB
+    mean_m = float(m.mean())
+    ratio = float(s.mean()) / max(mean_m, 1e-30)
+    err = float(d.std(ddof=1) / np.sqrt(max(len(d), 1))) / max(mean_m, 1e-30)
+    return ratio, err
+
+
+def reference_ignores_origin_bias(renderer, width: int = 48, height: int = 32) -> bool:
+    """Whether this ssrlab's converged reference offsets its ray origins independently of
+    `origin_bias` (issue 7's robust offset): two tiny references of the mirror scene with
+    origin_bias 0.002 and 0.05 come out identical."""
+    scene = crosscheck_scene(0.0)
+    s = Settings(width=width, height=height)
+    _, a = ssrlab_reference(renderer, scene, s.replace(origin_bias=0.002), rays=1)
+    a = a.color.copy()
+    _, b = ssrlab_reference(renderer, scene, s.replace(origin_bias=0.05), rays=1)
+    return bool(np.array_equal(a, b.color))

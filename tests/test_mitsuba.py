@@ -1,0 +1,139 @@
+"""The converged reference against Mitsuba 3 (issue 7), at 64x48 on ssrlab.crosscheck's scene:
+a floor with boxes and spheres of ssrlab's dielectric material, a back wall and a shadow-casting
+sun; no ambient, black environment. Floor pixels only (without silhouette pixels). Mitsuba
+traces rays through the pixel centres with its path integrator (max_depth 3) and a Dr.Jit copy
+of ssrlab's BRDF. Full-size figures and the diagnosis: benchmarks/mitsuba_crosscheck.py."""
+
+from __future__ import annotations
+
+import inspect
+
+import numpy as np
+import pytest
+
+pytest.importorskip("mitsuba")
+
+import ssrlab  # noqa: E402
+from ssrlab import crosscheck as cc  # noqa: E402
+
+W, H = 64, 48
+TINY_BIAS = dict(origin_bias=1e-5)
+
+
+@pytest.fixture(scope="module")
+def mitsuba():
+    try:
+        return cc.load_mitsuba()
+    except ImportError as e:
+        pytest.skip(f"mitsuba does not load here: {e}")
+
+
+@pytest.fixture(scope="module")
+def mirror(mitsuba):
+    scene = cc.crosscheck_scene(0.0)
+    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    return scene, ms, cc.render_mitsuba(ms, spp=1)
+
+
+def _settings(**kw):
+    return ssrlab.Settings(width=W, height=H, **kw)
+
+
+def test_scene_and_camera_line_up(renderer, mirror):
+    scene, ms, _ = mirror
+    frame, _ = cc.ssrlab_reference(renderer, scene, _settings())
+    g = frame.gbuffer
+    ours = np.where(g.coverage[0], g.object_id[0], -1)
+    theirs = cc.first_hit_objects(ms)
+    assert set(np.unique(theirs)) - {-1} == set(range(scene.object_count))
+    # Both sample the pixel centres of the same triangles: only a sample that lands exactly on a
+    # shared edge may differ.
+    assert (ours == theirs).mean() >= 0.995
+
+
+def test_mirror_floor_exact_options(renderer, mirror):
+    """With the physical viewer and a tiny ray offset (or the robust offset), the mirror floor
+    matches to float precision on floor pixels whose reflection lands on no silhouette: 74 dB at
+    160x90, 72 dB at 640x360 (benchmark; what is left is the smooth-shaded spheres' shadow
+    terminator, shadow map against traced shadow). 55 dB still fails for any real difference:
+    a 1 % error in the sun's contribution alone costs ~50 dB here."""
+    scene, ms, mit = mirror
+    settings, kwargs, _ = cc.exact_options(_settings(**TINY_BIAS))
+    frame, truth = cc.ssrlab_reference(renderer, scene, settings, **kwargs)
+    floor = cc.floor_pixels(frame) & ~cc.reflected_silhouettes(ms)
+    assert floor.sum() > 600
+    value = cc.floor_psnr(truth.color, mit, floor)
+    print(f"mirror floor, exact options: {value:.1f} dB")
+    assert value >= 55.0
+
+
+def test_mirror_floor_default_settings(renderer, mirror):
+    """Default settings: the reference's ray origins follow SSR's origin_bias (0.002 x depth) and
+    the surfaces it hits are shaded as the camera sees them (viewer='camera'), which costs
+    33 dB here and in the benchmark. The bound tightens with what this ssrlab has: an origin
+    offset independent of origin_bias leaves the viewer's ~35 dB; a physical default viewer
+    too, issue 7's 45 dB."""
+    scene, ms, mit = mirror
+    frame, truth = cc.ssrlab_reference(renderer, scene, _settings())
+    floor = cc.floor_pixels(frame) & ~cc.reflected_silhouettes(ms)
+    value = cc.floor_psnr(truth.color, mit, floor)
+    robust_offset = cc.reference_ignores_origin_bias(renderer)
+    viewer = inspect.signature(ssrlab.Frame.reference).parameters.get("viewer")
+    viewer = "ray" if viewer is None else viewer.default
+    bound = 45.0 if robust_offset and viewer == "ray" else 33.5 if robust_offset else 30.0
+    print(f"mirror floor, default settings: {value:.1f} dB (bound {bound} dB; robust offset {robust_offset}, "
+          f"default viewer {viewer!r})")
+    assert value >= bound
+
+
+def test_tinted_mirror_fresnel(renderer, mitsuba):
+    """A coloured mirror with Schlick's Fresnel through composite='pbr': the composite's F(N.V)
+    with the G-buffer's 8-bit sRGB F0 against Mitsuba's float F0 (66 dB at 160x90)."""
+    scene = cc.crosscheck_scene(0.0, floor_color=(0.95, 0.64, 0.54))
+    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    mit = cc.render_mitsuba(ms, spp=1)
+    settings, kwargs, _ = cc.exact_options(_settings(composite="pbr", **TINY_BIAS))
+    frame, truth = cc.ssrlab_reference(renderer, scene, settings, **kwargs)
+    value = cc.floor_psnr(truth.color, mit, cc.floor_pixels(frame) & ~cc.reflected_silhouettes(ms))
+    print(f"tinted mirror, pbr: {value:.1f} dB")
+    assert value >= 55.0
+
+
+def test_glossy_floor_within_noise(renderer, mitsuba):
+    """Roughness 0.2, 32 samples per pixel in both. Independent noise makes the mean squared
+    difference the sum of the two images' noise variances (each half the MSE between two seeds)
+    plus the squared bias: the ratio is 1 for unbiased images and is allowed 1.5 (at ~1400
+    pixels x 3 channels its sampling spread is a few percent). The mean floor radiance must
+    agree within 3 % plus 4 standard errors: the 'pbr' composite without the GGX directional
+    albedo is 1.4 % bright at this roughness (benchmark), a missing highlight or Fresnel
+    factor is far more."""
+    spp = 32
+    scene = cc.crosscheck_scene(0.2)
+    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    m1 = cc.render_mitsuba(ms, spp=spp, seed=1)
+    m2 = cc.render_mitsuba(ms, spp=spp, seed=2)
+    settings, kwargs, _ = cc.exact_options(_settings(composite="pbr", **TINY_BIAS))
+    fa, ta = cc.ssrlab_reference(renderer, scene, settings, rays=spp, seed=0, **kwargs)
+    a = ta.color.copy()
+    _, tb = cc.ssrlab_reference(renderer, scene, settings, rays=spp, seed=1, **kwargs)
+    b = tb.color.copy()
+    floor = cc.floor_pixels(fa)
+    split = cc.noise_split(a, b, m1, m2, floor)
+    ratio, err = cc.mean_ratio(a, b, m1, m2, floor)
+    print(f"glossy floor: MSE / noise {split['ratio']:.3f}, mean ratio {ratio:.4f} ± {err:.4f}")
+    assert split["noise_mitsuba"] > 0 and split["noise_ssrlab"] > 0
+    assert split["ratio"] <= 1.5
+    assert abs(ratio - 1.0) <= 0.03 + 4 * err
+
+
+def test_incomparable_scenes_are_refused(mitsuba):
+    scene = cc.crosscheck_scene(0.0)
+    scene.ambient = (0.1, 0.1, 0.1)
+    with pytest.raises(ValueError, match="ambient"):
+        cc.mitsuba_scene(scene, width=W, height=H)
+    scene = cc.crosscheck_scene(0.0)
+    scene.environment = ssrlab.Environment.sky()
+    with pytest.raises(ValueError, match="environment"):
+        cc.mitsuba_scene(scene, width=W, height=H)
+    with pytest.raises(ValueError, match="spp"):
+        cc.render_mitsuba(cc.mitsuba_scene(cc.crosscheck_scene(0.0), width=8, height=8), spp=0)
