@@ -120,7 +120,7 @@ def test_shading_of_hits_matches_the_lit_gbuffer(renderer):
     (as the thesis's 4-byte colour), lit in RGBA16F; the reference keeps floats."""
     scene = ssrlab.scenes.spheres_and_boxes(seed=2)
     f = renderer.render(scene, settings=small(width=160, height=90, rays_per_pixel=8, layers=2))
-    truth = f.reference("per_ray")
+    truth = f.reference("per_ray", viewer="camera", shadows="map")  # the lighting pass's view and shadows
     layer = truth.in_gbuffer
     px = truth.hit_pixel
     centred = np.all(np.abs(px - (np.floor(px) + 0.5)) < 0.05, axis=-1)

@@ -87,7 +87,7 @@ def shader_sources_hash() -> str:
 
 
 def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, seed: int,
-              shadows: str = "traced") -> str:
+              shadows: str = "traced", viewer: str = "ray") -> str:
     from . import __version__
 
     if kind == "converged":
@@ -98,6 +98,7 @@ def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, se
                "rays": rays, "seed": seed, "version": __version__, "shaders": shader_sources_hash()}
     if kind == "converged":
         payload["shadows"] = shadows
+        payload["viewer"] = viewer
     return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:32]
 
 
@@ -263,16 +264,17 @@ def hit_position_error(frame, truth: PerRayReference | None = None) -> np.ndarra
 
 def reference_image(renderer, scene, camera=None, settings: Settings | None = None, *, kind: str = "converged",
                     rays: int | None = None, seed: int = 0, cache: bool = True,
-                    folder=None, shadows: str = "traced") -> ReferenceImage:
+                    folder=None, shadows: str = "traced", viewer: str = "ray") -> ReferenceImage:
     """The reference image of `kind` for this scene, camera and settings (cached on disk).
-    `shadows` (converged only): "traced" (exact) or "map" (the frame's shadow map)."""
+    Converged only: `shadows` "traced" (exact) or "map" (the frame's shadow map); `viewer` "ray"
+    (the physical view of reflected surfaces) or "camera" (as the lit G-buffer sees them)."""
     if kind not in KINDS:
         raise ValueError(f"reference kind must be one of {', '.join(KINDS)}, got {kind!r}")
     settings = settings if settings is not None else Settings()
     camera = camera if camera is not None else scene.camera
     if camera is None:
         raise ValueError("reference_image: the scene has no default camera; pass camera=")
-    path = cache_dir(folder) / f"{cache_key(kind, scene, camera, settings, rays, seed, shadows)}.npz"
+    path = cache_dir(folder) / f"{cache_key(kind, scene, camera, settings, rays, seed, shadows, viewer)}.npz"
     if cache and path.is_file():
         try:
             return ReferenceImage.load(path)
@@ -284,7 +286,7 @@ def reference_image(renderer, scene, camera=None, settings: Settings | None = No
                              THESIS_GROUND_TRUTH["rays_per_pixel"])
     else:
         frame = renderer.render(scene, camera, settings.replace(method="off"))
-        converged = frame.reference("converged", rays=rays, seed=seed, shadows=shadows)
+        converged = frame.reference("converged", rays=rays, seed=seed, shadows=shadows, viewer=viewer)
         ref = ReferenceImage("converged", converged.color, converged.reflection, converged.reflective,
                              converged.rays_per_pixel)
     if cache:

@@ -298,15 +298,16 @@ class Frame:
         return RayResults(self)
 
     def reference(self, kind: str = "converged", *, rays: int | None = None, seed: int = 0,
-                  sampling: str = "vndf", viewer: str = "camera", shadows: str = "traced"):
+                  sampling: str = "vndf", viewer: str = "ray", shadows: str = "traced"):
         """Ground truth for this frame, traced against the scene's triangles (ssrlab.reference).
 
         kind="converged": `rays` rays per pixel (default 256; one for mirror pixels) drawn with
         `sampling`, the true reflection and final image. kind="per_ray": the rays this frame's
-        SSR traced, each with its true hit. viewer="camera" shades the surfaces rays hit as the
-        camera sees them, like the lit G-buffer SSR fetches from (so the two differ only by what
-        screen space cannot see); viewer="ray" views them from the ray's origin (the physical
-        reflection; only view-dependent specular changes).
+        SSR traced, each with its true hit. viewer="ray" (default) views the surfaces rays hit
+        from the ray's origin: the physical reflection, which agrees with Mitsuba 3
+        (ssrlab.crosscheck); viewer="camera" shades them as the camera sees them, like the lit
+        G-buffer SSR fetches from, so that SSR and reference differ only by what screen space
+        cannot see (only view-dependent specular changes between the two).
 
         The converged reference finds each pixel's surface point exactly (the camera ray traced
         against the triangles) and offsets reflection rays from it robustly (Waechter & Binder,
