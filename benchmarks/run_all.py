@@ -32,7 +32,7 @@ BENCHMARKS = {
     "trace_methods": ([], ["--width", "160", "--height", "90", "--repeats", "2"]),
     "reference_speed": ([], ["--width", "160", "--height", "90", "--rays", "16"]),
     "accuracy": ([], []),
-    "mitsuba_crosscheck": ([], ["--quick"]),
+    "mitsuba_crosscheck": ([], ["--width", "160", "--height", "90", "--spp", "64"]),
     "thesis_findings": (["--scale", "full"], ["--scale", "small"]),
 }
 
