@@ -285,4 +285,18 @@ def _init(self, *args, **kwargs):
 Settings.__init__ = _init
 _NATIVE_FIELDS = [n for n in _FIELDS if hasattr(_core.RenderSettings(), n)]
 
+
+def _document_native_settings() -> None:
+    """The native RenderSettings mirrors these fields: its properties get their documentation
+    from the one declaration above (unless the bindings give one)."""
+    for name in _NATIVE_FIELDS:
+        prop = vars(_core.RenderSettings).get(name)
+        if isinstance(prop, property) and not (prop.__doc__ or "").strip():
+            m = _FIELDS[name].metadata
+            unit = f" [{m['unit']}]" if m["unit"] else ""
+            prop.__doc__ = f"ssrlab.Settings.{name}{unit}: {m['doc']}"
+
+
+_document_native_settings()
+
 Settings.__doc__ = "Render settings (every field validated; units in brackets).\n\n" + Settings.describe()
