@@ -61,7 +61,7 @@ def test_expand_grid_is_the_cartesian_product_in_stable_order():
 
 
 @pytest.mark.parametrize("grid, match", [
-    ({"layerz": [1, 2]}, "grid key 'layerz' is not a Settings field"),
+    ({"layerz": [1, 2]}, r"grid key 'layerz' is not a Settings field \(did you mean 'layers'\?\)"),
     ({"layers": 4}, r"grid\['layers'\] must be a non-empty list"),
     ({"method": "hiz"}, r"grid\['method'\] must be a non-empty list"),
     ({"layers": []}, r"grid\['layers'\] must be a non-empty list"),

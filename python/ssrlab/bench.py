@@ -149,7 +149,10 @@ def expand_grid(grid: dict[str, list]) -> list[dict]:
     axes = {}
     for key, values in grid.items():
         if key not in SETTINGS_FIELDS:
-            raise ValueError(f"grid key {key!r} is not a Settings field; fields: {', '.join(SETTINGS_FIELDS)}")
+            from .settings import _suggestion
+
+            raise ValueError(f"grid key {key!r} is not a Settings field{_suggestion(key)}; "
+                             f"fields: {', '.join(SETTINGS_FIELDS)}")
         if isinstance(values, (str, bytes, dict)) or not isinstance(values, Iterable):
             raise ValueError(f"grid[{key!r}] must be a non-empty list of values, got {values!r}")
         axes[key] = list(values)
