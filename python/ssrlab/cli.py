@@ -147,7 +147,7 @@ def cmd_render(args) -> int:
             scores = image_metrics(frame.color, ref.color, ref.reflective)
             error_rgb, error_top = error_tile(frame.color, ref.color)
             extra["reference"] = {"kind": ref.kind, "rays_per_pixel": ref.rays_per_pixel,
-                                  "error_png_white": error_top, **scores}
+                                  "error_png_top": error_top, **scores}
         try:
             files = frame.save(out, overwrite=args.overwrite, exposure=args.exposure, extra=extra)
             if ref is not None:
