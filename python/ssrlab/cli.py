@@ -236,8 +236,6 @@ def cmd_bench(args) -> int:
         print(f"ssrlab: {args.sweep_file}: {e}", file=sys.stderr)
         return 1
     if args.executor == "dask":
-        import os
-
         workers = args.workers or bench.max_timing_workers(config["device"])
         try:
             bench.check_timing_workers(workers, config["device"])
