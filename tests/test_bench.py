@@ -61,7 +61,7 @@ def test_expand_grid_is_the_cartesian_product_in_stable_order():
 
 
 @pytest.mark.parametrize("grid, match", [
-    ({"layerz": [1, 2]}, "grid key 'layerz' is not a Settings field"),
+    ({"layerz": [1, 2]}, r"grid key 'layerz' is not a Settings field \(did you mean 'layers'\?\)"),
     ({"layers": 4}, r"grid\['layers'\] must be a non-empty list"),
     ({"method": "hiz"}, r"grid\['method'\] must be a non-empty list"),
     ({"layers": []}, r"grid\['layers'\] must be a non-empty list"),
@@ -124,7 +124,12 @@ def test_sweep_rows_have_every_documented_key_and_finite_numbers(layer_rows, ren
     frame = renderer.render(ssrlab.scenes.box_stack(), settings=ssrlab.Settings.from_dict(
         {k[len(bench.SETTINGS_PREFIX):]: v for k, v in first.items() if k.startswith(bench.SETTINGS_PREFIX)}))
     expected = {"gpu_" + k.replace(".", "_") + "_ms" for k in frame.timings}
-    assert {k for k in first if k.startswith("gpu_")} == expected
+    assert {k for k in first if k.startswith("gpu_") and k.endswith("_ms")} == expected
+    # ... each with its spread over the repeats: min, max, and no IQR from a single repeat.
+    assert {k for k in first if k.startswith("gpu_")} == {c + s for c in expected for s in ("", "_min", "_max",
+                                                                                              "_iqr")}
+    for c in [*expected, "time_frame_ms", "time_reflections_ms", "wall_ms"]:
+        assert first[c + "_min"] == first[c] == first[c + "_max"] and first[c + "_iqr"] is None
 
 
 def test_the_reference_settings_score_zero_error_in_every_view(layer_rows):
@@ -216,7 +221,9 @@ def test_write_results_files_and_no_overwriting(layer_rows, tmp_path):
     lines = (tmp_path / "out" / "rows.csv").read_text().splitlines()
     assert len(lines) == 1 + len(layer_rows) and "thesis_error_reflective" in lines[0].split(",")
     pareto = (tmp_path / "out" / "pareto.csv").read_text().splitlines()
-    assert len(pareto) == 1 + len(bench.pareto_front(layer_rows, error_key="thesis_error_reflective"))
+    fronts = bench.pareto_fronts(layer_rows, error_key="thesis_error_reflective")
+    assert list(fronts) == [("box_stack", "default"), ("box_stack", "low")]
+    assert len(pareto) == 1 + sum(len(f) for f in fronts.values())
     # ssrlab replaces its own files, never someone else's.
     bench.write_results(layer_rows, tmp_path / "out")
     (tmp_path / "out" / "pareto.csv").write_text("edited by hand")
@@ -274,6 +281,55 @@ def test_example_sweep_files_are_valid(path):
     assert len(plan) == expected > 0
 
 
+def test_spread_of_repeats():
+    assert bench.spread([3.0, 1.0, 2.0, 10.0]) == {"min": 1.0, "median": 2.5, "max": 10.0,
+                                                   "iqr": pytest.approx(float(np.percentile([1, 2, 3, 10], 75)
+                                                                              - np.percentile([1, 2, 3, 10], 25)))}
+    assert bench.spread([4.0])["iqr"] is None
+    with pytest.raises(ValueError):
+        bench.spread([])
+
+
+def test_timed_repeats_give_min_median_max_and_iqr(cache):
+    row, = bench.sweep({}, ["mirror_test"], base=SMALL, repeats=4, warmup=1, reference="thesis", progress=False,
+                       cache_folder=cache)
+    for c in [k for k in row if k.startswith("gpu_") and k.endswith("_ms")] + ["time_frame_ms", "wall_ms"]:
+        assert row[c + "_min"] <= row[c] <= row[c + "_max"], c
+        assert 0.0 <= row[c + "_iqr"] <= row[c + "_max"] - row[c + "_min"] + 1e-9, c
+        assert bench.is_volatile(c + "_iqr") and bench.is_volatile(c + "_min")
+    assert not bench.is_volatile("thesis_error") and not bench.is_volatile("s_max_steps")
+
+
+def test_pareto_fronts_never_mix_scenes_or_views():
+    rows = [
+        {"scene": "a", "view": "default", "time_frame_ms": 1.0, "thesis_error": 5.0},
+        {"scene": "a", "view": "default", "time_frame_ms": 2.0, "thesis_error": 4.0},
+        {"scene": "b", "view": "default", "time_frame_ms": 3.0, "thesis_error": 1.0},  # would dominate a's
+        {"scene": "b", "view": "default", "time_frame_ms": 0.5, "thesis_error": 9.0},
+        {"scene": "a", "view": "side", "time_frame_ms": 9.0, "thesis_error": 9.0},
+    ]
+    fronts = bench.pareto_fronts(rows)
+    assert list(fronts) == [("a", "default"), ("b", "default"), ("a", "side")]
+    assert [r["time_frame_ms"] for r in fronts[("a", "default")]] == [1.0, 2.0]
+    assert [r["time_frame_ms"] for r in fronts[("b", "default")]] == [0.5, 3.0]
+    with pytest.raises(ValueError, match="use pareto_fronts"):
+        bench.pareto_front(rows)
+
+
+def test_timing_workers_are_limited_by_cores(monkeypatch):
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    monkeypatch.delenv("LP_NUM_THREADS", raising=False)
+    assert bench.max_timing_workers("cpu") == 1 and bench.max_timing_workers("auto") == 1
+    with pytest.raises(ValueError, match="--timing-workers"):
+        bench.check_timing_workers(2, "cpu")
+    bench.check_timing_workers(1, "cpu")
+    monkeypatch.setenv("LP_NUM_THREADS", "1")  # one rasteriser thread per render: two fit on two cores
+    assert bench.max_timing_workers("cpu") == 2 and bench.max_timing_workers("gpu") == 1
+    bench.check_timing_workers(2, "cpu")
+    with pytest.raises(ValueError, match="one GPU"):
+        bench.check_timing_workers(2, "gpu")
+
+
 # -- the command line -----------------------------------------------------------------------------------
 def run_cli(*args, cache):
     env = {**os.environ, "SSRLAB_CACHE": str(cache)}
@@ -302,6 +358,26 @@ def test_cli_bench_writes_rows_pareto_and_plots(tmp_path, cache):
     r = run_cli("bench", "benchmarks/sweeps/smoke.toml", "--out", str(out), cache=cache)
     assert r.returncode == 1 and "rows.csv exists and was changed" in r.stderr
     assert (out / "rows.csv").read_text() == "mine"
+
+
+def test_cli_bench_refuses_timing_workers_and_missing_scene_files_before_a_cluster(tmp_path, cache):
+    sweep = tmp_path / "s.toml"
+    sweep.write_text('scenes = ["mirror_test"]\nrepeats = 1\nwarmup = 0\nreference = "thesis"\n'
+                     '[base]\nwidth = 32\nheight = 24\n')
+    env = {**os.environ, "SSRLAB_CACHE": str(cache)}
+    env.pop("LP_NUM_THREADS", None)
+    workers = (os.cpu_count() or 1) + 1  # more workers than cores: never timeable side by side
+    r = subprocess.run([sys.executable, "-m", "ssrlab", "bench", str(sweep), "--executor", "dask", "--workers",
+                        str(workers), "--out", str(tmp_path / "out")], capture_output=True, text=True, env=env)
+    assert r.returncode == 1 and "--timing-workers" in r.stderr and "dask:" not in r.stderr
+    assert not (tmp_path / "out").exists()
+    # A scene file that does not exist is named before anything starts.
+    missing = tmp_path / "m.toml"
+    missing.write_text('scenes = ["mirror_test", "/nowhere/model.glb"]\n')
+    r = subprocess.run([sys.executable, "-m", "ssrlab", "bench", str(missing), "--executor", "dask", "--workers",
+                        "1", "--out", str(tmp_path / "out")], capture_output=True, text=True, env=env)
+    assert r.returncode == 1 and "/nowhere/model.glb" in r.stderr and "not found" in r.stderr
+    assert "dask:" not in r.stderr, "no cluster was started"
 
 
 def test_cli_bench_rejects_a_bad_sweep_file(tmp_path, cache):

@@ -95,44 +95,50 @@ void bind_render(py::module_& m) {
         .def("validate", &RenderSettings::validate);
 
     py::class_<Sequence, std::shared_ptr<Sequence>>(m, "Sequence", "The history of a sequence of frames.")
-        .def_readonly("frames", &Sequence::frames)
-        .def_property_readonly("has_history", [](const Sequence& q) { return bool(q.previous); });
+        .def_readonly("frames", &Sequence::frames, "frames rendered in this sequence so far")
+        .def_property_readonly("has_history", [](const Sequence& q) { return bool(q.previous); },
+                               "True once a frame of the sequence can serve as the next one's history");
 
-    py::class_<Frame, std::shared_ptr<Frame>>(m, "Frame")
+    py::class_<Frame, std::shared_ptr<Frame>>(m, "Frame",
+                                              "A rendered frame's textures on the GPU; use ssrlab.Frame, which wraps it.")
         .def(
             "read",
             [](Frame& f, const std::string& name, int level) { return to_numpy(f.read(name, level)); },
             py::arg("name"), py::arg("level") = 0,
             "Reads every layer of a texture's mip level as float32 (layers, height, width, 4); row 0 = top.")
-        .def_property_readonly("texture_names", &Frame::texture_names)
-        .def("has", &Frame::has)
+        .def_property_readonly("texture_names", &Frame::texture_names, "names of the textures read() can read")
+        .def("has", &Frame::has, "True if the frame holds a texture of this name.")
         .def("release", &Frame::release, "Frees the frame's own textures now; later reads raise.")
-        .def_property_readonly("released", &Frame::released)
+        .def_property_readonly("released", &Frame::released, "True once release() freed the frame's textures")
         .def_property_readonly("gpu_bytes", &Frame::gpu_bytes, "Bytes of the frame's own textures.")
-        .def_readonly("timings", &Frame::timings)
-        .def_readonly("wall_ms", &Frame::wall_ms)
+        .def_readonly("timings", &Frame::timings, "GPU milliseconds per pass (and part), 'total' their sum")
+        .def_readonly("wall_ms", &Frame::wall_ms, "CPU milliseconds of the render call, until the GPU finished")
         .def_readonly("warmup_runs", &Frame::warmup_runs,
                       "Untimed runs of the chain before the timed one: 1 when this variant (passes, texture "
-                      "sizes, defines) was new to the renderer, so compilation and first-use costs were paid "
-                      "outside the timers.")
-        .def_readonly("passes", &Frame::passes)
-        .def_readonly("layer_samples", &Frame::layer_samples)
-        .def_readonly("camera", &Frame::camera)
-        .def_property_readonly("view_matrix", [](const Frame& f) { return f.uniforms.view; })
-        .def_property_readonly("projection_matrix", [](const Frame& f) { return f.uniforms.proj; })
-        .def_property_readonly("shadow_matrix", [](const Frame& f) { return f.uniforms.view_to_shadow; });
+                      "sizes, defines, scene) was new to the renderer, so compilation and first-use costs were "
+                      "paid outside the timers.")
+        .def_readonly("passes", &Frame::passes, "the passes that ran, in order")
+        .def_readonly("layer_samples", &Frame::layer_samples, "samples each G-buffer layer wrote (0: an empty layer)")
+        .def_readonly("camera", &Frame::camera, "the camera the frame was rendered from")
+        .def_property_readonly("view_matrix", [](const Frame& f) { return f.uniforms.view; }, "world -> view matrix (4x4)")
+        .def_property_readonly("projection_matrix", [](const Frame& f) { return f.uniforms.proj; },
+                               "view -> clip matrix (4x4) in the frame's depth convention")
+        .def_property_readonly("shadow_matrix", [](const Frame& f) { return f.uniforms.view_to_shadow; },
+                               "view -> shadow-map clip matrix (4x4) of the shadow-casting light");
 
-    py::class_<Renderer, std::shared_ptr<Renderer>>(m, "Renderer")
+    py::class_<Renderer, std::shared_ptr<Renderer>>(m, "Renderer",
+                                                    "A headless EGL/OpenGL 4.5 renderer; use ssrlab.Renderer, which wraps it.")
         .def(py::init(&Renderer::create), py::arg("device") = "auto", py::arg("shader_dir"))
         .def(
             "render",
             [](Renderer& r, const Scene& scene, const Camera& camera, const RenderSettings& s,
                std::shared_ptr<Sequence> sequence) { return r.render(scene, camera, s, sequence.get()); },
-            py::arg("scene"), py::arg("camera"), py::arg("settings"), py::arg("sequence") = nullptr)
+            py::arg("scene"), py::arg("camera"), py::arg("settings"), py::arg("sequence") = nullptr,
+            "Runs the chain of passes; returns the Frame (with a sequence: reads and becomes its history).")
         .def("begin_sequence", &Renderer::begin_sequence,
              "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
              "its history is dropped with it.")
-        .def("info", [](const Renderer& r) { return r.info().as_dict(); })
+        .def("info", [](const Renderer& r) { return r.info().as_dict(); }, "Vendor, renderer, GL version and the device chosen.")
         .def(
             "reference",
             [](Renderer& r, const Scene& scene, Frame& frame, const std::string& mode, int rays, uint32_t seed,
@@ -147,7 +153,8 @@ void bind_render(py::module_& m) {
                                    viewer == "ray", shadows == "traced");
             },
             py::arg("scene"), py::arg("frame"), py::arg("mode"), py::arg("rays") = 256, py::arg("seed") = 0,
-            py::arg("sampling") = "vndf", py::arg("viewer") = "camera", py::arg("shadows") = "traced")
+            py::arg("sampling") = "vndf", py::arg("viewer") = "ray", py::arg("shadows") = "traced",
+            "Traces the reference pass for a frame ('per_ray' or 'converged'); returns its GPU milliseconds.")
         .def(
             "specular_albedo_table",
             [](Renderer& r) {
@@ -162,7 +169,8 @@ void bind_render(py::module_& m) {
                                "Shader programs this renderer has compiled (each once per variant).")
         .def_property_readonly("gpu_bytes", &Renderer::gpu_bytes,
                                "Bytes of every frame texture set (live or pooled) and the shared scratch.")
-        .def_property_readonly("scratch_bytes", &Renderer::scratch_bytes)
+        .def_property_readonly("scratch_bytes", &Renderer::scratch_bytes,
+                               "Bytes of the per-renderer scratch textures (shadow map, Hi-Z pyramid)")
         .def("recycle", &Renderer::recycle, py::arg("force") = true,
              "Frees idle texture sets beyond the pool and returns freed heap memory to the OS.")
         .def("check_gl", &Renderer::check_errors, "Raises GLError if GL reported an error since the last check.")
@@ -178,7 +186,9 @@ void bind_render(py::module_& m) {
                 return to_numpy(std::move(rb)).attr("reshape")(count, 8);
             },
             py::arg("sampling"), py::arg("alpha"), py::arg("view"), py::arg("count"), py::arg("seed") = 0,
-            py::arg("stratified") = false)
+            py::arg("stratified") = false,
+            "Reflection directions from the tracers' GLSL sampler: (count, 8) float32, columns 0-2 l, 3 weight,\n"
+            "4 pdf, 5-6 the uniform numbers (see ssrlab.Renderer.sample_reflections).")
         .def(
             "compile",
             [](Renderer& r, const std::vector<std::string>& stages, const std::map<std::string, std::string>& defines) {

@@ -161,10 +161,10 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
              py::arg("roughness") = 0.5f, py::arg("reflectivity") = 0.0f, py::arg("double_sided") = false,
              py::arg("name") = "", py::arg("base_color_texture") = -1, py::arg("metallic_roughness_texture") = -1,
              py::arg("normal_texture") = -1, py::arg("normal_scale") = 1.0f)
-        .def_readwrite("name", &Material::name)
-        .def_readwrite("base_color", &Material::base_color)
-        .def_readwrite("metallic", &Material::metallic)
-        .def_readwrite("roughness", &Material::roughness)
+        .def_readwrite("name", &Material::name, "the material's name (glTF material name)")
+        .def_readwrite("base_color", &Material::base_color, "linear RGBA base colour, each >= 0")
+        .def_readwrite("metallic", &Material::metallic, "glTF metalness, 0..1")
+        .def_readwrite("roughness", &Material::roughness, "perceptual roughness 0..1 (GGX alpha = roughness**2)")
         .def_property(
             "reflectivity",
             [](const Material& x) -> py::object {
@@ -179,18 +179,19 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
                 x.reflectivity = r;
             },
             "r in [0, 1] of the thesis's composite, or 'auto' (reflects as the metallic-roughness parameters say)")
-        .def_readwrite("double_sided", &Material::double_sided)
-        .def_readwrite("emissive", &Material::emissive)
-        .def_readwrite("normal_scale", &Material::normal_scale)
+        .def_readwrite("double_sided", &Material::double_sided, "back faces show the other side (normals flipped)")
+        .def_readwrite("emissive", &Material::emissive, "glTF emissive factor, linear RGB (read and saved, not rendered)")
+        .def_readwrite("normal_scale", &Material::normal_scale, "glTF normal-texture scale of the tangent-space xy")
         .def_property(
             "base_color_texture", [](const Material& x) { return x.base_color_texture.image; },
-            [](Material& x, int i) { x.base_color_texture.image = i; })
+            [](Material& x, int i) { x.base_color_texture.image = i; }, "image index of the base colour texture (-1: none)")
         .def_property(
             "metallic_roughness_texture", [](const Material& x) { return x.metallic_roughness_texture.image; },
-            [](Material& x, int i) { x.metallic_roughness_texture.image = i; })
+            [](Material& x, int i) { x.metallic_roughness_texture.image = i; },
+            "image index of the glTF metallic (B) roughness (G) texture (-1: none)")
         .def_property(
             "normal_texture", [](const Material& x) { return x.normal_texture.image; },
-            [](Material& x, int i) { x.normal_texture.image = i; })
+            [](Material& x, int i) { x.normal_texture.image = i; }, "image index of the tangent-space normal texture (-1: none)")
         .def("__repr__", [](const Material& x) {
             return "Material(name='" + x.name + "', base_color=(" + std::to_string(x.base_color.r) + ", " +
                    std::to_string(x.base_color.g) + ", " + std::to_string(x.base_color.b) +
@@ -234,13 +235,14 @@ cast_shadow=True casts the shadow map.)doc")
             },
             py::arg("position"), py::arg("color") = glm::vec3(1.0f), py::arg("intensity") = 10.0f,
             py::arg("name") = "point")
-        .def_property_readonly("type", [](const Light& l) { return l.type == Light::Type::Directional ? "directional" : "point"; })
-        .def_readwrite("name", &Light::name)
-        .def_readwrite("color", &Light::color)
-        .def_readwrite("intensity", &Light::intensity)
-        .def_readwrite("direction", &Light::direction)
-        .def_readwrite("position", &Light::position)
-        .def_readwrite("cast_shadow", &Light::cast_shadow)
+        .def_property_readonly("type", [](const Light& l) { return l.type == Light::Type::Directional ? "directional" : "point"; },
+                               "'directional' or 'point'")
+        .def_readwrite("name", &Light::name, "the light's name")
+        .def_readwrite("color", &Light::color, "linear RGB colour, multiplied by intensity")
+        .def_readwrite("intensity", &Light::intensity, "irradiance W/m^2 (directional) or radiant intensity W/sr (point)")
+        .def_readwrite("direction", &Light::direction, "world direction the light travels (directional lights)")
+        .def_readwrite("position", &Light::position, "world position (point lights)")
+        .def_readwrite("cast_shadow", &Light::cast_shadow, "the first directional light with this set casts the shadow map")
         .def("__repr__", [](const Light& l) {
             return std::string("Light(") + (l.type == Light::Type::Directional ? "directional" : "point") + ", '" +
                    l.name + "', intensity=" + std::to_string(l.intensity) + ")";
@@ -290,13 +292,14 @@ colour, a procedural gradient sky, or an equirectangular map (EXR/HDR/PNG via Op
                                    return e.type == Environment::Type::Constant ? "constant"
                                           : e.type == Environment::Type::Sky    ? "sky"
                                                                                 : "map";
-                               })
-        .def_readwrite("color", &Environment::color)
-        .def_readwrite("zenith", &Environment::sky_zenith)
-        .def_readwrite("horizon", &Environment::sky_horizon)
-        .def_readwrite("ground", &Environment::ground)
-        .def_readonly("map_path", &Environment::map_path)
-        .def_readwrite("intensity", &Environment::intensity)
+                               },
+                               "'constant', 'sky' or 'map'")
+        .def_readwrite("color", &Environment::color, "linear RGB of a constant environment")
+        .def_readwrite("zenith", &Environment::sky_zenith, "sky colour straight up (linear RGB)")
+        .def_readwrite("horizon", &Environment::sky_horizon, "sky colour at the horizon (linear RGB)")
+        .def_readwrite("ground", &Environment::ground, "colour below the horizon (linear RGB)")
+        .def_readonly("map_path", &Environment::map_path, "file of an equirectangular map environment ('' otherwise)")
+        .def_readwrite("intensity", &Environment::intensity, "scale of the environment's radiance")
         .def("__repr__", [](const Environment& e) {
             return std::string("Environment(") +
                    (e.type == Environment::Type::Constant ? "constant" : e.type == Environment::Type::Sky ? "sky" : "map") +
@@ -325,12 +328,12 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
              py::arg("position") = glm::vec3(0, 0, 5), py::arg("target") = glm::vec3(0.0f),
              py::arg("up") = glm::vec3(0, 1, 0), py::arg("fov_y") = 60.0f, py::arg("near") = 0.1f,
              py::arg("far") = 100.0f)
-        .def_readwrite("position", &Camera::position)
-        .def_readwrite("target", &Camera::target)
-        .def_readwrite("up", &Camera::up)
-        .def_readwrite("fov_y", &Camera::fov_y_degrees)
-        .def_readwrite("near", &Camera::near_plane)
-        .def_readwrite("far", &Camera::far_plane)
+        .def_readwrite("position", &Camera::position, "eye position, world space")
+        .def_readwrite("target", &Camera::target, "point looked at, world space")
+        .def_readwrite("up", &Camera::up, "world up direction (not parallel to the view direction)")
+        .def_readwrite("fov_y", &Camera::fov_y_degrees, "vertical field of view, degrees in (0, 179)")
+        .def_readwrite("near", &Camera::near_plane, "near clip distance along the view axis, > 0")
+        .def_readwrite("far", &Camera::far_plane, "far clip distance along the view axis, > near")
         .def("view_matrix", &Camera::view, "World -> view matrix (4x4, row-major numpy).")
         .def(
             "projection_matrix",
@@ -339,7 +342,7 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
             },
             py::arg("aspect"), py::arg("depth_mode") = "standard",
             "View -> clip matrix for this aspect ratio and depth convention.")
-        .def("validate", &Camera::validate)
+        .def("validate", &Camera::validate, "Raises ValueError naming the field if the camera is invalid.")
         .def(py::pickle(
             [](const Camera& c) {
                 return py::make_tuple(c.position, c.target, c.up, c.fov_y_degrees, c.near_plane, c.far_plane);
@@ -363,14 +366,14 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                    ", far=" + std::to_string(c.far_plane) + ")";
         });
 
-    py::class_<Scene>(m, "Scene", py::dynamic_attr())
+    py::class_<Scene>(m, "Scene", py::dynamic_attr(), "The native scene; use ssrlab.Scene, which wraps it.")
         .def(py::init<>())
-        .def_readwrite("name", &Scene::name)
-        .def_property_readonly("revision", &Scene::revision)
-        .def_property_readonly("object_count", [](const Scene& s) { return s.objects.size(); })
-        .def_property_readonly("mesh_count", [](const Scene& s) { return s.meshes.size(); })
-        .def_property_readonly("material_count", [](const Scene& s) { return s.materials.size(); })
-        .def_property_readonly("image_count", [](const Scene& s) { return s.images.size(); })
+        .def_readwrite("name", &Scene::name, "the scene's name")
+        .def_property_readonly("revision", &Scene::revision, "counts changes; GPU copies are refreshed when it moves")
+        .def_property_readonly("object_count", [](const Scene& s) { return s.objects.size(); }, "objects (mesh instances)")
+        .def_property_readonly("mesh_count", [](const Scene& s) { return s.meshes.size(); }, "distinct meshes")
+        .def_property_readonly("material_count", [](const Scene& s) { return s.materials.size(); }, "materials")
+        .def_property_readonly("image_count", [](const Scene& s) { return s.images.size(); }, "texture images")
         .def("content_hash", [](const Scene& s) {
             char buf[17];
             std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(s.content_hash()));
@@ -382,20 +385,23 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                                [](const Scene& s) {
                                    Bounds b = s.bounds();
                                    return py::make_tuple(b.min, b.max);
-                               })
+                               },
+                               "world-space axis-aligned bounds ((min x, y, z), (max x, y, z))")
         .def_property(
             "ambient", [](const Scene& s) { return s.ambient; },
             [](Scene& s, glm::vec3 a) {
                 if (!(a.x >= 0 && a.y >= 0 && a.z >= 0)) throw std::invalid_argument("Scene.ambient must be >= 0");
                 s.ambient = a;
                 s.touch();
-            })
+            },
+            "ambient radiance, linear RGB >= 0, added to every surface's diffuse term")
         .def_property(
             "environment", [](const Scene& s) { return s.environment; },
             [](Scene& s, const Environment& e) {
                 s.environment = e;
                 s.touch();
-            })
+            },
+            "what the background and rays that leave the screen see")
         .def_property(
             "camera", [](const Scene& s) -> py::object {
                 if (!s.camera) return py::none();
@@ -409,7 +415,8 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                     s.camera = static_cast<CameraDesc>(cam);
                 }
                 s.touch();
-            })
+            },
+            "the scene's own camera (a copy), or None")
         .def(
             "_add_mesh",
             [](Scene& s, py::object positions, py::object indices, py::object normals, py::object uvs,
@@ -502,21 +509,21 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 else idx = s.add_material(m);                 // shared: give this object its own
                 s.touch();
             },
-            py::arg("object"), py::arg("material"))
+            py::arg("object"), py::arg("material"), "Gives an object a copy of `material` (others sharing its old one keep it).")
         .def(
             "object_name",
             [](const Scene& s, int obj) {
                 check_object(s, obj);
                 return s.objects[size_t(obj)].name;
             },
-            py::arg("object"))
+            py::arg("object"), "An object's name.")
         .def(
             "object_transform",
             [](const Scene& s, int obj) {
                 check_object(s, obj);
                 return s.objects[size_t(obj)].transform;
             },
-            py::arg("object"))
+            py::arg("object"), "An object's object -> world matrix (4x4).")
         .def(
             "set_object_transform",
             [](Scene& s, int obj, const glm::mat4& t) {
@@ -524,7 +531,7 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 s.objects[size_t(obj)].transform = t;
                 s.touch();
             },
-            py::arg("object"), py::arg("transform"))
+            py::arg("object"), py::arg("transform"), "Sets an object's object -> world matrix (4x4).")
         .def(
             "object_mesh",
             [](const Scene& s, int obj) {
@@ -549,15 +556,17 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 return d;
             },
             py::arg("object"), "The object's mesh in object space: positions, normals, indices (m, 3), uvs.")
-        .def_property_readonly("lights", [](const Scene& s) { return s.lights; })
+        .def_property_readonly("lights", [](const Scene& s) { return s.lights; }, "copies of the scene's lights")
         .def(
             "add_light",
-            [](Scene& s, const Light& l) { return s.add_light(l); }, py::arg("light"))
+            [](Scene& s, const Light& l) { return s.add_light(l); }, py::arg("light"),
+            "Adds a copy of a light; returns its index.")
         .def("clear_lights",
              [](Scene& s) {
                  s.lights.clear();
                  s.touch();
-             })
+             },
+             "Removes every light.")
         .def(
             "_assign", [](Scene& s, const Scene& other) { s = other; }, py::arg("other"),
             "Makes this scene a deep copy of `other` (a different scene for GPU caches).");

@@ -25,6 +25,10 @@ PYBIND11_MODULE(_core, m) {
     shader_error = new py::exception<ssr::ShaderError>(m, "ShaderError", PyExc_RuntimeError);
     device_error = new py::exception<ssr::DeviceError>(m, "DeviceError", PyExc_RuntimeError);
     scene_error = new py::exception<ssr::SceneError>(m, "SceneError", PyExc_ValueError);
+    gl_error->attr("__doc__") = "OpenGL reported an error (the message names the call or pass).";
+    shader_error->attr("__doc__") = "A GLSL shader failed to compile or link; .file and .line locate the error.";
+    device_error->attr("__doc__") = "No EGL device of the kind asked for (e.g. device='gpu' without a GPU).";
+    scene_error->attr("__doc__") = "A malformed scene or glTF file; the message names the file and the accessor, image or node.";
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);

@@ -10,17 +10,28 @@
 """
 
 from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
-from . import bench, experiments, io, metrics, models, reference, scenes, transforms
+from . import bench, display, experiments, io, metrics, models, reference, scenes, transforms
 from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, shader_dir
 from .sequence import CameraPath
 from .scene import Scene, SceneWarning, directional_light, point_light
 from .settings import Settings
 
-__version__ = "0.1.0"
+
+def _package_version() -> str:
+    # pyproject.toml is the one place the version is written; the installed metadata carries it.
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("ssrlab")
+    except PackageNotFoundError:  # imported from a source tree that was never installed
+        return "0+unknown"
+
+
+__version__ = _package_version()
 
 __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
     "NoReflectionWarning", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
     "ShaderError", "directional_light", "models", "point_light", "scenes",
-    "shader_dir", "transforms",
+    "shader_dir", "transforms", "display", "__version__",
 ]

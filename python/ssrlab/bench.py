@@ -35,6 +35,11 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
                         with the glossy methods' passes (preconvolve, preintegrate, cone_trace,
                         blur_mips) where Settings.glossy runs them
   wall_ms               median CPU milliseconds of the render call (Frame.wall_ms)
+  <time>_min, <time>_max, <time>_iqr
+                        for each of the times above (gpu_<pass>_ms, time_frame_ms, ...): the
+                        fastest and slowest of the repeats and their interquartile range
+                        (numpy's linear percentiles; None with a single repeat, whose spread is
+                        unknown), so that a difference can be told from noise (see spread)
   thesis_error, rmse, psnr, thesis_error_reflective, rmse_reflective, psnr_reflective
                         ssrlab.metrics.image_metrics of Frame.color against the reference's
                         colour, over all pixels and over the reference's reflective pixels
@@ -68,7 +73,6 @@ import json
 import math
 import os
 import socket
-import statistics
 import subprocess
 import sys
 import threading
@@ -98,10 +102,41 @@ TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
 VOLATILE_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms", "timestamp", "worker")
 
 
+# Suffixes of the spread columns beside every time column (see spread).
+SPREAD_SUFFIXES = ("_min", "_max", "_iqr")
+
+
+def _time_column(column: str) -> str:
+    """The time column a spread column belongs to (gpu_resolve_ms_iqr -> gpu_resolve_ms), else itself."""
+    for suffix in SPREAD_SUFFIXES:
+        if column.endswith(suffix) and column[:-len(suffix)].endswith("_ms"):
+            return column[:-len(suffix)]
+    return column
+
+
 def is_volatile(column: str) -> bool:
-    """True for the columns that change from run to run of the same configuration: times,
-    the timestamp and the worker. Everything else, the metrics included, is deterministic."""
+    """True for the columns that change from run to run of the same configuration: times and
+    their spread, the timestamp and the worker. Everything else, the metrics included, is
+    deterministic."""
+    column = _time_column(column)
     return column in VOLATILE_KEYS or (column.startswith("gpu_") and column.endswith("_ms"))
+
+
+def spread(values: list[float]) -> dict[str, float | None]:
+    """min, median, max and interquartile range (75th - 25th percentile, numpy's linear
+    interpolation) of repeated timings; iqr is None for a single value (no spread measured)."""
+    v = np.asarray([float(x) for x in values], np.float64)
+    if v.size == 0:
+        raise ValueError("spread: no values")
+    iqr = float(np.percentile(v, 75) - np.percentile(v, 25)) if v.size > 1 else None
+    return {"min": float(v.min()), "median": float(np.median(v)), "max": float(v.max()), "iqr": iqr}
+
+
+def _with_spread(row: dict, column: str, values: list[float]) -> None:
+    st = spread(values)
+    row[column] = st["median"]
+    for suffix in SPREAD_SUFFIXES:
+        row[column + suffix] = st[suffix[1:]]
 
 
 # -- grid ---------------------------------------------------------------------------------------
@@ -117,7 +152,10 @@ def expand_grid(grid: dict[str, list]) -> list[dict]:
     axes = {}
     for key, values in grid.items():
         if key not in SETTINGS_FIELDS:
-            raise ValueError(f"grid key {key!r} is not a Settings field; fields: {', '.join(SETTINGS_FIELDS)}")
+            from .settings import _suggestion
+
+            raise ValueError(f"grid key {key!r} is not a Settings field{_suggestion(key)}; "
+                             f"fields: {', '.join(SETTINGS_FIELDS)}")
         if isinstance(values, (str, bytes, dict)) or not isinstance(values, Iterable):
             raise ValueError(f"grid[{key!r}] must be a non-empty list of values, got {values!r}")
         axes[key] = list(values)
@@ -312,10 +350,6 @@ def _scene(spec):
     return state.scenes[key]
 
 
-def _median(values: list[float]) -> float:
-    return float(statistics.median(values))
-
-
 def _timing_column(key: str) -> str:
     return "gpu_" + key.replace(".", "_") + "_ms"
 
@@ -357,16 +391,16 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
         "reference_rays_per_pixel": int(ref.rays_per_pixel),
         "repeats": repeats,
         "warmup": warmup,
-        "time_frame_ms": _median([t["total"] for t in frames_timings]),
-        "time_reflections_ms": _median(reflections),
-        "wall_ms": _median(walls),
     }
+    _with_spread(row, "time_frame_ms", [t["total"] for t in frames_timings])
+    _with_spread(row, "time_reflections_ms", reflections)
+    _with_spread(row, "wall_ms", walls)
     reflective = np.asarray(ref.reflective, dtype=bool)
     row.update(image_metrics(frame.color, ref.color, reflective))
     row["reflective_pixels"] = int(reflective.sum())
     row["mean_fetches"] = frame.rays.mean_fetches() if "rays.hit" in frame.texture_names else None
     for k in timing_keys:
-        row[_timing_column(k)] = _median([t[k] for t in frames_timings if k in t])
+        _with_spread(row, _timing_column(k), [t[k] for t in frames_timings if k in t])
     row.update({SETTINGS_PREFIX + k: v for k, v in s.to_dict().items()})
     info = renderer.info
     row.update(device=info.get("device", "unknown"), gl_renderer=info.get("renderer", "unknown"),
@@ -393,6 +427,48 @@ def git_revision() -> str:
         except (OSError, subprocess.SubprocessError):
             continue
     return "unknown"
+
+
+# -- how many workers may time ---------------------------------------------------------------------------
+def render_threads() -> int:
+    """CPU threads one render keeps busy: llvmpipe rasterises with $LP_NUM_THREADS threads (by
+    default one per core); a GPU render needs about one CPU thread."""
+    cores = os.cpu_count() or 1
+    try:
+        lp = int(os.environ.get("LP_NUM_THREADS", ""))
+    except ValueError:
+        lp = 0
+    return max(1, min(lp, cores)) if lp > 0 else cores
+
+
+def max_timing_workers(device: str = "cpu") -> int:
+    """The most worker processes whose renders can be timed side by side without fighting for
+    the same hardware: on llvmpipe ("cpu"), the cores divided by the threads each render uses
+    (render_threads); on a GPU ("gpu"), one (every worker would share the one GPU, and its timer
+    queries would measure the others' work too); for "auto", the smaller of the two, since
+    which device a worker gets is known only once it opens one."""
+    cpu = max(1, (os.cpu_count() or 1) // render_threads())
+    if device == "cpu":
+        return cpu
+    return 1
+
+
+def check_timing_workers(workers: int, device: str = "auto") -> None:
+    """ValueError explaining why `workers` concurrent workers would time noise rather than the
+    configurations, when there are more than max_timing_workers(device)."""
+    limit = max_timing_workers(device)
+    if workers <= limit:
+        return
+    cores = os.cpu_count() or 1
+    if device == "cpu":
+        why = (f"each llvmpipe render uses {render_threads()} thread(s) (LP_NUM_THREADS) and this machine has "
+               f"{cores} core(s)")
+    else:
+        why = (f"device={device!r} renders on one GPU (or, without one, on llvmpipe with {render_threads()} "
+               f"thread(s) per render on {cores} core(s)), which the workers would share")
+    raise ValueError(f"{workers} timing workers would run their renders side by side: {why}, so each time would "
+                     f"include the other workers' work. Use at most {limit} worker(s), or pass --timing-workers "
+                     f"to time with {workers} anyway (compare those times only within the sweep)")
 
 
 # -- the sweep -------------------------------------------------------------------------------------------
@@ -507,7 +583,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     rows: list[dict | None] = [None] * len(tasks)
     bar = None
     if progress:
-        from tqdm import tqdm
+        from tqdm.auto import tqdm  # a widget in Jupyter, a text bar in a terminal
 
         bar = tqdm(total=len(tasks), desc="ssrlab bench", unit="config", file=sys.stderr)
 
@@ -548,6 +624,16 @@ def _number(row: dict, key: str) -> float | None:
     return float(v)
 
 
+# Columns whose rows never share a Pareto front: a time budget only means something within
+# one scene seen from one view.
+FRONT_GROUP_KEYS = ("scene", "view")
+
+
+def front_group(row: dict) -> tuple:
+    """The (scene, view) a row belongs to (missing columns count as one value)."""
+    return tuple(row.get(k) for k in FRONT_GROUP_KEYS)
+
+
 def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: str = "thesis_error") -> list[dict]:
     """The rows no other row beats in both time and error, sorted by time: the best error
     reachable within each time budget. Lower is better under both keys (so error_key is an
@@ -555,8 +641,15 @@ def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: s
 
     A row is on the front when every faster-or-equal row has a larger error. Of rows with
     equal time and error the first (in `rows` order) is kept. Rows without a finite number
-    under either key are left out; ValueError if no row has both.
+    under either key are left out; ValueError if no row has both. All rows must be of one
+    scene and view (ValueError otherwise: a front across scenes compares unlike images; see
+    pareto_fronts).
     """
+    groups = {front_group(r) for r in rows}
+    if len(groups) > 1:
+        raise ValueError(f"pareto_front: the rows mix {len(groups)} (scene, view) pairs "
+                         f"({', '.join(map(str, sorted(groups, key=str)))}); a front is per scene and view: "
+                         f"use pareto_fronts(rows)")
     scored = [(t, e, i) for i, r in enumerate(rows)
               if (t := _number(r, time_key)) is not None and (e := _number(r, error_key)) is not None]
     if not scored:
@@ -568,6 +661,24 @@ def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: s
             front.append(rows[i])
             best = e
     return front
+
+
+def pareto_fronts(rows: list[dict], time_key: str = "time_frame_ms",
+                  error_key: str = "thesis_error") -> dict[tuple, list[dict]]:
+    """One Pareto front (pareto_front) per (scene, view), in the rows' order of first
+    appearance: {(scene, view): front}. Groups whose rows have no finite time and error are
+    left out; ValueError if no group has any."""
+    groups: dict[tuple, list[dict]] = {}
+    for r in rows:
+        groups.setdefault(front_group(r), []).append(r)
+    fronts = {}
+    for key, rs in groups.items():
+        if any(_number(r, time_key) is not None and _number(r, error_key) is not None for r in rs):
+            fronts[key] = pareto_front(rs, time_key, error_key)
+    if not fronts:
+        raise ValueError(f"pareto_fronts: no row has finite numbers under time_key={time_key!r} and "
+                         f"error_key={error_key!r}")
+    return fronts
 
 
 # -- writing results ------------------------------------------------------------------------------------
@@ -587,7 +698,7 @@ def _columns(rows: list[dict]) -> list[str]:
     cols: dict[str, None] = {}
     for r in rows:
         cols.update(dict.fromkeys(r))
-    gpu = sorted(c for c in cols if c.startswith("gpu_") and c.endswith("_ms"))
+    gpu = sorted(c for c in cols if c.startswith("gpu_") and _time_column(c).endswith("_ms"))
     out: list[str] = []
     for c in cols:
         if c not in gpu:
@@ -632,24 +743,29 @@ FIGURE_SIZE = (7.0, 4.5)  # inches
 FIGURE_DPI = 120
 
 
-def _plot_error_vs_time(path: Path, rows: list[dict], front: list[dict], time_key: str, error_key: str) -> None:
+def _plot_error_vs_time(path: Path, rows: list[dict], fronts: dict[tuple, list[dict]], time_key: str,
+                        error_key: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=FIGURE_SIZE, dpi=FIGURE_DPI)
-    groups: dict[str, list[dict]] = {}
+    groups: dict[tuple, list[dict]] = {}
     for r in rows:
-        groups.setdefault(r.get("scene", "?"), []).append(r)
-    for k, (scene, rs) in enumerate(groups.items()):
+        groups.setdefault(front_group(r), []).append(r)
+    for k, (key, rs) in enumerate(groups.items()):
+        scene, view = key
+        label = str(scene) if view in (None, "default") else f"{scene} / {view}"
         pts = [(t, e) for r in rs if (t := _number(r, time_key)) is not None and (e := _number(r, error_key))
                is not None]
         if pts:
-            ax.scatter(*zip(*pts), marker=MARKERS[k % len(MARKERS)], color=f"C{k % 10}", label=scene, zorder=3)
-    fx = [_number(r, time_key) for r in front]
-    fy = [_number(r, error_key) for r in front]
-    ax.step(fx, fy, where="post", color="black", linewidth=1.0, label="Pareto front", zorder=2)
+            ax.scatter(*zip(*pts), marker=MARKERS[k % len(MARKERS)], color=f"C{k % 10}", label=label, zorder=3)
+        if key in fronts:  # each scene's (and view's) own front, in its colour
+            fx = [_number(r, time_key) for r in fronts[key]]
+            fy = [_number(r, error_key) for r in fronts[key]]
+            ax.step(fx, fy, where="post", color=f"C{k % 10}", linewidth=1.0, zorder=2,
+                    label="Pareto front of each" if k == 0 else None)
     positive = [t for r in rows if (t := _number(r, time_key)) is not None and t > 0]
     if positive and max(positive) / min(positive) > LOG_TIME_SPAN:
         ax.set_xscale("log")
@@ -708,8 +824,8 @@ def write_results(rows: list[dict], folder, *, time_key: str = "time_frame_ms", 
     """Writes a sweep's results into `folder` and returns the files written:
 
     rows.csv, rows.json    every row (the columns of the module documentation)
-    pareto.csv             pareto_front(rows, time_key, error_key)
-    error_vs_time.png      every row, one marker and colour per scene, the Pareto front as a line
+    pareto.csv             the Pareto front of every (scene, view) (pareto_fronts), one after another
+    error_vs_time.png      every row, one marker and colour per scene and view, its Pareto front as a line
     <setting>.png          when exactly one setting varies between rows: error and time against it
 
     Never replaces a file that ssrlab did not write (ssrlab.io.OutputFolder; overwrite=True
@@ -722,7 +838,8 @@ def write_results(rows: list[dict], folder, *, time_key: str = "time_frame_ms", 
     for key, name in ((time_key, "time_key"), (error_key, "error_key")):
         if not any(key in r for r in rows):
             raise ValueError(f"write_results: {name}={key!r} is not a column of the rows")
-    front = pareto_front(rows, time_key, error_key)
+    fronts = pareto_fronts(rows, time_key, error_key)
+    front = [r for f in fronts.values() for r in f]
     keys = varying_settings(rows)
     names = result_names(keys)
     out = OutputFolder(folder, overwrite=overwrite)
@@ -732,7 +849,7 @@ def write_results(rows: list[dict], folder, *, time_key: str = "time_frame_ms", 
         out.write("rows.csv", lambda p: p.write_text(_csv_text(rows))),
         out.write("rows.json", lambda p: p.write_text(json.dumps(safe_rows, indent=1, allow_nan=False))),
         out.write("pareto.csv", lambda p: p.write_text(_csv_text(front))),
-        out.write("error_vs_time.png", lambda p: _plot_error_vs_time(p, rows, front, time_key, error_key)),
+        out.write("error_vs_time.png", lambda p: _plot_error_vs_time(p, rows, fronts, time_key, error_key)),
     ]
     if len(keys) == 1:
         written.append(out.write(f"{keys[0]}.png",
@@ -789,6 +906,6 @@ def load_sweep(path) -> dict:
 
 
 __all__ = ["expand_grid", "plan_sweep", "sweep", "run_configuration", "worker_renderer", "opened_renderers",
-           "pareto_front", "write_results", "result_names", "varying_settings", "load_sweep", "scene_label",
+           "pareto_front", "pareto_fronts", "spread", "max_timing_workers", "check_timing_workers", "write_results", "result_names", "varying_settings", "load_sweep", "scene_label",
            "view_camera", "git_revision", "is_volatile", "METRIC_KEYS", "VOLATILE_KEYS", "SETTINGS_PREFIX",
            "TIME_KEYS"]

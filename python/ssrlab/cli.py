@@ -2,7 +2,11 @@
 
     ssrlab info                         the device and OpenGL implementation chosen
     ssrlab scenes                       the procedural scenes
+    ssrlab settings                     every render setting: default, unit, range, meaning
     ssrlab render [--scene NAME|FILE]   render a scene, write its image, G-buffer and timings
+         [--repeats N]                  time N renders after a warm-up: median (min-max) per pass
+         [--reference converged|thesis] score the image: thesis error, RMSE, PSNR; write
+                                        reference.exr and error.png
     ssrlab bench SWEEP_FILE             sweep settings, measure run time against error (ssrlab.bench)
 """
 
@@ -122,18 +126,58 @@ def cmd_render_sequence(args) -> int:
     return 0
 
 
+def cmd_settings(args) -> int:
+    from .settings import Settings
+
+    print(Settings.describe())
+    return 0
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("ssrlab")
+    except PackageNotFoundError:
+        return "0+unknown"
+
+
+def _render_names(settings, reference: str | None) -> list[str]:
+    names = ["color.png", "color.exr", *[f"gbuffer_layer{i}.exr" for i in range(settings.layers)], "timings.json"]
+    return names + (["reference.exr", "error.png"] if reference else [])
+
+
 def cmd_render(args) -> int:
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
 
     if args.frames != 1 or args.path:
         return cmd_render_sequence(args)
 
-    from . import scenes
+    from . import bench, scenes
+    from .io import OutputFolder, write_image
     from .renderer import Renderer
 
     settings = _settings_from_args(args)
+    if args.repeats < 1:
+        raise SystemExit(f"ssrlab: --repeats must be >= 1, got {args.repeats}")
+    warmup = args.warmup if args.warmup is not None else (1 if args.repeats > 1 else 0)
+    if warmup < 0:
+        raise SystemExit(f"ssrlab: --warmup must be >= 0, got {warmup}")
+    if args.rays is not None and args.reference != "converged":
+        raise SystemExit("ssrlab: --rays applies to --reference converged (the thesis reference has 32 rays "
+                         "per pixel)")
+    if args.rays is not None and args.rays < 1:
+        raise SystemExit(f"ssrlab: --rays must be >= 1, got {args.rays}")
     out = Path(args.out) if args.out else Path("renders") / Path(args.scene).stem
-    with tqdm(total=5, desc="ssrlab render", unit="step", file=sys.stderr,
+    try:  # refuse before rendering, not after, when the results could not be written
+        OutputFolder(out, overwrite=args.overwrite).check(_render_names(settings, args.reference))
+    except (FileExistsError, NotADirectoryError) as e:
+        print(f"ssrlab: {e}", file=sys.stderr)
+        return 1
+    renders = warmup + args.repeats
+    steps = 4 + renders + (1 if args.reference else 0)
+    timings, ref = [], None
+    with tqdm(total=steps, desc="ssrlab render", unit="step", file=sys.stderr,
               bar_format="{desc}: {n}/{total} {postfix}") as bar:
         bar.set_postfix_str("opening the GL device")
         renderer = Renderer(args.device)
@@ -142,23 +186,70 @@ def cmd_render(args) -> int:
         kwargs = {"seed": args.seed} if args.seed is not None else {}
         scene = scenes.load(args.scene, **kwargs)
         bar.update(1)
-        bar.set_postfix_str(f"rendering {settings.width}x{settings.height}, {settings.layers} layer(s)")
-        frame = renderer.render(scene, settings=settings)
-        bar.update(1)
+        for i in range(renders):
+            what = "warm-up" if i < warmup else f"timed {i - warmup + 1}/{args.repeats}"
+            bar.set_postfix_str(f"rendering {settings.width}x{settings.height}, {settings.layers} layer(s), {what}")
+            frame = renderer.render(scene, settings=settings)
+            if i >= warmup:
+                timings.append(frame.timings)
+            bar.update(1)
+        if args.reference:
+            from .reference import reference_image
+
+            bar.set_postfix_str(f"{args.reference} reference")
+            ref = reference_image(renderer, scene, None, settings, kind=args.reference, rays=args.rays)
+            bar.update(1)
         bar.set_postfix_str(f"writing {out}")
+        stats = {k: bench.spread([t[k] for t in timings if k in t]) for k in timings[-1]}
+        extra = {"scene": scene.name, "scene_source": args.scene, "triangles": scene.triangle_count,
+                 "device": renderer.info, "repeats": args.repeats, "warmup": warmup,
+                 "timings_median_ms": {k: v["median"] for k, v in stats.items()},
+                 "timings_min_ms": {k: v["min"] for k, v in stats.items()},
+                 "timings_max_ms": {k: v["max"] for k, v in stats.items()}}
+        scores = None
+        if ref is not None:
+            from .display import error_tile
+            from .metrics import image_metrics
+
+            scores = image_metrics(frame.color, ref.color, ref.reflective)
+            error_rgb, error_top = error_tile(frame.color, ref.color)
+            extra["reference"] = {"kind": ref.kind, "rays_per_pixel": ref.rays_per_pixel,
+                                  "error_png_top": error_top, **scores}
         try:
-            files = frame.save(out, overwrite=args.overwrite, exposure=args.exposure, extra={
-                "scene": scene.name, "scene_source": args.scene, "triangles": scene.triangle_count,
-                "device": renderer.info})
+            files = frame.save(out, overwrite=args.overwrite, exposure=args.exposure, extra=extra)
+            if ref is not None:
+                folder = OutputFolder(out, overwrite=args.overwrite)
+                files.append(folder.write("reference.exr", lambda p: write_image(p, ref.color, ["R", "G", "B"])))
+                files.append(folder.write("error.png", lambda p: write_image(p, error_rgb)))
         except FileExistsError as e:
             bar.close()
             print(f"ssrlab: {e}", file=sys.stderr)
             return 1
-        bar.update(2)
+        bar.update(bar.total - bar.n)
         bar.set_postfix_str("done")
     print(f"{renderer.info['renderer']} ({renderer.info['device']}): {scene}")
-    for name, ms in sorted(frame.timings.items()):
-        print(f"  {name:<24} {ms:9.3f} ms (GPU)")
+    if args.repeats == 1:
+        note = " (warm-up first)" if warmup else " (a single render: --repeats N for medians after a warm-up)"
+        print(f"GPU time per pass{note}:")
+        for name, v in sorted(stats.items()):
+            print(f"  {name:<24} {v['median']:9.3f} ms")
+    else:
+        print(f"GPU time per pass, median (min - max) of {args.repeats} renders after {warmup} warm-up:")
+        for name, v in sorted(stats.items()):
+            print(f"  {name:<24} {v['median']:9.3f} ms  ({v['min']:.3f} - {v['max']:.3f})")
+    if scores is not None:
+        def fmt(v, spec):
+            return "-" if v is None else format(v, spec)
+
+        print(f"against the {ref.kind} reference ({ref.rays_per_pixel} ray(s) per pixel), "
+              f"{int(ref.reflective.sum())} reflective pixel(s):")
+        print(f"  {'':<14} {'thesis error':>12} {'RMSE':>10} {'PSNR dB':>8}")
+        print(f"  {'all pixels':<14} {fmt(scores['thesis_error'], '12.5f')} {fmt(scores['rmse'], '10.5f')} "
+              f"{fmt(scores['psnr'], '8.2f')}")
+        print(f"  {'reflective':<14} {fmt(scores['thesis_error_reflective'], '12.5f')} "
+              f"{fmt(scores['rmse_reflective'], '10.5f')} {fmt(scores['psnr_reflective'], '8.2f')}")
+        print(f"  error.png: per-pixel thesis error, black 0 to bright yellow {error_top:.4g} (inferno colour map; "
+              f"its top is the 99th percentile)")
     for f in files:
         print(f"wrote {f}")
     return 0
@@ -206,6 +297,21 @@ def cmd_bench(args) -> int:
         print(f"ssrlab: {e}", file=sys.stderr)
         return 1
 
+    try:  # every scene file, view and setting checked before a cluster starts
+        bench.plan_sweep(config.get("grid") or {}, config.get("scenes"), config.get("views"), config.get("base"))
+    except (ValueError, FileNotFoundError) as e:
+        print(f"ssrlab: {args.sweep_file}: {e}", file=sys.stderr)
+        return 1
+    if args.executor == "dask":
+        workers = args.workers or bench.max_timing_workers(config["device"])
+        try:
+            bench.check_timing_workers(workers, config["device"])
+        except ValueError as e:
+            if not args.timing_workers:
+                print(f"ssrlab: {e}", file=sys.stderr)
+                return 1
+            print(f"ssrlab: warning: --timing-workers: {e.args[0].split('. Use at most')[0]}", file=sys.stderr)
+
     cluster = client = None
     try:
         if args.executor == "dask":
@@ -213,9 +319,6 @@ def cmd_bench(args) -> int:
                 from distributed import Client, LocalCluster
             except ImportError:
                 raise SystemExit("ssrlab: --executor dask needs dask.distributed: pip install 'ssrlab[dask]'")
-            import os
-
-            workers = args.workers or os.cpu_count() or 1
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
             client = Client(cluster)
             print(f"dask: {workers} worker process(es), one thread each", file=sys.stderr)
@@ -232,14 +335,17 @@ def cmd_bench(args) -> int:
     except FileExistsError as e:
         print(f"ssrlab: {e}", file=sys.stderr)
         return 1
-    front = bench.pareto_front(rows, args.time_key, args.error_key)
+    fronts = bench.pareto_fronts(rows, args.time_key, args.error_key)
     first = rows[0]
     print(f"{len(rows)} configuration(s) on {first['gl_renderer']} ({first['device']}), reference "
           f"{first['reference']}, ssrlab {first['ssrlab_version']} ({first['git_revision']})")
-    print(f"Pareto front ({args.error_key} against {args.time_key}):")
-    columns = ["scene", "view", *[bench.SETTINGS_PREFIX + k for k in bench.varying_settings(rows)],
-               args.time_key, args.error_key]
-    print(_table(front, list(dict.fromkeys(columns))))
+    spread_cols = [c for c in (args.time_key + "_min", args.time_key + "_max", args.time_key + "_iqr")
+                   if any(r.get(c) is not None for r in rows)]
+    columns = [*[bench.SETTINGS_PREFIX + k for k in bench.varying_settings(rows)], args.time_key, *spread_cols,
+               args.error_key]
+    for (scene, view), front in fronts.items():
+        print(f"Pareto front of {scene}, view {view} ({args.error_key} against {args.time_key}):")
+        print(_table(front, list(dict.fromkeys(columns))))
     for f in files:
         print(f"wrote {f}")
     return 0
@@ -248,21 +354,29 @@ def cmd_bench(args) -> int:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="ssrlab", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"ssrlab {_version()}",
+                        help="print ssrlab's version and exit")
     parser.add_argument("--device", default="auto", choices=("auto", "gpu", "cpu"),
                         help="EGL device: the GPU when there is one (auto), the GPU or fail (gpu), llvmpipe (cpu)")
     sub = parser.add_subparsers(dest="command", required=True)
 
     sub.add_parser("info", help="show the device and OpenGL implementation").set_defaults(func=cmd_info)
     sub.add_parser("scenes", help="list the procedural scenes").set_defaults(func=cmd_scenes)
+    sub.add_parser("settings", help="list every render setting (ssrlab.Settings.describe())").set_defaults(
+        func=cmd_settings)
 
-    r = sub.add_parser("render", help="render a scene and write its image, G-buffer layers and timings")
+    r = sub.add_parser("render", help="render a scene and write its image, G-buffer layers and timings",
+                       description="Renders a scene and writes color.png, color.exr, gbuffer_layer<i>.exr and "
+                                   "timings.json into --out; with --reference also reference.exr and error.png. "
+                                   "Never replaces a file ssrlab did not write (--overwrite to force).")
     r.add_argument("--scene", default="spheres_and_boxes", help="a procedural scene name or a .gltf/.glb file")
-    r.add_argument("--seed", type=int, help="seed of a procedural scene")
-    r.add_argument("--width", type=int)
-    r.add_argument("--height", type=int)
-    r.add_argument("--layers", type=int)
+    r.add_argument("--seed", type=int, help="seed of a procedural scene's layout (not the rays': --set seed=N)")
+    r.add_argument("--width", type=int, help="image width in pixels (Settings.width)")
+    r.add_argument("--height", type=int, help="image height in pixels (Settings.height)")
+    r.add_argument("--layers", type=int, help="depth-peeled G-buffer layers (Settings.layers)")
     r.add_argument("--set", action="append", metavar="FIELD=VALUE",
-                   help="any ssrlab.Settings field, e.g. --set depth_mode=reversed_z (repeatable)")
+                   help="any ssrlab.Settings field, e.g. --set depth_mode=reversed_z (repeatable; "
+                        "`ssrlab settings` lists them)")
     r.add_argument("--out", help="output folder (default: renders/<scene>)")
     r.add_argument("--exposure", type=float, default=1.0, help="scale of linear radiance before sRGB encoding")
     r.add_argument("--overwrite", action="store_true",
@@ -273,6 +387,15 @@ def main(argv=None) -> int:
     r.add_argument("--path", metavar="X,Y,Z;X,Y,Z;...",
                    help="camera position keyframes of the sequence (ssrlab.CameraPath), looking at the scene "
                         "camera's target; default: the scene camera, static")
+    r.add_argument("--repeats", type=int, default=1, metavar="N",
+                   help="time N renders and print each pass's median (min - max) GPU time (default: 1)")
+    r.add_argument("--warmup", type=int, metavar="W",
+                   help="untimed renders before the timed ones (default: 1 with --repeats > 1, else 0)")
+    r.add_argument("--reference", choices=("converged", "thesis"),
+                   help="score the image against this reference (ssrlab.reference.reference_image, cached in "
+                        "$SSRLAB_CACHE): print thesis error, RMSE and PSNR, write reference.exr and error.png")
+    r.add_argument("--rays", type=int, metavar="N",
+                   help="rays per reflective pixel of the converged reference (default: 256; mirrors use one)")
     r.set_defaults(func=cmd_render)
 
     bench_error_keys = ("thesis_error", "rmse", "thesis_error_reflective", "rmse_reflective")
@@ -285,7 +408,12 @@ def main(argv=None) -> int:
     b.add_argument("--executor", choices=("local", "dask"), default="local",
                    help="local: this process, one configuration after another; dask: a local dask.distributed "
                         "cluster of worker processes, each with its own EGL context")
-    b.add_argument("--workers", type=int, help="dask worker processes (default: the CPU count)")
+    b.add_argument("--workers", type=int,
+                   help="dask worker processes (default: as many as can be timed side by side, "
+                        "ssrlab.bench.max_timing_workers: one on llvmpipe unless LP_NUM_THREADS is lowered)")
+    b.add_argument("--timing-workers", action="store_true",
+                   help="time with more --workers than the machine can run side by side (times then include "
+                        "the other workers' load; compare them only within the sweep)")
     b.add_argument("--overwrite", action="store_true",
                    help="replace existing files even if ssrlab did not write them")
     b.add_argument("--time-key", default="time_frame_ms",

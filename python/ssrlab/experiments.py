@@ -13,6 +13,12 @@ reference traced against the triangles (the truth). The thesis's findings are ju
 reference the thesis used. The thesis also ran temporal anti-aliasing in every experiment;
 ssrlab has none, so single frames here are noisier than the thesis's.
 
+Timing findings are judged only on timings that can bear a verdict (``timing_doubt``): at
+least MIN_JUDGED_REPEATS timed runs per configuration (so a spread is measured), times of at
+least MIN_JUDGED_MS, and a difference larger than the spread of the repeats (their
+interquartile ranges). Otherwise the verdict is "too small to judge" and `ours` says why; at
+the "small" scale (one timed run) every timing finding is.
+
 Used by notebooks/*.ipynb and benchmarks/thesis_findings.py.
 """
 
@@ -41,7 +47,7 @@ class Finding:
     source: str   # where the paper says it
     claim: str    # what the paper found
     ours: str     # what we measured, with figures
-    verdict: str  # "agree", "partly" or "disagree"
+    verdict: str  # "agree", "partly", "disagree" or TOO_SMALL (timings that cannot bear a verdict)
 
 
 @dataclasses.dataclass
@@ -58,6 +64,63 @@ class Experiment:
         for f in self.findings:
             lines.append(f"| {f.claim} ({f.source}) | {f.ours} | **{f.verdict}** |")
         return "\n".join(lines)
+
+
+# -- when a timing can be judged ---------------------------------------------------------------------
+TOO_SMALL = "too small to judge"
+# Fewer timed runs than this measure no usable spread (an interquartile range of 1-2 values is noise).
+MIN_JUDGED_REPEATS = 3
+# Times below this are dominated by GPU timer resolution and per-pass overheads, whatever the spread.
+MIN_JUDGED_MS = 1.0
+
+
+def _time(row: dict, keys) -> tuple[float, float | None]:
+    """(median, spread) of one time column, or of the sum of several (spreads add up); the
+    spread is the interquartile range of the repeats (None when not measured)."""
+    keys = (keys,) if isinstance(keys, str) else tuple(keys)
+    present = [k for k in keys if row.get(k) is not None]
+    median = float(sum(row[k] for k in present))
+    iqrs = [row.get(k + "_iqr") for k in present]
+    return median, (None if not present or any(v is None for v in iqrs) else float(sum(iqrs)))
+
+
+def timing_doubt(rows: list[dict], keys, *, pairwise: bool = False) -> str | None:
+    """None when the times of `rows` under `keys` (a column, or columns summed) can be judged;
+    else why not. Judged means: every row timed at least MIN_JUDGED_REPEATS times, every
+    median at least MIN_JUDGED_MS, and the medians' differences beyond the repeats' spread:
+    with pairwise=True every consecutive pair differs by more than the sum of the two IQRs (a
+    comparison); otherwise the span of the medians exceeds twice the largest IQR (a trend)."""
+    if not rows:
+        return "no timings"
+    repeats = min(int(r.get("repeats") or 1) for r in rows)
+    if repeats < MIN_JUDGED_REPEATS:
+        return (f"{repeats} timed run(s) per configuration, so no spread to tell a difference from noise; "
+                f"at least {MIN_JUDGED_REPEATS} needed")
+    times = [_time(r, keys) for r in rows]
+    if any(iqr is None for _, iqr in times):
+        return "the spread of the repeats was not recorded"
+    low = min(t for t, _ in times)
+    if low < MIN_JUDGED_MS:
+        return f"times down to {low:.2g} ms, below the {MIN_JUDGED_MS:g} ms a GPU timer resolves reliably"
+    if pairwise:
+        for (a, ia), (b, ib) in zip(times, times[1:]):
+            if abs(a - b) <= ia + ib:
+                return (f"{a:.3g} vs {b:.3g} ms differ by no more than the repeats' spread "
+                        f"(IQR {ia:.2g} + {ib:.2g} ms)")
+        return None
+    span = max(t for t, _ in times) - low
+    widest = max(i for _, i in times)
+    if span <= 2 * widest:
+        return f"the times span {span:.2g} ms, within twice the repeats' spread (IQR up to {widest:.2g} ms)"
+    return None
+
+
+def _judged(ours: str, verdict: str, doubts: list[str | None]) -> tuple[str, str]:
+    """(ours, verdict), or (ours with the reason, TOO_SMALL) when a timing cannot be judged."""
+    doubt = next((d for d in doubts if d), None)
+    if doubt is None:
+        return ours, verdict
+    return f"{ours} ({TOO_SMALL}: {doubt})", TOO_SMALL
 
 
 def scale_parameters(scale: str | None = None) -> dict:
@@ -98,9 +161,12 @@ def _drops(errors: np.ndarray) -> np.ndarray:
     return errors[:-1] - errors[1:]
 
 
+TRACE_COLUMNS = ("gpu_trace_linear_ms", "gpu_trace_hiz_ms", "gpu_hiz_build_ms")
+
+
 def trace_ms(row: dict) -> float:
     """GPU time of the ray trace itself: trace_linear, or trace_hiz plus its pyramid build."""
-    return sum(row.get(k) or 0.0 for k in ("gpu_trace_linear_ms", "gpu_trace_hiz_ms", "gpu_hiz_build_ms"))
+    return sum(row.get(k) or 0.0 for k in TRACE_COLUMNS)
 
 
 def _device(rows) -> str:
@@ -122,17 +188,18 @@ def layers(scale: str | None = None, *, progress: bool = False, executor=None) -
     labels = [bench.scene_label(s) for s in LAYER_SCENES]
     findings = []
 
-    r2s, per_layer = [], []
+    r2s, per_layer, doubts = [], [], []
     for label in labels:
         xs, ts = _series(thesis, label, "layers", "time_frame_ms")
         slope, _, r2 = linear_fit(xs, ts)
         r2s.append(r2)
         per_layer.append(slope)
+        doubts.append(timing_doubt([r for r in thesis if r["scene"] == label], "time_frame_ms"))
     findings.append(Finding(
         "seed 000, 3.2.1", "rendering time grows linearly with the number of layers",
-        "frame time against layers: R² " + ", ".join(f"{r:.3f}" for r in r2s) + "; "
-        + ", ".join(f"{s:.2f}" for s in per_layer) + " ms per added layer",
-        "agree" if min(r2s) >= 0.95 else "partly" if min(r2s) >= 0.8 else "disagree"))
+        *_judged("frame time against layers: R² " + ", ".join(f"{r:.3f}" for r in r2s) + "; "
+                 + ", ".join(f"{s:.2f}" for s in per_layer) + " ms per added layer",
+                 "agree" if min(r2s) >= 0.95 else "partly" if min(r2s) >= 0.8 else "disagree", doubts)))
 
     tops, third_first, box_drops, share = [], [], None, []
     for label in labels:
@@ -167,11 +234,13 @@ def layers(scale: str | None = None, *, progress: bool = False, executor=None) -
     for label in labels:
         _, ec = _series(conv, label, "layers", "thesis_error")
         gains.append(1 - ec[-1] / ec[0] if ec[0] > 0 else 0.0)
+    cost = ", ".join(f"{s:.1f}" for s in per_layer) + " ms per layer"
+    if any(doubts):  # the verdict rests on the errors; the cost is quoted only when it can be trusted
+        cost += f" ({TOO_SMALL})"
     findings.append(Finding(
         "seed 000, 4.2", "more layers improve reflections, at a large cost",
         "against the converged reference, 8 layers lower the error by "
-        + ", ".join(f"{100 * g:.0f} %" for g in gains) + " at " + ", ".join(f"{s:.1f}" for s in per_layer)
-        + " ms per layer",
+        + ", ".join(f"{100 * g:.0f} %" for g in gains) + " at " + cost,
         "agree" if all(g > 0 for g in gains) else "partly" if any(g > 0 for g in gains) else "disagree"))
     return Experiment("thesis_layers", p["name"], rows, findings, _device(rows))
 
@@ -198,10 +267,12 @@ def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, e
     _, e = _series(sweeps["downscale"]["thesis"], label, "downscale", "thesis_error")
     _, t = _series(sweeps["downscale"]["thesis"], label, "downscale", "time_reflections_ms")
     err_up, time_down = e[1] / e[0] - 1, 1 - t[1] / t[0]
+    down_rows = [r for r in sweeps["downscale"]["thesis"] if r["scene"] == label]
     findings.append(Finding(
         "seed 000, 3.2.2", "half resolution costs little error for much time",
-        f"full→half: error {100 * err_up:+.0f} %, reflection time {-100 * time_down:+.0f} %",
-        "agree" if err_up < time_down else "disagree"))
+        *_judged(f"full→half: error {100 * err_up:+.0f} %, reflection time {-100 * time_down:+.0f} %",
+                 "agree" if err_up < time_down else "disagree",
+                 [timing_doubt(down_rows[:2], "time_reflections_ms", pairwise=True)])))
     d1, d2 = e[1] - e[0], e[2] - e[1]
     findings.append(Finding(
         "seed 000, 3.2.2", "half→quarter raises the error far more than full→half",
@@ -212,8 +283,10 @@ def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, e
     _, _, r2 = linear_fit(xs, t)
     findings.append(Finding(
         "seed 000, 3.2.3", "time grows linearly with rays per pixel",
-        f"reflection time against rays: R² {r2:.3f}, " + ", ".join(f"{v:.1f}" for v in t) + " ms",
-        "agree" if r2 >= 0.95 else "partly" if r2 >= 0.8 else "disagree"))
+        *_judged(f"reflection time against rays: R² {r2:.3f}, " + ", ".join(f"{v:.1f}" for v in t) + " ms",
+                 "agree" if r2 >= 0.95 else "partly" if r2 >= 0.8 else "disagree",
+                 [timing_doubt([r for r in sweeps["rays_per_pixel"]["thesis"] if r["scene"] == label],
+                               "time_reflections_ms")])))
     _, e = _series(sweeps["rays_per_pixel"]["thesis"], label, "rays_per_pixel", "thesis_error")
     d = _drops(e)  # 1->2, 2->4, 4->8, 8->16
     findings.append(Finding(
@@ -228,12 +301,14 @@ def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, e
     r12, r24 = tt[1] / tt[0], t[2] / t[1]
     findings.append(Finding(
         "seed 000, 3.2.4", "stride 1→2: almost all rays finish in half the time",
-        f"trace time ×{r12:.2f} (with the resolve ×{t[1] / t[0]:.2f})",
-        "agree" if r12 <= 0.65 else "partly" if r12 <= 0.8 else "disagree"))
+        *_judged(f"trace time ×{r12:.2f} (with the resolve ×{t[1] / t[0]:.2f})",
+                 "agree" if r12 <= 0.65 else "partly" if r12 <= 0.8 else "disagree",
+                 [timing_doubt(stride_rows[:2], TRACE_COLUMNS, pairwise=True)])))
     findings.append(Finding(
         "seed 000, 4.1", "stride 2→4 cuts the rendering time by about 25 %",
-        f"trace + resolve time {100 * (r24 - 1):+.0f} % (trace alone {100 * (tt[2] / tt[1] - 1):+.0f} %)",
-        "agree" if 0.6 <= r24 <= 0.85 else "partly" if r24 < 0.95 else "disagree"))
+        *_judged(f"trace + resolve time {100 * (r24 - 1):+.0f} % (trace alone {100 * (tt[2] / tt[1] - 1):+.0f} %)",
+                 "agree" if 0.6 <= r24 <= 0.85 else "partly" if r24 < 0.95 else "disagree",
+                 [timing_doubt(stride_rows[1:3], "time_reflections_ms", pairwise=True)])))
     rising = float(np.mean(np.diff(e) >= -1e-9))
     findings.append(Finding(
         "seed 000, 3.2.4", "the error rises steadily with stride",
@@ -283,7 +358,7 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
     conv = linear["converged"] + hiz["converged"]
     rows = {"converged": conv}
     renderer = renderer or bench.worker_renderer()
-    findings, ratios, time_ratios, err_pairs, short_ratios, long_ratios = [], [], [], [], [], []
+    findings, ratios, time_ratios, err_pairs, short_ratios, long_ratios, doubts = [], [], [], [], [], [], []
     from . import scenes as scene_builders
 
     for name in HIZ_SCENES:
@@ -291,6 +366,7 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
         lin = next(r for r in conv if r["scene"] == label and r["s_method"] == "linear" and r["s_stride"] == 1.0)
         hiz = next(r for r in conv if r["scene"] == label and r["s_method"] == "hiz")
         time_ratios.append(trace_ms(lin) / trace_ms(hiz))
+        doubts.append(timing_doubt([lin, hiz], TRACE_COLUMNS, pairwise=True))
         err_pairs.append((lin["thesis_error"], hiz["thesis_error"]))
         s = Settings(width=p["width"], height=p["height"], **base)
         bins = fetches_by_ray_length(renderer, scene_builders.load(name), s.replace(method="linear", stride=1.0),
@@ -302,9 +378,10 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
     equal = all(abs(a - b) <= 0.05 * max(a, b, 1e-12) for a, b in err_pairs)
     findings.append(Finding(
         "seed 002, 4.3", "Hi-Z tracing is orders of magnitude faster than linear marching",
-        "at equal error (" + ", ".join(f"{a:.4f} vs {b:.4f}" for a, b in err_pairs) + "), linear/1 traces in "
-        + ", ".join(f"{x:.1f}×" for x in time_ratios) + " Hi-Z's time (its pyramid build included)",
-        "agree" if min(time_ratios) >= 10 and equal else "partly" if min(time_ratios) > 1.5 else "disagree"))
+        *_judged("at equal error (" + ", ".join(f"{a:.4f} vs {b:.4f}" for a, b in err_pairs) + "), linear/1 traces in "
+                 + ", ".join(f"{x:.1f}×" for x in time_ratios) + " Hi-Z's time (its pyramid build included)",
+                 "agree" if min(time_ratios) >= 10 and equal else "partly" if min(time_ratios) > 1.5 else "disagree",
+                 doubts)))
     findings.append(Finding(
         "seed 002, 4.3", "linear marching is only fast for short travels; the longer the ray, the more Hi-Z wins",
         "; ".join(f"{label}: fetch ratio " + ", ".join(

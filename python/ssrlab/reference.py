@@ -61,6 +61,16 @@ class ReferenceImage:
         with np.load(path) as z:
             return cls(str(z["kind"]), z["color"], z["reflection"], z["reflective"], int(z["rays_per_pixel"]))
 
+    def __repr__(self) -> str:
+        h, w = self.reflective.shape
+        return (f"<ReferenceImage {self.kind} {w}x{h}, {self.rays_per_pixel} ray(s) per pixel, "
+                f"{int(self.reflective.sum())} reflective pixel(s)>")
+
+    def _repr_png_(self) -> bytes:
+        from .display import reference_image_png
+
+        return reference_image_png(self)
+
 
 def cache_dir(folder=None) -> Path:
     if folder is not None:
@@ -133,6 +143,21 @@ class ConvergedReference:
     @property
     def reflective(self) -> np.ndarray:
         return reflective_mask(self._frame)
+
+    def __repr__(self) -> str:
+        s = self._frame.settings
+        return f"<ConvergedReference {s.width}x{s.height}, {self.rays_per_pixel} ray(s) per reflective pixel>"
+
+    def _repr_png_(self) -> bytes:
+        """The reference, the frame and the error image side by side."""
+        from .display import converged_png
+
+        return converged_png(self)
+
+    def _repr_html_(self) -> str:
+        from .display import converged_html
+
+        return converged_html(self)
 
 
 # Relative view-depth tolerance when matching a true hit to a G-buffer sample (in_gbuffer).
@@ -215,6 +240,18 @@ class PerRayReference:
             found = np.where(same, k, found)
         layers[m] = found
         return layers
+
+    def __repr__(self) -> str:
+        n, h, w = self.hit.shape
+        traced = np.broadcast_to(self._frame.rays.traced, self.hit.shape)
+        share = f", {100 * self.hit[traced].mean():.1f} % of the traced rays truly hit" if traced.any() else ""
+        return f"<PerRayReference {n} ray(s) per pixel at {w}x{h}{share}>"
+
+    def _repr_html_(self) -> str:
+        """A summary: rays traced, true hits, hits on screen and in the G-buffer, SSR's coverage."""
+        from .display import per_ray_html
+
+        return per_ray_html(self)
 
     def _pixel_depth_span(self, depth: np.ndarray) -> np.ndarray:
         """World size of one pixel at view depth `depth`: the G-buffer stores a pixel's centre while

@@ -347,6 +347,27 @@ class Frame:
 
         return write_frame(self, folder, overwrite=overwrite, exposure=exposure, extra=extra)
 
+    # -- display (ssrlab.display) ---------------------------------------------------------------
+    def __repr__(self) -> str:
+        s = self.settings
+        total = self.timings.get("total")
+        passes = [p for p in self.passes]
+        ms = f", total {total:.2f} ms GPU" if total is not None else ""
+        return (f"<Frame {s.width}x{s.height}, {s.layers} layer(s), method={s.method!r}, "
+                f"passes {', '.join(passes)}{ms}>")
+
+    def _repr_png_(self) -> bytes:
+        """The final image, sRGB (Jupyter shows it when a cell ends with a frame)."""
+        from .display import frame_png
+
+        return frame_png(self)
+
+    def _repr_html_(self) -> str:
+        """The final image beside a table of GPU time per pass."""
+        from .display import frame_html
+
+        return frame_html(self)
+
 
 class GBuffer:
     """The deep G-buffer of a frame: per-layer arrays (layers, height, width[, channels]).
@@ -410,6 +431,21 @@ class GBuffer:
     @property
     def lit(self) -> np.ndarray:
         return self._frame.read("lit")[..., :3]
+
+    def __repr__(self) -> str:
+        s = self._frame.settings
+        return f"<GBuffer {s.layers} layer(s) of {s.width}x{s.height}>"
+
+    def _repr_png_(self) -> bytes:
+        """A grid: one row per layer, columns lit colour, normal and depth."""
+        from .display import gbuffer_png
+
+        return gbuffer_png(self)
+
+    def _repr_html_(self) -> str:
+        from .display import gbuffer_html
+
+        return gbuffer_html(self)
 
 
 class RayResults:
@@ -486,6 +522,21 @@ class RayResults:
         """Mean depth fetches per traced ray."""
         m = np.broadcast_to(self.traced, self.steps.shape)
         return float(self.steps[m].mean()) if m.any() else 0.0
+
+    def __repr__(self) -> str:
+        n, h, w = self.hit.shape
+        return f"<RayResults {n} ray(s) per pixel at {w}x{h}, mean {self.mean_fetches():.1f} fetches per ray>"
+
+    def _repr_png_(self) -> bytes:
+        """Hit share per pixel, hit layer of the first ray, depth fetches per ray."""
+        from .display import rays_png
+
+        return rays_png(self, self._frame.settings.layers)
+
+    def _repr_html_(self) -> str:
+        from .display import rays_html
+
+        return rays_html(self, self._frame.settings.layers)
 
 
 # The largest far/near ratio at which depth_mode="standard" keeps SSR hit positions within a

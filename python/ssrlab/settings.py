@@ -9,6 +9,8 @@ field, at construction and on assignment.
 from __future__ import annotations
 
 import dataclasses
+import difflib
+import functools
 import json
 from dataclasses import dataclass, field, fields
 from typing import Any
@@ -230,14 +232,12 @@ class Settings:
         # Every assignment, the dataclass __init__'s included, goes through the field's check.
         spec = _FIELDS.get(name)
         if spec is None:
-            raise AttributeError(f"Settings has no field {name!r}; fields: {', '.join(_FIELDS)}")
+            raise AttributeError(f"Settings has no field {name!r}{_suggestion(name)}; fields: {', '.join(_FIELDS)}")
         object.__setattr__(self, name, _check(spec, value))
 
     def replace(self, **changes) -> "Settings":
         """A copy with some fields changed (validated)."""
-        unknown = sorted(set(changes) - set(_FIELDS))
-        if unknown:
-            raise ValueError(f"unknown Settings field(s): {', '.join(unknown)}; fields: {', '.join(_FIELDS)}")
+        _check_names(changes)
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict:
@@ -245,14 +245,25 @@ class Settings:
 
     @classmethod
     def from_dict(cls, d: dict) -> "Settings":
-        unknown = sorted(set(d) - set(_FIELDS))
-        if unknown:
-            raise ValueError(f"unknown Settings field(s): {', '.join(unknown)}")
+        _check_names(d)
         return cls(**d)
 
     def key(self) -> str:
         """A stable text key of every field (for caches and result rows)."""
         return json.dumps(self.to_dict(), sort_keys=True)
+
+    def changed(self) -> dict:
+        """The fields whose value differs from the default, in field order."""
+        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) != f.default}
+
+    def __repr__(self) -> str:
+        # Only what differs from the defaults, so that a repr stays readable and evaluates back.
+        return "Settings(" + ", ".join(f"{k}={v!r}" for k, v in self.changed().items()) + ")"
+
+    def _repr_html_(self) -> str:
+        from .display import settings_html
+
+        return settings_html(self)
 
     def to_native(self) -> "_core.RenderSettings":
         self.check_constraints()
@@ -283,6 +294,20 @@ class Settings:
             lines.append(f"  {c.rule}\n      {c.why}")
         lines.append("  (allowed) fade_camera_end <= fade_camera_start\n      switches the fade toward the camera off")
         return "\n".join(lines).lstrip("\n")
+
+
+def _suggestion(name: str) -> str:
+    """' (did you mean 'x'?)' for the field nearest to a misspelled name, or ''."""
+    close = difflib.get_close_matches(str(name), list(_FIELDS), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _check_names(names) -> None:
+    """ValueError naming every unknown field, with the nearest field for each."""
+    unknown = sorted(set(names) - set(_FIELDS), key=str)
+    if unknown:
+        raise ValueError("unknown Settings field(s): " + ", ".join(f"{n!r}{_suggestion(n)}" for n in unknown)
+                         + f"; fields: {', '.join(_FIELDS)}")
 
 
 def _check(f: dataclasses.Field, value: Any) -> Any:
@@ -362,6 +387,31 @@ CONSTRAINTS = (
 # Documented, not an error: fade_camera_end <= fade_camera_start switches the camera fade off.
 
 _FIELDS = {f.name: f for f in fields(Settings)}
+
+_dataclass_init = Settings.__init__
+
+
+@functools.wraps(_dataclass_init)
+def _init(self, *args, **kwargs):
+    _check_names(kwargs)  # a misspelled keyword names the nearest field, not just "unexpected keyword"
+    _dataclass_init(self, *args, **kwargs)
+
+
+Settings.__init__ = _init
 _NATIVE_FIELDS = [n for n in _FIELDS if hasattr(_core.RenderSettings(), n)]
+
+
+def _document_native_settings() -> None:
+    """The native RenderSettings mirrors these fields: its properties get their documentation
+    from the one declaration above (unless the bindings give one)."""
+    for name in _NATIVE_FIELDS:
+        prop = vars(_core.RenderSettings).get(name)
+        if isinstance(prop, property) and not (prop.__doc__ or "").strip():
+            m = _FIELDS[name].metadata
+            unit = f" [{m['unit']}]" if m["unit"] else ""
+            prop.__doc__ = f"ssrlab.Settings.{name}{unit}: {m['doc']}"
+
+
+_document_native_settings()
 
 Settings.__doc__ = "Render settings (every field validated; units in brackets).\n\n" + Settings.describe()
