@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'ShaderError', 'embree_intersect', 'read_image', 'write_image']
+__all__: list[str] = ['Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'embree_intersect', 'read_image', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -32,11 +32,14 @@ class Material:
     base_color   linear RGBA, each >= 0 (default (0.8, 0.8, 0.8, 1))
     metallic     0..1
     roughness    perceptual roughness 0..1, as in glTF; GGX alpha = roughness**2
-    reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000, 2.4)
+    reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000, 2.4); or "auto":
+                 the surface reflects as its metallic-roughness parameters say (r = luminance of its
+                 GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
+                 extras load so)
     double_sided back faces show the other side (normals flipped), as glTF's doubleSided
     *_texture    image index in the scene (-1: none); see Scene.add_image
     """
-    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.SupportsFloat | typing.SupportsIndex = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
+    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -113,12 +116,12 @@ class Material:
     def normal_texture(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
-    def reflectivity(self) -> float:
+    def reflectivity(self) -> typing.Any:
         """
-        the thesis's r, 0..1: weight of the reflection in c = r*c_r + (1 - r)*c_d
+        r in [0, 1] of the thesis's composite, or 'auto' (reflects as the metallic-roughness parameters say)
         """
     @reflectivity.setter
-    def reflectivity(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def reflectivity(self, arg1: typing.Any) -> None:
         ...
     @property
     def roughness(self) -> float:
@@ -345,7 +348,7 @@ class Scene:
     """
     def __init__(self) -> None:
         ...
-    def _add_gltf(self, path: str, transform: numpy.ndarray) -> list[int]:
+    def _add_gltf(self, path: str, transform: numpy.ndarray, allow_external_files: bool = False) -> tuple[list[int], list[str]]:
         ...
     def _add_mesh(self, positions: typing.Any, indices: typing.Any, normals: typing.Any, uvs: typing.Any, tangents: typing.Any, material: Material, transform: numpy.ndarray, name: str) -> int:
         ...
@@ -490,12 +493,52 @@ class RenderSettings:
     def backface_culling(self, arg0: bool) -> None:
         ...
     @property
+    def bounces(self) -> str:
+        """
+        ssrlab.Settings.bounces: 'single': rays bring the lit colour of what they hit; 'history' (seed 002, 4.6.4): rays that hit layer 0 bring the previous frame's final colour at the hit's reprojected position (this frame's lit colour where that history is rejected), so mirrors facing mirrors gain a bounce per frame
+        """
+    @bounces.setter
+    def bounces(self, arg1: str) -> None:
+        ...
+    @property
     def composite(self) -> str:
         """
-        ssrlab.Settings.composite: 'linear': c = r c_r + (1 - r) c_d (thesis 2.4.2); 'pbr': c = c_d + r F c_r with Schlick's Fresnel F from metallic and base colour
+        ssrlab.Settings.composite: 'linear': c = r c_r + (1 - r) c_d (thesis 2.4.2); 'pbr': c = c_d + k E c_r, E = F0 A + B the GGX directional albedo (split-sum table integrated by the tracers' sampler), k = r (1 for 'auto' materials): the physically based image
         """
     @composite.setter
     def composite(self, arg1: str) -> None:
+        ...
+    @property
+    def cone_level_bias(self) -> float:
+        """
+        ssrlab.Settings.cone_level_bias [levels]: added to the mip level of every cone / blur_mips colour fetch (level = log2 of the in-circle or footprint radius in pixels, + bias); 1 measured best on hall and spheres_and_boxes at roughness 0.2 (the GGX lobe's tails blur more than its median cone)
+        """
+    @cone_level_bias.setter
+    def cone_level_bias(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def cone_max_samples(self) -> int:
+        """
+        ssrlab.Settings.cone_max_samples [samples]: most in-circles of the screen-space isosceles triangle a cone samples (seed 002, 4.4.5)
+        """
+    @cone_max_samples.setter
+    def cone_max_samples(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def cone_remainder(self) -> str:
+        """
+        ssrlab.Settings.cone_remainder: what fills the share of a cone whose weights (visibility x sphere overlap) stay below 1: 'hit' (the colour of the cone's circle at the hit, since the centre ray proved a surface there) or 'environment' (seed 002 4.4.5's choice; leaks the sky into closed rooms at silhouettes)
+        """
+    @cone_remainder.setter
+    def cone_remainder(self, arg1: str) -> None:
+        ...
+    @property
+    def cone_stretch(self) -> bool:
+        """
+        ssrlab.Settings.cone_stretch: vertically stretched cones at grazing angles (seed 002, 4.6.8): each cone sample's footprint becomes r / sqrt(N.V) along the ray's screen direction and r sqrt(N.V) across it (at most 4:1), read as up to 4 samples along the ray at the narrow side's mip level
+        """
+    @cone_stretch.setter
+    def cone_stretch(self, arg0: bool) -> None:
         ...
     @property
     def depth_mode(self) -> str:
@@ -576,6 +619,14 @@ class RenderSettings:
         """
     @fade_distance_start.setter
     def fade_distance_start(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def glossy(self) -> str:
+        """
+        ssrlab.Settings.glossy: how rough surfaces blur the reflection: 'stochastic' (rays_per_pixel GGX rays drawn by `sampling`, then the resolve); 'cone' (one mirror ray per pixel traced by `method`, then a cone marched through the pre-convolved colour and pre-integrated visibility mips with the Hi-Z, seed 002 4.4.5; the cone's half-angle holds ssrlab.glossy.CONE_ENERGY of the GGX lobe); 'blur_mips' (one mirror ray, the pre-convolved colour at a mip level from roughness and hit distance, seed 004). cone and blur_mips ignore rays_per_pixel, sampling and the resolve
+        """
+    @glossy.setter
+    def glossy(self, arg1: str) -> None:
         ...
     @property
     def hammersley(self) -> bool:
@@ -714,6 +765,30 @@ class RenderSettings:
     def refine_steps(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
+    def reject_depth(self) -> float:
+        """
+        ssrlab.Settings.reject_depth [relative]: history is rejected where the previous view depth at the reprojected position differs from the point's by more than this share of it (disocclusion); 0 turns the test off
+        """
+    @reject_depth.setter
+    def reject_depth(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def reject_normal(self) -> float:
+        """
+        ssrlab.Settings.reject_normal [cos]: history is rejected where the cosine between this and the previous normal is below this; -1 turns the test off
+        """
+    @reject_normal.setter
+    def reject_normal(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def reject_offscreen(self) -> bool:
+        """
+        ssrlab.Settings.reject_offscreen: reject history whose reprojected position lies outside the previous image (False: clamp to its edge)
+        """
+    @reject_offscreen.setter
+    def reject_offscreen(self, arg0: bool) -> None:
+        ...
+    @property
     def reuse_radius(self) -> int:
         """
         ssrlab.Settings.reuse_radius [trace pixels]: neighbour rays each pixel reuses: 0 none, 1 the thesis's 3x3, 2 a 5x5
@@ -786,6 +861,38 @@ class RenderSettings:
     def stride(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def taa(self) -> str:
+        """
+        ssrlab.Settings.taa: temporal anti-aliasing of the final image over a sequence (frame.color): 'thesis' (seed 000 2.5: two alternating quarter-pixel jitters, the mean of this and the previous frame, no reprojection), 'clamped' (Halton(2,3) jitter, reprojected history clamped to the YCoCg min/max of the 3x3 neighbourhood) or 'off'
+        """
+    @taa.setter
+    def taa(self, arg1: str) -> None:
+        ...
+    @property
+    def taa_history_weight(self) -> float:
+        """
+        ssrlab.Settings.taa_history_weight: taa='clamped': weight of the clamped history in the blend (the current frame gets the rest)
+        """
+    @taa_history_weight.setter
+    def taa_history_weight(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def temporal_max_history(self) -> int:
+        """
+        ssrlab.Settings.temporal_max_history [frames]: history length cap n_max: the current frame weighs 1/n with n = min(frames of valid history + 1, n_max), i.e. the plain mean of the last frames up to n_max, then an exponential average whose history weight is 1 - 1/n_max
+        """
+    @temporal_max_history.setter
+    def temporal_max_history(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def temporal_reflections(self) -> bool:
+        """
+        ssrlab.Settings.temporal_reflections: accumulate the resolved reflection over a sequence's frames: the reproject and temporal passes; the composite uses the accumulation (frame.reflection). Each frame of a sequence draws new rays (seed + frame index)
+        """
+    @temporal_reflections.setter
+    def temporal_reflections(self, arg0: bool) -> None:
+        ...
+    @property
     def thickness(self) -> float:
         """
         ssrlab.Settings.thickness [world units]: how far behind its depth every G-buffer sample counts as solid; a ray hits layer k where it lies within [depth_k, depth_k + thickness]
@@ -817,6 +924,20 @@ class RenderSettings:
     @width.setter
     def width(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
+class Sequence:
+    """
+    The history of a sequence of frames.
+    """
+    @property
+    def frames(self) -> int:
+        """
+        frames rendered in this sequence so far
+        """
+    @property
+    def has_history(self) -> bool:
+        """
+        True once a frame of the sequence can serve as the next one's history
+        """
 class Frame:
     """
     A rendered frame's textures on the GPU; use ssrlab.Frame, which wraps it.
@@ -829,10 +950,19 @@ class Frame:
         """
         Reads every layer of a texture's mip level as float32 (layers, height, width, 4); row 0 = top.
         """
+    def release(self) -> None:
+        """
+        Frees the frame's own textures now; later reads raise.
+        """
     @property
     def camera(self) -> Camera:
         """
         the camera the frame was rendered from
+        """
+    @property
+    def gpu_bytes(self) -> int:
+        """
+        Bytes of the frame's own textures.
         """
     @property
     def layer_samples(self) -> list[int]:
@@ -848,6 +978,11 @@ class Frame:
     def projection_matrix(self) -> numpy.ndarray:
         """
         view -> clip matrix (4x4) in the frame's depth convention
+        """
+    @property
+    def released(self) -> bool:
+        """
+        True once release() freed the frame's textures
         """
     @property
     def shadow_matrix(self) -> numpy.ndarray:
@@ -874,12 +1009,21 @@ class Frame:
         """
         CPU milliseconds of the render call, until the GPU finished
         """
+    @property
+    def warmup_runs(self) -> int:
+        """
+        Untimed runs of the chain before the timed one: 1 when this variant (passes, texture sizes, defines, scene) was new to the renderer, so compilation and first-use costs were paid outside the timers.
+        """
 class Renderer:
     """
     A headless EGL/OpenGL 4.5 renderer; use ssrlab.Renderer, which wraps it.
     """
     def __init__(self, device: str = 'auto', *, shader_dir: str) -> None:
         ...
+    def begin_sequence(self) -> typing.Sequence:
+        """
+        A new sequence: frames rendered with it read the previous frame's textures (temporal passes); its history is dropped with it.
+        """
     def check_gl(self) -> None:
         """
         Raises GLError if GL reported an error since the last check.
@@ -892,18 +1036,41 @@ class Renderer:
         """
         Vendor, renderer, GL version and the device chosen.
         """
-    def reference(self, scene: Scene, frame: Frame, mode: str, rays: typing.SupportsInt | typing.SupportsIndex = 256, seed: typing.SupportsInt | typing.SupportsIndex = 0, sampling: str = 'vndf', viewer: str = 'camera') -> dict[str, float]:
+    def recycle(self, force: bool = True) -> None:
+        """
+        Frees idle texture sets beyond the pool and returns freed heap memory to the OS.
+        """
+    def reference(self, scene: Scene, frame: Frame, mode: str, rays: typing.SupportsInt | typing.SupportsIndex = 256, seed: typing.SupportsInt | typing.SupportsIndex = 0, sampling: str = 'vndf', viewer: str = 'ray', shadows: str = 'traced') -> dict[str, float]:
         """
         Traces the reference pass for a frame ('per_ray' or 'converged'); returns its GPU milliseconds.
         """
-    def render(self, scene: Scene, camera: Camera, settings: RenderSettings) -> Frame:
+    def render(self, scene: Scene, camera: Camera, settings: RenderSettings, sequence: typing.Sequence = None) -> Frame:
         """
-        Runs the chain of passes; returns the Frame.
+        Runs the chain of passes; returns the Frame (with a sequence: reads and becomes its history).
         """
     def sample_reflections(self, sampling: str, alpha: typing.SupportsFloat | typing.SupportsIndex, view: tuple[float, ...], count: typing.SupportsInt | typing.SupportsIndex, seed: typing.SupportsInt | typing.SupportsIndex = 0, stratified: bool = False) -> typing.Any:
         """
         Reflection directions from the tracers' GLSL sampler: (count, 8) float32, columns 0-2 l, 3 weight,
         4 pdf, 5-6 the uniform numbers (see ssrlab.Renderer.sample_reflections).
+        """
+    def specular_albedo_table(self) -> typing.Any:
+        """
+        The split-sum table (A, B) of the GGX directional albedo E = F0 A + B that the pbr composite and glTF materials' reflectivity use: float32 (32, 32, 2), rows perceptual roughness 0..1, columns n.v 0..1 (cell centres at both ends), integrated with the tracers' own VNDF sampler.
+        """
+    @property
+    def compiled_programs(self) -> int:
+        """
+        Shader programs this renderer has compiled (each once per variant).
+        """
+    @property
+    def gpu_bytes(self) -> int:
+        """
+        Bytes of every frame texture set (live or pooled) and the shared scratch.
+        """
+    @property
+    def scratch_bytes(self) -> int:
+        """
+        Bytes of the per-renderer scratch textures (shadow map, Hi-Z pyramid)
         """
 def embree_intersect(scene: Scene, origins: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t_min: typing.SupportsFloat | typing.SupportsIndex = 0.0, t_max: typing.SupportsFloat | typing.SupportsIndex = 1.0000000150474662e+30) -> dict:
     """
