@@ -203,11 +203,14 @@ def methods(scale: str | None = None, *, progress: bool = False, executor=None):
     for s in METHOD_SCENES:
         t = [pick(s, ro, "cone").get("gpu_cone_trace_ms") or 0.0 for ro in METHOD_ROUGHNESS]
         held.append(all(b <= a * 1.05 for a, b in zip(t, t[1:])))
-        findings.append(experiments.Finding(
-            "seed 002, 4.4.5", f"the larger the cone, the faster it runs ({s})",
-            "cone_trace " + ", ".join(f"{x:.2f}" for x in t) + f" ms at roughness "
+        # A timing trend is judged only beyond the repeats' spread (ssrlab.experiments.timing_doubt).
+        doubt = experiments.timing_doubt([pick(s, ro, "cone") for ro in METHOD_ROUGHNESS], "gpu_cone_trace_ms")
+        ours, verdict = experiments._judged(
+            "cone_trace " + ", ".join(f"{x:.2f}" for x in t) + " ms at roughness "
             + ", ".join(f"{x:g}" for x in METHOD_ROUGHNESS) + f" ({p['repeats']} timed run{'s' if p['repeats'] > 1 else ''})",
-            "agree" if held[-1] else "disagree"))
+            "agree" if held[-1] else "disagree", [doubt])
+        findings.append(experiments.Finding(
+            "seed 002, 4.4.5", f"the larger the cone, the faster it runs ({s})", ours, verdict))
     exp = experiments.Experiment("glossy methods", p["name"], {"converged": rows}, findings,
                                  experiments._device({"converged": rows}))
     ratios = [r["gpu_cone_trace_ms"] / r["gpu_trace_hiz_ms"] for r in rows
