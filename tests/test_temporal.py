@@ -128,6 +128,25 @@ def test_history_is_dropped_between_sequences(renderer):
     np.testing.assert_array_equal(single.color, b[0].color)
 
 
+def test_ray_reuse_over_time_lowers_the_error_of_one_ray_glossy_reflections(renderer):
+    # Seed 000, 4.4: the previous frame's rays of the reprojected pixel's neighbourhood join the
+    # resolve, doubling the rays each pixel averages. Static camera, 1 ray, roughness 0.2.
+    scene = scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=0.2)
+    s = ssrlab.Settings(width=96, height=64, shadow_map_size=512, rays_per_pixel=1)
+    cams = [scene.camera] * 4
+    off = list(renderer.render_sequence(scene, cams, s))
+    on = list(renderer.render_sequence(scene, cams, s.replace(temporal_ray_reuse=True)))
+    assert "reproject" in on[1].passes and "reproject" not in off[1].passes
+    np.testing.assert_array_equal(on[0].color, off[0].color)  # frame 0: no previous rays
+    ref = off[-1].reference("converged", rays=64)
+    mask = ref.reflective & (off[-1].gbuffer.roughness[0] > 0.1)
+    assert mask.sum() > 1000
+    e_off = [metrics.rmse(f.reflection, ref.reflection, mask) for f in off[1:]]
+    e_on = [metrics.rmse(f.reflection, ref.reflection, mask) for f in on[1:]]
+    print("rmse per frame 1..3: reuse off", np.round(e_off, 4), "on", np.round(e_on, 4))
+    assert max(e_on) < min(e_off)
+
+
 # -- TAA -------------------------------------------------------------------------------------------------
 def _halton(i, b):
     f, r = 1.0, 0.0

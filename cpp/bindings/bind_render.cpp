@@ -70,6 +70,7 @@ void bind_render(py::module_& m) {
         .def_readwrite("fade_distance_end", &RenderSettings::fade_distance_end)
         .def_readwrite("roughness_cutoff", &RenderSettings::roughness_cutoff)
         .def_readwrite("temporal_reflections", &RenderSettings::temporal_reflections)
+        .def_readwrite("temporal_ray_reuse", &RenderSettings::temporal_ray_reuse)
         .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
         .def_readwrite("reject_depth", &RenderSettings::reject_depth)
         .def_readwrite("reject_normal", &RenderSettings::reject_normal)

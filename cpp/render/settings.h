@@ -84,6 +84,7 @@ struct RenderSettings {
     TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
     float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
     Bounces bounces = Bounces::Single;   // history: hits fetch the previous final colour (seed 002, 4.6.4)
+    bool temporal_ray_reuse = false;     // resolve also reuses the previous frame's reprojected rays (seed 000, 4.4)
 
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }

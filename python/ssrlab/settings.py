@@ -185,6 +185,11 @@ class Settings:
         "hit layer 0 bring the previous frame's final colour at the hit's reprojected position (this frame's "
         "lit colour where that history is rejected), so mirrors facing mirrors gain a bounce per frame",
         choices=("single", "history"), group="temporal")
+    temporal_ray_reuse: bool = _setting(
+        False, "ray-result reuse over time (seed 000, 4.4): the resolve also takes the previous frame's rays of "
+        "the reprojected pixel's reuse neighbourhood as extra neighbours (their hits shaded with the previous "
+        "frame's lit colour), doubling the rays each pixel averages; where the reprojection rejects the "
+        "history (Settings.reject_*), only this frame's rays count", group="temporal")
 
     # ---------------------------------------------------------------------------------------------
     def __setattr__(self, name: str, value: Any) -> None:
