@@ -74,6 +74,7 @@ void bind_render(py::module_& m) {
         .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
         .def_readwrite("reject_depth", &RenderSettings::reject_depth)
         .def_readwrite("reject_normal", &RenderSettings::reject_normal)
+        .def_readwrite("temporal_clamp", &RenderSettings::temporal_clamp)
         .def_readwrite("reject_offscreen", &RenderSettings::reject_offscreen)
         .def_readwrite("taa_history_weight", &RenderSettings::taa_history_weight)
         .def_property("taa", enum_getter(&RenderSettings::taa), enum_setter("taa", &RenderSettings::taa))

@@ -79,6 +79,7 @@ struct RenderSettings {
     bool temporal_reflections = false;   // reproject + temporal passes: accumulate the resolved reflection
     int temporal_max_history = 32;       // frames; the current frame weighs 1 / min(history, this)
     float reject_depth = 0.05f;          // relative depth difference that rejects history; 0: off
+    float temporal_clamp = 0.0f;         // reflection history clamped to mean +- this many sigma (YCoCg); 0: off
     float reject_normal = 0.9f;          // minimum normal cosine that keeps history; -1: off
     bool reject_offscreen = true;        // history outside the previous image is rejected
     TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)

@@ -172,6 +172,11 @@ class Settings:
     reject_offscreen: bool = _setting(
         True, "reject history whose reprojected position lies outside the previous image (False: clamp to "
         "its edge)", group="temporal")
+    temporal_clamp: float = _setting(
+        0.0, "neighbourhood variance clamp of the reflection history (Salvi 2016): the reprojected history is "
+        "clamped to this frame's 3x3 mean +- this many standard deviations in YCoCg, which removes the ghost "
+        "trails of view-dependent reflections under camera motion that depth/normal rejection cannot see; "
+        "0 turns it off (a static camera converges best without it)", "sigma", 0.0, 16.0, group="temporal")
     taa: str = _setting(
         "off", "temporal anti-aliasing of the final image over a sequence (frame.color): 'thesis' (seed 000 2.5: "
         "two alternating quarter-pixel jitters, the mean of this and the previous frame, no reprojection), "
