@@ -147,6 +147,22 @@ def test_ray_reuse_over_time_lowers_the_error_of_one_ray_glossy_reflections(rend
     assert max(e_on) < min(e_off)
 
 
+def test_moving_camera_history_with_rejection_stays_within_the_ghost_margin(renderer):
+    # The documented path over hall (ssrlab.sequence.hall_path): with every rejection on, the
+    # accumulated reflection's error never exceeds the frame-alone error by more than
+    # GHOST_MARGIN on any frame; without rejection it does (the ghost trails, measured).
+    from ssrlab import sequence
+    scene = scenes.hall()
+    base = ssrlab.Settings(width=96, height=54, shadow_map_size=512, rays_per_pixel=1, temporal_max_history=8)
+    err = sequence.moving_camera_errors(renderer, scene, sequence.hall_path(8),
+                                        sequence.history_configurations(base), reference_rays=32)
+    excess = {k: float((v - err["no history"]).max()) for k, v in err.items()}
+    print({k: np.round(v, 4).tolist() for k, v in err.items()}, excess)
+    assert excess["rejection"] <= sequence.GHOST_MARGIN
+    assert excess["no rejection"] > 4 * sequence.GHOST_MARGIN
+    assert err["rejection"].mean() < err["no history"].mean()  # and the history still helps
+
+
 # -- TAA -------------------------------------------------------------------------------------------------
 def _halton(i, b):
     f, r = 1.0, 0.0
