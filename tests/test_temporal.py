@@ -370,3 +370,29 @@ def test_cli_renders_a_sequence_along_a_path(tmp_path):
     assert png.shape[:2] == (40, 64)
     bad = subprocess.run(args[:-2] + ["--path", "0,2", "--out", str(tmp_path / "bad")], capture_output=True, text=True)
     assert bad.returncode != 0 and "--path" in bad.stderr
+
+
+# -- benchmark sweeps of sequences -------------------------------------------------------------------------
+def test_sweep_renders_sequences_and_scores_their_last_frame(renderer, tmp_path):
+    from pathlib import Path
+
+    from ssrlab import bench
+    from ssrlab.reference import reference_image
+    cfg = bench.load_sweep(Path(__file__).resolve().parents[1] / "benchmarks/sweeps/thesis_config.toml")
+    assert cfg["frames"] > 1 and cfg["grid"]["taa"] == ["off", "thesis"]
+    bench.plan_sweep(cfg["grid"], cfg["scenes"], None, cfg["base"])  # every configuration is valid
+    with pytest.raises(ValueError, match="frames"):
+        bench.sweep({}, ["mirror_test"], frames=0, progress=False)
+    base = dict(width=64, height=48, shadow_map_size=256, rays_per_pixel=4, downscale=2, stride=4.0, max_steps=250)
+    rows = bench.sweep({"taa": ["thesis"]}, ["mirror_test"], base=base, repeats=1, warmup=0, frames=3,
+                       reference="converged", reference_rays=4, progress=False, cache_folder=tmp_path, device="cpu")
+    row = rows[0]
+    assert row["frames"] == 3 and "gpu_taa_ms" in row
+    # The row scores the sequence's last frame (TAA'd) against the unjittered reference.
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(taa="thesis", **base)
+    last = list(renderer.render_sequence(scene, [scene.camera] * 3, s))[-1]
+    ref = reference_image(renderer, scene, scene.camera, s.replace(taa="off"), kind="converged", rays=4,
+                          cache=True, folder=str(tmp_path))
+    expect = metrics.image_metrics(last.color, ref.color, np.asarray(ref.reflective, bool))
+    assert row["rmse"] == pytest.approx(expect["rmse"], rel=1e-5)
