@@ -17,6 +17,7 @@ NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
     ("thesis_layers", ["thesis_layers.png", "thesis_layers_pareto.png"]),
     ("thesis_downscale_rays_stride", ["thesis_downscale_rays_stride.png"]),
     ("hiz_vs_linear", ["hiz_vs_linear.png"]),
+    ("temporal", ["temporal.png"]),
 ])
 def test_notebook_runs_at_reduced_size(name, figures, tmp_path, monkeypatch):
     if name == "thesis_layers":
