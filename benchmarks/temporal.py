@@ -1,6 +1,8 @@
 """Temporal accumulation of reflections (issue 10): a static camera's sequence of 1-ray frames
 against single frames of more rays, all measured against one converged reference (64 rays), and
-the reproject and temporal passes' GPU time as a share of the frame.
+the reproject and temporal passes' GPU time as a share of the frame; ray-result reuse over time
+(temporal_ray_reuse) against the same rays without it; TAA against supersampling; and the cost
+of every temporal pass as a share of the frame, all techniques on, over hall.
 
     python benchmarks/temporal.py --width 160 --height 96 --frames 16
 """
@@ -53,6 +55,41 @@ def main() -> None:
         total = statistics.median(f.timings["total"] for f in frames[1:])
         print(f"  taa={taa!r} after {args.frames} frames: {metrics.rmse(frames[-1].color, truth):.4f}; "
               f"reproject + taa {ms:.3f} ms of {total:.3f} ms ({100 * ms / total:.1f} %)")
+
+    # Ray-result reuse over time (seed 000, 4.4): 1 ray per frame, the previous frame's rays join.
+    scene = scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=args.roughness)
+    s = ssrlab.Settings(width=args.width, height=args.height, shadow_map_size=512, rays_per_pixel=1)
+    n = min(args.frames, 8)
+    off = list(r.render_sequence(scene, [scene.camera] * n, s))
+    on = list(r.render_sequence(scene, [scene.camera] * n, s.replace(temporal_ray_reuse=True)))
+    ref = off[-1].reference("converged", rays=64)
+    mask = ref.reflective & (off[-1].gbuffer.roughness[0] > 0.1)
+    e_off = statistics.mean(metrics.rmse(f.reflection, ref.reflection, mask) for f in off[1:])
+    e_on = statistics.mean(metrics.rmse(f.reflection, ref.reflection, mask) for f in on[1:])
+    two = statistics.mean(metrics.rmse(r.render(scene, settings=s.replace(rays_per_pixel=2, seed=k)).reflection,
+                                       ref.reflection, mask) for k in range(1, n))
+    res_off = statistics.median(f.timings["resolve"] for f in off[1:])
+    res_on = statistics.median(f.timings["resolve"] for f in on[1:])
+    print(f"ray reuse over time, mean rmse of frames 2..{n}: off {e_off:.4f}, on {e_on:.4f} "
+          f"(2-ray frames {two:.4f}); resolve {res_off:.3f} -> {res_on:.3f} ms")
+
+    # Every temporal pass's share of the frame, all techniques on, over hall.
+    scene = scenes.hall()
+    s = ssrlab.Settings(width=args.width, height=args.height, shadow_map_size=1024, rays_per_pixel=1,
+                        temporal_reflections=True, temporal_clamp=1.0, temporal_ray_reuse=True,
+                        bounces="history", taa="clamped")
+    frames = list(r.render_sequence(scene, [scene.camera] * args.frames, s))
+    plain = list(r.render_sequence(scene, [scene.camera] * args.frames, s.replace(
+        temporal_reflections=False, temporal_ray_reuse=False, bounces="single", taa="off")))
+    med = {k: statistics.median(f.timings[k] for f in frames[1:]) for k in ("reproject", "temporal", "taa", "resolve", "total")}
+    res0 = statistics.median(f.timings["resolve"] for f in plain[1:])
+    tot0 = statistics.median(f.timings["total"] for f in plain[1:])
+    print(f"hall, {args.width}x{args.height}, all temporal techniques on, GPU ms (median of frames 2..{args.frames}):")
+    for k in ("reproject", "temporal", "taa"):
+        print(f"  {k}: {med[k]:.3f} ms, {100 * med[k] / med['total']:.1f} % of the frame")
+    print(f"  resolve with ray reuse and bounces from history: {med['resolve']:.3f} ms vs {res0:.3f} ms without "
+          f"(+{100 * (med['resolve'] - res0) / med['total']:.1f} % of the frame)")
+    print(f"  frame: {med['total']:.3f} ms vs {tot0:.3f} ms with every temporal technique off")
 
 
 if __name__ == "__main__":

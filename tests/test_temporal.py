@@ -128,6 +128,41 @@ def test_history_is_dropped_between_sequences(renderer):
     np.testing.assert_array_equal(single.color, b[0].color)
 
 
+def test_ray_reuse_over_time_lowers_the_error_of_one_ray_glossy_reflections(renderer):
+    # Seed 000, 4.4: the previous frame's rays of the reprojected pixel's neighbourhood join the
+    # resolve, doubling the rays each pixel averages. Static camera, 1 ray, roughness 0.2.
+    scene = scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=0.2)
+    s = ssrlab.Settings(width=96, height=64, shadow_map_size=512, rays_per_pixel=1)
+    cams = [scene.camera] * 4
+    off = list(renderer.render_sequence(scene, cams, s))
+    on = list(renderer.render_sequence(scene, cams, s.replace(temporal_ray_reuse=True)))
+    assert "reproject" in on[1].passes and "reproject" not in off[1].passes
+    np.testing.assert_array_equal(on[0].color, off[0].color)  # frame 0: no previous rays
+    ref = off[-1].reference("converged", rays=64)
+    mask = ref.reflective & (off[-1].gbuffer.roughness[0] > 0.1)
+    assert mask.sum() > 1000
+    e_off = [metrics.rmse(f.reflection, ref.reflection, mask) for f in off[1:]]
+    e_on = [metrics.rmse(f.reflection, ref.reflection, mask) for f in on[1:]]
+    print("rmse per frame 1..3: reuse off", np.round(e_off, 4), "on", np.round(e_on, 4))
+    assert max(e_on) < min(e_off)
+
+
+def test_moving_camera_history_with_rejection_stays_within_the_ghost_margin(renderer):
+    # The documented path over hall (ssrlab.sequence.hall_path): with every rejection on, the
+    # accumulated reflection's error never exceeds the frame-alone error by more than
+    # GHOST_MARGIN on any frame; without rejection it does (the ghost trails, measured).
+    from ssrlab import sequence
+    scene = scenes.hall()
+    base = ssrlab.Settings(width=96, height=54, shadow_map_size=512, rays_per_pixel=1, temporal_max_history=8)
+    err = sequence.moving_camera_errors(renderer, scene, sequence.hall_path(8),
+                                        sequence.history_configurations(base), reference_rays=32)
+    excess = {k: float((v - err["no history"]).max()) for k, v in err.items()}
+    print({k: np.round(v, 4).tolist() for k, v in err.items()}, excess)
+    assert excess["rejection"] <= sequence.GHOST_MARGIN
+    assert excess["no rejection"] > 4 * sequence.GHOST_MARGIN
+    assert err["rejection"].mean() < err["no history"].mean()  # and the history still helps
+
+
 # -- TAA -------------------------------------------------------------------------------------------------
 def _halton(i, b):
     f, r = 1.0, 0.0
@@ -216,6 +251,78 @@ def test_bounces_from_history_fetch_the_previous_final_colour(renderer):
     assert np.abs(prev - lit).max() > 0.05  # the wall's final colour differs from its lit colour
 
 
+MIRROR_R = 0.7
+
+
+def _mirror_corridor():
+    # Two parallel mirror walls facing each other (black, so their own lit colour is 0 and their
+    # final colour is r times their reflection), a red box between them lit by ambient light
+    # only, a black environment: any light a wall shows came from the box over n reflections.
+    s = ssrlab.Scene()
+    s.name = "mirror_corridor"
+    wall = ssrlab.Material(base_color=(0.0, 0.0, 0.0), roughness=0.0, metallic=0.0, reflectivity=MIRROR_R)
+    s.add_box((-1.1, 1.5, -4), (0.2, 3, 14), name="left", material=wall)
+    s.add_box((1.1, 1.5, -4), (0.2, 3, 14), name="right", material=wall)
+    s.add_box((0, 1.5, -8), (0.9, 1.2, 0.9), name="red", material=ssrlab.Material(base_color=(0.9, 0.1, 0.1)))
+    s.ambient = (1.0, 1.0, 1.0)
+    s.environment = ssrlab.Environment.constant((0.0, 0.0, 0.0))
+    s.camera = ssrlab.Camera(position=(0.3, 1.5, 3), target=(0, 1.5, -8), fov_y=60)
+    return s
+
+
+def _bounce_chains(frame):
+    """Per pixel, how many mirror reflections its ray chain makes before it reaches the box
+    (0: it never does), following each wall pixel's mirror ray to the pixel it hit, and the
+    box's lit colour where the chain ends."""
+    h, w = frame.settings.height, frame.settings.width
+    oid, lit, rays = frame.gbuffer.object_id[0], frame.gbuffer.lit[0], frame.rays
+    hp = np.floor(rays.hit_pixel[0]).astype(int)
+    ok = rays.hit[0] & (rays.hit_layer[0] == 1) & (rays.fade[0] > 0.999) & rays.traced
+    n = np.zeros((h, w), int)
+    end = np.zeros((h, w, 3), np.float32)
+    for i, j in zip(*np.nonzero(oid <= 1)):
+        k, y, x = 0, i, j
+        while k < 6 and oid[y, x] <= 1 and ok[y, x]:
+            k += 1
+            x, y = min(max(hp[y, x, 0], 0), w - 1), min(max(hp[y, x, 1], 0), h - 1)
+        if oid[y, x] == 2 and k > 0:
+            n[i, j], end[i, j] = k, lit[y, x]
+    return n, end
+
+
+def test_facing_mirrors_gain_one_bounce_per_frame_from_history(renderer):
+    # What is checked: the n-th bounce region (wall pixels whose chain of mirror rays reaches the
+    # box after n reflections, found from the traced rays themselves) shows r^n times the box's
+    # lit colour where the chain ends (the analytic radiance of n mirror reflections with
+    # reflectivity r and black walls) from frame n-1 on, within 3 % (median) and 10 % (80 % of
+    # its pixels); before that, and in every frame with bounces="single", it shows nothing.
+    # The converged reference traces one bounce, so the expectation is analytic.
+    scene = _mirror_corridor()
+    s = ssrlab.Settings(width=160, height=96, shadow_map_size=256, sampling="mirror", bounces="history")
+    frames = list(renderer.render_sequence(scene, [scene.camera] * 3, s))
+    single = list(renderer.render_sequence(scene, [scene.camera] * 3, s.replace(bounces="single")))
+    n, end = _bounce_chains(frames[-1])
+    red = 0  # the red channel carries the box's light
+    for k in (1, 2, 3):
+        region = n == k
+        assert region.sum() > 100, (k, region.sum())
+        expect = MIRROR_R ** k * end[region, red]
+        assert expect.min() > 0.2
+        for f, (hist, one) in enumerate(zip(frames, single)):
+            got = hist.color[region, red]
+            if f >= k - 1:  # the k-th bounce has arrived
+                rel = np.abs(got - expect) / expect
+                print(f"bounce {k} frame {f}: {np.median(got):.4f} vs r^{k} L = {np.median(expect):.4f}")
+                assert np.median(rel) < 0.03 and np.mean(rel < 0.10) > 0.8, (k, f, np.median(rel))
+            else:
+                assert np.median(got) < 0.01, (k, f)
+            bounced = one.color[region, red]
+            if k == 1:
+                np.testing.assert_allclose(bounced, got, atol=1e-4)
+            else:
+                assert np.median(bounced) < 0.01, (k, f)  # bounces off: never more than one
+
+
 def test_reprojection_rejects_disoccluded_history_by_depth(renderer):
     scene = scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=0.2)
     s = ssrlab.Settings(width=96, height=64, shadow_map_size=256, temporal_reflections=True)
@@ -263,3 +370,29 @@ def test_cli_renders_a_sequence_along_a_path(tmp_path):
     assert png.shape[:2] == (40, 64)
     bad = subprocess.run(args[:-2] + ["--path", "0,2", "--out", str(tmp_path / "bad")], capture_output=True, text=True)
     assert bad.returncode != 0 and "--path" in bad.stderr
+
+
+# -- benchmark sweeps of sequences -------------------------------------------------------------------------
+def test_sweep_renders_sequences_and_scores_their_last_frame(renderer, tmp_path):
+    from pathlib import Path
+
+    from ssrlab import bench
+    from ssrlab.reference import reference_image
+    cfg = bench.load_sweep(Path(__file__).resolve().parents[1] / "benchmarks/sweeps/thesis_config.toml")
+    assert cfg["frames"] > 1 and cfg["grid"]["taa"] == ["off", "thesis"]
+    bench.plan_sweep(cfg["grid"], cfg["scenes"], None, cfg["base"])  # every configuration is valid
+    with pytest.raises(ValueError, match="frames"):
+        bench.sweep({}, ["mirror_test"], frames=0, progress=False)
+    base = dict(width=64, height=48, shadow_map_size=256, rays_per_pixel=4, downscale=2, stride=4.0, max_steps=250)
+    rows = bench.sweep({"taa": ["thesis"]}, ["mirror_test"], base=base, repeats=1, warmup=0, frames=3,
+                       reference="converged", reference_rays=4, progress=False, cache_folder=tmp_path, device="cpu")
+    row = rows[0]
+    assert row["frames"] == 3 and "gpu_taa_ms" in row
+    # The row scores the sequence's last frame (TAA'd) against the unjittered reference.
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(taa="thesis", **base)
+    last = list(renderer.render_sequence(scene, [scene.camera] * 3, s))[-1]
+    ref = reference_image(renderer, scene, scene.camera, s.replace(taa="off"), kind="converged", rays=4,
+                          cache=True, folder=str(tmp_path))
+    expect = metrics.image_metrics(last.color, ref.color, np.asarray(ref.reflective, bool))
+    assert row["rmse"] == pytest.approx(expect["rmse"], rel=1e-5)

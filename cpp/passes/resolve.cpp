@@ -1,5 +1,7 @@
 #include "passes/resolve.h"
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "passes/compute.h"
 
 namespace ssr {
@@ -10,8 +12,34 @@ void ResolvePass::execute(FrameContext& ctx) {
     const bool bounce_history = ctx.settings.bounces == Bounces::History;
     Defines d = ctx.defines;
     d["BOUNCES_HISTORY"] = bounce_history ? "1" : "0";
+    // Ray-result reuse over time (seed 000, 4.4): the previous frame's rays of the same trace grid.
+    const bool ray_reuse = ctx.settings.temporal_ray_reuse;
+    d["TEMPORAL_RAY_REUSE"] = ray_reuse ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/resolve.comp"}, d);
     glUseProgram(prog);
+    if (ray_reuse) {
+        const FrameResources* h = ctx.history;
+        const bool history = h && ctx.history_uniforms && h->has("rays.hit") && h->has("lit") &&
+                             h->get("rays.hit").width() == r.get("rays.hit").width() &&
+                             h->get("rays.hit").height() == r.get("rays.hit").height() &&
+                             h->get("lit").layers() == r.get("lit").layers();
+        glm::mat4 prev_to_view(1.0f);
+        glm::vec4 prev_proj(1.0f, 1.0f, 0.0f, 0.0f);
+        if (history) {
+            // V_curr * V_prev^-1 in double precision (identity for a static camera), and the
+            // previous (jittered) projection the previous rays were traced with.
+            const FrameUniforms& hu = *ctx.history_uniforms;
+            prev_to_view = glm::mat4(glm::dmat4(ctx.uniforms.view) * glm::inverse(glm::dmat4(hu.view)));
+            prev_proj = glm::vec4(hu.proj[0][0], hu.proj[1][1], hu.proj[2][0], hu.proj[2][1]);
+        }
+        glUniform1i(glGetUniformLocation(prog, "u_has_previous_rays"), history ? 1 : 0);
+        glUniformMatrix4fv(glGetUniformLocation(prog, "u_previous_view_to_view"), 1, GL_FALSE, glm::value_ptr(prev_to_view));
+        glUniform4fv(glGetUniformLocation(prog, "u_previous_proj"), 1, glm::value_ptr(prev_proj));
+        const FrameResources& src = history ? *h : r;  // stand-ins are never read without history
+        const char* prev[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"};
+        for (GLuint i = 0; i < 6; ++i) glBindTextureUnit(10 + i, src.get(prev[i]).id());
+        glBindTextureUnit(8, r.get("reprojection").id());
+    }
     if (bounce_history) {
         const bool history = ctx.history && ctx.history->has("color");
         glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);

@@ -11,6 +11,7 @@ void TemporalPass::execute(FrameContext& ctx) {
     const bool history = ctx.history && ctx.history->has("reflection.temporal");
     glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
     glUniform1i(glGetUniformLocation(prog, "u_max_history"), ctx.settings.temporal_max_history);
+    glUniform1f(glGetUniformLocation(prog, "u_clamp_gamma"), ctx.settings.temporal_clamp);
     glBindTextureUnit(0, r.get("reflection").id());
     glBindTextureUnit(1, r.get("reprojection").id());
     // Without history this frame's reflection stands in (never read: u_has_history = 0).

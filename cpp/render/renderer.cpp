@@ -114,8 +114,8 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     chain.push_back(&depth_peel_);
     chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
     // Frames in time (issue 10): reprojection whenever a temporal technique is on, before the
-    // resolve (bounces="history" reads it there).
-    if (s.temporal_reflections || s.taa != TaaMode::Off || s.bounces == Bounces::History) chain.push_back(&reproject_);
+    // resolve (bounces="history" and temporal_ray_reuse read it there).
+    if (s.temporal_reflections || s.taa != TaaMode::Off || s.bounces == Bounces::History || s.temporal_ray_reuse) chain.push_back(&reproject_);
     if (reflections) {
         // glossy="cone" needs the min-max pyramid whatever tracer follows the mirror ray.
         const bool hiz = s.method == TraceMethod::Hiz || s.glossy == Glossy::Cone;

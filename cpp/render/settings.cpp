@@ -160,6 +160,7 @@ void RenderSettings::validate() const {
     range(temporal_max_history, 1, 1024, "temporal_max_history");
     range(reject_depth, 0, 10, "reject_depth");
     range(reject_normal, -1, 1, "reject_normal");
+    range(temporal_clamp, 0, 16, "temporal_clamp");
     range(taa_history_weight, 0, 0.99, "taa_history_weight");
     range(cone_max_samples, 1, 64, "cone_max_samples");
     range(cone_level_bias, -4, 4, "cone_level_bias");

@@ -81,11 +81,13 @@ struct RenderSettings {
     bool temporal_reflections = false;   // reproject + temporal passes: accumulate the resolved reflection
     int temporal_max_history = 32;       // frames; the current frame weighs 1 / min(history, this)
     float reject_depth = 0.05f;          // relative depth difference that rejects history; 0: off
+    float temporal_clamp = 0.0f;         // reflection history clamped to mean +- this many sigma (YCoCg); 0: off
     float reject_normal = 0.9f;          // minimum normal cosine that keeps history; -1: off
     bool reject_offscreen = true;        // history outside the previous image is rejected
     TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
     float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
     Bounces bounces = Bounces::Single;   // history: hits fetch the previous final colour (seed 002, 4.6.4)
+    bool temporal_ray_reuse = false;     // resolve also reuses the previous frame's reprojected rays (seed 000, 4.4)
     // Glossy reflections (seed 002, 4.4.2-4.4.5; issue 9): stochastic GGX rays + resolve, or one
     // mirror ray per pixel with a cone through pre-convolved mips, or one ray and a blurred mip.
     Glossy glossy = Glossy::Stochastic;

@@ -27,6 +27,7 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
   reference             the reference kind; reference_rays: the rays asked for (None: the default);
                         reference_rays_per_pixel: the rays per pixel the reference used
   repeats, warmup       the timing protocol
+  frames                frames per render (sequence of a static camera; the last one is timed and scored)
   gpu_<pass>_ms         median GPU milliseconds of every key of Frame.timings, dots replaced by
                         underscores (gpu_depth_peel_ms, gpu_depth_peel_layer0_ms, gpu_total_ms, ...)
   time_frame_ms         median GPU time of the whole frame (Frame.timings["total"])
@@ -92,7 +93,7 @@ REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve",
                      "preconvolve", "preintegrate", "cone_trace", "blur_mips")  # issue 9's glossy passes
 VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
 SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
-                   "reference_rays", "device")
+                   "reference_rays", "device", "frames")
 SETTINGS_FIELDS = tuple(f.name for f in fields(Settings))
 # Row columns that are times (with every gpu_<pass>_ms column).
 TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
@@ -356,7 +357,7 @@ def _timing_column(key: str) -> str:
 
 def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats: int, warmup: int,
                       reference: str, reference_rays: int | None, device: str,
-                      cache_folder: str | None) -> dict:
+                      cache_folder: str | None, frames: int = 1) -> dict:
     """Renders one configuration and measures it: the sweep's task, run in a worker.
 
     Module-level with picklable arguments, so any executor can ship it to another process.
@@ -369,14 +370,27 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     scene = _scene(scene_spec)
     camera = view_camera(view, scene)
     s = Settings.from_dict(settings)
-    ref = reference_image(renderer, scene, camera, s, kind=reference, rays=reference_rays, cache=True,
+    # frames > 1: every render is a sequence of `frames` frames of the static camera (what TAA
+    # and temporal accumulation need, issue 10); the last frame is timed and scored. The
+    # reference is that of the unjittered camera (TAA averages the jitter out).
+    ref_settings = s.replace(taa="off") if frames > 1 else s
+    ref = reference_image(renderer, scene, camera, ref_settings, kind=reference, rays=reference_rays, cache=True,
                           folder=cache_folder)
+
+    def render():
+        if frames == 1:
+            return renderer.render(scene, camera, s)
+        last = None
+        for last in renderer.render_sequence(scene, [camera] * frames, s):
+            pass
+        return last
+
     for _ in range(warmup):
-        renderer.render(scene, camera, s)
+        render()
     frames_timings, walls, reflections = [], [], []
     frame = None
     for _ in range(repeats):
-        frame = renderer.render(scene, camera, s)
+        frame = render()
         t = frame.timings
         frames_timings.append(t)
         walls.append(frame.wall_ms)
@@ -391,6 +405,7 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
         "reference_rays_per_pixel": int(ref.rays_per_pixel),
         "repeats": repeats,
         "warmup": warmup,
+        "frames": frames,
     }
     _with_spread(row, "time_frame_ms", [t["total"] for t in frames_timings])
     _with_spread(row, "time_reflections_ms", reflections)
@@ -535,7 +550,8 @@ def plan_sweep(grid: dict[str, list], scenes: list, views: list | None = None,
 
 def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: dict | Settings | None = None,
           repeats: int = 5, warmup: int = 2, reference: str = "converged", reference_rays: int | None = None,
-          executor=None, device: str = "auto", progress: bool = True, cache_folder=None) -> list[dict]:
+          executor=None, device: str = "auto", progress: bool = True, cache_folder=None,
+          frames: int = 1) -> list[dict]:
     """Measures every (scene, view, grid point) configuration; returns one row per
     configuration, in that order (scenes outermost, grid points innermost), whatever order
     the executor completes them in.
@@ -555,6 +571,9 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     device     the Renderer device of every worker ("auto", "gpu", "cpu")
     progress   show a progress bar (tqdm, on stderr)
     cache_folder  the reference cache (None: $SSRLAB_CACHE or ~/.cache/ssrlab)
+    frames     1: every render is a single frame; N > 1: a sequence of N frames of the static
+               camera (Renderer.render_sequence: TAA and temporal settings need frames), whose
+               last frame is timed and scored, against the reference with taa="off"
 
     Every argument is checked before anything renders: ValueError names the bad one.
     """
@@ -564,6 +583,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     configurations = plan_sweep(grid, scenes, views, base)
     repeats = _check_count(repeats, "repeats", 1)
     warmup = _check_count(warmup, "warmup", 0)
+    frames = _check_count(frames, "frames", 1)
     if reference not in KINDS:
         raise ValueError(f"reference must be one of {', '.join(KINDS)}, got {reference!r}")
     if reference_rays is not None:
@@ -577,7 +597,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
         raise ValueError(f"executor must have a submit(fn, *args) method, got {type(executor).__name__}")
     cache = None if cache_folder is None else str(Path(cache_folder).expanduser().resolve())
     tasks = [(c["scene_spec"], c["view"], c["view_name"], c["settings"], repeats, warmup, reference, reference_rays,
-              device, cache) for c in configurations]
+              device, cache, frames) for c in configurations]
 
     provenance = {"ssrlab_version": __version__, "git_revision": git_revision()}
     rows: list[dict | None] = [None] * len(tasks)
@@ -862,7 +882,7 @@ def load_sweep(path) -> dict:
     """Reads a sweep file (TOML, or JSON for a .json file) into keyword arguments of sweep().
 
     Top-level keys: scenes (required), views, repeats, warmup, reference, reference_rays,
-    device, description (free text, not passed on), and the tables base (Settings fields of
+    device, frames (N > 1: render N frames of a static camera, score the last), description (free text, not passed on), and the tables base (Settings fields of
     every run) and grid (Settings field -> list of values). Other keys raise ValueError
     naming them. A relative glTF path is looked up beside the sweep file first.
     """

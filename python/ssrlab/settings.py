@@ -174,6 +174,11 @@ class Settings:
     reject_offscreen: bool = _setting(
         True, "reject history whose reprojected position lies outside the previous image (False: clamp to "
         "its edge)", group="temporal")
+    temporal_clamp: float = _setting(
+        0.0, "neighbourhood variance clamp of the reflection history (Salvi 2016): the reprojected history is "
+        "clamped to this frame's 3x3 mean +- this many standard deviations in YCoCg, which removes the ghost "
+        "trails of view-dependent reflections under camera motion that depth/normal rejection cannot see; "
+        "0 turns it off (a static camera converges best without it)", "sigma", 0.0, 16.0, group="temporal")
     taa: str = _setting(
         "off", "temporal anti-aliasing of the final image over a sequence (frame.color): 'thesis' (seed 000 2.5: "
         "two alternating quarter-pixel jitters, the mean of this and the previous frame, no reprojection), "
@@ -187,6 +192,11 @@ class Settings:
         "hit layer 0 bring the previous frame's final colour at the hit's reprojected position (this frame's "
         "lit colour where that history is rejected), so mirrors facing mirrors gain a bounce per frame",
         choices=("single", "history"), group="temporal")
+    temporal_ray_reuse: bool = _setting(
+        False, "ray-result reuse over time (seed 000, 4.4): the resolve also takes the previous frame's rays of "
+        "the reprojected pixel's reuse neighbourhood as extra neighbours (their hits shaded with the previous "
+        "frame's lit colour), doubling the rays each pixel averages; where the reprojection rejects the "
+        "history (Settings.reject_*), only this frame's rays count", group="temporal")
 
     # -- glossy reflections (seed 002, 4.4.2-4.4.5; seed 004; issue 9) ------------------------------
     glossy: str = _setting(

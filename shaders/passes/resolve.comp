@@ -35,11 +35,14 @@ layout(binding = 7) uniform sampler2DArray u_material;
 
 layout(binding = 0, rgba16f) writeonly uniform image2D o_reflection;
 
+#if (defined(BOUNCES_HISTORY) && BOUNCES_HISTORY) || (defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE)
+layout(binding = 8) uniform sampler2D u_reprojection;  // reproject pass: xy previous pixel, z valid
+#endif
+
 #if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
 // Multiple bounces over frames (seed 002, 4.6.4): a ray that hits layer 0 brings the previous
 // frame's final colour at the hit's reprojected position, which already holds that surface's
 // own reflection, instead of this frame's lit colour; each frame adds one bounce.
-layout(binding = 8) uniform sampler2D u_reprojection;
 layout(binding = 9) uniform sampler2D u_previous_color;
 uniform int u_has_history;
 
@@ -55,6 +58,29 @@ vec3 previous_final(ivec2 hp, vec3 lit) {
     vec3 c01 = texelFetch(u_previous_color, clamp(b + ivec2(0, 1), ivec2(0), size - 1), 0).rgb;
     vec3 c11 = texelFetch(u_previous_color, clamp(b + ivec2(1, 1), ivec2(0), size - 1), 0).rgb;
     return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+}
+#endif
+
+#if defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE
+// Ray-result reuse over time (seed 000, 4.4): the previous frame traced rays from (nearly) the
+// same surface points; where the reprojection keeps this pixel's history, the rays of the
+// previous frame's reuse neighbourhood around the reprojected pixel join as extra neighbours,
+// doubling the rays each pixel averages at no tracing cost. They are weighted exactly as this
+// frame's neighbours, after moving their origins, directions and hit points into this view.
+layout(binding = 10) uniform sampler2DArray u_prev_hit;
+layout(binding = 11) uniform sampler2DArray u_prev_sample;
+layout(binding = 12) uniform sampler2DArray u_prev_direction;
+layout(binding = 13) uniform sampler2DArray u_prev_lit;
+layout(binding = 14) uniform sampler2DArray u_prev_linear_depth;
+layout(binding = 15) uniform sampler2DArray u_prev_normal;
+uniform int u_has_previous_rays;
+uniform mat4 u_previous_view_to_view;  // V_curr * V_prev^-1
+uniform vec4 u_previous_proj;          // previous (jittered) proj [0][0], [1][1], [2][0], [2][1]
+
+// view_position (depth_convention.glsl) with the previous frame's projection; previous view space.
+vec3 previous_view_position(vec2 pix, float z) {
+    vec2 ndc = pix * frame.viewport.zw * 2.0 - 1.0;
+    return vec3((ndc + u_previous_proj.zw) * z / u_previous_proj.xy, -z);
 }
 #endif
 
@@ -177,6 +203,53 @@ void main() {
             }
         }
     }
+#if defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE
+    vec4 rp = texelFetch(u_reprojection, min(pixel, size - 1), 0);
+    if (receives && u_has_previous_rays != 0 && rp.z > 0.5) {
+        ivec2 prev_base = clamp(ivec2(floor(rp.xy)), ivec2(0), size - 1) / s;
+        int prev_rays = textureSize(u_prev_hit, 0).z;
+        mat3 rot = mat3(u_previous_view_to_view);
+        for (int dy = -radius; dy <= radius; ++dy) {
+            for (int dx = -radius; dx <= radius; ++dx) {
+                ivec2 q = prev_base + ivec2(dx, dy);
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, trace_size))) continue;
+                if (texelFetch(u_prev_sample, ivec3(q, 0), 0).w < 0.5) continue;  // did not trace
+                ivec2 op = min(q * s + s / 2, size - 1);
+                vec3 o_prev = previous_view_position(vec2(op) + 0.5, texelFetch(u_prev_linear_depth, ivec3(op, 0), 0).r);
+                vec3 origin = (u_previous_view_to_view * vec4(o_prev, 1.0)).xyz;
+                vec3 nq = normalize(rot * texelFetch(u_prev_normal, ivec3(op, 0), 0).xyz);
+                bool own = s == 1 && dx == 0 && dy == 0;
+                for (int r = 0; r < prev_rays; ++r) {
+                    vec4 smp = texelFetch(u_prev_sample, ivec3(q, r), 0);
+                    if (smp.x <= 0.0) continue;
+                    vec4 hit = texelFetch(u_prev_hit, ivec3(q, r), 0);
+                    vec3 dir = rot * texelFetch(u_prev_direction, ivec3(q, r), 0).xyz;
+                    vec3 c = environment_view(dir);
+                    vec3 hit_pos = vec3(0.0);
+                    bool hits = hit.z > 0.5;
+                    if (hits) {
+                        ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
+                        c = mix(c, texelFetch(u_prev_lit, hp, 0).rgb, hit.w);
+                        vec3 h_prev = previous_view_position(hit.xy, texelFetch(u_prev_linear_depth, hp, 0).r);
+                        hit_pos = (u_previous_view_to_view * vec4(h_prev, 1.0)).xyz;
+                    }
+                    float w = smp.x;
+                    if (ssr.reuse_weighting == REUSE_BRDF && !own) {
+                        if (smp.y > 0.0 && !mirror_receiver) {
+                            vec3 l = hits ? normalize(hit_pos - p) : dir;
+                            w = brdf_cosine(v_local, transpose(tbn) * l, alpha) / smp.y;
+                        } else if (s == 1) {
+                            w = 0.0;
+                        }
+                    }
+                    if (ssr.edge_aware != 0) w *= edge_weight(p, g.normal, origin, nq);
+                    sum_c += w * c;
+                    sum_w += w;
+                }
+            }
+        }
+    }
+#endif
     if (!inside) return;
     vec3 reflection = vec3(0.0);
     if (receives) {

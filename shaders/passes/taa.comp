@@ -8,6 +8,7 @@
 // that history the current frame cannot explain does not ghost, then blended as
 // c = w h + (1 - w) c_cur with w = Settings.taa_history_weight; rejected history gives c_cur.
 #include "../lib/frame_uniforms.glsl"
+#include "../lib/ycocg.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -20,13 +21,6 @@ layout(binding = 0, rgba32f) writeonly uniform image2D o_color;
 uniform int u_has_history;
 uniform float u_history_weight;
 
-vec3 rgb_to_ycocg(vec3 c) {
-    return vec3(0.25 * c.r + 0.5 * c.g + 0.25 * c.b, 0.5 * c.r - 0.5 * c.b, -0.25 * c.r + 0.5 * c.g - 0.25 * c.b);
-}
-
-vec3 ycocg_to_rgb(vec3 c) {
-    return vec3(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z);
-}
 
 vec4 history_at(vec2 pos, ivec2 size) {
     vec2 t = pos - 0.5;

@@ -8,6 +8,7 @@
 // weighs 1 / max_history. Rejected history falls back to the current frame (n = 1).
 //   output (RGBA32F): rgb accumulated reflection, a history length n in frames
 #include "../lib/frame_uniforms.glsl"
+#include "../lib/ycocg.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -19,6 +20,11 @@ layout(binding = 0, rgba32f) writeonly uniform image2D o_accumulated;
 
 uniform int u_has_history;
 uniform int u_max_history;
+// Neighbourhood variance clamp (Salvi 2016; the modern counterpart of seed 002 4.7.4's
+// rejection): the history is clamped to this frame's 3x3 mean +- gamma sigma in YCoCg. It
+// catches what depth and normal tests cannot: a reflection that moved across a surface that
+// did not (reflections are view-dependent), i.e. the ghost trails of a moving camera. 0: off.
+uniform float u_clamp_gamma;
 
 // Bilinear fetch at window position `pos` (pixel centres at .5), clamped to the edge.
 vec4 history_at(vec2 pos, ivec2 size) {
@@ -42,6 +48,19 @@ void main() {
     float n = 1.0;
     if (u_has_history != 0 && r.z > 0.5) {
         vec4 h = history_at(r.xy, size);
+        if (u_clamp_gamma > 0.0) {
+            vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    vec3 c = rgb_to_ycocg(texelFetch(u_reflection, clamp(pixel + ivec2(dx, dy), ivec2(0), size - 1), 0).rgb);
+                    m1 += c;
+                    m2 += c * c;
+                }
+            }
+            m1 /= 9.0;
+            vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, 0.0));
+            h.rgb = ycocg_to_rgb(clamp(rgb_to_ycocg(h.rgb), m1 - u_clamp_gamma * sigma, m1 + u_clamp_gamma * sigma));
+        }
         n = min(floor(h.a + 0.5) + 1.0, float(u_max_history));
         n = max(n, 1.0);
         result = h.rgb + (current - h.rgb) / n;
