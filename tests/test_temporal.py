@@ -261,12 +261,14 @@ def _mirror_corridor():
     s = ssrlab.Scene()
     s.name = "mirror_corridor"
     wall = ssrlab.Material(base_color=(0.0, 0.0, 0.0), roughness=0.0, metallic=0.0, reflectivity=MIRROR_R)
-    s.add_box((-1.1, 1.5, -4), (0.2, 3, 14), name="left", material=wall)
-    s.add_box((1.1, 1.5, -4), (0.2, 3, 14), name="right", material=wall)
-    s.add_box((0, 1.5, -8), (0.9, 1.2, 0.9), name="red", material=ssrlab.Material(base_color=(0.9, 0.1, 0.1)))
+    # The corridor is narrow (1.2 wide) so that chains of three reflections that reach the box
+    # stay on screen: in a wider one the third hop's wall point lies outside the view.
+    s.add_box((-0.7, 1.5, -4), (0.2, 3, 14), name="left", material=wall)
+    s.add_box((0.7, 1.5, -4), (0.2, 3, 14), name="right", material=wall)
+    s.add_box((0, 1.5, -8), (0.4, 1.2, 0.4), name="red", material=ssrlab.Material(base_color=(0.9, 0.1, 0.1)))
     s.ambient = (1.0, 1.0, 1.0)
     s.environment = ssrlab.Environment.constant((0.0, 0.0, 0.0))
-    s.camera = ssrlab.Camera(position=(0.3, 1.5, 3), target=(0, 1.5, -8), fov_y=60)
+    s.camera = ssrlab.Camera(position=(0.15, 1.5, 3), target=(0, 1.5, -8), fov_y=60)
     return s
 
 
@@ -298,14 +300,14 @@ def test_facing_mirrors_gain_one_bounce_per_frame_from_history(renderer):
     # its pixels); before that, and in every frame with bounces="single", it shows nothing.
     # The converged reference traces one bounce, so the expectation is analytic.
     scene = _mirror_corridor()
-    s = ssrlab.Settings(width=160, height=96, shadow_map_size=256, sampling="mirror", bounces="history")
+    s = ssrlab.Settings(width=192, height=112, shadow_map_size=256, sampling="mirror", bounces="history")
     frames = list(renderer.render_sequence(scene, [scene.camera] * 3, s))
     single = list(renderer.render_sequence(scene, [scene.camera] * 3, s.replace(bounces="single")))
     n, end = _bounce_chains(frames[-1])
     red = 0  # the red channel carries the box's light
     for k in (1, 2, 3):
         region = n == k
-        assert region.sum() > 100, (k, region.sum())
+        assert region.sum() > 50, (k, region.sum())  # enough pixels for the median and the 80 % share
         expect = MIRROR_R ** k * end[region, red]
         assert expect.min() > 0.2
         for f, (hist, one) in enumerate(zip(frames, single)):

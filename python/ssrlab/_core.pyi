@@ -877,12 +877,28 @@ class RenderSettings:
     def taa_history_weight(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def temporal_clamp(self) -> float:
+        """
+        ssrlab.Settings.temporal_clamp [sigma]: neighbourhood variance clamp of the reflection history (Salvi 2016): the reprojected history is clamped to this frame's 3x3 mean +- this many standard deviations in YCoCg, which removes the ghost trails of view-dependent reflections under camera motion that depth/normal rejection cannot see; 0 turns it off (a static camera converges best without it)
+        """
+    @temporal_clamp.setter
+    def temporal_clamp(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def temporal_max_history(self) -> int:
         """
         ssrlab.Settings.temporal_max_history [frames]: history length cap n_max: the current frame weighs 1/n with n = min(frames of valid history + 1, n_max), i.e. the plain mean of the last frames up to n_max, then an exponential average whose history weight is 1 - 1/n_max
         """
     @temporal_max_history.setter
     def temporal_max_history(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def temporal_ray_reuse(self) -> bool:
+        """
+        ssrlab.Settings.temporal_ray_reuse: ray-result reuse over time (seed 000, 4.4): the resolve also takes the previous frame's rays of the reprojected pixel's reuse neighbourhood as extra neighbours (their hits shaded with the previous frame's lit colour), doubling the rays each pixel averages; where the reprojection rejects the history (Settings.reject_*), only this frame's rays count
+        """
+    @temporal_ray_reuse.setter
+    def temporal_ray_reuse(self, arg0: bool) -> None:
         ...
     @property
     def temporal_reflections(self) -> bool:
