@@ -320,7 +320,9 @@ def test_facing_mirrors_gain_one_bounce_per_frame_from_history(renderer):
                 assert np.median(got) < 0.01, (k, f)
             bounced = one.color[region, red]
             if k == 1:
-                np.testing.assert_allclose(bounced, got, atol=1e-4)
+                # The same first bounce, fetched from the lit G-buffer (RGBA16F: ~3e-4 steps at 0.6)
+                # or from the previous final image (RGBA32F).
+                np.testing.assert_allclose(bounced, got, atol=1e-3)
             else:
                 assert np.median(bounced) < 0.01, (k, f)  # bounces off: never more than one
 
