@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/gl_resources.h"
+#include "render/render_pass.h"
 
 namespace ssr {
 
@@ -17,6 +18,12 @@ inline void dispatch_2d(int width, int height, int depth, int gx, int gy) {
     glDispatchCompute(GLuint((width + gx - 1) / gx), GLuint((height + gy - 1) / gy), GLuint(depth));
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+// Binds a pass's declared inputs to texture units 0, 1, ... in the order it lists them (the
+// order its shader declares its samplers in).
+inline void bind_inputs_in_order(const FrameResources& r, const std::vector<std::string>& names) {
+    for (GLuint unit = 0; unit < GLuint(names.size()); ++unit) glBindTextureUnit(unit, r.get(names[unit]).id());
 }
 
 }  // namespace ssr
