@@ -16,7 +16,7 @@ public:
     }
     void execute(FrameContext& ctx) override {
         glBindTextureUnit(4, ctx.resources.get("hiz").id());
-        run(ctx, ctx.shaders.program({"passes/trace_hiz.comp"}, ctx.defines));
+        run(ctx, "passes/trace_hiz.comp");
     }
 };
 

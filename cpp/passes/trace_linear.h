@@ -15,7 +15,7 @@ public:
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     void execute(FrameContext& ctx) override {
-        run(ctx, ctx.shaders.program({"passes/trace_linear.comp"}, ctx.defines));
+        run(ctx, "passes/trace_linear.comp");
     }
 };
 

@@ -17,6 +17,7 @@
 #include "passes/composite.h"
 #include "passes/cone_trace.h"
 #include "passes/depth_peel.h"
+#include "passes/classify.h"
 #include "passes/hiz_build.h"
 #include "passes/lighting.h"
 #include "passes/preconvolve.h"
@@ -122,6 +123,7 @@ private:
     DepthPeelPass depth_peel_;
     LightingPass lighting_shadowed_{true}, lighting_unshadowed_{false};
     HizBuildPass hiz_build_;
+    ClassifyPass classify_;
     TraceLinearPass trace_linear_;
     TraceHizPass trace_hiz_;
     ResolvePass resolve_;

@@ -79,6 +79,15 @@ class Settings:
     roughness_cutoff: float = _setting(
         1.0, "pixels rougher than this trace no rays and reflect the environment (seed 003's threshold)",
         "perceptual roughness", 0.0, 1.0, group="rays")
+    skip: bool = _setting(
+        True, "the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, "
+        "facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; "
+        "FidelityFX SSSR's classification); False: one trace invocation per pixel and ray over the whole "
+        "image, for comparison. The images agree either way", group="rays")
+    classify_facing: float = _setting(
+        0.0, "skip=True: pixels whose normal faces the camera by less than this (n.v, the cosine of the "
+        "viewing angle) get no rays (seed 004's early out by angle); 0 keeps every ray the trace would draw",
+        "cosine", 0.0, 1.0, group="rays")
 
     # -- hit test ------------------------------------------------------------------------------------------
     thickness: float = _setting(
