@@ -127,4 +127,41 @@ def test_facing_threshold_drops_grazing_pixels(renderer):
 
 def test_stats_count_passes_without_skip(renderer):
     f = renderer.render(ssrlab.scenes.load("mirror_test"), settings=small(width=W, height=H, skip=False))
-    assert f.stats == {"passes_run": len(f.passes)}
+    assert f.stats == {"passes_run": len(f.passes), "layers_used": 1}
+
+
+def test_layers_used_is_the_depth_complexity_of_the_view(renderer):
+    # Three parallel quads one behind the other (no back faces): depth complexity 3.
+    s = _quad_scene(1.0, 1.0)
+    p = np.float32([(-2, -2, -1.5), (2, -2, -1.5), (2, 2, -1.5), (-2, 2, -1.5)])
+    s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name="middle", normals=np.tile(np.float32([0, 0, 1]), (4, 1)),
+               material=Material(base_color=(0.2, 0.5, 0.2), roughness=0.7))
+    f = renderer.render(s, settings=small(width=W, height=H, layers=16))
+    assert f.stats["layers_used"] == 3
+    assert f.layer_samples[2] > 0 and not any(f.layer_samples[3:])
+
+
+@pytest.mark.parametrize("skip", [True, False])
+def test_adaptive_rays_trace_one_ray_per_mirror_pixel(renderer, skip):
+    pitch = 2 * math.tan(math.radians(30)) * 5 / H
+    hw, hh = 9 * pitch, 5 * pitch  # 18 x 10 mirror pixels
+    kw = dict(width=W, height=H, rays_per_pixel=8, sampling="vndf", skip=skip)
+    fixed = renderer.render(_quad_scene(hw, hh), settings=small(**kw))
+    adaptive = renderer.render(_quad_scene(hw, hh), settings=small(adaptive_rays=True, **kw))
+    per_pixel = (adaptive.read("rays.sample")[..., 0] > 0).sum(axis=0)
+    assert per_pixel.max() == 1 and per_pixel.sum() == 180
+    assert (fixed.read("rays.sample")[..., 0] > 0).sum() == 8 * 180
+    if skip:
+        assert adaptive.stats["rays_traced"] == 180 and fixed.stats["rays_traced"] == 8 * 180
+    # A mirror's 8 rays all take the mirror direction: one ray gives the same reflection.
+    assert thesis_error(adaptive.color, fixed.color) <= 1e-3
+
+
+def test_adaptive_rays_follow_roughness(renderer):
+    pitch = 2 * math.tan(math.radians(30)) * 5 / H
+    f = renderer.render(_quad_scene(9 * pitch, 5 * pitch, roughness=0.3),
+                        settings=small(width=W, height=H, rays_per_pixel=8, adaptive_rays=True))
+    per_pixel = (f.read("rays.sample")[..., 0] > 0).sum(axis=0)
+    # ceil(8 * 0.3) = 3 rays (a few VNDF samples may come out invalid, weight 0).
+    assert per_pixel.max() == 3 and (per_pixel == 3).mean() > 0.9 * 180 / (W * H)
+    assert f.stats["rays_traced"] == per_pixel.sum()

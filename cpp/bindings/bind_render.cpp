@@ -73,6 +73,7 @@ void bind_render(py::module_& m) {
         .def_readwrite("temporal_ray_reuse", &RenderSettings::temporal_ray_reuse)
         .def_readwrite("skip", &RenderSettings::skip)
         .def_readwrite("classify_facing", &RenderSettings::classify_facing)
+        .def_readwrite("adaptive_rays", &RenderSettings::adaptive_rays)
         .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
         .def_readwrite("reject_depth", &RenderSettings::reject_depth)
         .def_readwrite("reject_normal", &RenderSettings::reject_normal)

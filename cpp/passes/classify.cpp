@@ -26,6 +26,7 @@ void ClassifyPass::execute(FrameContext& ctx) {
 
     Defines d = ctx.defines;
     d["CLASSIFY_FACING"] = std::to_string(s.classify_facing);
+    d["ADAPTIVE_RAYS"] = s.adaptive_rays ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/classify.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_rays"), s.traced_rays());

@@ -9,6 +9,7 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     const bool skip = ctx.settings.skip;
     Defines d = ctx.defines;
     d["RAY_LIST"] = skip ? "1" : "0";
+    d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays ? "1" : "0";
     glUseProgram(ctx.shaders.program({stage}, d));
     glBindTextureUnit(0, r.get("linear_depth").id());
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());

@@ -355,6 +355,11 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->layer_samples = depth_peel_.layer_samples();
     if (std::find(chain.begin(), chain.end(), &classify_) != chain.end()) frame->stats = classify_.counters();
     frame->stats["passes_run"] = double(chain.size());
+    // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):
+    // peeling stops drawing after the first empty one (depth_peel.cpp).
+    int layers_used = 0;
+    while (layers_used < int(frame->layer_samples.size()) && frame->layer_samples[size_t(layers_used)] > 0) ++layers_used;
+    frame->stats["layers_used"] = double(layers_used);
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
     frame->timings["total"] = total;

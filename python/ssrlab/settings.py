@@ -88,6 +88,10 @@ class Settings:
         0.0, "skip=True: pixels whose normal faces the camera by less than this (n.v, the cosine of the "
         "viewing angle) get no rays (seed 004's early out by angle); 0 keeps every ray the trace would draw",
         "cosine", 0.0, 1.0, group="rays")
+    adaptive_rays: bool = _setting(
+        False, "rays per pixel follow the perceptual roughness within rays_per_pixel: ceil(rays_per_pixel * "
+        "roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work, issue 11); the resolve "
+        "averages each pixel's rays with the weights they were drawn with", group="rays")
 
     # -- hit test ------------------------------------------------------------------------------------------
     thickness: float = _setting(
