@@ -55,6 +55,15 @@ def test_skip_agrees_for_one_ray_glossy_methods(renderer, glossy):
     assert thesis_error(on.color, off.color) <= 1e-3
 
 
+@pytest.mark.parametrize("downscale", [2, 4])
+def test_skip_agrees_at_reduced_trace_resolution(renderer, downscale):
+    scene = ssrlab.scenes.load("hall")
+    on, off = _pair(renderer, scene, downscale=downscale, rays_per_pixel=2, layers=2, reuse_radius=1)
+    assert on.stats["pixels_classified"] == math.ceil(W / downscale) * math.ceil(H / downscale)
+    assert thesis_error(on.color, off.color) <= 1e-3
+    np.testing.assert_array_equal(on.read("rays.hit"), off.read("rays.hit"))
+
+
 def _quad_scene(half_w: float, half_h: float, roughness: float = 0.0) -> Scene:
     """A mirror quad facing a camera that looks straight at it from 5 units, before a matte wall."""
     s = Scene()
