@@ -1,5 +1,6 @@
 #include "passes/trace_pass.h"
 
+#include "core/errors.h"
 #include "passes/compute.h"
 
 namespace ssr {
@@ -7,6 +8,7 @@ namespace ssr {
 void TracePass::run(FrameContext& ctx, const std::string& stage) {
     auto& r = ctx.resources;
     const bool skip = ctx.settings.skip;
+    if (skip && !ray_list_) throw GLError(name() + ": Settings.skip needs the classify pass's ray list");
     Defines d = ctx.defines;
     d["RAY_LIST"] = skip ? "1" : "0";
     d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays ? "1" : "0";
@@ -19,8 +21,9 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
     bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
     if (skip) {
-        // The classify pass left the list and its dispatch arguments bound (build_chain runs
-        // it right before): groups of 64 list entries, a group layer per ray.
+        // The classify pass (run before, build_chain) wrote the list and its dispatch
+        // arguments: groups of 64 list entries, a group layer per ray.
+        ray_list_->bind();
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                         GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

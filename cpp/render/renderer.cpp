@@ -122,8 +122,7 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         if (hiz) chain.push_back(&hiz_build_);
         if (s.glossy != Glossy::Stochastic) chain.push_back(&preconvolve_);  // seed 002, 4.4.4
         if (s.glossy == Glossy::Cone) chain.push_back(&preintegrate_);        // seed 002, 4.4.2
-        // Issue 11: the trace runs over the classify pass's ray list (right before it: the
-        // trace pass dispatches from the buffer classify leaves bound).
+        // Issue 11: the trace runs over the classify pass's ray list (indirect dispatch).
         if (s.skip) chain.push_back(&classify_);
         chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
         if (s.glossy == Glossy::Cone) {

@@ -124,8 +124,8 @@ private:
     LightingPass lighting_shadowed_{true}, lighting_unshadowed_{false};
     HizBuildPass hiz_build_;
     ClassifyPass classify_;
-    TraceLinearPass trace_linear_;
-    TraceHizPass trace_hiz_;
+    TraceLinearPass trace_linear_{&classify_};
+    TraceHizPass trace_hiz_{&classify_};
     ResolvePass resolve_;
     ReprojectPass reproject_;
     TemporalPass temporal_;
