@@ -174,3 +174,15 @@ def test_adaptive_rays_follow_roughness(renderer):
     # ceil(8 * 0.3) = 3 rays (a few VNDF samples may come out invalid, weight 0).
     assert per_pixel.max() == 3 and (per_pixel == 3).mean() > 0.9 * 180 / (W * H)
     assert f.stats["rays_traced"] == per_pixel.sum()
+
+
+def test_a_list_longer_than_a_row_of_groups_is_traced_whole(renderer):
+    # 320 x 240 mirror pixels: 1200 groups of 64, more than one row of 1024 (ray_list.glsl).
+    kw = dict(width=320, height=240, sampling="mirror", rays_per_pixel=1)
+    scene = _quad_scene(100.0, 100.0)
+    on = renderer.render(scene, settings=small(**kw))
+    off = renderer.render(scene, settings=small(skip=False, **kw))
+    assert on.stats["pixels_traced"] == on.stats["rays_traced"] == 320 * 240
+    assert on.stats["trace_groups"] == 1024 * 2
+    np.testing.assert_array_equal(on.read("rays.sample"), off.read("rays.sample"))
+    np.testing.assert_array_equal(on.read("rays.hit"), off.read("rays.hit"))

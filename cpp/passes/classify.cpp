@@ -20,8 +20,8 @@ void ClassifyPass::execute(FrameContext& ctx) {
     const int w = s.trace_width(), h = s.trace_height();
     const size_t bytes = (kHeaderUints + size_t(w) * size_t(h)) * sizeof(uint32_t);
     if (list_.size() < bytes) list_ = Buffer::create(bytes);
-    // A fresh header each frame: no groups yet, one row of groups, a group layer per ray.
-    const uint32_t header[kHeaderUints] = {0, 1, uint32_t(s.traced_rays()), 0, 0, 0, 0, 0};
+    // A fresh header each frame: no groups, no rows of groups yet, a group layer per ray.
+    const uint32_t header[kHeaderUints] = {0, 0, uint32_t(s.traced_rays()), 0, 0, 0, 0, 0};
     list_.upload(header, sizeof(header));
 
     Defines d = ctx.defines;

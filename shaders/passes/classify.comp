@@ -43,7 +43,7 @@ void main() {
     if (reflective && facing > max(1e-4, float(CLASSIFY_FACING))) {
         uint i = atomicAdd(ray_list.count, 1u);
         ray_list.pixels[i] = pack_pixel(q);
-        if (i % 64u == 0u) atomicAdd(ray_list.groups_x, 1u);  // a new group of 64 entries
+        ray_list_open_group(i);
         return;
     }
     // No ray: generate_ray returns its "no ray" (weight 0) for these pixels.
