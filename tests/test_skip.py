@@ -35,7 +35,7 @@ def test_skip_on_and_off_agree(renderer, scene_name, glossy, sampling, layers, m
     assert thesis_error(on.color, off.color) <= 1e-3
     assert thesis_error(on.reflection, off.reflection) <= 1e-3
     # Every ray texture is written for every pixel: the untraced ones hold the same "no ray".
-    for name in ("rays.hit", "rays.sample", "rays.direction"):
+    for name in ("rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth"):
         np.testing.assert_array_equal(on.read(name), off.read(name), err_msg=name)
     # The list holds exactly the reflective pixels below the cutoff that face the camera.
     g = off.gbuffer
@@ -136,7 +136,7 @@ def test_facing_threshold_drops_grazing_pixels(renderer):
 
 def test_stats_count_passes_without_skip(renderer):
     f = renderer.render(ssrlab.scenes.load("mirror_test"), settings=small(width=W, height=H, skip=False))
-    assert f.stats == {"passes_run": len(f.passes), "layers_used": 1}
+    assert f.stats == {"passes_run": len(f.passes), "layers_used": 1, "layers_lit": 1}
 
 
 def test_layers_used_is_the_depth_complexity_of_the_view(renderer):
@@ -148,6 +148,12 @@ def test_layers_used_is_the_depth_complexity_of_the_view(renderer):
     f = renderer.render(s, settings=small(width=W, height=H, layers=16))
     assert f.stats["layers_used"] == 3
     assert f.layer_samples[2] > 0 and not any(f.layer_samples[3:])
+    assert f.stats["layers_lit"] == 3  # the 13 empty layers are cleared, not shaded
+    off = renderer.render(s, settings=small(width=W, height=H, layers=16, skip=False))
+    assert off.stats["layers_lit"] == 16
+    for name in ("lit", "linear_depth"):
+        np.testing.assert_array_equal(f.read(name), off.read(name), err_msg=name)
+    assert thesis_error(f.color, off.color) <= 1e-3
 
 
 @pytest.mark.parametrize("skip", [True, False])

@@ -359,6 +359,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     int layers_used = 0;
     while (layers_used < int(frame->layer_samples.size()) && frame->layer_samples[size_t(layers_used)] > 0) ++layers_used;
     frame->stats["layers_used"] = double(layers_used);
+    frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
     frame->timings["total"] = total;

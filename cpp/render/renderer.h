@@ -121,7 +121,7 @@ private:
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
-    LightingPass lighting_shadowed_{true}, lighting_unshadowed_{false};
+    LightingPass lighting_shadowed_{true, &depth_peel_}, lighting_unshadowed_{false, &depth_peel_};
     HizBuildPass hiz_build_;
     ClassifyPass classify_;
     TraceLinearPass trace_linear_{&classify_};
