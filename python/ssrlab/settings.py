@@ -82,8 +82,9 @@ class Settings:
     skip: bool = _setting(
         True, "the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, "
         "facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; "
-        "FidelityFX SSSR's classification); False: one trace invocation per pixel and ray over the whole "
-        "image, for comparison. The images agree either way", group="rays")
+        "FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty "
+        "and clears the others as uncovered. False: every trace pixel and ray, every allocated layer, for "
+        "comparison. The images agree either way", group="rays")
     classify_facing: float = _setting(
         0.0, "skip=True: pixels whose normal faces the camera by less than this (n.v, the cosine of the "
         "viewing angle) get no rays (seed 004's early out by angle); 0 keeps every ray the trace would draw",
