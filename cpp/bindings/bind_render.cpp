@@ -71,6 +71,9 @@ void bind_render(py::module_& m) {
         .def_readwrite("roughness_cutoff", &RenderSettings::roughness_cutoff)
         .def_readwrite("temporal_reflections", &RenderSettings::temporal_reflections)
         .def_readwrite("temporal_ray_reuse", &RenderSettings::temporal_ray_reuse)
+        .def_readwrite("skip", &RenderSettings::skip)
+        .def_readwrite("classify_facing", &RenderSettings::classify_facing)
+        .def_readwrite("adaptive_rays", &RenderSettings::adaptive_rays)
         .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
         .def_readwrite("reject_depth", &RenderSettings::reject_depth)
         .def_readwrite("reject_normal", &RenderSettings::reject_normal)
@@ -121,6 +124,9 @@ void bind_render(py::module_& m) {
                       "paid outside the timers.")
         .def_readonly("passes", &Frame::passes, "the passes that ran, in order")
         .def_readonly("layer_samples", &Frame::layer_samples, "samples each G-buffer layer wrote (0: an empty layer)")
+        .def_readonly("stats", &Frame::stats,
+                      "exact work counts read back from the GPU (issue 11): passes_run; with skip on, "
+                      "pixels_classified, pixels_traced (in the ray list), rays_traced, depth_fetches, trace_groups")
         .def_readonly("camera", &Frame::camera, "the camera the frame was rendered from")
         .def_property_readonly("view_matrix", [](const Frame& f) { return f.uniforms.view; }, "world -> view matrix (4x4)")
         .def_property_readonly("projection_matrix", [](const Frame& f) { return f.uniforms.proj; },

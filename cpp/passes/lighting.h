@@ -4,22 +4,30 @@
 //            (when shadows are on)
 //   outputs: lit (RGBA16F array: radiance per layer), linear_depth (R32F array: positive
 //            view-space depth per layer; the far-plane distance where nothing is covered)
+// With Settings.skip (issue 11) the layers that are empty everywhere (from the peeling's
+// occlusion queries) are cleared to those "nothing here" values instead of shaded.
 #pragma once
 
+#include "passes/depth_peel.h"
 #include "render/render_pass.h"
 
 namespace ssr {
 
 class LightingPass : public RenderPass {
 public:
-    explicit LightingPass(bool shadows) : shadows_(shadows) {}
+    // `peel`: with Settings.skip, only the layers it found non-empty are shaded (issue 11).
+    explicit LightingPass(bool shadows, DepthPeelPass* peel = nullptr) : shadows_(shadows), peel_(peel) {}
     std::string name() const override { return "lighting"; }
     std::vector<std::string> inputs() const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
+    // Layers the last run shaded (the rest were cleared as empty).
+    int layers_shaded() const { return layers_shaded_; }
 
 private:
     bool shadows_;
+    int layers_shaded_ = 0;
+    DepthPeelPass* peel_;
 };
 
 }  // namespace ssr

@@ -10,13 +10,14 @@ namespace ssr {
 
 class TraceHizPass : public TracePass {
 public:
+    using TracePass::TracePass;
     std::string name() const override { return "trace_hiz"; }
     std::vector<std::string> inputs() const override {
         return {"hiz", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     void execute(FrameContext& ctx) override {
         glBindTextureUnit(4, ctx.resources.get("hiz").id());
-        run(ctx, ctx.shaders.program({"passes/trace_hiz.comp"}, ctx.defines));
+        run(ctx, "passes/trace_hiz.comp");
     }
 };
 

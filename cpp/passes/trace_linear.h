@@ -10,12 +10,13 @@ namespace ssr {
 
 class TraceLinearPass : public TracePass {
 public:
+    using TracePass::TracePass;
     std::string name() const override { return "trace_linear"; }
     std::vector<std::string> inputs() const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     void execute(FrameContext& ctx) override {
-        run(ctx, ctx.shaders.program({"passes/trace_linear.comp"}, ctx.defines));
+        run(ctx, "passes/trace_linear.comp");
     }
 };
 

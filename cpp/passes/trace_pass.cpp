@@ -1,12 +1,18 @@
 #include "passes/trace_pass.h"
 
+#include "core/errors.h"
 #include "passes/compute.h"
 
 namespace ssr {
 
-void TracePass::run(FrameContext& ctx, GLuint program) {
+void TracePass::run(FrameContext& ctx, const std::string& stage) {
     auto& r = ctx.resources;
-    glUseProgram(program);
+    const bool skip = ctx.settings.skip;
+    if (skip && !ray_list_) throw GLError(name() + ": Settings.skip needs the classify pass's ray list");
+    Defines d = ctx.defines;
+    d["RAY_LIST"] = skip ? "1" : "0";
+    d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays ? "1" : "0";
+    glUseProgram(ctx.shaders.program({stage}, d));
     glBindTextureUnit(0, r.get("linear_depth").id());
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
@@ -14,7 +20,16 @@ void TracePass::run(FrameContext& ctx, GLuint program) {
     bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
     bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
-    dispatch_2d(ctx.settings.trace_width(), ctx.settings.trace_height(), ctx.settings.traced_rays(), 8, 8);
+    if (skip) {
+        // The classify pass (run before, build_chain) wrote the list and its dispatch
+        // arguments: groups of 64 list entries, a group layer per ray.
+        ray_list_->bind();
+        glDispatchComputeIndirect(0);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    } else {
+        dispatch_2d(ctx.settings.trace_width(), ctx.settings.trace_height(), ctx.settings.traced_rays(), 8, 8);
+    }
 }
 
 }  // namespace ssr

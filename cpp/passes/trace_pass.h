@@ -5,12 +5,15 @@
 //   rays.direction RGBA16F: view-space direction of the ray
 #pragma once
 
+#include "passes/classify.h"
 #include "render/render_pass.h"
 
 namespace ssr {
 
 class TracePass : public RenderPass {
 public:
+    // `ray_list`: the classify pass whose list the trace runs over with Settings.skip.
+    explicit TracePass(const ClassifyPass* ray_list = nullptr) : ray_list_(ray_list) {}
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
         return {{"rays.hit", GL_RGBA32F, w, h, r, 1},
@@ -19,9 +22,13 @@ public:
     }
 
 protected:
-    // Binds the G-buffer (units 0-3) and the ray textures (images 0-2), runs `program` over
-    // every (trace pixel, ray).
-    void run(FrameContext& ctx, GLuint program);
+    // Binds the G-buffer (units 0-3) and the ray textures (images 0-2), runs the shader
+    // `stage` over every (trace pixel, ray), or with Settings.skip over the classify pass's
+    // ray list only (indirect dispatch, issue 11).
+    void run(FrameContext& ctx, const std::string& stage);
+
+private:
+    const ClassifyPass* ray_list_;
 };
 
 }  // namespace ssr

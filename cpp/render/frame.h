@@ -53,6 +53,7 @@ public:
     uint64_t scene_id = 0, scene_revision = 0;  // the scene it showed, to match a later reference
     int shadow_light = -1;                       // the light whose shadow map this frame has
     std::vector<std::string> passes;        // the chain that ran, in order
+    std::map<std::string, double> stats;   // work counts from the GPU (issue 11)
     std::vector<uint64_t> layer_samples;    // depth-test-passing samples drawn into each layer
 
 private:

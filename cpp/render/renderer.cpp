@@ -122,6 +122,8 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         if (hiz) chain.push_back(&hiz_build_);
         if (s.glossy != Glossy::Stochastic) chain.push_back(&preconvolve_);  // seed 002, 4.4.4
         if (s.glossy == Glossy::Cone) chain.push_back(&preintegrate_);        // seed 002, 4.4.2
+        // Issue 11: the trace runs over the classify pass's ray list (indirect dispatch).
+        if (s.skip) chain.push_back(&classify_);
         chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
         if (s.glossy == Glossy::Cone) {
             chain.push_back(&cone_trace_);  // seed 002, 4.4.5
@@ -350,6 +352,14 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     }
     frame->timings = timer_.resolve();
     frame->layer_samples = depth_peel_.layer_samples();
+    if (std::find(chain.begin(), chain.end(), &classify_) != chain.end()) frame->stats = classify_.counters();
+    frame->stats["passes_run"] = double(chain.size());
+    // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):
+    // peeling stops drawing after the first empty one (depth_peel.cpp).
+    int layers_used = 0;
+    while (layers_used < int(frame->layer_samples.size()) && frame->layer_samples[size_t(layers_used)] > 0) ++layers_used;
+    frame->stats["layers_used"] = double(layers_used);
+    frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
     frame->timings["total"] = total;

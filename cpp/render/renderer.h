@@ -17,6 +17,7 @@
 #include "passes/composite.h"
 #include "passes/cone_trace.h"
 #include "passes/depth_peel.h"
+#include "passes/classify.h"
 #include "passes/hiz_build.h"
 #include "passes/lighting.h"
 #include "passes/preconvolve.h"
@@ -120,10 +121,11 @@ private:
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
-    LightingPass lighting_shadowed_{true}, lighting_unshadowed_{false};
+    LightingPass lighting_shadowed_{true, &depth_peel_}, lighting_unshadowed_{false, &depth_peel_};
     HizBuildPass hiz_build_;
-    TraceLinearPass trace_linear_;
-    TraceHizPass trace_hiz_;
+    ClassifyPass classify_;
+    TraceLinearPass trace_linear_{&classify_};
+    TraceHizPass trace_hiz_{&classify_};
     ResolvePass resolve_;
     ReprojectPass reproject_;
     TemporalPass temporal_;

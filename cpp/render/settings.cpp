@@ -157,6 +157,7 @@ void RenderSettings::validate() const {
     range(fade_distance_start, 0, 1e7, "fade_distance_start");
     range(fade_distance_end, 0, 1e7, "fade_distance_end");
     range(roughness_cutoff, 0, 1, "roughness_cutoff");
+    range(classify_facing, 0, 1, "classify_facing");
     range(temporal_max_history, 1, 1024, "temporal_max_history");
     range(reject_depth, 0, 10, "reject_depth");
     range(reject_normal, -1, 1, "reject_normal");

@@ -87,6 +87,9 @@ struct RenderSettings {
     TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
     float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
     Bounces bounces = Bounces::Single;   // history: hits fetch the previous final colour (seed 002, 4.6.4)
+    bool skip = true;             // classify + indirect trace over the ray list (issue 11)
+    float classify_facing = 0.0f;  // skip: minimum n.v of a pixel that gets rays
+    bool adaptive_rays = false;    // rays per pixel follow roughness within rays_per_pixel
     bool temporal_ray_reuse = false;     // resolve also reuses the previous frame's reprojected rays (seed 000, 4.4)
     // Glossy reflections (seed 002, 4.4.2-4.4.5; issue 9): stochastic GGX rays + resolve, or one
     // mirror ray per pixel with a cone through pre-convolved mips, or one ray and a blurred mip.

@@ -228,6 +228,14 @@ class Frame:
         return list(self._native.passes)
 
     @property
+    def stats(self) -> dict[str, int]:
+        """Exact work counts read back from the GPU (issue 11): passes_run, and with
+        Settings.skip the classify pass's pixels_classified (trace pixels examined),
+        pixels_traced (trace pixels in the ray list), rays_traced (rays generated),
+        depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups)."""
+        return {k: int(v) for k, v in self._native.stats.items()}
+
+    @property
     def layer_samples(self) -> list[int]:
         """Samples each G-buffer layer's geometry wrote (0: an empty layer, whose draws and
         every deeper layer's were skipped on the GPU)."""

@@ -79,6 +79,20 @@ class Settings:
     roughness_cutoff: float = _setting(
         1.0, "pixels rougher than this trace no rays and reflect the environment (seed 003's threshold)",
         "perceptual roughness", 0.0, 1.0, group="rays")
+    skip: bool = _setting(
+        True, "the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, "
+        "facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; "
+        "FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty "
+        "and clears the others as uncovered. False: every trace pixel and ray, every allocated layer, for "
+        "comparison. The images agree either way", group="rays")
+    classify_facing: float = _setting(
+        0.0, "skip=True: pixels whose normal faces the camera by less than this (n.v, the cosine of the "
+        "viewing angle) get no rays (seed 004's early out by angle); 0 keeps every ray the trace would draw",
+        "cosine", 0.0, 1.0, group="rays")
+    adaptive_rays: bool = _setting(
+        False, "rays per pixel follow the perceptual roughness within rays_per_pixel: ceil(rays_per_pixel * "
+        "roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work, issue 11); the resolve "
+        "averages each pixel's rays with the weights they were drawn with", group="rays")
 
     # -- hit test ------------------------------------------------------------------------------------------
     thickness: float = _setting(

@@ -31,6 +31,23 @@ bool is_reflective(GSample g) {
     return g.covered && g.reflectivity > 0.0 && g.roughness <= ssr.roughness_cutoff;
 }
 
+#ifndef ADAPTIVE_RAYS
+#define ADAPTIVE_RAYS 0
+#endif
+
+// The rays a pixel traces (Settings.adaptive_rays; seed 000 4.4's future work, issue 11): with
+// adaptive rays they follow the perceptual roughness within the user's maximum, one for a
+// mirror (every GGX sample of alpha 0 is the mirror direction), the maximum at roughness 1.
+// Rays past the count get weight 0, which the resolve's weighted mean leaves out: each pixel
+// still averages its rays with the weights they were drawn with.
+int rays_for_roughness(float roughness) {
+#if ADAPTIVE_RAYS
+    return clamp(int(ceil(float(ssr.rays_per_pixel) * roughness)), 1, ssr.rays_per_pixel);
+#else
+    return ssr.rays_per_pixel;
+#endif
+}
+
 ReflectionRay generate_ray(GSample g, vec3 p_view, ivec2 q, int r) {
     ReflectionRay ray;
     ray.origin = p_view;
@@ -40,6 +57,7 @@ ReflectionRay generate_ray(GSample g, vec3 p_view, ivec2 q, int r) {
     vec3 v = normalize(-p_view);
     vec3 n = g.normal;
     if (!is_reflective(g) || dot(n, v) <= 1e-4) return ray;  // no ray from surfaces seen edge-on or from behind
+    if (r >= rays_for_roughness(g.roughness)) return ray;  // adaptive rays: this pixel needs fewer
     mat3 tbn = frame_from_normal(n);
     vec3 v_local = transpose(tbn) * v;
     float alpha = g.roughness * g.roughness;  // GGX alpha from perceptual roughness (glTF)

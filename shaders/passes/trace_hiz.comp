@@ -24,6 +24,9 @@
 #include "../lib/ray_generation.glsl"
 #include "../lib/screen_ray.glsl"
 #include "../lib/trace_common.glsl"
+#if RAY_LIST
+#include "../lib/ray_list.glsl"
+#endif
 #include "../lib/hiz_cells.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -137,8 +140,14 @@ HizHit trace_hiz(ReflectionRay ray) {
 }
 
 void main() {
+#if RAY_LIST
+    // Only the pixels the classify pass listed (issue 11); it wrote the others' outputs.
+    ivec3 id;
+    if (!ray_list_entry(id)) return;
+#else
     ivec3 id = ivec3(gl_GlobalInvocationID);
     if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
+#endif
     ivec2 p = origin_pixel(id.xy);
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                texelFetch(u_material, ivec3(p, 0), 0));
@@ -153,4 +162,7 @@ void main() {
         }
     }
     store_ray(id, ray, is_reflective(g), hit, g_fetches);
+#if RAY_LIST
+    ray_list_count(ray.weight, g_fetches);
+#endif
 }

@@ -1,0 +1,57 @@
+#include "passes/classify.h"
+
+#include <cstdint>
+
+#include "passes/compute.h"
+
+namespace ssr {
+
+namespace {
+constexpr size_t kHeaderUints = 8;  // shaders/lib/ray_list.glsl
+}
+
+void ClassifyPass::bind() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinding, list_.id());
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list_.id());
+}
+
+void ClassifyPass::execute(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    const int w = s.trace_width(), h = s.trace_height();
+    const size_t bytes = (kHeaderUints + size_t(w) * size_t(h)) * sizeof(uint32_t);
+    if (list_.size() < bytes) list_ = Buffer::create(bytes);
+    // A fresh header each frame: no groups, no rows of groups yet, a group layer per ray.
+    const uint32_t header[kHeaderUints] = {0, 0, uint32_t(s.traced_rays()), 0, 0, 0, 0, 0};
+    list_.upload(header, sizeof(header));
+
+    Defines d = ctx.defines;
+    d["CLASSIFY_FACING"] = std::to_string(s.classify_facing);
+    d["ADAPTIVE_RAYS"] = s.adaptive_rays ? "1" : "0";
+    const GLuint prog = ctx.shaders.program({"passes/classify.comp"}, d);
+    glUseProgram(prog);
+    glUniform1i(glGetUniformLocation(prog, "u_rays"), s.traced_rays());
+    auto& r = ctx.resources;
+    glBindTextureUnit(0, r.get("linear_depth").id());
+    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
+    glBindTextureUnit(2, r.get("gbuffer.normal").id());
+    glBindTextureUnit(3, r.get("gbuffer.material").id());
+    bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
+    bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
+    bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
+    bind();
+    dispatch_2d(w, h, 1, 8, 8);
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the trace pass's indirect arguments
+}
+
+std::map<std::string, double> ClassifyPass::counters() const {
+    uint32_t header[kHeaderUints] = {};
+    if (!list_) return {};
+    glGetNamedBufferSubData(list_.id(), 0, sizeof(header), header);
+    return {{"pixels_classified", double(header[6])},
+            {"pixels_traced", double(header[3])},
+            {"trace_groups", double(header[0]) * header[1] * header[2]},
+            {"rays_traced", double(header[4])},
+            {"depth_fetches", double(header[5])}};
+}
+
+}  // namespace ssr

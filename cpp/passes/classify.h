@@ -1,0 +1,38 @@
+// classify (issue 11; seed 000 4.1, seed 003's roughness threshold, seed 004's early out by
+// roughness and angle; FidelityFX SSSR's classification): marks the trace pixels that need
+// rays and compacts them into a ray list with an atomic counter, in a buffer that also holds
+// the trace pass's indirect dispatch arguments: the trace pass then runs over the list only,
+// and an empty list costs it no work. The pixels left out get the trace pass's "no ray"
+// outputs here (shaders/passes/classify.comp).
+//   inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material
+//   outputs: rays.* of the skipped pixels (declared by the trace pass that follows), the
+//            ray list buffer (not a texture: see ray_list())
+#pragma once
+
+#include <map>
+
+#include "render/render_pass.h"
+
+namespace ssr {
+
+class ClassifyPass : public RenderPass {
+public:
+    std::string name() const override { return "classify"; }
+    std::vector<std::string> inputs() const override {
+        return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+    }
+    std::vector<ResourceDesc> outputs(const RenderSettings&) const override { return {}; }
+    void execute(FrameContext& ctx) override;
+
+    // The SSBO binding of the ray list (shaders/lib/ray_list.glsl).
+    static constexpr GLuint kBinding = 12;
+    // Binds the ray list as SSBO kBinding and as the dispatch-indirect buffer.
+    void bind() const;
+    // The list's counters of the last run, read back from the GPU (Frame.stats).
+    std::map<std::string, double> counters() const;
+
+private:
+    Buffer list_;
+};
+
+}  // namespace ssr

@@ -1,0 +1,47 @@
+// The ray list of the classify pass (issue 11; FidelityFX SSSR's tile classification, seed 000
+// 4.1): the trace pixels that need rays, compacted by an atomic counter, with the indirect
+// dispatch arguments of the trace pass in the same buffer so that an empty list costs no
+// trace work at all (a dispatch of 0 groups). The counters are read back for Frame.stats.
+// Layout (std430): the header is 8 uints, then one packed pixel (x | y << 16) per entry.
+layout(std430, binding = 12) coherent buffer RayList {
+    uint groups_x;      // glDispatchComputeIndirect: groups of 8x8 invocations, 64 entries each, in
+    uint groups_y;      // rows of RAY_LIST_ROW groups (the dispatch's x count has a limit, 65535)
+    uint groups_z;      // the rays each pixel traces (Settings.traced_rays)
+    uint count;         // trace pixels in the list
+    uint rays_traced;   // rays the trace pass generated (weight > 0), counted by the trace pass
+    uint fetches;       // depth fetches the trace pass spent, summed
+    uint classified;    // trace pixels the classify pass examined
+    uint pad0;
+    uint pixels[];
+} ray_list;
+
+const uint RAY_LIST_ROW = 1024u;
+
+// Classify's share of the dispatch arguments: entry i opens group i / 64, and each group that
+// starts a row adds the row.
+void ray_list_open_group(uint i) {
+    if (i % 64u != 0u) return;
+    uint g = i / 64u;
+    atomicMax(ray_list.groups_x, min(g + 1u, RAY_LIST_ROW));
+    if (g % RAY_LIST_ROW == 0u) atomicAdd(ray_list.groups_y, 1u);
+}
+
+uint pack_pixel(ivec2 q) { return uint(q.x) | (uint(q.y) << 16); }
+ivec2 unpack_pixel(uint entry) { return ivec2(int(entry & 0xffffu), int(entry >> 16)); }
+
+// The trace pass's invocation of the list entry it serves (8x8 groups, one list entry per
+// invocation, gl_WorkGroupID.z = the ray); false past the list's end.
+bool ray_list_entry(out ivec3 id) {
+    uint index = (gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+    id = ivec3(0);
+    if (index >= ray_list.count) return false;
+    id = ivec3(unpack_pixel(ray_list.pixels[index]), int(gl_WorkGroupID.z));
+    return true;
+}
+
+// Frame.stats: a ray the trace pass generated and the depth fetches it spent.
+void ray_list_count(float weight, float fetches) {
+    if (weight <= 0.0) return;
+    atomicAdd(ray_list.rays_traced, 1u);
+    atomicAdd(ray_list.fetches, uint(fetches));
+}
