@@ -84,6 +84,13 @@ vec3 previous_view_position(vec2 pix, float z) {
 }
 #endif
 
+#if defined(RAY_RADIANCE) && RAY_RADIANCE
+// Issue 12: rays the BVH traced (trace_bvh.comp) bring its radiance (rgb) and hit distance
+// (a >= 0; -1: the BVH found nothing; -2: not traced by the BVH). It stands where the
+// environment stood: a screen-space miss brings it, a faded hit fades toward it.
+layout(binding = 16) uniform sampler2DArray u_ray_radiance;
+#endif
+
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
 
@@ -104,6 +111,16 @@ vec3 view_pos(ivec2 p) {
 
 vec3 environment_view(vec3 dir_view) {
     return environment_radiance(normalize(mat3(frame.inv_view) * dir_view));
+}
+
+// What a ray screen space did not resolve brings: the environment along it, or nothing
+// (fallback "none", to measure what screen space alone finds).
+vec3 unresolved_radiance(vec3 dir_view) {
+#if defined(FALLBACK_NONE) && FALLBACK_NONE
+    return vec3(0.0);
+#else
+    return environment_view(dir_view);
+#endif
 }
 
 // Similarity of a neighbour's surface to this pixel's: relative depth difference and normal
@@ -160,8 +177,15 @@ void main() {
             vec4 hit = texelFetch(u_hit, ivec3(q, r), 0);
             vec4 smp = texelFetch(u_sample, ivec3(q, r), 0);
             vec3 dir = texelFetch(u_direction, ivec3(q, r), 0).xyz;
-            vec3 c = environment_view(dir);
+            vec3 c = unresolved_radiance(dir);
             float dist = -1.0;
+#if defined(RAY_RADIANCE) && RAY_RADIANCE
+            vec4 traced = texelFetch(u_ray_radiance, ivec3(q, r), 0);
+            if (traced.a > -1.5) {
+                c = traced.rgb;
+                dist = traced.a;
+            }
+#endif
             if (hit.z > 0.5) {
                 ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
                 vec3 lit = texelFetch(u_lit, hp, 0).rgb;

@@ -1,0 +1,106 @@
+#version 450 core
+// trace_bvh: reflection rays traced against the scene's triangles (issue 12), with the
+// trace-and-shade code of the reference pass (lib/trace_shade.glsl): the BVH hit shaded by the
+// G-buffer's own material and lighting code and the frame's shadow map, seen from the camera
+// as the lit G-buffer has it. One invocation per (trace pixel, ray). Two modes:
+//   FALLBACK 0 (method "bvh", seed 003's ray-traced reflections): every ray of the frame,
+//              generated exactly as the screen-space tracers generate it
+//              (lib/ray_generation.glsl), no screen space at all. Writes the rays.* outputs
+//              of the screen-space tracers (rays.hit always a screen miss: the radiance comes
+//              from rays.radiance) and rays.radiance.
+//   FALLBACK 1 (fallback "bvh"; thesis 4.3's hybrid, seed 004's fallback hierarchy): after a
+//              screen-space tracer, the rays it could not resolve (a miss: it left the screen,
+//              reached its step limit or ran behind every layer; or a faded hit) are retraced
+//              from their origin; the others are skipped. Full-screen: every ray's invocation
+//              runs and returns at once when screen space resolved it (no compacted list).
+// rays.radiance (RGBA32F): rgb the BVH radiance (the environment's where the BVH found
+// nothing), a the hit's distance along the ray (world units); a = -1: the BVH found nothing,
+// a = -2: not traced by the BVH (no ray, or resolved in screen space).
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/depth_convention.glsl"
+#include "../lib/ssr_settings.glsl"
+#include "../lib/scene_data.glsl"
+#include "../lib/gbuffer.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/lights.glsl"
+#include "../lib/random.glsl"
+#include "../lib/ggx_sampling.glsl"
+#include "../lib/ray_generation.glsl"
+#include "../lib/normal_mapping.glsl"
+#include "../lib/material.glsl"
+#include "../lib/environment.glsl"
+#include "../lib/bvh.glsl"
+#include "../lib/scene_geometry.glsl"
+#include "../lib/scene_textures.glsl"
+#include "../lib/ray_offset.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(binding = 0) uniform sampler2DArray u_linear_depth;
+layout(binding = 1) uniform sampler2DArray u_albedo;
+layout(binding = 2) uniform sampler2DArray u_normal;
+layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = 4) uniform sampler2DShadow u_shadow_map;
+#define TRACED_SHADOWS 0
+#include "../lib/trace_shade.glsl"
+
+#if FALLBACK
+layout(binding = 5) uniform sampler2DArray u_ray_hit;        // rays.hit of the screen-space tracer
+layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
+layout(binding = 7) uniform sampler2DArray u_ray_direction;  // rays.direction
+layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+
+ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
+    return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
+}
+#else
+// The outputs of lib/trace_common.glsl, but with rays.direction readable: the direction is
+// read back as stored (RGBA16F), so that the per-ray reference, which reads rays.direction,
+// traces exactly the ray this pass traces (same invocation: the load sees the store).
+layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;
+layout(binding = 1, rgba32f) writeonly uniform image2DArray o_sample;
+layout(binding = 2, rgba16f) uniform image2DArray o_direction;
+layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+
+ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
+    return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
+}
+#endif
+
+// Whether screen space resolved a ray fully: a hit at full strength. A miss or a faded hit
+// (screen border, toward the camera, distance) is what the BVH continues (issue 12).
+bool screen_resolved(vec4 hit) {
+    return hit.z > 0.5 && hit.w >= 1.0;
+}
+
+void main() {
+    ivec3 id = ivec3(gl_GlobalInvocationID);  // (trace pixel, ray index)
+    if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
+    ivec2 p = origin_pixel(id.xy);
+    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                               texelFetch(u_material, ivec3(p, 0), 0));
+    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    vec4 radiance = vec4(0.0, 0.0, 0.0, -2.0);
+#if FALLBACK
+    vec4 smp = texelFetch(u_ray_sample, id, 0);
+    if (smp.w > 0.5 && smp.x > 0.0 && !screen_resolved(texelFetch(u_ray_hit, id, 0))) {
+        // The ray's own origin, as ray_generation.glsl placed it, and its stored direction.
+        vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
+        ShadedHit s = trace_and_shade(origin, normalize(texelFetch(u_ray_direction, id, 0).xyz), false);
+        radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
+    }
+#else
+    ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
+    // rays.hit: never a screen-space hit (the radiance is in rays.radiance); rays.sample: no
+    // depth fetches.
+    imageStore(o_hit, id, vec4(0.0));
+    imageStore(o_sample, id, vec4(ray.weight, ray.pdf, 0.0, is_reflective(g) ? 1.0 : 0.0));
+    imageStore(o_direction, id, vec4(ray.dir, 0.0));
+    if (ray.weight > 0.0) {
+        vec3 dir = normalize(imageLoad(o_direction, id).xyz);
+        ShadedHit s = trace_and_shade(ray.origin, dir, false);
+        radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
+    }
+#endif
+    imageStore(o_radiance, id, radiance);
+}
