@@ -29,6 +29,7 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["FALLBACK"] = fallback_ ? "1" : "0";
     d["SHADOWS"] = shadows_ ? "1" : "0";
+    d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/trace_bvh.comp"}, d);
     // The BVH and the scene's vertex and image buffers (built on first use, then kept with the
     // scene's GPU copy; binding them does not change what the scene holds).
@@ -40,7 +41,7 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     glBindTextureUnit(3, r.get("gbuffer.material").id());
     if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
     if (fallback_) {
-        glBindTextureUnit(5, r.get("rays.hit").id());
+        bind_image_layered(4, r.get("rays.hit"), GL_READ_WRITE);
         glBindTextureUnit(6, r.get("rays.sample").id());
         glBindTextureUnit(7, r.get("rays.direction").id());
     } else {

@@ -8,7 +8,8 @@
 //     not resolve (a miss or a faded hit) are retraced; a full-screen pass whose invocations of
 //     resolved rays return at once (no compacted list yet).
 //     inputs : the above + rays.hit, rays.sample, rays.direction
-//     outputs: rays.radiance
+//     outputs: rays.radiance; with fallback_confidence, rays.hit rewritten: a screen-space hit
+//              failing the confidence test becomes a miss marked (0, 0, 0, -1)
 // rays.radiance (RGBA32F, trace resolution, one layer per ray): rgb the ray's BVH radiance,
 // a its hit distance (-1: the BVH found nothing, the environment's radiance; -2: not traced).
 #pragma once

@@ -46,6 +46,7 @@ struct RenderSettings {
     // meanings in python/ssrlab/settings.py.
     TraceMethod method = TraceMethod::Linear;
     Fallback fallback = Fallback::Environment;
+    bool fallback_confidence = true;  // fallback "bvh": retrace screen-space hits failing the confidence test
     int rays_per_pixel = 1;
     Sampling sampling = Sampling::Ggx;
     Noise noise = Noise::Pcg;

@@ -304,7 +304,8 @@ class Frame:
         hit one: method 'bvh', or fallback 'bvh' retracing a miss or a faded hit), 'environment'
         (a ray nothing resolved that brings the environment) and 'none' (such a ray bringing
         nothing: fallback 'none'); 'rays' is the count of rays traced. Shares sum to 1 (all 0
-        when no ray was traced)."""
+        when no ray was traced). 'rejected' (a part of 'bvh' + 'environment'): screen-space hits
+        that failed the confidence test (fallback_confidence) and were retraced."""
         self._check_live("the fallback statistics")
         if "rays.hit" not in self.texture_names:
             raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
@@ -322,7 +323,8 @@ class Frame:
         n = int(traced.sum())
         share = (lambda m: float(m.sum()) / n) if n else (lambda m: 0.0)
         none = self.settings.method != "bvh" and self.settings.fallback == "none"
-        return {"rays": n, "screen": share(screen), "bvh": share(bvh),
+        rejected = traced & (hit[..., 2] < 0.5) & (hit[..., 3] < 0.0)
+        return {"rays": n, "screen": share(screen), "bvh": share(bvh), "rejected": share(rejected),
                 "environment": 0.0 if none else share(rest), "none": share(rest) if none else 0.0}
 
     def reference(self, kind: str = "converged", *, rays: int | None = None, seed: int = 0,

@@ -68,6 +68,10 @@ class Settings:
         "ray retraced from its origin against the scene's triangles and shaded as method 'bvh' shades; faded "
         "hits fade toward it; thesis 4.3, seed 004) or 'none' (nothing: black). Ignored by method 'bvh'",
         choices=("none", "environment", "bvh"), group="rays")
+    fallback_confidence: bool = _setting(
+        True, "with fallback 'bvh': screen-space hits that fail the confidence test (the hit surface faces the "
+        "ray, the hit lies within 2 pixel footprints of the ray, its object is its 4 neighbours'; "
+        "shaders/passes/trace_bvh.comp) are retraced by the BVH too", group="rays")
     rays_per_pixel: int = _setting(1, "reflection rays per reflective pixel", "rays", 1, 32, group="rays")
     sampling: str = _setting(
         "ggx", "ray directions: 'mirror'; 'ggx' (the thesis's theta/phi GGX normal sampling, 2.3.2); "

@@ -13,6 +13,9 @@
 //              reached its step limit or ran behind every layer; or a faded hit) are retraced
 //              from their origin; the others are skipped. Full-screen: every ray's invocation
 //              runs and returns at once when screen space resolved it (no compacted list).
+//              With CONFIDENCE, a screen-space hit must also pass a confidence test
+//              (screen_hit_confident) or it is retraced too; its rays.hit becomes a miss
+//              marked (0, 0, 0, -1), so the resolve takes the BVH's radiance.
 // rays.radiance (RGBA32F): rgb the BVH radiance (the environment's where the BVH found
 // nothing), a the hit's distance along the ray (world units); a = -1: the BVH found nothing,
 // a = -2: not traced by the BVH (no ray, or resolved in screen space).
@@ -45,7 +48,7 @@ layout(binding = 4) uniform sampler2DShadow u_shadow_map;
 #include "../lib/trace_shade.glsl"
 
 #if FALLBACK
-layout(binding = 5) uniform sampler2DArray u_ray_hit;        // rays.hit of the screen-space tracer
+layout(binding = 4, rgba32f) uniform image2DArray io_ray_hit;  // rays.hit of the screen-space tracer
 layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
 layout(binding = 7) uniform sampler2DArray u_ray_direction;  // rays.direction
 layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
@@ -67,6 +70,43 @@ ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
 }
 #endif
 
+#if FALLBACK && CONFIDENCE
+// The confidence test of a screen-space hit (issue 12). A depth buffer cannot tell a surface
+// from the volume behind it, so a screen-space tracer accepts any crossing of a layer's
+// [depth, depth + thickness] slab; the G-buffer can still check that the hit is plausible:
+//   1. the surface hit faces the ray (its normal against the ray's direction): a ray cannot
+//      hit the back of a surface, so a back-facing "hit" passed behind or along it;
+//   2. the hit point lies on the ray: its distance from the ray's line is at most
+//      CONFIDENCE_PIXELS pixel footprints at its depth (the crossing is found to within a
+//      pixel; a hit accepted deep inside the thickness slab lies off the ray);
+//   3. the hit pixel's object and surface are its 4 neighbours' (same layer: same object id,
+//      normals within CONFIDENCE_CREASE): at a silhouette the layer's depth jumps and at a
+//      crease (a box's edge) the surface turns within the pixel, and a ray crossing there
+//      may pass just beside the surface the pixel shows (sub-pixel geometry).
+const float CONFIDENCE_PIXELS = 2.0;
+const float CONFIDENCE_CREASE = 0.9;  // cosine between the hit's normal and a neighbour's
+bool screen_hit_confident(vec4 hit, vec3 origin, vec3 dir) {
+    ivec2 size = ivec2(frame.viewport.xy);
+    int layer = int(hit.z) - 1;
+    ivec2 hp = clamp(ivec2(hit.xy), ivec2(0), size - 1);
+    GSample h = gbuffer_decode(texelFetch(u_albedo, ivec3(hp, layer), 0), texelFetch(u_normal, ivec3(hp, layer), 0),
+                               texelFetch(u_material, ivec3(hp, layer), 0));
+    if (!h.covered || dot(h.normal, dir) >= 0.0) return false;
+    float depth = texelFetch(u_linear_depth, ivec3(hp, layer), 0).r;
+    vec3 hit_view = view_position(hit.xy, depth);
+    float footprint = 2.0 * depth / (frame.proj[1][1] * frame.viewport.y);  // one pixel, view units
+    if (length(cross(hit_view - origin, dir)) > CONFIDENCE_PIXELS * footprint) return false;
+    const ivec2 nb[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    for (int i = 0; i < 4; ++i) {
+        ivec2 q = clamp(hp + nb[i], ivec2(0), size - 1);
+        GSample n = gbuffer_decode(texelFetch(u_albedo, ivec3(q, layer), 0), texelFetch(u_normal, ivec3(q, layer), 0),
+                                   texelFetch(u_material, ivec3(q, layer), 0));
+        if (n.object_id != h.object_id || dot(n.normal, h.normal) < CONFIDENCE_CREASE) return false;
+    }
+    return true;
+}
+#endif
+
 // Whether screen space resolved a ray fully: a hit at full strength. A miss or a faded hit
 // (screen border, toward the camera, distance) is what the BVH continues (issue 12).
 bool screen_resolved(vec4 hit) {
@@ -83,10 +123,19 @@ void main() {
     vec4 radiance = vec4(0.0, 0.0, 0.0, -2.0);
 #if FALLBACK
     vec4 smp = texelFetch(u_ray_sample, id, 0);
-    if (smp.w > 0.5 && smp.x > 0.0 && !screen_resolved(texelFetch(u_ray_hit, id, 0))) {
-        // The ray's own origin, as ray_generation.glsl placed it, and its stored direction.
-        vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
-        ShadedHit s = trace_and_shade(origin, normalize(texelFetch(u_ray_direction, id, 0).xyz), false);
+    vec4 hit = imageLoad(io_ray_hit, id);
+    // The ray's own origin, as ray_generation.glsl placed it, and its stored direction.
+    vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
+    vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
+    bool resolved = screen_resolved(hit);
+#if CONFIDENCE
+    if (smp.w > 0.5 && smp.x > 0.0 && resolved && !screen_hit_confident(hit, origin, dir)) {
+        resolved = false;
+        imageStore(io_ray_hit, id, vec4(0.0, 0.0, 0.0, -1.0));  // rejected: the BVH's radiance replaces it
+    }
+#endif
+    if (smp.w > 0.5 && smp.x > 0.0 && !resolved) {
+        ShadedHit s = trace_and_shade(origin, dir, false);
         radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
     }
 #else
