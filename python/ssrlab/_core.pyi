@@ -621,6 +621,22 @@ class RenderSettings:
     def fade_distance_start(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def fallback(self) -> str:
+        """
+        ssrlab.Settings.fallback: what a ray screen space cannot resolve (a miss: it left the screen, reached max_steps or ran behind every layer; or a faded hit) brings: 'environment' (the environment along it), 'bvh' (the ray retraced from its origin against the scene's triangles and shaded as method 'bvh' shades; faded hits fade toward it; thesis 4.3, seed 004) or 'none' (nothing: black). Ignored by method 'bvh'
+        """
+    @fallback.setter
+    def fallback(self, arg1: str) -> None:
+        ...
+    @property
+    def fallback_confidence(self) -> bool:
+        """
+        ssrlab.Settings.fallback_confidence: with fallback 'bvh': screen-space hits that fail the confidence test (the hit surface faces the ray, the hit lies within 2 pixel footprints of the ray, its object is its 4 neighbours'; shaders/passes/trace_bvh.comp) are retraced by the BVH too
+        """
+    @fallback_confidence.setter
+    def fallback_confidence(self, arg0: bool) -> None:
+        ...
+    @property
     def glossy(self) -> str:
         """
         ssrlab.Settings.glossy: how rough surfaces blur the reflection: 'stochastic' (rays_per_pixel GGX rays drawn by `sampling`, then the resolve); 'cone' (one mirror ray per pixel traced by `method`, then a cone marched through the pre-convolved colour and pre-integrated visibility mips with the Hi-Z, seed 002 4.4.5; the cone's half-angle holds ssrlab.glossy.CONE_ENERGY of the GGX lobe); 'blur_mips' (one mirror ray, the pre-convolved colour at a mip level from roughness and hit distance, seed 004). cone and blur_mips ignore rays_per_pixel, sampling and the resolve
@@ -727,7 +743,7 @@ class RenderSettings:
     @property
     def method(self) -> str:
         """
-        ssrlab.Settings.method: tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002) or 'off' (no reflections)
+        ssrlab.Settings.method: tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002), 'bvh' (every ray traced against the scene's triangles and shaded by the G-buffer's shading code with the frame's shadow map, seen from the camera: seed 003's ray-traced reflections, issue 12) or 'off' (no reflections)
         """
     @method.setter
     def method(self, arg1: str) -> None:
@@ -877,12 +893,28 @@ class RenderSettings:
     def taa_history_weight(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def temporal_clamp(self) -> float:
+        """
+        ssrlab.Settings.temporal_clamp [sigma]: neighbourhood variance clamp of the reflection history (Salvi 2016): the reprojected history is clamped to this frame's 3x3 mean +- this many standard deviations in YCoCg, which removes the ghost trails of view-dependent reflections under camera motion that depth/normal rejection cannot see; 0 turns it off (a static camera converges best without it)
+        """
+    @temporal_clamp.setter
+    def temporal_clamp(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def temporal_max_history(self) -> int:
         """
         ssrlab.Settings.temporal_max_history [frames]: history length cap n_max: the current frame weighs 1/n with n = min(frames of valid history + 1, n_max), i.e. the plain mean of the last frames up to n_max, then an exponential average whose history weight is 1 - 1/n_max
         """
     @temporal_max_history.setter
     def temporal_max_history(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def temporal_ray_reuse(self) -> bool:
+        """
+        ssrlab.Settings.temporal_ray_reuse: ray-result reuse over time (seed 000, 4.4): the resolve also takes the previous frame's rays of the reprojected pixel's reuse neighbourhood as extra neighbours (their hits shaded with the previous frame's lit colour), doubling the rays each pixel averages; where the reprojection rejects the history (Settings.reject_*), only this frame's rays count
+        """
+    @temporal_ray_reuse.setter
+    def temporal_ray_reuse(self, arg0: bool) -> None:
         ...
     @property
     def temporal_reflections(self) -> bool:
