@@ -69,10 +69,11 @@ def test_fallback_bvh_beats_screen_space_alone_on_the_mirror_floor(renderer):
     assert stats["bvh"]["screen"] == 0.0 and stats["bvh"]["bvh"] > 0.5
 
 
-def test_fallback_only_retraces_what_screen_space_did_not_resolve(renderer):
+@pytest.mark.parametrize("method", ["linear", "hiz"])
+def test_fallback_only_retraces_what_screen_space_did_not_resolve(renderer, method):
     scene = ssrlab.scenes.hall(floor_roughness=0.0)
-    f = renderer.render(scene, settings=small(fallback="bvh"))
-    assert f.passes.index("trace_linear") < f.passes.index("fallback_bvh") < f.passes.index("resolve")
+    f = renderer.render(scene, settings=small(method=method, fallback="bvh"))
+    assert f.passes.index(f"trace_{method}") < f.passes.index("fallback_bvh") < f.passes.index("resolve")
     traced, _ = _traced(f)
     hit = f.read("rays.hit")
     resolved = (hit[..., 2] > 0.5) & (hit[..., 3] >= 1.0)
@@ -94,4 +95,6 @@ def test_hybrid_settings_are_validated():
     native.glossy = "cone"
     with pytest.raises(ValueError, match="bvh"):
         native.validate()
+    with pytest.raises(ValueError, match="temporal_ray_reuse"):
+        ssrlab.Settings(method="bvh", temporal_ray_reuse=True)
     assert ssrlab.Settings().fallback == "environment"

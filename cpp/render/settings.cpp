@@ -174,6 +174,9 @@ void RenderSettings::validate() const {
     // The BVH tracer and the BVH fallback hand their radiance to the resolve (issue 12).
     check(method != TraceMethod::Bvh || glossy == Glossy::Stochastic,
           "Settings.method 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
+    check(!temporal_ray_reuse || (method != TraceMethod::Bvh && fallback != Fallback::Bvh),
+          "Settings.temporal_ray_reuse does not reuse BVH-traced rays yet: it needs Settings.method and "
+          "Settings.fallback other than 'bvh'");
     check(fallback != Fallback::Bvh || glossy == Glossy::Stochastic,
           "Settings.fallback 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
 }
