@@ -5,8 +5,9 @@
 //     inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material (+ shadow_map)
 //     outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h), rays.radiance
 //   fallback "bvh" (thesis 4.3, seed 004): after a screen-space tracer, only the rays it could
-//     not resolve (a miss or a faded hit) are retraced; a full-screen pass whose invocations of
-//     resolved rays return at once (no compacted list yet).
+//     not resolve (a miss, a faded hit, a hit failing the confidence test) are retraced: a
+//     full-screen selection appends them to a compacted list (atomic counter), whose count
+//     sizes an indirect dispatch over the list only.
 //     inputs : the above + rays.hit, rays.sample, rays.direction
 //     outputs: rays.radiance; with fallback_confidence, rays.hit rewritten: a screen-space hit
 //              failing the confidence test becomes a miss marked (0, 0, 0, -1)
@@ -14,6 +15,7 @@
 // a its hit distance (-1: the BVH found nothing, the environment's radiance; -2: not traced).
 #pragma once
 
+#include "core/gl_resources.h"
 #include "passes/trace_pass.h"
 
 namespace ssr {
@@ -28,6 +30,7 @@ public:
 
 private:
     bool fallback_, shadows_;
+    Buffer list_, count_;  // fallback: the compacted list of rays to retrace, its count + indirect args
 };
 
 }  // namespace ssr

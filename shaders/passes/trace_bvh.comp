@@ -11,8 +11,10 @@
 //   FALLBACK 1 (fallback "bvh"; thesis 4.3's hybrid, seed 004's fallback hierarchy): after a
 //              screen-space tracer, the rays it could not resolve (a miss: it left the screen,
 //              reached its step limit or ran behind every layer; or a faded hit) are retraced
-//              from their origin; the others are skipped. Full-screen: every ray's invocation
-//              runs and returns at once when screen space resolved it (no compacted list).
+//              from their origin; the others are skipped. Three stages (STAGE): 0 selects,
+//              full-screen, the rays to retrace and appends them to a compacted list (an
+//              atomic counter); 1 turns the count into the indirect dispatch's group count;
+//              2 traces the listed rays only, so the BVH's cost follows the misses.
 //              With CONFIDENCE, a screen-space hit must also pass a confidence test
 //              (screen_hit_confident) or it is retraced too; its rays.hit becomes a miss
 //              marked (0, 0, 0, -1), so the resolve takes the BVH's radiance.
@@ -37,7 +39,13 @@
 #include "../lib/scene_textures.glsl"
 #include "../lib/ray_offset.glsl"
 
+#if FALLBACK && STAGE == 2
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+#elif FALLBACK && STAGE == 1
+layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
+#else
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+#endif
 
 layout(binding = 0) uniform sampler2DArray u_linear_depth;
 layout(binding = 1) uniform sampler2DArray u_albedo;
@@ -52,6 +60,10 @@ layout(binding = 4, rgba32f) uniform image2DArray io_ray_hit;  // rays.hit of th
 layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
 layout(binding = 7) uniform sampler2DArray u_ray_direction;  // rays.direction
 layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+// The compacted list: the (trace pixel, ray) of every ray to retrace, and the count and the
+// indirect dispatch's group counts (x, y, z).
+layout(std430, binding = 11) buffer RetraceList { ivec4 retrace[]; };
+layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint groups[3]; };
 
 ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
     return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
@@ -114,14 +126,30 @@ bool screen_resolved(vec4 hit) {
 }
 
 void main() {
+#if FALLBACK && STAGE == 1
+    groups[0] = (retrace_count + 63u) / 64u;
+    groups[1] = 1u;
+    groups[2] = 1u;
+    return;
+#endif
+#if FALLBACK && STAGE == 2
+    if (gl_GlobalInvocationID.x >= retrace_count) return;
+    ivec3 id = retrace[gl_GlobalInvocationID.x].xyz;
+#else
     ivec3 id = ivec3(gl_GlobalInvocationID);  // (trace pixel, ray index)
+#endif
     if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
     ivec2 p = origin_pixel(id.xy);
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                texelFetch(u_material, ivec3(p, 0), 0));
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
     vec4 radiance = vec4(0.0, 0.0, 0.0, -2.0);
-#if FALLBACK
+#if FALLBACK && STAGE == 2
+    vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
+    vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
+    ShadedHit s = trace_and_shade(origin, dir, false);
+    radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
+#elif FALLBACK
     vec4 smp = texelFetch(u_ray_sample, id, 0);
     vec4 hit = imageLoad(io_ray_hit, id);
     // The ray's own origin, as ray_generation.glsl placed it, and its stored direction.
@@ -134,10 +162,7 @@ void main() {
         imageStore(io_ray_hit, id, vec4(0.0, 0.0, 0.0, -1.0));  // rejected: the BVH's radiance replaces it
     }
 #endif
-    if (smp.w > 0.5 && smp.x > 0.0 && !resolved) {
-        ShadedHit s = trace_and_shade(origin, dir, false);
-        radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
-    }
+    if (smp.w > 0.5 && smp.x > 0.0 && !resolved) retrace[atomicAdd(retrace_count, 1u)] = ivec4(id, 0);
 #else
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     // rays.hit: never a screen-space hit (the radiance is in rays.radiance); rays.sample: no
