@@ -189,6 +189,10 @@ def any_settings(draw, **fixed):
         if kw["fade_distance_start"] >= 1e7:
             kw["fade_distance_start"] = 5e6
         kw["fade_distance_end"] = min(1e7, 2 * kw["fade_distance_start"])
+    # method / fallback "bvh" hand their radiance to the resolve (issue 12).
+    if kw["glossy"] != "stochastic" or kw["temporal_ray_reuse"]:
+        kw["method"] = "linear" if kw["method"] == "bvh" else kw["method"]
+        kw["fallback"] = "environment" if kw["fallback"] == "bvh" else kw["fallback"]
     return ssrlab.Settings(**kw)
 
 

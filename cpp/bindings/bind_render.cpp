@@ -83,6 +83,8 @@ void bind_render(py::module_& m) {
         .def_property("taa", enum_getter(&RenderSettings::taa), enum_setter("taa", &RenderSettings::taa))
         .def_property("bounces", enum_getter(&RenderSettings::bounces), enum_setter("bounces", &RenderSettings::bounces))
         .def_property("method", enum_getter(&RenderSettings::method), enum_setter("method", &RenderSettings::method))
+        .def_property("fallback", enum_getter(&RenderSettings::fallback), enum_setter("fallback", &RenderSettings::fallback))
+        .def_readwrite("fallback_confidence", &RenderSettings::fallback_confidence)
         .def_property("sampling", enum_getter(&RenderSettings::sampling), enum_setter("sampling", &RenderSettings::sampling))
         .def_property("noise", enum_getter(&RenderSettings::noise), enum_setter("noise", &RenderSettings::noise))
         .def_property("thickness_mode", enum_getter(&RenderSettings::thickness_mode),

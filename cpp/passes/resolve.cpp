@@ -15,6 +15,11 @@ void ResolvePass::execute(FrameContext& ctx) {
     // Ray-result reuse over time (seed 000, 4.4): the previous frame's rays of the same trace grid.
     const bool ray_reuse = ctx.settings.temporal_ray_reuse;
     d["TEMPORAL_RAY_REUSE"] = ray_reuse ? "1" : "0";
+    // Issue 12: rays traced by the BVH (method "bvh", fallback "bvh") bring their radiance in
+    // rays.radiance; fallback "none" lets unresolved rays bring nothing instead of the environment.
+    const bool ray_radiance = ctx.settings.method == TraceMethod::Bvh || ctx.settings.fallback == Fallback::Bvh;
+    d["RAY_RADIANCE"] = ray_radiance ? "1" : "0";
+    d["FALLBACK_NONE"] = ctx.settings.method != TraceMethod::Bvh && ctx.settings.fallback == Fallback::None ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/resolve.comp"}, d);
     glUseProgram(prog);
     if (ray_reuse) {
@@ -37,7 +42,9 @@ void ResolvePass::execute(FrameContext& ctx) {
         glUniform4fv(glGetUniformLocation(prog, "u_previous_proj"), 1, glm::value_ptr(prev_proj));
         const FrameResources& src = history ? *h : r;  // stand-ins are never read without history
         const char* prev[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"};
-        for (GLuint i = 0; i < 6; ++i) glBindTextureUnit(10 + i, src.get(prev[i]).id());
+        // Units 17-22: 13 (the specular-albedo table) and 15 (the environment map) stay bound for
+        // the whole frame, and later passes read them.
+        for (GLuint i = 0; i < 6; ++i) glBindTextureUnit(17 + i, src.get(prev[i]).id());
         glBindTextureUnit(8, r.get("reprojection").id());
     }
     if (bounce_history) {
@@ -49,6 +56,7 @@ void ResolvePass::execute(FrameContext& ctx) {
     const char* inputs[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                             "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     for (GLuint unit = 0; unit < 8; ++unit) glBindTextureUnit(unit, r.get(inputs[unit]).id());
+    if (ray_radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
     bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 16, 16);
 }

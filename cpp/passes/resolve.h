@@ -2,6 +2,7 @@
 // edge-aware upsampling of downscaled rays (seed 000, 2.4 and 2.6; shaders/passes/resolve.comp).
 //   inputs : rays.hit, rays.sample, rays.direction, lit, linear_depth, gbuffer.albedo,
 //            gbuffer.normal, gbuffer.material
+//            (+ rays.radiance with method or fallback "bvh", issue 12)
 //   outputs: reflection (RGBA16F, full resolution; 0 where a pixel does not reflect)
 #pragma once
 

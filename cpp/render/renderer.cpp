@@ -122,9 +122,16 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         if (hiz) chain.push_back(&hiz_build_);
         if (s.glossy != Glossy::Stochastic) chain.push_back(&preconvolve_);  // seed 002, 4.4.4
         if (s.glossy == Glossy::Cone) chain.push_back(&preintegrate_);        // seed 002, 4.4.2
-        // Issue 11: the trace runs over the classify pass's ray list (indirect dispatch).
-        if (s.skip) chain.push_back(&classify_);
-        chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
+        if (s.method == TraceMethod::Bvh) {
+            // Seed 003's ray-traced reflections: every ray against the triangles (issue 12).
+            chain.push_back(shadows ? &trace_bvh_shadowed_ : &trace_bvh_unshadowed_);
+        } else {
+            // Issue 11: the trace runs over the classify pass's ray list (indirect dispatch).
+            if (s.skip) chain.push_back(&classify_);
+            chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
+            // What screen space could not resolve goes to the triangles (issue 12; thesis 4.3).
+            if (s.fallback == Fallback::Bvh) chain.push_back(shadows ? &fallback_bvh_shadowed_ : &fallback_bvh_unshadowed_);
+        }
         if (s.glossy == Glossy::Cone) {
             chain.push_back(&cone_trace_);  // seed 002, 4.4.5
         } else if (s.glossy == Glossy::BlurMips) {

@@ -28,6 +28,7 @@
 #include "passes/shadow_map.h"
 #include "passes/taa.h"
 #include "passes/temporal.h"
+#include "passes/trace_bvh.h"
 #include "passes/trace_hiz.h"
 #include "passes/trace_linear.h"
 #include "render/frame.h"
@@ -126,6 +127,9 @@ private:
     ClassifyPass classify_;
     TraceLinearPass trace_linear_{&classify_};
     TraceHizPass trace_hiz_{&classify_};
+    // Ray-traced reflections and the BVH fallback (issue 12), with and without the shadow map.
+    TraceBvhPass trace_bvh_shadowed_{false, true}, trace_bvh_unshadowed_{false, false};
+    TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};
     ResolvePass resolve_;
     ReprojectPass reproject_;
     TemporalPass temporal_;

@@ -18,7 +18,13 @@ const std::vector<std::pair<E, std::string>>& names();
 template <>
 const std::vector<std::pair<TraceMethod, std::string>>& names() {
     static const std::vector<std::pair<TraceMethod, std::string>> n = {
-        {TraceMethod::Off, "off"}, {TraceMethod::Linear, "linear"}, {TraceMethod::Hiz, "hiz"}};
+        {TraceMethod::Off, "off"}, {TraceMethod::Linear, "linear"}, {TraceMethod::Hiz, "hiz"}, {TraceMethod::Bvh, "bvh"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<Fallback, std::string>>& names() {
+    static const std::vector<std::pair<Fallback, std::string>> n = {
+        {Fallback::None, "none"}, {Fallback::Environment, "environment"}, {Fallback::Bvh, "bvh"}};
     return n;
 }
 template <>
@@ -99,6 +105,7 @@ std::string enum_name(E value) {
     template E parse_enum<E>(const std::string&, const std::string&); \
     template std::string enum_name<E>(E);
 SSR_INSTANTIATE(TraceMethod)
+SSR_INSTANTIATE(Fallback)
 SSR_INSTANTIATE(Sampling)
 SSR_INSTANTIATE(Noise)
 SSR_INSTANTIATE(ThicknessMode)
@@ -165,6 +172,14 @@ void RenderSettings::validate() const {
     range(taa_history_weight, 0, 0.99, "taa_history_weight");
     range(cone_max_samples, 1, 64, "cone_max_samples");
     range(cone_level_bias, -4, 4, "cone_level_bias");
+    // The BVH tracer and the BVH fallback hand their radiance to the resolve (issue 12).
+    check(method != TraceMethod::Bvh || glossy == Glossy::Stochastic,
+          "Settings.method 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
+    check(!temporal_ray_reuse || (method != TraceMethod::Bvh && fallback != Fallback::Bvh),
+          "Settings.temporal_ray_reuse does not reuse BVH-traced rays yet: it needs Settings.method and "
+          "Settings.fallback other than 'bvh'");
+    check(fallback != Fallback::Bvh || glossy == Glossy::Stochastic,
+          "Settings.fallback 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
 }
 
 }  // namespace ssr

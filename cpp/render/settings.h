@@ -10,7 +10,9 @@
 
 namespace ssr {
 
-enum class TraceMethod { Off, Linear, Hiz };
+enum class TraceMethod { Off, Linear, Hiz, Bvh };
+// Where rays screen space cannot resolve go (issue 12): nothing, the environment, the BVH.
+enum class Fallback { None, Environment, Bvh };
 enum class Sampling { Mirror, Ggx, Vndf, GgxThesisLiteral };  // order = SAMPLING_* in ssr_settings.glsl
 enum class Noise { Pcg, ThesisHash };
 enum class ThicknessMode { Constant, RayStep };
@@ -43,6 +45,8 @@ struct RenderSettings {
     // Screen-space reflections (seed 000 section 2, seed 002 sections 4.4-4.7); units and
     // meanings in python/ssrlab/settings.py.
     TraceMethod method = TraceMethod::Linear;
+    Fallback fallback = Fallback::Environment;
+    bool fallback_confidence = true;  // fallback "bvh": retrace screen-space hits failing the confidence test
     int rays_per_pixel = 1;
     Sampling sampling = Sampling::Ggx;
     Noise noise = Noise::Pcg;

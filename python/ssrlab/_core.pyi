@@ -621,6 +621,22 @@ class RenderSettings:
     def fade_distance_start(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def fallback(self) -> str:
+        """
+        ssrlab.Settings.fallback: what a ray screen space cannot resolve (a miss: it left the screen, reached max_steps or ran behind every layer; or a faded hit) brings: 'environment' (the environment along it), 'bvh' (the ray retraced from its origin against the scene's triangles and shaded as method 'bvh' shades; faded hits fade toward it; thesis 4.3, seed 004) or 'none' (nothing: black). Ignored by method 'bvh'
+        """
+    @fallback.setter
+    def fallback(self, arg1: str) -> None:
+        ...
+    @property
+    def fallback_confidence(self) -> bool:
+        """
+        ssrlab.Settings.fallback_confidence: with fallback 'bvh': screen-space hits that fail the confidence test (the hit surface faces the ray, the hit lies within 2 pixel footprints of the ray, its object is its 4 neighbours'; shaders/passes/trace_bvh.comp) are retraced by the BVH too
+        """
+    @fallback_confidence.setter
+    def fallback_confidence(self, arg0: bool) -> None:
+        ...
+    @property
     def glossy(self) -> str:
         """
         ssrlab.Settings.glossy: how rough surfaces blur the reflection: 'stochastic' (rays_per_pixel GGX rays drawn by `sampling`, then the resolve); 'cone' (one mirror ray per pixel traced by `method`, then a cone marched through the pre-convolved colour and pre-integrated visibility mips with the Hi-Z, seed 002 4.4.5; the cone's half-angle holds ssrlab.glossy.CONE_ENERGY of the GGX lobe); 'blur_mips' (one mirror ray, the pre-convolved colour at a mip level from roughness and hit distance, seed 004). cone and blur_mips ignore rays_per_pixel, sampling and the resolve
@@ -727,7 +743,7 @@ class RenderSettings:
     @property
     def method(self) -> str:
         """
-        ssrlab.Settings.method: tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002) or 'off' (no reflections)
+        ssrlab.Settings.method: tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002), 'bvh' (every ray traced against the scene's triangles and shaded by the G-buffer's shading code with the frame's shadow map, seen from the camera: seed 003's ray-traced reflections, issue 12) or 'off' (no reflections)
         """
     @method.setter
     def method(self, arg1: str) -> None:

@@ -58,8 +58,20 @@ class Settings:
 
     # -- reflection rays (seed 000, 2.3; seed 002, 4.4) ---------------------------------------------
     method: str = _setting(
-        "linear", "tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002) "
-        "or 'off' (no reflections)", choices=("linear", "hiz", "off"), group="rays")
+        "linear", "tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002), "
+        "'bvh' (every ray traced against the scene's triangles and shaded by the G-buffer's shading code with "
+        "the frame's shadow map, seen from the camera: seed 003's ray-traced reflections, issue 12) "
+        "or 'off' (no reflections)", choices=("linear", "hiz", "bvh", "off"), group="rays")
+    fallback: str = _setting(
+        "environment", "what a ray screen space cannot resolve (a miss: it left the screen, reached max_steps or "
+        "ran behind every layer; or a faded hit) brings: 'environment' (the environment along it), 'bvh' (the "
+        "ray retraced from its origin against the scene's triangles and shaded as method 'bvh' shades; faded "
+        "hits fade toward it; thesis 4.3, seed 004) or 'none' (nothing: black). Ignored by method 'bvh'",
+        choices=("none", "environment", "bvh"), group="rays")
+    fallback_confidence: bool = _setting(
+        True, "with fallback 'bvh': screen-space hits that fail the confidence test (the hit surface faces the "
+        "ray, the hit lies within 2 pixel footprints of the ray, its object is its 4 neighbours'; "
+        "shaders/passes/trace_bvh.comp) are retraced by the BVH too", group="rays")
     rays_per_pixel: int = _setting(1, "reflection rays per reflective pixel", "rays", 1, 32, group="rays")
     sampling: str = _setting(
         "ggx", "ray directions: 'mirror'; 'ggx' (the thesis's theta/phi GGX normal sampling, 2.3.2); "
@@ -392,6 +404,16 @@ class Constraint:
 # RenderSettings::validate(). Rules whose violation the renderer would silently ignore (a
 # clamped level, a fade that never happens) are errors too, so that a setting always acts.
 CONSTRAINTS = (
+    Constraint(("method", "glossy"), "glossy == 'stochastic' when method == 'bvh'",
+               lambda s: s.method != "bvh" or s.glossy == "stochastic",
+               "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),
+    Constraint(("method", "fallback", "temporal_ray_reuse"),
+               "method != 'bvh' and fallback != 'bvh' when temporal_ray_reuse",
+               lambda s: not s.temporal_ray_reuse or (s.method != "bvh" and s.fallback != "bvh"),
+               "the previous frame's rays would bring their screen-space hits only, not the BVH's radiance"),
+    Constraint(("fallback", "glossy"), "glossy == 'stochastic' when fallback == 'bvh'",
+               lambda s: s.fallback != "bvh" or s.glossy == "stochastic",
+               "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),
     Constraint(("hiz_stop_level", "hiz_max_level"), "hiz_stop_level <= hiz_max_level",
                lambda s: s.hiz_stop_level <= s.hiz_max_level,
                "the traversal never descends below the stop level, so it cannot stop above the coarsest level"),

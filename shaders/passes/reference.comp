@@ -44,24 +44,7 @@ layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
 layout(binding = 4) uniform sampler2DShadow u_shadow_map;
 
-// The surface point being shaded, in world space, with its geometric normal on the side its
-// viewer is: what a traced shadow ray leaves from (light_visibility has no room for it).
-vec3 surface_point_w;
-vec3 surface_normal_w;
-
-#if TRACED_SHADOWS
-// The lights the frame shadows (the shadow map's), with a ray instead of the map.
-float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance) {
-    if (light.direction_shadow.w <= 0.5) return 1.0;
-    vec3 l_w = normalize(mat3(frame.inv_view) * l_view);
-    if (dot(surface_normal_w, l_w) <= 0.0) return 0.0;  // the surface itself is in the way
-    TraceHit h = trace_closest(offset_ray_origin(surface_point_w, surface_normal_w), l_w, 0.0, light_distance);
-    return h.triangle >= 0 ? 0.0 : 1.0;
-}
-#else
-#include "../lib/shadow_map.glsl"
-#endif
-#include "../lib/shading.glsl"
+#include "../lib/trace_shade.glsl"
 
 uniform int u_first_ray;   // first ray index of this dispatch
 uniform int u_ray_count;   // rays of this dispatch
@@ -85,72 +68,6 @@ GSample pixel_sample(ivec2 p) {
                           texelFetch(u_material, ivec3(p, 0), 0));
 }
 
-struct ShadedHit {
-    bool hit;
-    int object;
-    float t;
-    vec3 position;  // view space
-    vec3 radiance;
-};
-
-// A hit's world-space point, interpolated from its triangle's vertices (so that it lies on
-// the triangle to a few ulps, as lib/ray_offset.glsl assumes), and the triangle's unit
-// geometric normal on the side `toward` points to.
-vec3 hit_point_w(TraceHit h) {
-    BvhTriangle tri = bvh_triangles[h.triangle];
-    return tri.v0.xyz * (1.0 - h.b1 - h.b2) + tri.v1.xyz * h.b1 + tri.v2.xyz * h.b2;
-}
-vec3 hit_normal_w(TraceHit h, vec3 toward) {
-    BvhTriangle tri = bvh_triangles[h.triangle];
-    vec3 n = normalize(cross(tri.v1.xyz - tri.v0.xyz, tri.v2.xyz - tri.v0.xyz));
-    return dot(n, toward) >= 0.0 ? n : -n;
-}
-
-// Traces a world-space ray through the scene and shades what it hits (or the environment).
-ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w) {
-    ShadedHit s;
-    TraceHit h = trace_closest(origin_w, dir_w, 0.0, ssr.max_distance);
-    s.hit = h.triangle >= 0;
-    s.object = -1;
-    s.t = h.t;
-    s.position = (frame.view * vec4(origin_w + dir_w * h.t, 1.0)).xyz;
-    if (!s.hit) {
-        s.radiance = environment_radiance(dir_w);
-        return s;
-    }
-    surface_point_w = hit_point_w(h);
-    surface_normal_w = hit_normal_w(h, -dir_w);
-    s.position = (frame.view * vec4(surface_point_w, 1.0)).xyz;
-    BvhTriangle tri = bvh_triangles[h.triangle];
-    s.object = floatBitsToInt(tri.v0.w);
-    ObjectData o = objects[s.object];
-    MaterialData m = materials[o.material.x];
-    SurfaceAttributes a = triangle_attributes(o, floatBitsToInt(tri.v1.w), h.b1, h.b2);
-    mat3 model_view = mat3(frame.view) * mat3(o.model);
-    vec3 n = normalize(mat3(frame.view) * (mat3(o.normal_matrix) * a.normal));
-    vec3 face = cross(model_view * (a.p1 - a.p0), model_view * (a.p2 - a.p0));  // counter-clockwise = front
-    bool front_facing = dot(face, -s.position) > 0.0;  // as the camera would see it
-    vec3 t, b;
-    bool has_frame = false;
-    if (m.flags.z != 0) {
-        has_frame = tangent_frame_from_vertex(n, vec4(model_view * a.tangent.xyz, a.tangent.w), t, b) ||
-                    tangent_frame_from_gradients(n, model_view * (a.p1 - a.p0), model_view * (a.p2 - a.p0),
-                                                 a.uv1 - a.uv0, a.uv2 - a.uv0, t, b);
-    }
-    GSample g = material_sample(m, sample_image(m.images.x, a.uv, m.wraps.x, true),
-                                sample_image(m.images.y, a.uv, m.wraps.y, false),
-                                sample_image(m.images.z, a.uv, m.wraps.z, false).xyz, n, t, b, has_frame,
-                                front_facing, s.object);
-    vec3 viewer = u_viewer == 0 ? normalize(-s.position) : -normalize(mat3(frame.view) * dir_w);
-    s.radiance = shade_surface(g, s.position, viewer);
-    return s;
-}
-
-// The same for a view-space ray.
-ShadedHit trace_and_shade(vec3 origin, vec3 dir) {
-    return trace_and_shade_w((frame.inv_view * vec4(origin, 1.0)).xyz, normalize(mat3(frame.inv_view) * dir));
-}
-
 void main() {
 #if MODE == 0
     ivec3 id = ivec3(gl_GlobalInvocationID.xy, int(gl_GlobalInvocationID.z) + u_first_ray);
@@ -164,7 +81,7 @@ void main() {
         vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
         vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
         vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
-        ShadedHit s = trace_and_shade(origin, dir);
+        ShadedHit s = trace_and_shade(origin, dir, u_viewer != 0);
         radiance.rgb = s.radiance;
         if (s.hit) {
             vec4 c = frame.proj * vec4(s.position, 1.0);
@@ -206,8 +123,8 @@ void main() {
             if (mirror && r > 0) break;  // one ray serves a mirror
             ReflectionRay ray = generate_ray(g, pos, p, r);
             if (ray.weight <= 0.0) continue;
-            ShadedHit s = exact ? trace_and_shade_w(origin_w, normalize(mat3(frame.inv_view) * ray.dir))
-                                : trace_and_shade(ray.origin, ray.dir);
+            ShadedHit s = exact ? trace_and_shade_w(origin_w, normalize(mat3(frame.inv_view) * ray.dir), u_viewer != 0)
+                                : trace_and_shade(ray.origin, ray.dir, u_viewer != 0);
             acc += vec4(ray.weight * s.radiance, ray.weight);
         }
     }

@@ -67,12 +67,12 @@ vec3 previous_final(ivec2 hp, vec3 lit) {
 // previous frame's reuse neighbourhood around the reprojected pixel join as extra neighbours,
 // doubling the rays each pixel averages at no tracing cost. They are weighted exactly as this
 // frame's neighbours, after moving their origins, directions and hit points into this view.
-layout(binding = 10) uniform sampler2DArray u_prev_hit;
-layout(binding = 11) uniform sampler2DArray u_prev_sample;
-layout(binding = 12) uniform sampler2DArray u_prev_direction;
-layout(binding = 13) uniform sampler2DArray u_prev_lit;
-layout(binding = 14) uniform sampler2DArray u_prev_linear_depth;
-layout(binding = 15) uniform sampler2DArray u_prev_normal;
+layout(binding = 17) uniform sampler2DArray u_prev_hit;
+layout(binding = 18) uniform sampler2DArray u_prev_sample;
+layout(binding = 19) uniform sampler2DArray u_prev_direction;
+layout(binding = 20) uniform sampler2DArray u_prev_lit;
+layout(binding = 21) uniform sampler2DArray u_prev_linear_depth;
+layout(binding = 22) uniform sampler2DArray u_prev_normal;
 uniform int u_has_previous_rays;
 uniform mat4 u_previous_view_to_view;  // V_curr * V_prev^-1
 uniform vec4 u_previous_proj;          // previous (jittered) proj [0][0], [1][1], [2][0], [2][1]
@@ -82,6 +82,13 @@ vec3 previous_view_position(vec2 pix, float z) {
     vec2 ndc = pix * frame.viewport.zw * 2.0 - 1.0;
     return vec3((ndc + u_previous_proj.zw) * z / u_previous_proj.xy, -z);
 }
+#endif
+
+#if defined(RAY_RADIANCE) && RAY_RADIANCE
+// Issue 12: rays the BVH traced (trace_bvh.comp) bring its radiance (rgb) and hit distance
+// (a >= 0; -1: the BVH found nothing; -2: not traced by the BVH). It stands where the
+// environment stood: a screen-space miss brings it, a faded hit fades toward it.
+layout(binding = 16) uniform sampler2DArray u_ray_radiance;
 #endif
 
 const int GROUP = 16;
@@ -104,6 +111,16 @@ vec3 view_pos(ivec2 p) {
 
 vec3 environment_view(vec3 dir_view) {
     return environment_radiance(normalize(mat3(frame.inv_view) * dir_view));
+}
+
+// What a ray screen space did not resolve brings: the environment along it, or nothing
+// (fallback "none", to measure what screen space alone finds).
+vec3 unresolved_radiance(vec3 dir_view) {
+#if defined(FALLBACK_NONE) && FALLBACK_NONE
+    return vec3(0.0);
+#else
+    return environment_view(dir_view);
+#endif
 }
 
 // Similarity of a neighbour's surface to this pixel's: relative depth difference and normal
@@ -160,8 +177,15 @@ void main() {
             vec4 hit = texelFetch(u_hit, ivec3(q, r), 0);
             vec4 smp = texelFetch(u_sample, ivec3(q, r), 0);
             vec3 dir = texelFetch(u_direction, ivec3(q, r), 0).xyz;
-            vec3 c = environment_view(dir);
+            vec3 c = unresolved_radiance(dir);
             float dist = -1.0;
+#if defined(RAY_RADIANCE) && RAY_RADIANCE
+            vec4 traced = texelFetch(u_ray_radiance, ivec3(q, r), 0);
+            if (traced.a > -1.5) {
+                c = traced.rgb;
+                dist = traced.a;
+            }
+#endif
             if (hit.z > 0.5) {
                 ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
                 vec3 lit = texelFetch(u_lit, hp, 0).rgb;

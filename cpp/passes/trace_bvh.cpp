@@ -1,0 +1,86 @@
+#include "passes/trace_bvh.h"
+
+#include "passes/compute.h"
+#include "render/gpu_scene.h"
+
+namespace ssr {
+
+std::vector<std::string> TraceBvhPass::inputs() const {
+    std::vector<std::string> in = {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+    if (fallback_) {
+        in.push_back("rays.hit");
+        in.push_back("rays.sample");
+        in.push_back("rays.direction");
+    }
+    if (shadows_) in.push_back("shadow_map");
+    return in;
+}
+
+std::vector<ResourceDesc> TraceBvhPass::outputs(const RenderSettings& s) const {
+    const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
+    std::vector<ResourceDesc> out;
+    if (!fallback_) out = TracePass::outputs(s);
+    out.push_back({"rays.radiance", GL_RGBA32F, w, h, r, 1});
+    return out;
+}
+
+void TraceBvhPass::execute(FrameContext& ctx) {
+    auto& r = ctx.resources;
+    Defines d = ctx.defines;
+    d["FALLBACK"] = fallback_ ? "1" : "0";
+    d["STAGE"] = "0";
+    d["SHADOWS"] = shadows_ ? "1" : "0";
+    d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
+    const GLuint prog = ctx.shaders.program({"passes/trace_bvh.comp"}, d);
+    const RenderSettings& s = ctx.settings;
+    // The BVH and the scene's vertex and image buffers (built on first use, then kept with the
+    // scene's GPU copy; binding them does not change what the scene holds).
+    const_cast<GpuScene&>(ctx.gpu_scene).bind_ray_tracing(ctx.scene);
+    glUseProgram(prog);
+    glBindTextureUnit(0, r.get("linear_depth").id());
+    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
+    glBindTextureUnit(2, r.get("gbuffer.normal").id());
+    glBindTextureUnit(3, r.get("gbuffer.material").id());
+    if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
+    if (fallback_) {
+        bind_image_layered(4, r.get("rays.hit"), GL_READ_WRITE);
+        glBindTextureUnit(6, r.get("rays.sample").id());
+        glBindTextureUnit(7, r.get("rays.direction").id());
+    } else {
+        bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
+        bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
+        bind_image_layered(2, r.get("rays.direction"), GL_READ_WRITE);
+    }
+    bind_image_layered(3, r.get("rays.radiance"), GL_WRITE_ONLY);
+    if (!fallback_) {
+        dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
+        return;
+    }
+    // The fallback: select the rays to retrace into a compacted list (stage 0), size the
+    // indirect dispatch from its count on the GPU (stage 1), trace the list (stage 2).
+    const size_t rays = size_t(s.trace_width()) * size_t(s.trace_height()) * size_t(s.traced_rays());
+    if (list_.size() < rays * 16) list_ = Buffer::create(rays * 16);
+    if (!count_) count_ = Buffer::create(16);
+    const GLuint zero[4] = {0, 0, 0, 0};
+    count_.upload(zero, sizeof(zero));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, list_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, count_.id());
+    dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
+    for (int stage = 1; stage <= 2; ++stage) {
+        Defines ds = d;
+        ds["STAGE"] = std::to_string(stage);
+        glUseProgram(ctx.shaders.program({"passes/trace_bvh.comp"}, ds));
+        if (stage == 1) {
+            glDispatchCompute(1, 1, 1);
+            glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+        } else {
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, count_.id());
+            glDispatchComputeIndirect(4);  // groups[3] follows the count
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                            GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+    }
+}
+
+}  // namespace ssr

@@ -1,0 +1,36 @@
+// trace_bvh: reflection rays traced against the scene's triangles and shaded by the G-buffer's
+// own shading code (issue 12; shaders/passes/trace_bvh.comp, shaders/lib/trace_shade.glsl).
+// Two uses:
+//   method "bvh" (seed 003's ray-traced reflections): every ray, no screen space.
+//     inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material (+ shadow_map)
+//     outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h), rays.radiance
+//   fallback "bvh" (thesis 4.3, seed 004): after a screen-space tracer, only the rays it could
+//     not resolve (a miss, a faded hit, a hit failing the confidence test) are retraced: a
+//     full-screen selection appends them to a compacted list (atomic counter), whose count
+//     sizes an indirect dispatch over the list only.
+//     inputs : the above + rays.hit, rays.sample, rays.direction
+//     outputs: rays.radiance; with fallback_confidence, rays.hit rewritten: a screen-space hit
+//              failing the confidence test becomes a miss marked (0, 0, 0, -1)
+// rays.radiance (RGBA32F, trace resolution, one layer per ray): rgb the ray's BVH radiance,
+// a its hit distance (-1: the BVH found nothing, the environment's radiance; -2: not traced).
+#pragma once
+
+#include "core/gl_resources.h"
+#include "passes/trace_pass.h"
+
+namespace ssr {
+
+class TraceBvhPass : public TracePass {
+public:
+    TraceBvhPass(bool fallback, bool shadows) : fallback_(fallback), shadows_(shadows) {}
+    std::string name() const override { return fallback_ ? "fallback_bvh" : "trace_bvh"; }
+    std::vector<std::string> inputs() const override;
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    void execute(FrameContext& ctx) override;
+
+private:
+    bool fallback_, shadows_;
+    Buffer list_, count_;  // fallback: the compacted list of rays to retrace, its count + indirect args
+};
+
+}  // namespace ssr

@@ -1,0 +1,98 @@
+// Trace and shade (issue 12): a world-space ray traced against the scene's triangles
+// (lib/bvh.glsl) and the surface it hits shaded by the very material and lighting code the
+// G-buffer uses (lib/material.glsl, lib/shading.glsl), so that what the BVH finds matches
+// what the lit G-buffer would show. Shared by the reference pass and the ray-traced
+// reflection passes (trace_bvh: method "bvh" and fallback "bvh"), which therefore produce
+// the same radiance for the same ray.
+// Needs frame_uniforms, depth_convention, ssr_settings, scene_data, gbuffer, brdf, lights,
+// normal_mapping, material, environment, bvh, scene_geometry, scene_textures, ray_offset.
+// The including shader defines SHADOWS and TRACED_SHADOWS (0 or 1) and, with SHADOWS,
+// declares `uniform sampler2DShadow u_shadow_map` before including this file.
+
+// The surface point being shaded, in world space, with its geometric normal on the side its
+// viewer is: what a traced shadow ray leaves from (light_visibility has no room for it).
+vec3 surface_point_w;
+vec3 surface_normal_w;
+
+#if TRACED_SHADOWS
+// The lights the frame shadows (the shadow map's), with a ray instead of the map.
+float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance) {
+    if (light.direction_shadow.w <= 0.5) return 1.0;
+    vec3 l_w = normalize(mat3(frame.inv_view) * l_view);
+    if (dot(surface_normal_w, l_w) <= 0.0) return 0.0;  // the surface itself is in the way
+    TraceHit h = trace_closest(offset_ray_origin(surface_point_w, surface_normal_w), l_w, 0.0, light_distance);
+    return h.triangle >= 0 ? 0.0 : 1.0;
+}
+#else
+#include "../lib/shadow_map.glsl"
+#endif
+#include "../lib/shading.glsl"
+
+struct ShadedHit {
+    bool hit;
+    int object;
+    float t;
+    vec3 position;  // view space
+    vec3 radiance;
+};
+
+// A hit's world-space point, interpolated from its triangle's vertices (so that it lies on
+// the triangle to a few ulps, as lib/ray_offset.glsl assumes), and the triangle's unit
+// geometric normal on the side `toward` points to.
+vec3 hit_point_w(TraceHit h) {
+    BvhTriangle tri = bvh_triangles[h.triangle];
+    return tri.v0.xyz * (1.0 - h.b1 - h.b2) + tri.v1.xyz * h.b1 + tri.v2.xyz * h.b2;
+}
+vec3 hit_normal_w(TraceHit h, vec3 toward) {
+    BvhTriangle tri = bvh_triangles[h.triangle];
+    vec3 n = normalize(cross(tri.v1.xyz - tri.v0.xyz, tri.v2.xyz - tri.v0.xyz));
+    return dot(n, toward) >= 0.0 ? n : -n;
+}
+
+// Traces a world-space ray through the scene and shades what it hits (or the environment).
+// viewer_is_ray: the hit is viewed from the ray's origin (the physical reflection) instead
+// of from the camera (as the lit G-buffer has it).
+ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w, bool viewer_is_ray) {
+    ShadedHit s;
+    TraceHit h = trace_closest(origin_w, dir_w, 0.0, ssr.max_distance);
+    s.hit = h.triangle >= 0;
+    s.object = -1;
+    s.t = h.t;
+    s.position = (frame.view * vec4(origin_w + dir_w * h.t, 1.0)).xyz;
+    if (!s.hit) {
+        s.radiance = environment_radiance(dir_w);
+        return s;
+    }
+    surface_point_w = hit_point_w(h);
+    surface_normal_w = hit_normal_w(h, -dir_w);
+    s.position = (frame.view * vec4(surface_point_w, 1.0)).xyz;
+    BvhTriangle tri = bvh_triangles[h.triangle];
+    s.object = floatBitsToInt(tri.v0.w);
+    ObjectData o = objects[s.object];
+    MaterialData m = materials[o.material.x];
+    SurfaceAttributes a = triangle_attributes(o, floatBitsToInt(tri.v1.w), h.b1, h.b2);
+    mat3 model_view = mat3(frame.view) * mat3(o.model);
+    vec3 n = normalize(mat3(frame.view) * (mat3(o.normal_matrix) * a.normal));
+    vec3 face = cross(model_view * (a.p1 - a.p0), model_view * (a.p2 - a.p0));  // counter-clockwise = front
+    bool front_facing = dot(face, -s.position) > 0.0;  // as the camera would see it
+    vec3 t, b;
+    bool has_frame = false;
+    if (m.flags.z != 0) {
+        has_frame = tangent_frame_from_vertex(n, vec4(model_view * a.tangent.xyz, a.tangent.w), t, b) ||
+                    tangent_frame_from_gradients(n, model_view * (a.p1 - a.p0), model_view * (a.p2 - a.p0),
+                                                 a.uv1 - a.uv0, a.uv2 - a.uv0, t, b);
+    }
+    GSample g = material_sample(m, sample_image(m.images.x, a.uv, m.wraps.x, true),
+                                sample_image(m.images.y, a.uv, m.wraps.y, false),
+                                sample_image(m.images.z, a.uv, m.wraps.z, false).xyz, n, t, b, has_frame,
+                                front_facing, s.object);
+    vec3 viewer = !viewer_is_ray ? normalize(-s.position) : -normalize(mat3(frame.view) * dir_w);
+    s.radiance = shade_surface(g, s.position, viewer);
+    return s;
+}
+
+// The same for a view-space ray.
+ShadedHit trace_and_shade(vec3 origin, vec3 dir, bool viewer_is_ray) {
+    return trace_and_shade_w((frame.inv_view * vec4(origin, 1.0)).xyz, normalize(mat3(frame.inv_view) * dir),
+                             viewer_is_ray);
+}

@@ -1,0 +1,180 @@
+#version 450 core
+// trace_bvh: reflection rays traced against the scene's triangles (issue 12), with the
+// trace-and-shade code of the reference pass (lib/trace_shade.glsl): the BVH hit shaded by the
+// G-buffer's own material and lighting code and the frame's shadow map, seen from the camera
+// as the lit G-buffer has it. One invocation per (trace pixel, ray). Two modes:
+//   FALLBACK 0 (method "bvh", seed 003's ray-traced reflections): every ray of the frame,
+//              generated exactly as the screen-space tracers generate it
+//              (lib/ray_generation.glsl), no screen space at all. Writes the rays.* outputs
+//              of the screen-space tracers (rays.hit always a screen miss: the radiance comes
+//              from rays.radiance) and rays.radiance.
+//   FALLBACK 1 (fallback "bvh"; thesis 4.3's hybrid, seed 004's fallback hierarchy): after a
+//              screen-space tracer, the rays it could not resolve (a miss: it left the screen,
+//              reached its step limit or ran behind every layer; or a faded hit) are retraced
+//              from their origin; the others are skipped. Three stages (STAGE): 0 selects,
+//              full-screen, the rays to retrace and appends them to a compacted list (an
+//              atomic counter); 1 turns the count into the indirect dispatch's group count;
+//              2 traces the listed rays only, so the BVH's cost follows the misses.
+//              With CONFIDENCE, a screen-space hit must also pass a confidence test
+//              (screen_hit_confident) or it is retraced too; its rays.hit becomes a miss
+//              marked (0, 0, 0, -1), so the resolve takes the BVH's radiance.
+// rays.radiance (RGBA32F): rgb the BVH radiance (the environment's where the BVH found
+// nothing), a the hit's distance along the ray (world units); a = -1: the BVH found nothing,
+// a = -2: not traced by the BVH (no ray, or resolved in screen space).
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/depth_convention.glsl"
+#include "../lib/ssr_settings.glsl"
+#include "../lib/scene_data.glsl"
+#include "../lib/gbuffer.glsl"
+#include "../lib/brdf.glsl"
+#include "../lib/lights.glsl"
+#include "../lib/random.glsl"
+#include "../lib/ggx_sampling.glsl"
+#include "../lib/ray_generation.glsl"
+#include "../lib/normal_mapping.glsl"
+#include "../lib/material.glsl"
+#include "../lib/environment.glsl"
+#include "../lib/bvh.glsl"
+#include "../lib/scene_geometry.glsl"
+#include "../lib/scene_textures.glsl"
+#include "../lib/ray_offset.glsl"
+
+#if FALLBACK && STAGE == 2
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+#elif FALLBACK && STAGE == 1
+layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
+#else
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+#endif
+
+layout(binding = 0) uniform sampler2DArray u_linear_depth;
+layout(binding = 1) uniform sampler2DArray u_albedo;
+layout(binding = 2) uniform sampler2DArray u_normal;
+layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = 4) uniform sampler2DShadow u_shadow_map;
+#define TRACED_SHADOWS 0
+#include "../lib/trace_shade.glsl"
+
+#if FALLBACK
+layout(binding = 4, rgba32f) uniform image2DArray io_ray_hit;  // rays.hit of the screen-space tracer
+layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
+layout(binding = 7) uniform sampler2DArray u_ray_direction;  // rays.direction
+layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+// The compacted list: the (trace pixel, ray) of every ray to retrace, and the count and the
+// indirect dispatch's group counts (x, y, z).
+layout(std430, binding = 11) buffer RetraceList { ivec4 retrace[]; };
+layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint groups[3]; };
+
+ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
+    return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
+}
+#else
+// The outputs of lib/trace_common.glsl, but with rays.direction readable: the direction is
+// read back as stored (RGBA16F), so that the per-ray reference, which reads rays.direction,
+// traces exactly the ray this pass traces (same invocation: the load sees the store).
+layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;
+layout(binding = 1, rgba32f) writeonly uniform image2DArray o_sample;
+layout(binding = 2, rgba16f) uniform image2DArray o_direction;
+layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+
+ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
+    return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
+}
+#endif
+
+#if FALLBACK && CONFIDENCE
+// The confidence test of a screen-space hit (issue 12). A depth buffer cannot tell a surface
+// from the volume behind it, so a screen-space tracer accepts any crossing of a layer's
+// [depth, depth + thickness] slab; the G-buffer can still check that the hit is plausible:
+//   1. the surface hit faces the ray (its normal against the ray's direction): a ray cannot
+//      hit the back of a surface, so a back-facing "hit" passed behind or along it;
+//   2. the hit point lies on the ray: its distance from the ray's line is at most
+//      CONFIDENCE_PIXELS pixel footprints at its depth (the crossing is found to within a
+//      pixel; a hit accepted deep inside the thickness slab lies off the ray);
+//   3. the hit pixel's object and surface are its 4 neighbours' (same layer: same object id,
+//      normals within CONFIDENCE_CREASE): at a silhouette the layer's depth jumps and at a
+//      crease (a box's edge) the surface turns within the pixel, and a ray crossing there
+//      may pass just beside the surface the pixel shows (sub-pixel geometry).
+const float CONFIDENCE_PIXELS = 2.0;
+const float CONFIDENCE_CREASE = 0.9;  // cosine between the hit's normal and a neighbour's
+bool screen_hit_confident(vec4 hit, vec3 origin, vec3 dir) {
+    ivec2 size = ivec2(frame.viewport.xy);
+    int layer = int(hit.z) - 1;
+    ivec2 hp = clamp(ivec2(hit.xy), ivec2(0), size - 1);
+    GSample h = gbuffer_decode(texelFetch(u_albedo, ivec3(hp, layer), 0), texelFetch(u_normal, ivec3(hp, layer), 0),
+                               texelFetch(u_material, ivec3(hp, layer), 0));
+    if (!h.covered || dot(h.normal, dir) >= 0.0) return false;
+    float depth = texelFetch(u_linear_depth, ivec3(hp, layer), 0).r;
+    vec3 hit_view = view_position(hit.xy, depth);
+    float footprint = 2.0 * depth / (frame.proj[1][1] * frame.viewport.y);  // one pixel, view units
+    if (length(cross(hit_view - origin, dir)) > CONFIDENCE_PIXELS * footprint) return false;
+    const ivec2 nb[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    for (int i = 0; i < 4; ++i) {
+        ivec2 q = clamp(hp + nb[i], ivec2(0), size - 1);
+        GSample n = gbuffer_decode(texelFetch(u_albedo, ivec3(q, layer), 0), texelFetch(u_normal, ivec3(q, layer), 0),
+                                   texelFetch(u_material, ivec3(q, layer), 0));
+        if (n.object_id != h.object_id || dot(n.normal, h.normal) < CONFIDENCE_CREASE) return false;
+    }
+    return true;
+}
+#endif
+
+// Whether screen space resolved a ray fully: a hit at full strength. A miss or a faded hit
+// (screen border, toward the camera, distance) is what the BVH continues (issue 12).
+bool screen_resolved(vec4 hit) {
+    return hit.z > 0.5 && hit.w >= 1.0;
+}
+
+void main() {
+#if FALLBACK && STAGE == 1
+    groups[0] = (retrace_count + 63u) / 64u;
+    groups[1] = 1u;
+    groups[2] = 1u;
+    return;
+#endif
+#if FALLBACK && STAGE == 2
+    if (gl_GlobalInvocationID.x >= retrace_count) return;
+    ivec3 id = retrace[gl_GlobalInvocationID.x].xyz;
+#else
+    ivec3 id = ivec3(gl_GlobalInvocationID);  // (trace pixel, ray index)
+#endif
+    if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
+    ivec2 p = origin_pixel(id.xy);
+    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                               texelFetch(u_material, ivec3(p, 0), 0));
+    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    vec4 radiance = vec4(0.0, 0.0, 0.0, -2.0);
+#if FALLBACK && STAGE == 2
+    vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
+    vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
+    ShadedHit s = trace_and_shade(origin, dir, false);
+    radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
+#elif FALLBACK
+    vec4 smp = texelFetch(u_ray_sample, id, 0);
+    vec4 hit = imageLoad(io_ray_hit, id);
+    // The ray's own origin, as ray_generation.glsl placed it, and its stored direction.
+    vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
+    vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
+    bool resolved = screen_resolved(hit);
+#if CONFIDENCE
+    if (smp.w > 0.5 && smp.x > 0.0 && resolved && !screen_hit_confident(hit, origin, dir)) {
+        resolved = false;
+        imageStore(io_ray_hit, id, vec4(0.0, 0.0, 0.0, -1.0));  // rejected: the BVH's radiance replaces it
+    }
+#endif
+    if (smp.w > 0.5 && smp.x > 0.0 && !resolved) retrace[atomicAdd(retrace_count, 1u)] = ivec4(id, 0);
+#else
+    ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
+    // rays.hit: never a screen-space hit (the radiance is in rays.radiance); rays.sample: no
+    // depth fetches.
+    imageStore(o_hit, id, vec4(0.0));
+    imageStore(o_sample, id, vec4(ray.weight, ray.pdf, 0.0, is_reflective(g) ? 1.0 : 0.0));
+    imageStore(o_direction, id, vec4(ray.dir, 0.0));
+    if (ray.weight > 0.0) {
+        vec3 dir = normalize(imageLoad(o_direction, id).xyz);
+        ShadedHit s = trace_and_shade(ray.origin, dir, false);
+        radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
+    }
+#endif
+    imageStore(o_radiance, id, radiance);
+}
