@@ -485,6 +485,14 @@ class RenderSettings:
     def validate(self) -> None:
         ...
     @property
+    def adaptive_rays(self) -> bool:
+        """
+        ssrlab.Settings.adaptive_rays: rays per pixel follow the perceptual roughness within rays_per_pixel: ceil(rays_per_pixel * roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work, issue 11); the resolve averages each pixel's rays with the weights they were drawn with
+        """
+    @adaptive_rays.setter
+    def adaptive_rays(self, arg0: bool) -> None:
+        ...
+    @property
     def backface_culling(self) -> bool:
         """
         ssrlab.Settings.backface_culling: cull back faces; off as in the thesis, so back faces populate deeper layers
@@ -499,6 +507,14 @@ class RenderSettings:
         """
     @bounces.setter
     def bounces(self, arg1: str) -> None:
+        ...
+    @property
+    def classify_facing(self) -> float:
+        """
+        ssrlab.Settings.classify_facing [cosine]: skip=True: pixels whose normal faces the camera by less than this (n.v, the cosine of the viewing angle) get no rays (seed 004's early out by angle); 0 keeps every ray the trace would draw
+        """
+    @classify_facing.setter
+    def classify_facing(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def composite(self) -> str:
@@ -869,6 +885,14 @@ class RenderSettings:
     def shadow_pcf_radius(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
+    def skip(self) -> bool:
+        """
+        ssrlab.Settings.skip: the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty and clears the others as uncovered. False: every trace pixel and ray, every allocated layer, for comparison. The images agree either way
+        """
+    @skip.setter
+    def skip(self, arg0: bool) -> None:
+        ...
+    @property
     def stride(self) -> float:
         """
         ssrlab.Settings.stride [pixels]: pixels per step along the ray's major screen axis
@@ -1020,6 +1044,11 @@ class Frame:
     def shadow_matrix(self) -> numpy.ndarray:
         """
         view -> shadow-map clip matrix (4x4) of the shadow-casting light
+        """
+    @property
+    def stats(self) -> dict[str, float]:
+        """
+        exact work counts read back from the GPU (issue 11): passes_run; with skip on, pixels_classified, pixels_traced (in the ray list), rays_traced, depth_fetches, trace_groups
         """
     @property
     def texture_names(self) -> list[str]:
