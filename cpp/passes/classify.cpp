@@ -31,13 +31,7 @@ void ClassifyPass::execute(FrameContext& ctx) {
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_rays"), s.traced_rays());
     auto& r = ctx.resources;
-    glBindTextureUnit(0, r.get("linear_depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
-    bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
-    bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
+    bind_ray_generation_io(r);
     bind();
     dispatch_2d(w, h, 1, 8, 8);
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the trace pass's indirect arguments

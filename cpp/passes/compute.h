@@ -26,4 +26,17 @@ inline void bind_inputs_in_order(const FrameResources& r, const std::vector<std:
     for (GLuint unit = 0; unit < GLuint(names.size()); ++unit) glBindTextureUnit(unit, r.get(names[unit]).id());
 }
 
+// What every pass that generates or traces reflection rays binds: the layer-0 G-buffer a ray
+// is generated from (texture units 0-3, lib/ray_generation.glsl) and the per-ray outputs
+// rays.hit, rays.sample, rays.direction (image units 0-2).
+inline void bind_ray_generation_io(FrameResources& r) {
+    glBindTextureUnit(0, r.get("linear_depth").id());
+    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
+    glBindTextureUnit(2, r.get("gbuffer.normal").id());
+    glBindTextureUnit(3, r.get("gbuffer.material").id());
+    bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
+    bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
+    bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
+}
+
 }  // namespace ssr

@@ -13,13 +13,7 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     d["RAY_LIST"] = skip ? "1" : "0";
     d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays ? "1" : "0";
     glUseProgram(ctx.shaders.program({stage}, d));
-    glBindTextureUnit(0, r.get("linear_depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
-    bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
-    bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
+    bind_ray_generation_io(r);
     if (skip) {
         // The classify pass (run before, build_chain) wrote the list and its dispatch
         // arguments: groups of 64 list entries, a group layer per ray.
