@@ -8,14 +8,20 @@ layout(std430, binding = 8) readonly buffer ImageInfo { ivec4 image_info[]; };  
 
 const int WRAP_REPEAT = 10497, WRAP_CLAMP = 33071, WRAP_MIRRORED = 33648;  // glTF / GL enums
 
+// i mod n in [0, n) for any sign of i: GLSL leaves % undefined when an operand is negative
+// (GLSL 4.50 5.9), so negative coordinates are folded with non-negative operands only.
+int floor_mod(int i, int n) {
+    return i >= 0 ? i % n : (n - 1) - ((-(i + 1)) % n);
+}
+
 int wrap_coordinate(int i, int n, int mode) {
     if (mode == WRAP_CLAMP) return clamp(i, 0, n - 1);
     if (mode == WRAP_MIRRORED) {
         int period = 2 * n;
-        int j = ((i % period) + period) % period;
+        int j = floor_mod(i, period);
         return j < n ? j : period - 1 - j;
     }
-    return ((i % n) + n) % n;
+    return floor_mod(i, n);
 }
 
 vec3 srgb_to_linear(vec3 c) {
