@@ -48,3 +48,15 @@ def test_compile_every_stage(renderer):
 def test_missing_shader_folder(tmp_path):
     with pytest.raises(ssrlab.ShaderError, match="shader folder not found"):
         ssrlab.Renderer(shader_dir=tmp_path / "nothing")
+
+
+def test_two_samplers_on_one_texture_unit_are_refused(shader_copy):
+    # A pass whose samplers share a unit would silently read one texture for both (or fail at
+    # dispatch when their types differ): the program is refused when it is linked, by name.
+    p = shader_copy / "passes" / "composite.comp"
+    p.write_text(p.read_text().replace("layout(binding = 4) uniform sampler2DArray u_normal;",
+                                       "layout(binding = 3) uniform sampler2DArray u_normal;"))
+    r = ssrlab.Renderer(shader_dir=shader_copy)
+    with pytest.raises(ssrlab.ShaderError, match=r"composite.comp.*u_(normal|albedo) and u_(normal|albedo) are both "
+                                                 r"bound to texture unit 3"):
+        r.render(ssrlab.scenes.mirror_test(), settings=small(composite="pbr"))

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -188,6 +189,71 @@ GLuint ShaderLibrary::compile_stage(const std::string& stage, const Defines& def
     return shader;
 }
 
+namespace {
+
+// Opaque uniform types that name a texture unit (samplers) or an image unit (images).
+bool is_sampler_type(GLenum t) {
+    switch (t) {
+        case GL_SAMPLER_1D: case GL_SAMPLER_2D: case GL_SAMPLER_3D: case GL_SAMPLER_CUBE:
+        case GL_SAMPLER_1D_SHADOW: case GL_SAMPLER_2D_SHADOW: case GL_SAMPLER_1D_ARRAY: case GL_SAMPLER_2D_ARRAY:
+        case GL_SAMPLER_1D_ARRAY_SHADOW: case GL_SAMPLER_2D_ARRAY_SHADOW: case GL_SAMPLER_CUBE_SHADOW:
+        case GL_SAMPLER_CUBE_MAP_ARRAY: case GL_SAMPLER_CUBE_MAP_ARRAY_SHADOW: case GL_SAMPLER_BUFFER:
+        case GL_SAMPLER_2D_RECT: case GL_SAMPLER_2D_MULTISAMPLE: case GL_SAMPLER_2D_MULTISAMPLE_ARRAY:
+        case GL_INT_SAMPLER_2D: case GL_INT_SAMPLER_3D: case GL_INT_SAMPLER_2D_ARRAY: case GL_INT_SAMPLER_BUFFER:
+        case GL_INT_SAMPLER_CUBE: case GL_UNSIGNED_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_3D:
+        case GL_UNSIGNED_INT_SAMPLER_2D_ARRAY: case GL_UNSIGNED_INT_SAMPLER_BUFFER: case GL_UNSIGNED_INT_SAMPLER_CUBE:
+            return true;
+        default:
+            return false;
+    }
+}
+
+bool is_image_type(GLenum t) {
+    switch (t) {
+        case GL_IMAGE_2D: case GL_IMAGE_3D: case GL_IMAGE_CUBE: case GL_IMAGE_2D_ARRAY: case GL_IMAGE_BUFFER:
+        case GL_INT_IMAGE_2D: case GL_INT_IMAGE_3D: case GL_INT_IMAGE_2D_ARRAY: case GL_INT_IMAGE_BUFFER:
+        case GL_UNSIGNED_INT_IMAGE_2D: case GL_UNSIGNED_INT_IMAGE_3D: case GL_UNSIGNED_INT_IMAGE_2D_ARRAY:
+        case GL_UNSIGNED_INT_IMAGE_BUFFER:
+            return true;
+        default:
+            return false;
+    }
+}
+
+// Two active samplers (or images) of one program on the same unit read one texture under two
+// names, or raise GL_INVALID_OPERATION at dispatch when their types differ: either way a pass
+// reads something it did not mean to (it happened once: the ray-reuse history and the specular
+// albedo table shared unit 13). Checked once per linked variant, so every pass and every
+// combination of defines the tests and the stress suite build is covered.
+void check_unit_collisions(GLuint prog, const std::string& program_name) {
+    GLint count = 0;
+    glGetProgramInterfaceiv(prog, GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
+    std::map<std::pair<bool, GLint>, std::string> owner;  // (image?, unit) -> uniform
+    for (GLint i = 0; i < count; ++i) {
+        const GLenum props[] = {GL_TYPE, GL_ARRAY_SIZE, GL_LOCATION};
+        GLint values[3] = {0, 0, -1};
+        glGetProgramResourceiv(prog, GL_UNIFORM, GLuint(i), 3, props, 3, nullptr, values);
+        const GLenum type = GLenum(values[0]);
+        const bool image = is_image_type(type);
+        if ((!image && !is_sampler_type(type)) || values[2] < 0) continue;
+        char name[256] = {0};
+        glGetProgramResourceName(prog, GL_UNIFORM, GLuint(i), sizeof(name), nullptr, name);
+        for (GLint e = 0; e < std::max(values[1], 1); ++e) {
+            GLint unit = -1;
+            glGetUniformiv(prog, values[2] + e, &unit);
+            const std::string who = values[1] > 1 ? std::string(name) + "[" + std::to_string(e) + "]" : std::string(name);
+            const auto [it, fresh] = owner.emplace(std::make_pair(image, unit), who);
+            if (!fresh)
+                throw ShaderError(program_name + ": " + who + " and " + it->second + " are both bound to " +
+                                      (image ? "image unit " : "texture unit ") + std::to_string(unit) +
+                                      "; give each its own layout(binding = ...)",
+                                  program_name, 0);
+        }
+    }
+}
+
+}  // namespace
+
 GLuint ShaderLibrary::program(const std::vector<std::string>& stages, const Defines& defines) {
     std::string key;
     for (const auto& s : stages) key += s + "|";
@@ -219,6 +285,16 @@ GLuint ShaderLibrary::program(const std::vector<std::string>& stages, const Defi
         std::string joined;
         for (const auto& s : stages) joined += (joined.empty() ? "" : " + ") + ("shaders/" + s);
         throw ShaderError("GLSL link error in " + joined + "\n" + log.c_str(), "shaders/" + stages.front(), 0);
+    }
+    {
+        std::string joined;
+        for (const auto& s : stages) joined += (joined.empty() ? "shaders/" : " + shaders/") + s;
+        try {
+            check_unit_collisions(prog, joined);
+        } catch (...) {
+            glDeleteProgram(prog);
+            throw;
+        }
     }
     cache_[key] = prog;
     return prog;
