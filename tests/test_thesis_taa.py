@@ -68,3 +68,10 @@ def test_experiments_pass_their_taa_to_the_sweeps(experiment, default, monkeypat
         assert calls[-1]["sequence"] is (expected != "off")
     with pytest.raises(ValueError, match="taa must be one of"):
         experiment("small", taa="on")
+
+
+def test_a_sweep_file_can_ask_for_one_sequence(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('scenes = ["mirror_test"]\nsequence = true\nwarmup = 2\nrepeats = 3\n[grid]\ntaa = ["thesis"]\n')
+    cfg = bench.load_sweep(path)
+    assert cfg["sequence"] is True and cfg["warmup"] == 2
