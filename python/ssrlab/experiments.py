@@ -21,8 +21,8 @@ medians over the timed frames, per pass with the taa pass, and the error is the 
 timed frames (each draws new rays, so one frame's error is one seed's draw; the mean is the
 expected error of a TAA frame). Both references are unjittered: the thesis's ground truth (as
 the thesis made it) and the converged reference. TAA's blend of two jittered frames smooths
-the noise of the rays but also shifts and softens every edge by up to a quarter pixel against
-that unjittered image, so TAA lowers the error where the rays' noise dominates (reflections)
+the noise of the rays but also spreads every edge over the two jittered positions, each a quarter
+pixel off that unjittered image's, so TAA lowers the error where the rays' noise dominates (reflections)
 and can raise it where edges do. ``taa="off"`` measures single frames, without TAA (the
 README's earlier table). Seed 002 states no TAA for its tracing claims, and TAA does not change
 what a trace costs or fetches, so `hiz_vs_linear` defaults to ``taa="off"``.
