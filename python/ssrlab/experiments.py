@@ -6,7 +6,8 @@ was measured, with a verdict computed from the numbers (never written by hand).
     print(exp.table())                          # claim | ours | verdict
 
 Scales: "small" (96x54 images, one timed run, 16 reference rays: seconds, for tests) and
-"full" (640x360, median of 5 runs after 2 warm-ups, 256 reference rays: minutes, by hand).
+"full" (640x360, median of 5 runs after 2 warm-ups, 256 reference rays: minutes, by hand); with
+TAA the runs are the frames of one sequence (see TAA below).
 Errors are reported against two references: the thesis's own ground truth (32 rays per
 pixel, 16 layers, stride 1, screen space: how the thesis made its figures) and the converged
 reference traced against the triangles (the truth). The thesis's findings are judged on the
@@ -16,16 +17,16 @@ TAA: the thesis measured every figure with its temporal anti-aliasing on (seed 0
 3.2: two alternating quarter-pixel jitters, the mean of this frame and the previous one), so
 the thesis's experiments (`layers`, `downscale_rays_stride`) default to ``taa="thesis"``: each
 configuration renders one sequence of the static camera (``bench.sweep(sequence=True)``),
-warm-up frames first (they fill the one-frame history), then the timed frames; times are the
-medians over the timed frames, per pass with the taa pass, and the error is the mean over the
-timed frames (each draws new rays, so one frame's error is one seed's draw; the mean is the
+warm-up frames first (they fill the one-frame history), then the timed frames; times are the medians
+over the timed frames, per pass (reproject and taa included), and the error is the mean over
+the timed frames (each draws new rays, so one frame's error is one seed's draw; the mean is the
 expected error of a TAA frame). Both references are unjittered: the thesis's ground truth (as
-the thesis made it) and the converged reference. TAA's blend of two jittered frames smooths
-the noise of the rays but also spreads every edge over the two jittered positions, each a quarter
-pixel off that unjittered image's, so TAA lowers the error where the rays' noise dominates (reflections)
-and can raise it where edges do. ``taa="off"`` measures single frames, without TAA (the
-README's earlier table). Seed 002 states no TAA for its tracing claims, and TAA does not change
-what a trace costs or fetches, so `hiz_vs_linear` defaults to ``taa="off"``.
+the thesis made it) and the converged reference. TAA's blend of two jittered frames smooths the
+noise of the rays but also spreads every edge over the two jittered positions, each a quarter
+pixel off that unjittered image's, so TAA lowers the error where the rays' noise dominates
+(reflections) and can raise it where edges do. ``taa="off"`` measures single frames, without
+TAA (the README's earlier table). Seed 002 states no TAA for its tracing claims, and TAA does
+not change what a trace costs or fetches, so `hiz_vs_linear` defaults to ``taa="off"``.
 
 Timing findings are judged only on timings that can bear a verdict (``timing_doubt``): at
 least MIN_JUDGED_REPEATS timed runs per configuration (so a spread is measured), times of at
