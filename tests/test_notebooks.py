@@ -46,6 +46,10 @@ def test_notebook_runs_at_reduced_size(name, figures, tmp_path, monkeypatch):
     if name != "temporal":  # the temporal notebook makes no timing claim
         assert timed
     assert not any("faster" in l or "time grows" in l for l in rows if l not in timed)
+    if name.startswith("thesis_"):  # the thesis measured with its TAA on, and so do these (issue 10)
+        stdout = "".join(o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
+                         if o.get("name") == "stdout")
+        assert "| taa: thesis" in stdout and "TAA cost" in stdout
 
 
 def test_numerical_stability_notebook_runs_at_reduced_size(tmp_path, monkeypatch):

@@ -28,6 +28,9 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
                         reference_rays_per_pixel: the rays per pixel the reference used
   repeats, warmup       the timing protocol
   frames                frames per render (sequence of a static camera; the last one is timed and scored)
+  sequence              True: one sequence of warmup + repeats frames per configuration (see sweep);
+                        the metrics are then the mean over the timed frames, and
+                        thesis_error_frame_min/_max their smallest and largest thesis_error
   gpu_<pass>_ms         median GPU milliseconds of every key of Frame.timings, dots replaced by
                         underscores (gpu_depth_peel_ms, gpu_depth_peel_layer0_ms, gpu_total_ms, ...)
   time_frame_ms         median GPU time of the whole frame (Frame.timings["total"])
@@ -93,7 +96,7 @@ REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve",
                      "preconvolve", "preintegrate", "cone_trace", "blur_mips")  # issue 9's glossy passes
 VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
 SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
-                   "reference_rays", "device", "frames")
+                   "reference_rays", "device", "frames", "sequence")
 SETTINGS_FIELDS = tuple(f.name for f in fields(Settings))
 # Row columns that are times (with every gpu_<pass>_ms column).
 TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
@@ -357,7 +360,7 @@ def _timing_column(key: str) -> str:
 
 def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats: int, warmup: int,
                       reference: str, reference_rays: int | None, device: str,
-                      cache_folder: str | None, frames: int = 1) -> dict:
+                      cache_folder: str | None, frames: int = 1, sequence: bool = False) -> dict:
     """Renders one configuration and measures it: the sweep's task, run in a worker.
 
     Module-level with picklable arguments, so any executor can ship it to another process.
@@ -373,7 +376,7 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     # frames > 1: every render is a sequence of `frames` frames of the static camera (what TAA
     # and temporal accumulation need, issue 10); the last frame is timed and scored. The
     # reference is that of the unjittered camera (TAA averages the jitter out).
-    ref_settings = s.replace(taa="off") if frames > 1 else s
+    ref_settings = s.replace(taa="off") if frames > 1 or sequence else s
     ref = reference_image(renderer, scene, camera, ref_settings, kind=reference, rays=reference_rays, cache=True,
                           folder=cache_folder)
 
@@ -385,16 +388,32 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
             pass
         return last
 
-    for _ in range(warmup):
-        render()
-    frames_timings, walls, reflections = [], [], []
+    reflective = np.asarray(ref.reflective, dtype=bool)
+    frames_timings, walls, reflections, scores = [], [], [], []
     frame = None
-    for _ in range(repeats):
-        frame = render()
-        t = frame.timings
+
+    def record(f) -> None:
+        t = f.timings
         frames_timings.append(t)
-        walls.append(frame.wall_ms)
+        walls.append(f.wall_ms)
         reflections.append(sum(t.get(p, 0.0) for p in REFLECTION_PASSES))
+
+    if sequence:
+        # One sequence of warmup + repeats frames of the static camera: the warm-up frames fill
+        # the temporal history (and compile), every later frame is timed and scored. Each frame
+        # draws new rays (seed + i), so the metrics are the mean over the scored frames: the
+        # expected error of a frame in steady state, not one seed's draw.
+        for i, f in enumerate(renderer.render_sequence(scene, [camera] * (warmup + repeats), s)):
+            if i >= warmup:
+                frame = f
+                record(f)
+                scores.append(image_metrics(f.color, ref.color, reflective))
+    else:
+        for _ in range(warmup):
+            render()
+        for _ in range(repeats):
+            frame = render()
+            record(frame)
     timing_keys = sorted({k for t in frames_timings for k in t})
     row: dict[str, Any] = {
         "scene": scene_label(scene_spec),
@@ -405,13 +424,20 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
         "reference_rays_per_pixel": int(ref.rays_per_pixel),
         "repeats": repeats,
         "warmup": warmup,
-        "frames": frames,
+        "frames": warmup + repeats if sequence else frames,
+        "sequence": sequence,
     }
     _with_spread(row, "time_frame_ms", [t["total"] for t in frames_timings])
     _with_spread(row, "time_reflections_ms", reflections)
     _with_spread(row, "wall_ms", walls)
-    reflective = np.asarray(ref.reflective, dtype=bool)
-    row.update(image_metrics(frame.color, ref.color, reflective))
+    if sequence:
+        for k in METRIC_KEYS:
+            values = [m[k] for m in scores if m[k] is not None]
+            row[k] = float(np.mean(values)) if values else None
+        errors = [m["thesis_error"] for m in scores]
+        row.update(thesis_error_frame_min=float(min(errors)), thesis_error_frame_max=float(max(errors)))
+    else:
+        row.update(image_metrics(frame.color, ref.color, reflective))
     row["reflective_pixels"] = int(reflective.sum())
     row["mean_fetches"] = frame.rays.mean_fetches() if "rays.hit" in frame.texture_names else None
     for k in timing_keys:
@@ -551,7 +577,7 @@ def plan_sweep(grid: dict[str, list], scenes: list, views: list | None = None,
 def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: dict | Settings | None = None,
           repeats: int = 5, warmup: int = 2, reference: str = "converged", reference_rays: int | None = None,
           executor=None, device: str = "auto", progress: bool = True, cache_folder=None,
-          frames: int = 1) -> list[dict]:
+          frames: int = 1, sequence: bool = False) -> list[dict]:
     """Measures every (scene, view, grid point) configuration; returns one row per
     configuration, in that order (scenes outermost, grid points innermost), whatever order
     the executor completes them in.
@@ -574,6 +600,11 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     frames     1: every render is a single frame; N > 1: a sequence of N frames of the static
                camera (Renderer.render_sequence: TAA and temporal settings need frames), whose
                last frame is timed and scored, against the reference with taa="off"
+    sequence   True: each configuration is one sequence of warmup + repeats frames of the static
+               camera (frames must be 1): the first `warmup` frames fill the temporal history
+               and are not timed (at least 1), each later frame is timed (medians over them)
+               and scored (the mean of its metrics), against the reference with taa="off".
+               What the thesis measured (TAA on, a running sequence) at the cost of single frames.
 
     Every argument is checked before anything renders: ValueError names the bad one.
     """
@@ -584,6 +615,13 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     repeats = _check_count(repeats, "repeats", 1)
     warmup = _check_count(warmup, "warmup", 0)
     frames = _check_count(frames, "frames", 1)
+    if not isinstance(sequence, bool):
+        raise ValueError(f"sequence must be True or False, got {sequence!r}")
+    if sequence and frames != 1:
+        raise ValueError(f"sequence=True renders warmup + repeats frames as one sequence; frames must be 1, "
+                         f"got {frames}")
+    if sequence and warmup < 1:
+        raise ValueError("sequence=True needs warmup >= 1: the first frame of a sequence has no history")
     if reference not in KINDS:
         raise ValueError(f"reference must be one of {', '.join(KINDS)}, got {reference!r}")
     if reference_rays is not None:
@@ -597,7 +635,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
         raise ValueError(f"executor must have a submit(fn, *args) method, got {type(executor).__name__}")
     cache = None if cache_folder is None else str(Path(cache_folder).expanduser().resolve())
     tasks = [(c["scene_spec"], c["view"], c["view_name"], c["settings"], repeats, warmup, reference, reference_rays,
-              device, cache, frames) for c in configurations]
+              device, cache, frames, sequence) for c in configurations]
 
     provenance = {"ssrlab_version": __version__, "git_revision": git_revision()}
     rows: list[dict | None] = [None] * len(tasks)
@@ -882,7 +920,8 @@ def load_sweep(path) -> dict:
     """Reads a sweep file (TOML, or JSON for a .json file) into keyword arguments of sweep().
 
     Top-level keys: scenes (required), views, repeats, warmup, reference, reference_rays,
-    device, frames (N > 1: render N frames of a static camera, score the last), description (free text, not passed on), and the tables base (Settings fields of
+    device, frames (N > 1: render N frames of a static camera, score the last), sequence (true:
+    one sequence of warmup + repeats frames, see sweep), description (free text, not passed on), and the tables base (Settings fields of
     every run) and grid (Settings field -> list of values). Other keys raise ValueError
     naming them. A relative glTF path is looked up beside the sweep file first.
     """

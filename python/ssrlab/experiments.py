@@ -6,12 +6,27 @@ was measured, with a verdict computed from the numbers (never written by hand).
     print(exp.table())                          # claim | ours | verdict
 
 Scales: "small" (96x54 images, one timed run, 16 reference rays: seconds, for tests) and
-"full" (640x360, median of 5 runs after 2 warm-ups, 256 reference rays: minutes, by hand).
+"full" (640x360, median of 5 runs after 2 warm-ups, 256 reference rays: minutes, by hand); with
+TAA the runs are the frames of one sequence (see TAA below).
 Errors are reported against two references: the thesis's own ground truth (32 rays per
 pixel, 16 layers, stride 1, screen space: how the thesis made its figures) and the converged
 reference traced against the triangles (the truth). The thesis's findings are judged on the
-reference the thesis used. The thesis also ran temporal anti-aliasing in every experiment;
-ssrlab has none, so single frames here are noisier than the thesis's.
+reference the thesis used.
+
+TAA: the thesis measured every figure with its temporal anti-aliasing on (seed 000, 2.5 and
+3.2: two alternating quarter-pixel jitters, the mean of this frame and the previous one), so
+the thesis's experiments (`layers`, `downscale_rays_stride`) default to ``taa="thesis"``: each
+configuration renders one sequence of the static camera (``bench.sweep(sequence=True)``),
+warm-up frames first (they fill the one-frame history), then the timed frames; times are the medians
+over the timed frames, per pass (reproject and taa included), and the error is the mean over
+the timed frames (each draws new rays, so one frame's error is one seed's draw; the mean is the
+expected error of a TAA frame). Both references are unjittered: the thesis's ground truth (as
+the thesis made it) and the converged reference. TAA's blend of two jittered frames smooths the
+noise of the rays but also spreads every edge over the two jittered positions, each a quarter
+pixel off that unjittered image's, so TAA lowers the error where the rays' noise dominates
+(reflections) and can raise it where edges do. ``taa="off"`` measures single frames, without
+TAA (the README's earlier table). Seed 002 states no TAA for its tracing claims, and TAA does
+not change what a trace costs or fetches, so `hiz_vs_linear` defaults to ``taa="off"``.
 
 Timing findings are judged only on timings that can bear a verdict (``timing_doubt``): at
 least MIN_JUDGED_REPEATS timed runs per configuration (so a spread is measured), times of at
@@ -40,6 +55,13 @@ SCALES = {
 THESIS_SETTINGS = dict(rays_per_pixel=4, stride=4.0, downscale=2, max_steps=250)
 
 REFERENCES = ("thesis", "converged")
+TAA_MODES = ("off", "thesis", "clamped")  # Settings.taa
+
+
+def _check_taa(taa) -> str:
+    if taa not in TAA_MODES:
+        raise ValueError(f"taa must be one of {', '.join(TAA_MODES)}, got {taa!r}")
+    return taa
 
 
 @dataclasses.dataclass
@@ -57,6 +79,7 @@ class Experiment:
     rows: dict[str, list[dict]]  # reference kind -> sweep rows (same configurations, same order)
     findings: list[Finding]
     device: str = ""
+    taa: str = "off"  # Settings.taa of every configuration ("off": single frames)
 
     def table(self) -> str:
         """The findings as a Markdown table."""
@@ -131,9 +154,12 @@ def scale_parameters(scale: str | None = None) -> dict:
     return dict(SCALES[scale], name=scale)
 
 
-def _sweeps(grid, scenes, base, p, references=REFERENCES, progress=False, executor=None):
-    common = dict(grid=grid, scenes=scenes, base=dict(base, width=p["width"], height=p["height"]),
-                  repeats=p["repeats"], warmup=p["warmup"], progress=progress, executor=executor)
+def _sweeps(grid, scenes, base, p, references=REFERENCES, progress=False, executor=None, taa="off"):
+    # TAA needs a sequence: warmup + repeats frames of the static camera (bench.sweep(sequence=True)),
+    # as many frames as the single-frame protocol renders.
+    common = dict(grid=grid, scenes=scenes, base=dict(base, width=p["width"], height=p["height"], taa=taa),
+                  repeats=p["repeats"], warmup=p["warmup"], progress=progress, executor=executor,
+                  sequence=taa != "off")
     out = {}
     for ref in references:
         rays = p["reference_rays"] if ref == "converged" else None
@@ -178,12 +204,13 @@ def _device(rows) -> str:
 LAYER_SCENES = [{"name": "spheres_and_boxes", "with_suzanne": True}, "spheres_and_boxes", "box_stack"]
 
 
-def layers(scale: str | None = None, *, progress: bool = False, executor=None) -> Experiment:
+def layers(scale: str | None = None, *, progress: bool = False, executor=None, taa: str = "thesis") -> Experiment:
     """Figs. 3.3, 3.4, 3.6: layers 1-8 on spheres_and_boxes with and without Suzanne (the thesis's
-    elephant) and on box_stack, at the thesis's settings."""
+    elephant) and on box_stack, at the thesis's settings (TAA as `taa`, see the module notes)."""
     p = scale_parameters(scale)
+    taa = _check_taa(taa)
     grid = {"layers": list(range(1, 9))}
-    rows = _sweeps(grid, LAYER_SCENES, THESIS_SETTINGS, p, progress=progress, executor=executor)
+    rows = _sweeps(grid, LAYER_SCENES, THESIS_SETTINGS, p, progress=progress, executor=executor, taa=taa)
     thesis = rows["thesis"]
     labels = [bench.scene_label(s) for s in LAYER_SCENES]
     findings = []
@@ -242,24 +269,27 @@ def layers(scale: str | None = None, *, progress: bool = False, executor=None) -
         "against the converged reference, 8 layers lower the error by "
         + ", ".join(f"{100 * g:.0f} %" for g in gains) + " at " + cost,
         "agree" if all(g > 0 for g in gains) else "partly" if any(g > 0 for g in gains) else "disagree"))
-    return Experiment("thesis_layers", p["name"], rows, findings, _device(rows))
+    return Experiment("thesis_layers", p["name"], rows, findings, _device(rows), taa)
 
 
 # -- seed 000, 3.2.2-3.2.4: downscaling, rays per pixel, stride ----------------------------------------
 PARAMETER_SCENE = "hall"  # our stand-in for the Sibenik scene of Fig. 3.7 (one layer suffices)
 
 
-def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, executor=None) -> Experiment:
-    """Figs. 3.8, 3.9, 3.10 on the hall: downscale 1, 2, 4; rays per pixel 1-16; stride 1-16."""
+def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, executor=None,
+                          taa: str = "thesis") -> Experiment:
+    """Figs. 3.8, 3.9, 3.10 on the hall: downscale 1, 2, 4; rays per pixel 1-16; stride 1-16
+    (TAA as `taa`, see the module notes)."""
     p = scale_parameters(scale)
+    taa = _check_taa(taa)
     base = dict(THESIS_SETTINGS, layers=1)
     sweeps = {
         "downscale": _sweeps({"downscale": [1, 2, 4]}, [PARAMETER_SCENE], base, p, progress=progress,
-                             executor=executor),
+                             executor=executor, taa=taa),
         "rays_per_pixel": _sweeps({"rays_per_pixel": [1, 2, 4, 8, 16]}, [PARAMETER_SCENE], base, p,
-                                  progress=progress, executor=executor),
+                                  progress=progress, executor=executor, taa=taa),
         "stride": _sweeps({"stride": [1.0, 2.0, 4.0, 8.0, 16.0]}, [PARAMETER_SCENE], base, p, progress=progress,
-                          executor=executor),
+                          executor=executor, taa=taa),
     }
     label = bench.scene_label(PARAMETER_SCENE)
     findings = []
@@ -316,7 +346,7 @@ def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, e
         "agree" if rising == 1.0 else "partly" if rising >= 0.5 else "disagree"))
 
     rows = {f"{k}/{ref}": v for k, s in sweeps.items() for ref, v in s.items()}
-    return Experiment("thesis_downscale_rays_stride", p["name"], rows, findings, _device(rows))
+    return Experiment("thesis_downscale_rays_stride", p["name"], rows, findings, _device(rows), taa)
 
 
 # -- seed 002: Hi-Z against linear marching ------------------------------------------------------------
@@ -343,18 +373,21 @@ def fetches_by_ray_length(renderer, scene, settings_a, settings_b, bins=LENGTH_B
     return out
 
 
-def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=None, renderer=None) -> Experiment:
+def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=None, renderer=None,
+                  taa: str = "off") -> Experiment:
     """Seed 002's claim that hierarchical tracing is far faster than linear marching, most for long
-    rays: time and error of linear (stride 1-8) and Hi-Z, and fetches per ray by ray length."""
-    from .renderer import Renderer
+    rays: time and error of linear (stride 1-8) and Hi-Z, and fetches per ray by ray length.
+    Single frames by default: seed 002 states no TAA for these claims (see the module notes);
+    the fetch counts are always of single frames (TAA does not change a trace)."""
     from .settings import Settings
 
     p = scale_parameters(scale)
+    taa = _check_taa(taa)
     base = dict(rays_per_pixel=1, layers=1)
     linear = _sweeps({"stride": [1.0, 2.0, 4.0, 8.0]}, HIZ_SCENES, dict(base, method="linear"), p,
-                     references=("converged",), progress=progress, executor=executor)
+                     references=("converged",), progress=progress, executor=executor, taa=taa)
     hiz = _sweeps({"method": ["hiz"]}, HIZ_SCENES, base, p, references=("converged",), progress=progress,
-                  executor=executor)  # Hi-Z ignores the stride: one configuration per scene
+                  executor=executor, taa=taa)  # Hi-Z ignores the stride: one configuration per scene
     conv = linear["converged"] + hiz["converged"]
     rows = {"converged": conv}
     renderer = renderer or bench.worker_renderer()
@@ -393,7 +426,7 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
         "seed 002, 4.7.1", "near the starting surface linear steps are cheaper than the Hi-Z traversal",
         "rays under 16 px: linear/Hi-Z fetch ratio " + ", ".join(f"{x:.2f}×" for x in short_ratios),
         "agree" if all(x < 1 for x in short_ratios) else "disagree"))
-    exp = Experiment("hiz_vs_linear", p["name"], rows, findings, _device(rows))
+    exp = Experiment("hiz_vs_linear", p["name"], rows, findings, _device(rows), taa)
     exp.length_bins = ratios  # for plots
     return exp
 
