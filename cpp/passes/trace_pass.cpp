@@ -12,7 +12,10 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     Defines d = ctx.defines;
     d["RAY_LIST"] = skip ? "1" : "0";
     d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays ? "1" : "0";
-    glUseProgram(ctx.shaders.program({stage}, d));
+    const GLuint prog = ctx.shaders.program({stage}, d);
+    glUseProgram(prog);
+    // Issue 11: the layer walk stops at the layers in use (a uniform: no recompile per count).
+    glUniform1i(glGetUniformLocation(prog, "u_layers_used"), ctx.layers_in_use());
     bind_ray_generation_io(r);
     if (skip) {
         // The classify pass (run before, build_chain) wrote the list and its dispatch

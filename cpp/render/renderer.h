@@ -88,6 +88,15 @@ public:
     // GPU bytes held: every frame texture set (live or pooled) plus scratch.
     size_t gpu_bytes() const;
     size_t scratch_bytes() const { return scratch_.bytes(); }
+    // Work the renderer did outside the frame chain (issue 11, "passes only when used"): scene
+    // uploads (a GpuScene built: new scene or new content; a camera change is none), reference
+    // BVH builds (once per scene content), texture read-backs and their bytes.
+    std::map<std::string, double> stats() const {
+        return {{"scene_uploads", double(scene_uploads_)},
+                {"bvh_builds", double(bvh_builds_)},
+                {"readbacks", double(readbacks_)},
+                {"readback_bytes", double(readback_bytes_)}};
+    }
 
 private:
     Renderer(const std::string& device, const std::string& shader_dir);
@@ -119,6 +128,7 @@ private:
     std::map<std::string, uint64_t> scratch_owner_;  // scratch name -> serial of the frame it holds
     uint64_t next_serial_ = 1;
     size_t freed_since_trim_ = 0;  // bytes of texture sets freed since the last malloc_trim
+    uint64_t scene_uploads_ = 0, bvh_builds_ = 0, readbacks_ = 0, readback_bytes_ = 0;  // stats()
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;

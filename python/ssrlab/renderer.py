@@ -57,6 +57,15 @@ class Renderer:
         for reuse (at most 4) and the scratch shared by all frames (shadow map, Hi-Z)."""
         return int(self._native.gpu_bytes)
 
+    @property
+    def stats(self) -> dict[str, int]:
+        """What this renderer did outside the frames' chains, counted since it was made (issue
+        11): scene_uploads (GPU copies of a scene built: a new scene or changed content; a new
+        camera or new settings reuse the copy), bvh_builds (the reference's BVH, once per scene
+        content), readbacks and readback_bytes (textures copied to host memory: only when a
+        Frame property or read() asks, once per texture and level)."""
+        return {k: int(v) for k, v in self._native.stats.items()}
+
     @functools.cached_property
     def info(self) -> dict:
         """Vendor, renderer, GL version and the device chosen."""

@@ -27,6 +27,10 @@ layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
 
 float g_fetches = 0.0;
+// Issue 11: the layers that hold a surface somewhere (frame.stats["layers_used"] with
+// Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
+// empty everywhere, where it would only find the empty layer that ends it.
+uniform int u_layers_used;
 
 float layer_depth(ivec2 pixel, int layer) {
     g_fetches += 1.0;
@@ -39,7 +43,7 @@ float layer_depth(ivec2 pixel, int layer) {
 // surface costs one fetch whatever the layer count (the thesis fetches every layer).
 int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
     surface = 0.0;
-    for (int k = 0; k < ssr.layers; ++k) {
+    for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
         float d = layer_depth(pixel, k);
         if (d >= frame.clip.y) return -1;  // empty layer: no surface here or behind
         if (hi < d) return -1;
