@@ -294,3 +294,58 @@ def test_nothing_is_read_back_that_nobody_asked_for(renderer):
     after = renderer.stats
     assert after["readbacks"] == before["readbacks"] + 1
     assert after["readback_bytes"] - before["readback_bytes"] == W * H * 4 * 4
+
+
+@pytest.mark.parametrize("method", ["linear", "hiz"])
+def test_variance_rays_at_threshold_zero_trace_every_ray_a_full_trace_would(renderer, method):
+    # Threshold 0: every pixel with fewer rays than the maximum gets the rest, drawn exactly as
+    # the full trace draws them, so the rays and the image are the full trace's.
+    pitch = 2 * math.tan(math.radians(30)) * 5 / H
+    scene = _quad_scene(9 * pitch, 5 * pitch, roughness=0.3)
+    kw = dict(width=W, height=H, rays_per_pixel=8, sampling="vndf", method=method)
+    full = renderer.render(scene, settings=small(**kw))
+    adaptive = renderer.render(scene, settings=small(adaptive_rays=True, **kw))
+    extra = renderer.render(scene, settings=small(adaptive_rays=True, variance_rays=True, variance_threshold=0.0, **kw))
+    assert "variance_rays" in extra.passes and f"trace_{method}_extra" in extra.passes
+    for name in ("rays.hit", "rays.sample", "rays.direction"):
+        np.testing.assert_array_equal(extra.read(name), full.read(name), err_msg=name)
+    np.testing.assert_array_equal(extra.color, full.color)
+    n_full = int((full.read("rays.sample")[..., 0] > 0).sum())
+    n_adaptive = int((adaptive.read("rays.sample")[..., 0] > 0).sum())
+    assert extra.stats["rays_traced"] == n_adaptive
+    assert extra.stats["extra_rays"] == n_full - n_adaptive > 0
+    assert extra.stats["variance_pixels"] == 180  # every mirror-quad pixel (3 of 8 rays each)
+
+
+def test_variance_rays_add_rays_only_where_the_neighbourhood_disagrees(renderer):
+    scene = ssrlab.scenes.load("spheres_and_boxes")
+    kw = dict(width=W, height=H, rays_per_pixel=8, sampling="vndf", adaptive_rays=True, roughness_cutoff=1.0)
+    adaptive = renderer.render(scene, settings=small(**kw))
+    f = renderer.render(scene, settings=small(variance_rays=True, variance_threshold=0.3, **kw))
+    none = renderer.render(scene, settings=small(variance_rays=True, variance_threshold=1e3, **kw))
+    # Nothing disagrees by 1000x its mean: no extra ray, the adaptive frame exactly.
+    assert none.stats["variance_pixels"] == none.stats["extra_rays"] == 0
+    np.testing.assert_array_equal(none.color, adaptive.color)
+    # The listed pixels are exactly those at or above the threshold with fewer than 8 rays.
+    var = f.read("variance")[0, :, :, 0]
+    rough = f.gbuffer.roughness[0]
+    count = np.clip(np.ceil(8 * rough), 1, 8)
+    listed = (var >= 0.3) & (count < 8)
+    assert 0 < f.stats["variance_pixels"] == int(listed.sum()) < int((var >= 0).sum())
+    per_pixel = (f.read("rays.sample")[..., 0] > 0).sum(axis=0)
+    per_pixel_adaptive = (adaptive.read("rays.sample")[..., 0] > 0).sum(axis=0)
+    assert (per_pixel[~listed] == per_pixel_adaptive[~listed]).all()
+    assert (per_pixel[listed] >= per_pixel_adaptive[listed]).all()
+    assert f.stats["extra_rays"] == int(per_pixel.sum() - per_pixel_adaptive.sum()) > 0
+    # Skip off (full-screen first trace) lists the same pixels and makes the same image.
+    off = renderer.render(scene, settings=small(variance_rays=True, variance_threshold=0.3, skip=False, **kw))
+    assert off.stats["variance_pixels"] == f.stats["variance_pixels"]
+    assert off.stats["extra_rays"] == f.stats["extra_rays"]
+    assert thesis_error(off.color, f.color) <= 1e-3
+
+
+def test_variance_rays_need_adaptive_rays():
+    with pytest.raises(ValueError, match="variance_rays"):
+        small(variance_rays=True)
+    with pytest.raises(ValueError, match="variance_threshold"):
+        small(variance_threshold=-1.0)

@@ -74,6 +74,8 @@ void bind_render(py::module_& m) {
         .def_readwrite("skip", &RenderSettings::skip)
         .def_readwrite("classify_facing", &RenderSettings::classify_facing)
         .def_readwrite("adaptive_rays", &RenderSettings::adaptive_rays)
+        .def_readwrite("variance_rays", &RenderSettings::variance_rays)
+        .def_readwrite("variance_threshold", &RenderSettings::variance_threshold)
         .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
         .def_readwrite("reject_depth", &RenderSettings::reject_depth)
         .def_readwrite("reject_normal", &RenderSettings::reject_normal)

@@ -15,14 +15,18 @@ void ClassifyPass::bind() const {
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list_.id());
 }
 
-void ClassifyPass::execute(FrameContext& ctx) {
-    const RenderSettings& s = ctx.settings;
-    const int w = s.trace_width(), h = s.trace_height();
+void ClassifyPass::reset_list(int w, int h, int rays) {
     const size_t bytes = (kHeaderUints + size_t(w) * size_t(h)) * sizeof(uint32_t);
     if (list_.size() < bytes) list_ = Buffer::create(bytes);
     // A fresh header each frame: no groups, no rows of groups yet, a group layer per ray.
-    const uint32_t header[kHeaderUints] = {0, 0, uint32_t(s.traced_rays()), 0, 0, 0, 0, 0};
+    const uint32_t header[kHeaderUints] = {0, 0, uint32_t(rays), 0, 0, 0, 0, 0};
     list_.upload(header, sizeof(header));
+}
+
+void ClassifyPass::execute(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    const int w = s.trace_width(), h = s.trace_height();
+    reset_list(w, h, s.traced_rays());
 
     Defines d = ctx.defines;
     d["CLASSIFY_FACING"] = std::to_string(s.classify_facing);

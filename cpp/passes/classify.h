@@ -31,8 +31,11 @@ public:
     // The list's counters of the last run, read back from the GPU (Frame.stats).
     std::map<std::string, double> counters() const;
 
-private:
+protected:
+    // Also the variance_rays pass's list of pixels that get extra rays (same layout).
     Buffer list_;
+    // A list of `w` x `h` entries at most with a fresh header: no group, `rays` group layers.
+    void reset_list(int w, int h, int rays);
 };
 
 }  // namespace ssr

@@ -133,6 +133,12 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
             // Issue 11: the trace runs over the classify pass's ray list (indirect dispatch).
             if (s.skip) chain.push_back(&classify_);
             chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
+            // Issue 11: rays where the first pass's neighbourhood disagrees (FidelityFX SSSR).
+            if (s.variance_rays && s.adaptive_rays) {
+                chain.push_back(&variance_rays_);
+                chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_extra_)
+                                                             : &trace_linear_extra_);
+            }
             // What screen space could not resolve goes to the triangles (issue 12; thesis 4.3).
             if (s.fallback == Fallback::Bvh) chain.push_back(shadows ? &fallback_bvh_shadowed_ : &fallback_bvh_unshadowed_);
         }
@@ -374,6 +380,8 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->timings = timer_.resolve();
     frame->layer_samples = depth_peel_.layer_samples();
     if (std::find(chain.begin(), chain.end(), &classify_) != chain.end()) frame->stats = classify_.counters();
+    if (std::find(chain.begin(), chain.end(), &variance_rays_) != chain.end())
+        for (const auto& [k, v] : variance_rays_.extra_counters()) frame->stats[k] = v;
     frame->stats["passes_run"] = double(chain.size());
     // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):
     // peeling stops drawing after the first empty one (depth_peel.cpp).

@@ -31,6 +31,7 @@
 #include "passes/trace_bvh.h"
 #include "passes/trace_hiz.h"
 #include "passes/trace_linear.h"
+#include "passes/variance_rays.h"
 #include "render/frame.h"
 #include "render/gpu_scene.h"
 #include "render/sequence.h"
@@ -137,6 +138,10 @@ private:
     ClassifyPass classify_;
     TraceLinearPass trace_linear_{&classify_};
     TraceHizPass trace_hiz_{&classify_};
+    // Settings.variance_rays: the extra-ray list and the second trace over it (issue 11).
+    VarianceRaysPass variance_rays_;
+    TraceLinearPass trace_linear_extra_{&variance_rays_, true};
+    TraceHizPass trace_hiz_extra_{&variance_rays_, true};
     // Ray-traced reflections and the BVH fallback (issue 12), with and without the shadow map.
     TraceBvhPass trace_bvh_shadowed_{false, true}, trace_bvh_unshadowed_{false, false};
     TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};

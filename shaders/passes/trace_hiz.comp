@@ -155,6 +155,11 @@ void main() {
     ivec2 p = origin_pixel(id.xy);
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                texelFetch(u_material, ivec3(p, 0), 0));
+#if defined(EXTRA_RAYS) && EXTRA_RAYS
+    // Issue 11's variance-guided second pass (variance_rays.comp listed this pixel): only the
+    // rays adaptive_rays left out, drawn exactly as a full trace draws ray id.z.
+    if (id.z < adaptive_ray_count(g.roughness)) return;
+#endif
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     vec4 hit = vec4(0.0);
