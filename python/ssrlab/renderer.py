@@ -241,7 +241,11 @@ class Frame:
         """Exact work counts read back from the GPU (issue 11): passes_run, and with
         Settings.skip the classify pass's pixels_classified (trace pixels examined),
         pixels_traced (trace pixels in the ray list), rays_traced (rays generated),
-        depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups)."""
+        depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups);
+        layers_used (layers holding a surface somewhere: with skip, the Hi-Z build, the trace's
+        layer walk, pre-convolution and pre-integration work on these only), layers_lit,
+        hiz_layers_built; with Settings.variance_rays, variance_pixels (pixels given extra
+        rays), extra_rays and extra_depth_fetches (the second trace's)."""
         return {k: int(v) for k, v in self._native.stats.items()}
 
     @property
