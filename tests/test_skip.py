@@ -185,6 +185,15 @@ def test_adaptive_rays_follow_roughness(renderer):
     # ceil(8 * 0.3) = 3 rays (a few VNDF samples may come out invalid, weight 0).
     assert per_pixel.max() == 3 and (per_pixel == 3).mean() > 0.9 * 180 / (W * H)
     assert f.stats["rays_traced"] == per_pixel.sum()
+    # The list holds one entry per ray the pixel traces (3 per pixel, not 8 slots): the trace's
+    # invocations follow the rays, and the textures are the full-screen trace's.
+    assert f.stats["pixels_traced"] == 180
+    assert f.stats["trace_groups"] == math.ceil(3 * 180 / 64)
+    off = renderer.render(_quad_scene(9 * pitch, 5 * pitch, roughness=0.3),
+                          settings=small(width=W, height=H, rays_per_pixel=8, adaptive_rays=True, skip=False))
+    for name in ("rays.hit", "rays.sample", "rays.direction"):
+        np.testing.assert_array_equal(f.read(name), off.read(name), err_msg=name)
+    np.testing.assert_array_equal(f.color, off.color)
 
 
 def test_a_list_longer_than_a_row_of_groups_is_traced_whole(renderer):
@@ -349,3 +358,15 @@ def test_variance_rays_need_adaptive_rays():
         small(variance_rays=True)
     with pytest.raises(ValueError, match="variance_threshold"):
         small(variance_threshold=-1.0)
+
+
+@pytest.mark.parametrize("scene_name", list(ssrlab.scenes.SCENES))
+def test_skip_agrees_with_adaptive_and_variance_rays(renderer, scene_name):
+    scene = ssrlab.scenes.load(scene_name)
+    on, off = _pair(renderer, scene, sampling="vndf", rays_per_pixel=4, layers=2, method="hiz", roughness_cutoff=1.0,
+                    adaptive_rays=True, variance_rays=True, variance_threshold=0.2)
+    for name in ("rays.hit", "rays.direction", "variance"):
+        np.testing.assert_array_equal(on.read(name), off.read(name), err_msg=name)
+    assert on.stats["extra_rays"] == off.stats["extra_rays"]
+    assert on.stats["rays_traced"] == int((on.read("rays.sample")[..., 0] > 0).sum()) - on.stats["extra_rays"]
+    assert thesis_error(on.color, off.color) <= 1e-3

@@ -13,6 +13,7 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     d["RAY_LIST"] = skip ? "1" : "0";
     d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays && !extra_ ? "1" : "0";
     d["EXTRA_RAYS"] = extra_ ? "1" : "0";
+    d["RAY_LIST_PER_RAY"] = !extra_ && ClassifyPass::per_ray(ctx.settings) ? "1" : "0";
     const GLuint prog = ctx.shaders.program({stage}, d);
     glUseProgram(prog);
     // Issue 11: the layer walk stops at the layers in use (a uniform: no recompile per count).

@@ -41,9 +41,23 @@ void main() {
     bool reflective = is_reflective(g);
     float facing = dot(g.normal, normalize(-pos));
     if (reflective && facing > max(1e-4, float(CLASSIFY_FACING))) {
+#if RAY_LIST_PER_RAY
+        // One entry per ray the pixel traces (adaptive rays); the slots past them get the
+        // trace's "no ray" here, as the full-screen trace writes them.
+        int n = rays_for_roughness(g.roughness);
+        uint i = atomicAdd(ray_list.count, uint(n));
+        atomicAdd(ray_list.listed_pixels, 1u);
+        for (int k = 0; k < n; ++k) {
+            ray_list.pixels[2u * (i + uint(k))] = pack_pixel(q);
+            ray_list.pixels[2u * (i + uint(k)) + 1u] = uint(k);
+            ray_list_open_group(i + uint(k));
+        }
+        for (int r = n; r < u_rays; ++r) store_ray(ivec3(q, r), generate_ray(g, pos, q, r), true, vec4(0.0), 0.0);
+#else
         uint i = atomicAdd(ray_list.count, 1u);
         ray_list.pixels[i] = pack_pixel(q);
         ray_list_open_group(i);
+#endif
         return;
     }
     // No ray: generate_ray returns its "no ray" (weight 0) for these pixels.
