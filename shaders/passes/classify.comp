@@ -32,8 +32,14 @@ uniform int u_rays;  // rays per trace pixel (the ray textures' layers)
 
 void main() {
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    // The examined pixels, counted once per group (the group's share of the image) rather than
+    // by one atomic per pixel on the same counter.
+    if (gl_LocalInvocationIndex == 0u) {
+        ivec2 o = ivec2(gl_WorkGroupID.xy) * 8;
+        ivec2 n = min(ivec2(8), ivec2(ssr.trace_width, ssr.trace_height) - o);
+        atomicAdd(ray_list.classified, uint(n.x * n.y));
+    }
     if (q.x >= ssr.trace_width || q.y >= ssr.trace_height) return;
-    atomicAdd(ray_list.classified, 1u);
     ivec2 p = origin_pixel(q);
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                texelFetch(u_material, ivec3(p, 0), 0));
