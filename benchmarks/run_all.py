@@ -35,7 +35,7 @@ BENCHMARKS = {
     "mitsuba_crosscheck": ([], ["--width", "160", "--height", "90", "--spp", "64"]),
     "glossy_methods": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--reference-rays", "16"]),
     "temporal": ([], ["--width", "96", "--height", "64", "--frames", "4"]),
-    "skip": ([], ["--width", "160", "--height", "90", "--repeats", "2"]),
+    "skip": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--reference-rays", "32", "--error-seeds", "1"]),
     "hybrid": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--reference-rays", "16"]),
     "depth_precision": ([], ["--width", "96", "--height", "64"]),
     "memory": ([], ["--renders", "50"]),

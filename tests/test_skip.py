@@ -35,8 +35,13 @@ def test_skip_on_and_off_agree(renderer, scene_name, glossy, sampling, layers, m
     assert thesis_error(on.color, off.color) <= 1e-3
     assert thesis_error(on.reflection, off.reflection) <= 1e-3
     # Every ray texture is written for every pixel: the untraced ones hold the same "no ray".
-    for name in ("rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth"):
+    for name in ("rays.hit", "rays.direction", "lit", "linear_depth"):
         np.testing.assert_array_equal(on.read(name), off.read(name), err_msg=name)
+    # rays.sample: the same weight, pdf and traced flag; the depth fetches (z) only fewer, as the
+    # walk no longer fetches a layer empty everywhere (layers_used).
+    s_on, s_off = on.read("rays.sample"), off.read("rays.sample")
+    np.testing.assert_array_equal(s_on[..., [0, 1, 3]], s_off[..., [0, 1, 3]])
+    assert (s_on[..., 2] <= s_off[..., 2]).all()
     # The list holds exactly the reflective pixels below the cutoff that face the camera.
     g = off.gbuffer
     listed = g.coverage[0] & (g.reflectivity[0] > 0) & (g.roughness[0] <= 0.6)
@@ -180,6 +185,15 @@ def test_adaptive_rays_follow_roughness(renderer):
     # ceil(8 * 0.3) = 3 rays (a few VNDF samples may come out invalid, weight 0).
     assert per_pixel.max() == 3 and (per_pixel == 3).mean() > 0.9 * 180 / (W * H)
     assert f.stats["rays_traced"] == per_pixel.sum()
+    # The list holds one entry per ray the pixel traces (3 per pixel, not 8 slots): the trace's
+    # invocations follow the rays, and the textures are the full-screen trace's.
+    assert f.stats["pixels_traced"] == 180
+    assert f.stats["trace_groups"] == math.ceil(3 * 180 / 64)
+    off = renderer.render(_quad_scene(9 * pitch, 5 * pitch, roughness=0.3),
+                          settings=small(width=W, height=H, rays_per_pixel=8, adaptive_rays=True, skip=False))
+    for name in ("rays.hit", "rays.sample", "rays.direction"):
+        np.testing.assert_array_equal(f.read(name), off.read(name), err_msg=name)
+    np.testing.assert_array_equal(f.color, off.color)
 
 
 def test_a_list_longer_than_a_row_of_groups_is_traced_whole(renderer):
@@ -192,3 +206,167 @@ def test_a_list_longer_than_a_row_of_groups_is_traced_whole(renderer):
     assert on.stats["trace_groups"] == 1024 * 2
     np.testing.assert_array_equal(on.read("rays.sample"), off.read("rays.sample"))
     np.testing.assert_array_equal(on.read("rays.hit"), off.read("rays.hit"))
+
+
+def _three_layer_scene(roughness: float = 0.0) -> Scene:
+    """The mirror quad (over a wider middle quad, over the wall): depth complexity 3 in the centre."""
+    s = _quad_scene(1.0, 1.0, roughness=roughness)
+    p = np.float32([(-2, -2, -1.5), (2, -2, -1.5), (2, 2, -1.5), (-2, 2, -1.5)])
+    s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name="middle", normals=np.tile(np.float32([0, 0, 1]), (4, 1)),
+               material=Material(base_color=(0.2, 0.5, 0.2), roughness=0.7))
+    return s
+
+
+@pytest.mark.parametrize("glossy,method", [("cone", "linear"), ("stochastic", "hiz")])
+def test_per_layer_passes_work_on_the_layers_used_only(renderer, glossy, method):
+    # Depth complexity 3 with 16 layers allowed: the Hi-Z pyramid is built for 3 layers, the
+    # pre-convolution and pre-integration (cone) work on 3, the trace walk fetches no 4th;
+    # every texture reads as with skip off.
+    s = _three_layer_scene(roughness=0.2)
+    kw = dict(width=W, height=H, layers=16, glossy=glossy, method=method, sampling="vndf", rays_per_pixel=2,
+              thickness=5.0)
+    frames, hiz = [], []
+    for skip in (True, False):
+        f = renderer.render(s, settings=small(skip=skip, **kw))
+        hiz.append(f.read("hiz"))  # per-renderer scratch: read before the next render
+        frames.append(f)
+    on, off = frames
+    assert on.stats["layers_used"] == off.stats["layers_used"] == 3
+    assert on.stats["hiz_layers_built"] == 3 and off.stats["hiz_layers_built"] == 16
+    np.testing.assert_array_equal(hiz[0], hiz[1])
+    names = ["lit", "linear_depth", "rays.hit", "rays.direction"]
+    if glossy == "cone":
+        names += ["lit_preconvolved", "visibility"]
+    for name in names:
+        np.testing.assert_array_equal(on.read(name), off.read(name), err_msg=name)
+    fetch_on, fetch_off = on.read("rays.sample")[..., 2], off.read("rays.sample")[..., 2]
+    assert (fetch_on <= fetch_off).all()
+    assert on.stats["depth_fetches"] == int(fetch_on.sum())
+    assert thesis_error(on.color, off.color) <= 1e-3
+
+
+@pytest.mark.parametrize("method", ["linear", "hiz"])
+def test_the_walk_fetches_no_layer_empty_everywhere(renderer, method):
+    # spheres_and_boxes fills 6 of 16 layers: a ray behind all 6 where they are all covered
+    # fetched the empty 7th to learn it was empty; with skip it stops at the 6th.
+    scene = ssrlab.scenes.load("spheres_and_boxes")
+    on, off = _pair(renderer, scene, layers=16, method=method, sampling="vndf", rays_per_pixel=2)
+    assert on.stats["layers_used"] == 6
+    fetch_on, fetch_off = on.read("rays.sample")[..., 2], off.read("rays.sample")[..., 2]
+    assert (fetch_on <= fetch_off).all() and fetch_on.sum() < fetch_off.sum()
+    assert on.stats["depth_fetches"] == int(fetch_on.sum())
+    np.testing.assert_array_equal(on.read("rays.hit"), off.read("rays.hit"))
+
+
+def test_a_camera_change_reuses_the_gpu_scene(renderer):
+    s = ssrlab.scenes.load("mirror_test")
+    before = renderer.stats["scene_uploads"]
+    renderer.render(s, settings=small(width=W, height=H))
+    assert renderer.stats["scene_uploads"] == before + 1
+    cam = s.camera
+    moved = Camera(position=tuple(np.add(cam.position, (0.3, 0.1, 0.0))), target=tuple(cam.target),
+                   fov_y=cam.fov_y, near=cam.near, far=cam.far)
+    renderer.render(s, camera=moved, settings=small(width=W, height=H))
+    renderer.render(s, settings=small(width=W, height=H, layers=2, method="linear"))
+    assert renderer.stats["scene_uploads"] == before + 1  # new camera, new settings: same content
+    s.add_box(center=(0.0, 0.5, 0.0), size=(0.2, 0.2, 0.2))
+    renderer.render(s, settings=small(width=W, height=H))
+    assert renderer.stats["scene_uploads"] == before + 2  # changed content: uploaded again
+
+
+def test_the_reference_bvh_is_built_once_per_scene_content(renderer):
+    s = ssrlab.scenes.load("mirror_test")
+    before = renderer.stats["bvh_builds"]
+    f = renderer.render(s, settings=small(width=W, height=H))
+    assert renderer.stats["bvh_builds"] == before  # a frame without a reference builds none
+    f.reference(kind="converged", rays=2)
+    cam = s.camera
+    moved = Camera(position=tuple(np.add(cam.position, (0.2, 0.0, 0.0))), target=tuple(cam.target),
+                   fov_y=cam.fov_y, near=cam.near, far=cam.far)
+    g = renderer.render(s, camera=moved, settings=small(width=W, height=H))
+    g.reference(kind="converged", rays=2)
+    g.reference(kind="per_ray")
+    assert renderer.stats["bvh_builds"] == before + 1
+    s.add_box(center=(0.0, 0.5, 0.0), size=(0.2, 0.2, 0.2))
+    renderer.render(s, settings=small(width=W, height=H)).reference(kind="converged", rays=1)
+    assert renderer.stats["bvh_builds"] == before + 2
+
+
+def test_nothing_is_read_back_that_nobody_asked_for(renderer):
+    s = ssrlab.scenes.load("mirror_test")
+    before = renderer.stats
+    f = renderer.render(s, settings=small(width=W, height=H))
+    _ = f.stats, f.timings, f.passes, f.layer_samples
+    assert renderer.stats["readbacks"] == before["readbacks"]  # no image read yet
+    _ = f.color
+    _ = f.color  # cached: read once
+    after = renderer.stats
+    assert after["readbacks"] == before["readbacks"] + 1
+    assert after["readback_bytes"] - before["readback_bytes"] == W * H * 4 * 4
+
+
+@pytest.mark.parametrize("method", ["linear", "hiz"])
+def test_variance_rays_at_threshold_zero_trace_every_ray_a_full_trace_would(renderer, method):
+    # Threshold 0: every pixel with fewer rays than the maximum gets the rest, drawn exactly as
+    # the full trace draws them, so the rays and the image are the full trace's.
+    pitch = 2 * math.tan(math.radians(30)) * 5 / H
+    scene = _quad_scene(9 * pitch, 5 * pitch, roughness=0.3)
+    kw = dict(width=W, height=H, rays_per_pixel=8, sampling="vndf", method=method)
+    full = renderer.render(scene, settings=small(**kw))
+    adaptive = renderer.render(scene, settings=small(adaptive_rays=True, **kw))
+    extra = renderer.render(scene, settings=small(adaptive_rays=True, variance_rays=True, variance_threshold=0.0, **kw))
+    assert "variance_rays" in extra.passes and f"trace_{method}_extra" in extra.passes
+    for name in ("rays.hit", "rays.sample", "rays.direction"):
+        np.testing.assert_array_equal(extra.read(name), full.read(name), err_msg=name)
+    np.testing.assert_array_equal(extra.color, full.color)
+    n_full = int((full.read("rays.sample")[..., 0] > 0).sum())
+    n_adaptive = int((adaptive.read("rays.sample")[..., 0] > 0).sum())
+    assert extra.stats["rays_traced"] == n_adaptive
+    assert extra.stats["extra_rays"] == n_full - n_adaptive > 0
+    assert extra.stats["variance_pixels"] == 180  # every mirror-quad pixel (3 of 8 rays each)
+
+
+def test_variance_rays_add_rays_only_where_the_neighbourhood_disagrees(renderer):
+    scene = ssrlab.scenes.load("spheres_and_boxes")
+    kw = dict(width=W, height=H, rays_per_pixel=8, sampling="vndf", adaptive_rays=True, roughness_cutoff=1.0)
+    adaptive = renderer.render(scene, settings=small(**kw))
+    f = renderer.render(scene, settings=small(variance_rays=True, variance_threshold=0.3, **kw))
+    none = renderer.render(scene, settings=small(variance_rays=True, variance_threshold=1e3, **kw))
+    # Nothing disagrees by 1000x its mean: no extra ray, the adaptive frame exactly.
+    assert none.stats["variance_pixels"] == none.stats["extra_rays"] == 0
+    np.testing.assert_array_equal(none.color, adaptive.color)
+    # The listed pixels are exactly those at or above the threshold with fewer than 8 rays.
+    var = f.read("variance")[0, :, :, 0]
+    rough = f.gbuffer.roughness[0]
+    count = np.clip(np.ceil(8 * rough), 1, 8)
+    listed = (var >= 0.3) & (count < 8)
+    assert 0 < f.stats["variance_pixels"] == int(listed.sum()) < int((var >= 0).sum())
+    per_pixel = (f.read("rays.sample")[..., 0] > 0).sum(axis=0)
+    per_pixel_adaptive = (adaptive.read("rays.sample")[..., 0] > 0).sum(axis=0)
+    assert (per_pixel[~listed] == per_pixel_adaptive[~listed]).all()
+    assert (per_pixel[listed] >= per_pixel_adaptive[listed]).all()
+    assert f.stats["extra_rays"] == int(per_pixel.sum() - per_pixel_adaptive.sum()) > 0
+    # Skip off (full-screen first trace) lists the same pixels and makes the same image.
+    off = renderer.render(scene, settings=small(variance_rays=True, variance_threshold=0.3, skip=False, **kw))
+    assert off.stats["variance_pixels"] == f.stats["variance_pixels"]
+    assert off.stats["extra_rays"] == f.stats["extra_rays"]
+    assert thesis_error(off.color, f.color) <= 1e-3
+
+
+def test_variance_rays_need_adaptive_rays():
+    with pytest.raises(ValueError, match="variance_rays"):
+        small(variance_rays=True)
+    with pytest.raises(ValueError, match="variance_threshold"):
+        small(variance_threshold=-1.0)
+
+
+@pytest.mark.parametrize("scene_name", list(ssrlab.scenes.SCENES))
+def test_skip_agrees_with_adaptive_and_variance_rays(renderer, scene_name):
+    scene = ssrlab.scenes.load(scene_name)
+    on, off = _pair(renderer, scene, sampling="vndf", rays_per_pixel=4, layers=2, method="hiz", roughness_cutoff=1.0,
+                    adaptive_rays=True, variance_rays=True, variance_threshold=0.2)
+    for name in ("rays.hit", "rays.direction", "variance"):
+        np.testing.assert_array_equal(on.read(name), off.read(name), err_msg=name)
+    assert on.stats["extra_rays"] == off.stats["extra_rays"]
+    assert on.stats["rays_traced"] == int((on.read("rays.sample")[..., 0] > 0).sum()) - on.stats["extra_rays"]
+    assert thesis_error(on.color, off.color) <= 1e-3

@@ -193,6 +193,11 @@ def any_settings(draw, **fixed):
     if kw["glossy"] != "stochastic" or kw["temporal_ray_reuse"]:
         kw["method"] = "linear" if kw["method"] == "bvh" else kw["method"]
         kw["fallback"] = "environment" if kw["fallback"] == "bvh" else kw["fallback"]
+    # variance_rays adds the rays adaptive_rays left out to the screen-space stochastic rays (issue 11).
+    if kw["variance_rays"]:
+        kw["adaptive_rays"] = True
+        if kw["method"] not in ("linear", "hiz") or kw["glossy"] != "stochastic":
+            kw["variance_rays"] = False
     return ssrlab.Settings(**kw)
 
 

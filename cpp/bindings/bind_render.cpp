@@ -74,6 +74,8 @@ void bind_render(py::module_& m) {
         .def_readwrite("skip", &RenderSettings::skip)
         .def_readwrite("classify_facing", &RenderSettings::classify_facing)
         .def_readwrite("adaptive_rays", &RenderSettings::adaptive_rays)
+        .def_readwrite("variance_rays", &RenderSettings::variance_rays)
+        .def_readwrite("variance_threshold", &RenderSettings::variance_threshold)
         .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
         .def_readwrite("reject_depth", &RenderSettings::reject_depth)
         .def_readwrite("reject_normal", &RenderSettings::reject_normal)
@@ -175,6 +177,8 @@ void bind_render(py::module_& m) {
             "The split-sum table (A, B) of the GGX directional albedo E = F0 A + B that the pbr composite and "
             "glTF materials' reflectivity use: float32 (32, 32, 2), rows perceptual roughness 0..1, columns "
             "n.v 0..1 (cell centres at both ends), integrated with the tracers' own VNDF sampler.")
+        .def_property_readonly("stats", &Renderer::stats,
+                               "Work outside the frame chain: scene_uploads, bvh_builds, readbacks, readback_bytes.")
         .def_property_readonly("compiled_programs", &Renderer::compiled_programs,
                                "Shader programs this renderer has compiled (each once per variant).")
         .def_property_readonly("gpu_bytes", &Renderer::gpu_bytes,

@@ -30,9 +30,17 @@ public:
     void bind() const;
     // The list's counters of the last run, read back from the GPU (Frame.stats).
     std::map<std::string, double> counters() const;
+    // Whether the list holds one entry per (pixel, ray): Settings.adaptive_rays with skip.
+    static bool per_ray(const RenderSettings& s) { return s.skip && s.adaptive_rays && s.traced_rays() > 1; }
 
-private:
+protected:
+    // Also the variance_rays pass's list of pixels that get extra rays (same layout).
     Buffer list_;
+    // A list of `w` x `h` entries at most with a fresh header: no group, `rays` group layers.
+    // `per_ray`: entries of (pixel, ray) for `rays` rays per pixel at most, dispatched with one
+    // group layer (adaptive rays over the list, ray_list.glsl's RAY_LIST_PER_RAY).
+    void reset_list(int w, int h, int rays, bool per_ray = false);
+    bool per_ray_ = false;  // the last run listed (pixel, ray) entries
 };
 
 }  // namespace ssr

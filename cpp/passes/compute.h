@@ -1,6 +1,8 @@
 // Small helpers shared by the compute passes.
 #pragma once
 
+#include <algorithm>
+
 #include "core/gl_resources.h"
 #include "render/render_pass.h"
 
@@ -18,6 +20,19 @@ inline void dispatch_2d(int width, int height, int depth, int gx, int gy) {
     glDispatchCompute(GLuint((width + gx - 1) / gx), GLuint((height + gy - 1) / gy), GLuint(depth));
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+// Issue 11: gives layers [from, layers) of every level of the array `tex` the value a pass
+// writes for an empty layer (`value`: as many floats as the format has channels), by a clear
+// instead of a dispatch, so a skipped layer reads exactly as if the pass had run on it.
+inline void clear_layers(Texture& tex, int from, const float* value) {
+    if (from >= tex.layers()) return;
+    const GLenum fmt = tex.format() == GL_R32F || tex.format() == GL_R16F   ? GL_RED
+                       : tex.format() == GL_RG32F || tex.format() == GL_RG16F ? GL_RG
+                                                                              : GL_RGBA;
+    for (int level = 0; level < tex.levels(); ++level)
+        glClearTexSubImage(tex.id(), level, 0, 0, from, std::max(tex.width() >> level, 1),
+                           std::max(tex.height() >> level, 1), tex.layers() - from, fmt, GL_FLOAT, value);
 }
 
 // Binds a pass's declared inputs to texture units 0, 1, ... in the order it lists them (the

@@ -6,7 +6,13 @@ namespace ssr {
 
 void HizBuildPass::execute(FrameContext& ctx) {
     Texture& hiz = ctx.resources.get("hiz");
-    const int layers = ctx.settings.layers;
+    // Issue 11: only the layers that hold a surface somewhere; the others read as empty
+    // (+inf, -inf) cells at every level, what the shader writes for an uncovered pixel.
+    const int layers = ctx.layers_in_use();
+    const float empty[2] = {1e30f, -1e30f};  // EMPTY of hiz_build.comp
+    clear_layers(hiz, layers, empty);
+    layers_built_ = layers;
+    if (layers == 0) return;
 
     Defines level0 = ctx.defines;
     level0["HIZ_LEVEL0"] = "1";

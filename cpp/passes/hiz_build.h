@@ -18,6 +18,11 @@ public:
         return {{"hiz", GL_RG32F, s.width, s.height, s.layers, 0}};
     }
     void execute(FrameContext& ctx) override;
+    // Layers the last run built (frame.stats["hiz_layers_built"], issue 11).
+    int layers_built() const { return layers_built_; }
+
+private:
+    int layers_built_ = 0;
 };
 
 }  // namespace ssr

@@ -9,9 +9,14 @@ namespace ssr {
 void PreintegratePass::execute(FrameContext& ctx) {
     Texture& vis = ctx.resources.get("visibility");
     Texture& hiz = ctx.resources.get("hiz");
-    const int layers = ctx.settings.layers;
+    // Issue 11: layers empty everywhere have visibility 0 at every level (the shader's value).
+    const int layers = ctx.layers_in_use();
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    clear_layers(vis, layers, zero);
     // The cone tracer reads it trilinearly (seed 002, 4.4.5).
     vis.set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+
+    if (layers == 0) return;
 
     Defines level0 = ctx.defines;
     level0["LEVEL0"] = "1";

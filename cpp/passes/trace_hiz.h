@@ -11,7 +11,7 @@ namespace ssr {
 class TraceHizPass : public TracePass {
 public:
     using TracePass::TracePass;
-    std::string name() const override { return "trace_hiz"; }
+    std::string name() const override { return extra() ? "trace_hiz_extra" : "trace_hiz"; }
     std::vector<std::string> inputs() const override {
         return {"hiz", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

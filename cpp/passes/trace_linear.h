@@ -11,7 +11,7 @@ namespace ssr {
 class TraceLinearPass : public TracePass {
 public:
     using TracePass::TracePass;
-    std::string name() const override { return "trace_linear"; }
+    std::string name() const override { return extra() ? "trace_linear_extra" : "trace_linear"; }
     std::vector<std::string> inputs() const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

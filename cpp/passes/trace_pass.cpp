@@ -7,12 +7,17 @@ namespace ssr {
 
 void TracePass::run(FrameContext& ctx, const std::string& stage) {
     auto& r = ctx.resources;
-    const bool skip = ctx.settings.skip;
+    const bool skip = ctx.settings.skip || extra_;
     if (skip && !ray_list_) throw GLError(name() + ": Settings.skip needs the classify pass's ray list");
     Defines d = ctx.defines;
     d["RAY_LIST"] = skip ? "1" : "0";
-    d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays ? "1" : "0";
-    glUseProgram(ctx.shaders.program({stage}, d));
+    d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays && !extra_ ? "1" : "0";
+    d["EXTRA_RAYS"] = extra_ ? "1" : "0";
+    d["RAY_LIST_PER_RAY"] = !extra_ && ClassifyPass::per_ray(ctx.settings) ? "1" : "0";
+    const GLuint prog = ctx.shaders.program({stage}, d);
+    glUseProgram(prog);
+    // Issue 11: the layer walk stops at the layers in use (a uniform: no recompile per count).
+    glUniform1i(glGetUniformLocation(prog, "u_layers_used"), ctx.layers_in_use());
     bind_ray_generation_io(r);
     if (skip) {
         // The classify pass (run before, build_chain) wrote the list and its dispatch

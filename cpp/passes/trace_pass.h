@@ -13,8 +13,14 @@ namespace ssr {
 class TracePass : public RenderPass {
 public:
     // `ray_list`: the classify pass whose list the trace runs over with Settings.skip.
-    explicit TracePass(const ClassifyPass* ray_list = nullptr) : ray_list_(ray_list) {}
+    // `extra`: the variance-guided second trace (Settings.variance_rays, variance_rays.h): over
+    // `ray_list` (the variance_rays pass) always, only the rays adaptive_rays left out, into
+    // the textures the first trace declared.
+    explicit TracePass(const ClassifyPass* ray_list = nullptr, bool extra = false)
+        : ray_list_(ray_list), extra_(extra) {}
+    bool extra() const { return extra_; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
+        if (extra_) return {};
         const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
         return {{"rays.hit", GL_RGBA32F, w, h, r, 1},
                 {"rays.sample", GL_RGBA32F, w, h, r, 1},
@@ -29,6 +35,7 @@ protected:
 
 private:
     const ClassifyPass* ray_list_;
+    bool extra_;
 };
 
 }  // namespace ssr

@@ -23,7 +23,7 @@ Texture solid_texture(uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
 }
 }  // namespace
 
-GpuScene::GpuScene(const Scene& scene) : revision_(scene.revision()) {
+GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_builds), revision_(scene.revision()) {
     std::vector<GpuVertex> verts;
     std::vector<uint32_t> idx;
     struct Range { size_t first_index; GLsizei count; GLint base_vertex; };
@@ -142,6 +142,7 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
         image_texels_ = Buffer::create(texels.size(), texels.data());
         image_info_ = Buffer::create(info.size() * sizeof(glm::ivec4), info.data());
         ray_tracing_ready_ = true;
+        if (bvh_builds_) ++*bvh_builds_;
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, bvh_nodes_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, bvh_triangles_.id());

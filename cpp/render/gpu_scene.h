@@ -47,7 +47,8 @@ struct DrawItem {
 
 class GpuScene {
 public:
-    explicit GpuScene(const Scene& scene);
+    // `bvh_builds` (optional): a counter the BVH build increments (Renderer.stats, issue 11).
+    explicit GpuScene(const Scene& scene, uint64_t* bvh_builds = nullptr);
 
     void bind_geometry() const;  // VAO + storage buffers
     // Binds what the reference tracer reads (storage buffers 5-10: BVH nodes and triangles,
@@ -81,6 +82,7 @@ private:
     Texture white_, flat_normal_, environment_map_;
     Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;
     bool ray_tracing_ready_ = false;
+    uint64_t* bvh_builds_ = nullptr;
     int bvh_depth_ = 0;
     bool reflective_ = false;
     std::vector<DrawItem> draws_;

@@ -5,6 +5,7 @@
 // after it. Texture names are shared with Python: frame.read("gbuffer.normal").
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <string>
@@ -83,6 +84,11 @@ struct FrameContext {
     // projection without its jitter: reprojection works on unjittered positions.
     glm::vec2 jitter_px{0.0f};
     glm::mat4 history_unjittered_proj{1.0f};
+    // Issue 11: the G-buffer layers that hold a surface somewhere (frame.stats["layers_used"]),
+    // set by the renderer after the peeling with Settings.skip; -1 (skip off, or before the
+    // peeling): every allocated layer. The per-layer passes work on these layers only.
+    int layers_used = -1;
+    int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }
 };
 
 class RenderPass {

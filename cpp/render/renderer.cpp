@@ -76,12 +76,16 @@ void Renderer::destroy_gl_objects() {
 const GpuScene& Renderer::gpu_scene(const Scene& scene) {
     for (auto it = scenes_.begin(); it != scenes_.end(); ++it) {
         if (it->id == scene.id()) {
-            if (it->gpu->revision() != scene.revision()) it->gpu = std::make_unique<GpuScene>(scene);
+            if (it->gpu->revision() != scene.revision()) {
+                it->gpu = std::make_unique<GpuScene>(scene, &bvh_builds_);
+                ++scene_uploads_;
+            }
             scenes_.splice(scenes_.begin(), scenes_, it);
             return *scenes_.front().gpu;
         }
     }
-    scenes_.push_front(CachedScene{scene.id(), std::make_unique<GpuScene>(scene)});
+    scenes_.push_front(CachedScene{scene.id(), std::make_unique<GpuScene>(scene, &bvh_builds_)});
+    ++scene_uploads_;
     if (scenes_.size() > kSceneCacheSize) scenes_.pop_back();
     return *scenes_.front().gpu;
 }
@@ -129,6 +133,12 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
             // Issue 11: the trace runs over the classify pass's ray list (indirect dispatch).
             if (s.skip) chain.push_back(&classify_);
             chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
+            // Issue 11: rays where the first pass's neighbourhood disagrees (FidelityFX SSSR).
+            if (s.variance_rays && s.adaptive_rays) {
+                chain.push_back(&variance_rays_);
+                chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_extra_)
+                                                             : &trace_linear_extra_);
+            }
             // What screen space could not resolve goes to the triangles (issue 12; thesis 4.3).
             if (s.fallback == Fallback::Bvh) chain.push_back(shadows ? &fallback_bvh_shadowed_ : &fallback_bvh_unshadowed_);
         }
@@ -342,6 +352,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         const size_t programs_before = shaders_->cached_programs();
         timer_.begin_frame();
         frame->passes.clear();
+        fc.layers_used = -1;
         for (RenderPass* p : chain) {
             {
                 GpuScope t(timer_, p->name());
@@ -349,6 +360,15 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
             }
             check_gl(*ctx_, p->name().c_str());
             frame->passes.push_back(p->name());
+            // Issue 11: the later per-layer passes (Hi-Z build, traces, pre-convolution,
+            // pre-integration) work on the layers the peeling filled only. Reading the
+            // occlusion queries waits for the peeling (the lighting pass does the same).
+            if (p == &depth_peel_ && s.skip) {
+                const std::vector<uint64_t> samples = depth_peel_.layer_samples();
+                int used = 0;
+                while (used < int(samples.size()) && samples[size_t(used)] > 0) ++used;
+                fc.layers_used = used;
+            }
         }
         const bool compiled = shaders_->cached_programs() != programs_before;
         if ((warm && !compiled) || run >= 2) break;
@@ -360,12 +380,16 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->timings = timer_.resolve();
     frame->layer_samples = depth_peel_.layer_samples();
     if (std::find(chain.begin(), chain.end(), &classify_) != chain.end()) frame->stats = classify_.counters();
+    if (std::find(chain.begin(), chain.end(), &variance_rays_) != chain.end())
+        for (const auto& [k, v] : variance_rays_.extra_counters()) frame->stats[k] = v;
     frame->stats["passes_run"] = double(chain.size());
     // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):
     // peeling stops drawing after the first empty one (depth_peel.cpp).
     int layers_used = 0;
     while (layers_used < int(frame->layer_samples.size()) && frame->layer_samples[size_t(layers_used)] > 0) ++layers_used;
     frame->stats["layers_used"] = double(layers_used);
+    if (std::find(chain.begin(), chain.end(), &hiz_build_) != chain.end())
+        frame->stats["hiz_layers_built"] = double(hiz_build_.layers_built());
     frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
@@ -589,6 +613,8 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     out.data.resize(bytes / sizeof(float));
     glGetNamedBufferSubData(readback_ssbo_.id(), 0, GLsizeiptr(bytes), out.data.data());
     check_gl(*ctx_, "readback");
+    ++readbacks_;
+    readback_bytes_ += bytes;
     return out;
 }
 

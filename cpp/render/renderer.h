@@ -31,6 +31,7 @@
 #include "passes/trace_bvh.h"
 #include "passes/trace_hiz.h"
 #include "passes/trace_linear.h"
+#include "passes/variance_rays.h"
 #include "render/frame.h"
 #include "render/gpu_scene.h"
 #include "render/sequence.h"
@@ -88,6 +89,15 @@ public:
     // GPU bytes held: every frame texture set (live or pooled) plus scratch.
     size_t gpu_bytes() const;
     size_t scratch_bytes() const { return scratch_.bytes(); }
+    // Work the renderer did outside the frame chain (issue 11, "passes only when used"): scene
+    // uploads (a GpuScene built: new scene or new content; a camera change is none), reference
+    // BVH builds (once per scene content), texture read-backs and their bytes.
+    std::map<std::string, double> stats() const {
+        return {{"scene_uploads", double(scene_uploads_)},
+                {"bvh_builds", double(bvh_builds_)},
+                {"readbacks", double(readbacks_)},
+                {"readback_bytes", double(readback_bytes_)}};
+    }
 
 private:
     Renderer(const std::string& device, const std::string& shader_dir);
@@ -119,6 +129,7 @@ private:
     std::map<std::string, uint64_t> scratch_owner_;  // scratch name -> serial of the frame it holds
     uint64_t next_serial_ = 1;
     size_t freed_since_trim_ = 0;  // bytes of texture sets freed since the last malloc_trim
+    uint64_t scene_uploads_ = 0, bvh_builds_ = 0, readbacks_ = 0, readback_bytes_ = 0;  // stats()
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
@@ -127,6 +138,10 @@ private:
     ClassifyPass classify_;
     TraceLinearPass trace_linear_{&classify_};
     TraceHizPass trace_hiz_{&classify_};
+    // Settings.variance_rays: the extra-ray list and the second trace over it (issue 11).
+    VarianceRaysPass variance_rays_;
+    TraceLinearPass trace_linear_extra_{&variance_rays_, true};
+    TraceHizPass trace_hiz_extra_{&variance_rays_, true};
     // Ray-traced reflections and the BVH fallback (issue 12), with and without the shadow map.
     TraceBvhPass trace_bvh_shadowed_{false, true}, trace_bvh_unshadowed_{false, false};
     TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};

@@ -165,6 +165,11 @@ void RenderSettings::validate() const {
     range(fade_distance_end, 0, 1e7, "fade_distance_end");
     range(roughness_cutoff, 0, 1, "roughness_cutoff");
     range(classify_facing, 0, 1, "classify_facing");
+    range(variance_threshold, 0, 1e3, "variance_threshold");
+    check(!variance_rays || (adaptive_rays && glossy == Glossy::Stochastic &&
+                             (method == TraceMethod::Linear || method == TraceMethod::Hiz)),
+          "Settings.variance_rays adds the rays adaptive_rays left out, for the screen-space tracers' stochastic "
+          "rays: it needs adaptive_rays=True, glossy='stochastic' and method 'linear' or 'hiz'");
     range(temporal_max_history, 1, 1024, "temporal_max_history");
     range(reject_depth, 0, 10, "reject_depth");
     range(reject_normal, -1, 1, "reject_normal");

@@ -94,6 +94,8 @@ struct RenderSettings {
     bool skip = true;             // classify + indirect trace over the ray list (issue 11)
     float classify_facing = 0.0f;  // skip: minimum n.v of a pixel that gets rays
     bool adaptive_rays = false;    // rays per pixel follow roughness within rays_per_pixel
+    bool variance_rays = false;    // adaptive_rays: a second trace adds rays where the neighbourhood disagrees
+    float variance_threshold = 0.25f;  // relative std. dev. of the neighbourhood's ray luminance that adds rays
     bool temporal_ray_reuse = false;     // resolve also reuses the previous frame's reprojected rays (seed 000, 4.4)
     // Glossy reflections (seed 002, 4.4.2-4.4.5; issue 9): stochastic GGX rays + resolve, or one
     // mirror ray per pixel with a cone through pre-convolved mips, or one ray and a blurred mip.

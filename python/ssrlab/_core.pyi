@@ -973,6 +973,22 @@ class RenderSettings:
     def thickness_scale(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def variance_rays(self) -> bool:
+        """
+        ssrlab.Settings.variance_rays: with adaptive_rays: a variance_rays pass measures how much the first pass's rays disagree over each trace pixel's 3x3 neighbourhood and a second trace adds the rays adaptive_rays left out (up to rays_per_pixel) where they disagree by variance_threshold or more (FidelityFX SSSR's variance-guided extra rays, issue 11); the resolve averages them with the weights they were drawn with
+        """
+    @variance_rays.setter
+    def variance_rays(self, arg0: bool) -> None:
+        ...
+    @property
+    def variance_threshold(self) -> float:
+        """
+        ssrlab.Settings.variance_threshold: variance_rays: relative standard deviation (std / mean) of the neighbourhood's ray luminance from which a pixel gets the extra rays; 0: every pixel with fewer than rays_per_pixel rays
+        """
+    @variance_threshold.setter
+    def variance_threshold(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def width(self) -> int:
         """
         ssrlab.Settings.width [pixels]: image width
@@ -1132,6 +1148,11 @@ class Renderer:
     def scratch_bytes(self) -> int:
         """
         Bytes of the per-renderer scratch textures (shadow map, Hi-Z pyramid)
+        """
+    @property
+    def stats(self) -> dict[str, float]:
+        """
+        Work outside the frame chain: scene_uploads, bvh_builds, readbacks, readback_bytes.
         """
 def embree_intersect(scene: Scene, origins: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t_min: typing.SupportsFloat | typing.SupportsIndex = 0.0, t_max: typing.SupportsFloat | typing.SupportsIndex = 1.0000000150474662e+30) -> dict:
     """

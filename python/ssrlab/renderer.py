@@ -57,6 +57,15 @@ class Renderer:
         for reuse (at most 4) and the scratch shared by all frames (shadow map, Hi-Z)."""
         return int(self._native.gpu_bytes)
 
+    @property
+    def stats(self) -> dict[str, int]:
+        """What this renderer did outside the frames' chains, counted since it was made (issue
+        11): scene_uploads (GPU copies of a scene built: a new scene or changed content; a new
+        camera or new settings reuse the copy), bvh_builds (the reference's BVH, once per scene
+        content), readbacks and readback_bytes (textures copied to host memory: only when a
+        Frame property or read() asks, once per texture and level)."""
+        return {k: int(v) for k, v in self._native.stats.items()}
+
     @functools.cached_property
     def info(self) -> dict:
         """Vendor, renderer, GL version and the device chosen."""
@@ -232,7 +241,11 @@ class Frame:
         """Exact work counts read back from the GPU (issue 11): passes_run, and with
         Settings.skip the classify pass's pixels_classified (trace pixels examined),
         pixels_traced (trace pixels in the ray list), rays_traced (rays generated),
-        depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups)."""
+        depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups);
+        layers_used (layers holding a surface somewhere: with skip, the Hi-Z build, the trace's
+        layer walk, pre-convolution and pre-integration work on these only), layers_lit,
+        hiz_layers_built; with Settings.variance_rays, variance_pixels (pixels given extra
+        rays), extra_rays and extra_depth_fetches (the second trace's)."""
         return {k: int(v) for k, v in self._native.stats.items()}
 
     @property

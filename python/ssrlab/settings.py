@@ -105,6 +105,15 @@ class Settings:
         False, "rays per pixel follow the perceptual roughness within rays_per_pixel: ceil(rays_per_pixel * "
         "roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work, issue 11); the resolve "
         "averages each pixel's rays with the weights they were drawn with", group="rays")
+    variance_rays: bool = _setting(
+        False, "with adaptive_rays: a variance_rays pass measures how much the first pass's rays disagree over "
+        "each trace pixel's 3x3 neighbourhood and a second trace adds the rays adaptive_rays left out (up to "
+        "rays_per_pixel) where they disagree by variance_threshold or more (FidelityFX SSSR's variance-guided "
+        "extra rays, issue 11); the resolve averages them with the weights they were drawn with", group="rays")
+    variance_threshold: float = _setting(
+        0.25, "variance_rays: relative standard deviation (std / mean) of the neighbourhood's ray luminance "
+        "from which a pixel gets the extra rays; 0: every pixel with fewer than rays_per_pixel rays",
+        "", 0.0, 1e3, group="rays")
 
     # -- hit test ------------------------------------------------------------------------------------------
     thickness: float = _setting(
@@ -414,6 +423,11 @@ CONSTRAINTS = (
     Constraint(("fallback", "glossy"), "glossy == 'stochastic' when fallback == 'bvh'",
                lambda s: s.fallback != "bvh" or s.glossy == "stochastic",
                "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),
+    Constraint(("variance_rays", "adaptive_rays", "method", "glossy"),
+               "adaptive_rays, method in ('linear', 'hiz') and glossy == 'stochastic' when variance_rays",
+               lambda s: not s.variance_rays or (s.adaptive_rays and s.method in ("linear", "hiz")
+                                                 and s.glossy == "stochastic"),
+               "the second pass adds the rays adaptive_rays left out, for the screen-space tracers' stochastic rays"),
     Constraint(("hiz_stop_level", "hiz_max_level"), "hiz_stop_level <= hiz_max_level",
                lambda s: s.hiz_stop_level <= s.hiz_max_level,
                "the traversal never descends below the stop level, so it cannot stop above the coarsest level"),

@@ -40,9 +40,13 @@ bool is_reflective(GSample g) {
 // mirror (every GGX sample of alpha 0 is the mirror direction), the maximum at roughness 1.
 // Rays past the count get weight 0, which the resolve's weighted mean leaves out: each pixel
 // still averages its rays with the weights they were drawn with.
+int adaptive_ray_count(float roughness) {
+    return clamp(int(ceil(float(ssr.rays_per_pixel) * roughness)), 1, ssr.rays_per_pixel);
+}
+
 int rays_for_roughness(float roughness) {
 #if ADAPTIVE_RAYS
-    return clamp(int(ceil(float(ssr.rays_per_pixel) * roughness)), 1, ssr.rays_per_pixel);
+    return adaptive_ray_count(roughness);
 #else
     return ssr.rays_per_pixel;
 #endif

@@ -11,9 +11,15 @@ layout(std430, binding = 12) coherent buffer RayList {
     uint rays_traced;   // rays the trace pass generated (weight > 0), counted by the trace pass
     uint fetches;       // depth fetches the trace pass spent, summed
     uint classified;    // trace pixels the classify pass examined
-    uint pad0;
-    uint pixels[];
+    uint listed_pixels; // RAY_LIST_PER_RAY: trace pixels in the list (count is then rays)
+    uint pixels[];      // one packed pixel per entry; RAY_LIST_PER_RAY: (packed pixel, ray) pairs
 } ray_list;
+
+// Issue 11, adaptive rays over the list: one entry per (pixel, ray) the pixel traces, so the
+// trace's invocations follow the rays traced, not rays_per_pixel slots per pixel (groups_z = 1).
+#ifndef RAY_LIST_PER_RAY
+#define RAY_LIST_PER_RAY 0
+#endif
 
 const uint RAY_LIST_ROW = 1024u;
 
@@ -35,7 +41,11 @@ bool ray_list_entry(out ivec3 id) {
     uint index = (gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
     id = ivec3(0);
     if (index >= ray_list.count) return false;
+#if RAY_LIST_PER_RAY
+    id = ivec3(unpack_pixel(ray_list.pixels[2u * index]), int(ray_list.pixels[2u * index + 1u]));
+#else
     id = ivec3(unpack_pixel(ray_list.pixels[index]), int(gl_WorkGroupID.z));
+#endif
     return true;
 }
 

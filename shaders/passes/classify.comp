@@ -32,8 +32,14 @@ uniform int u_rays;  // rays per trace pixel (the ray textures' layers)
 
 void main() {
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    // The examined pixels, counted once per group (the group's share of the image) rather than
+    // by one atomic per pixel on the same counter.
+    if (gl_LocalInvocationIndex == 0u) {
+        ivec2 o = ivec2(gl_WorkGroupID.xy) * 8;
+        ivec2 n = min(ivec2(8), ivec2(ssr.trace_width, ssr.trace_height) - o);
+        atomicAdd(ray_list.classified, uint(n.x * n.y));
+    }
     if (q.x >= ssr.trace_width || q.y >= ssr.trace_height) return;
-    atomicAdd(ray_list.classified, 1u);
     ivec2 p = origin_pixel(q);
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                texelFetch(u_material, ivec3(p, 0), 0));
@@ -41,9 +47,23 @@ void main() {
     bool reflective = is_reflective(g);
     float facing = dot(g.normal, normalize(-pos));
     if (reflective && facing > max(1e-4, float(CLASSIFY_FACING))) {
+#if RAY_LIST_PER_RAY
+        // One entry per ray the pixel traces (adaptive rays); the slots past them get the
+        // trace's "no ray" here, as the full-screen trace writes them.
+        int n = rays_for_roughness(g.roughness);
+        uint i = atomicAdd(ray_list.count, uint(n));
+        atomicAdd(ray_list.listed_pixels, 1u);
+        for (int k = 0; k < n; ++k) {
+            ray_list.pixels[2u * (i + uint(k))] = pack_pixel(q);
+            ray_list.pixels[2u * (i + uint(k)) + 1u] = uint(k);
+            ray_list_open_group(i + uint(k));
+        }
+        for (int r = n; r < u_rays; ++r) store_ray(ivec3(q, r), generate_ray(g, pos, q, r), true, vec4(0.0), 0.0);
+#else
         uint i = atomicAdd(ray_list.count, 1u);
         ray_list.pixels[i] = pack_pixel(q);
         ray_list_open_group(i);
+#endif
         return;
     }
     // No ray: generate_ray returns its "no ray" (weight 0) for these pixels.

@@ -38,6 +38,10 @@ layout(binding = 3) uniform sampler2DArray u_material;
 layout(binding = 4) uniform sampler2DArray u_hiz;  // RG32F (min s, max s) per layer, mip per level
 
 float g_fetches = 0.0;
+// Issue 11: the layers that hold a surface somewhere (frame.stats["layers_used"] with
+// Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
+// empty everywhere, where it would only find the empty layer that ends it.
+uniform int u_layers_used;
 
 // GL's mip size rule, max(1, size >> level). Computed rather than asked of textureSize():
 // llvmpipe answers textureSize with the lod of one lane when lanes ask for different levels.
@@ -59,7 +63,7 @@ float slab_back(float s) {
 // `cell`, -1 for none; `front` receives that layer's nearest screen depth there.
 int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front) {
     front = 0.0;
-    for (int k = 0; k < ssr.layers; ++k) {
+    for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
         vec2 mm = hiz_fetch(cell, k, level);
         if (mm.x > mm.y) return -1;  // the layer covers nothing here, nor does any deeper one
         if (hi < mm.x) return -1;    // in front of this layer, so of every deeper one
@@ -151,6 +155,11 @@ void main() {
     ivec2 p = origin_pixel(id.xy);
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                texelFetch(u_material, ivec3(p, 0), 0));
+#if defined(EXTRA_RAYS) && EXTRA_RAYS
+    // Issue 11's variance-guided second pass (variance_rays.comp listed this pixel): only the
+    // rays adaptive_rays left out, drawn exactly as a full trace draws ray id.z.
+    if (id.z < adaptive_ray_count(g.roughness)) return;
+#endif
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     vec4 hit = vec4(0.0);

@@ -27,6 +27,10 @@ layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
 
 float g_fetches = 0.0;
+// Issue 11: the layers that hold a surface somewhere (frame.stats["layers_used"] with
+// Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
+// empty everywhere, where it would only find the empty layer that ends it.
+uniform int u_layers_used;
 
 float layer_depth(ivec2 pixel, int layer) {
     g_fetches += 1.0;
@@ -39,7 +43,7 @@ float layer_depth(ivec2 pixel, int layer) {
 // surface costs one fetch whatever the layer count (the thesis fetches every layer).
 int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
     surface = 0.0;
-    for (int k = 0; k < ssr.layers; ++k) {
+    for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
         float d = layer_depth(pixel, k);
         if (d >= frame.clip.y) return -1;  // empty layer: no surface here or behind
         if (hi < d) return -1;
@@ -169,6 +173,11 @@ void main() {
     ivec2 p = origin_pixel(id.xy);
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                texelFetch(u_material, ivec3(p, 0), 0));
+#if defined(EXTRA_RAYS) && EXTRA_RAYS
+    // Issue 11's variance-guided second pass (variance_rays.comp listed this pixel): only the
+    // rays adaptive_rays left out, drawn exactly as a full trace draws ray id.z.
+    if (id.z < adaptive_ray_count(g.roughness)) return;
+#endif
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     vec4 hit = vec4(0.0);

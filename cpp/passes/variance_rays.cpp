@@ -1,0 +1,35 @@
+#include "passes/variance_rays.h"
+
+#include <cstdint>
+
+#include "passes/compute.h"
+
+namespace ssr {
+
+void VarianceRaysPass::execute(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    const int w = s.trace_width(), h = s.trace_height();
+    reset_list(w, h, s.traced_rays());
+    Defines d = ctx.defines;
+    d["ADAPTIVE_RAYS"] = "1";
+    const GLuint prog = ctx.shaders.program({"passes/variance_rays.comp"}, d);
+    glUseProgram(prog);
+    glUniform1f(glGetUniformLocation(prog, "u_threshold"), s.variance_threshold);
+    auto& r = ctx.resources;
+    bind_inputs_in_order(r, inputs());
+    bind_image_layered(0, r.get("variance"), GL_WRITE_ONLY);
+    bind();
+    dispatch_2d(w, h, 1, 8, 8);
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the second trace's indirect arguments
+}
+
+std::map<std::string, double> VarianceRaysPass::extra_counters() const {
+    uint32_t header[8] = {};  // shaders/lib/ray_list.glsl
+    if (!list_) return {};
+    glGetNamedBufferSubData(list_.id(), 0, sizeof(header), header);
+    return {{"variance_pixels", double(header[3])},
+            {"extra_rays", double(header[4])},
+            {"extra_depth_fetches", double(header[5])}};
+}
+
+}  // namespace ssr
