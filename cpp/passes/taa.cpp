@@ -7,7 +7,7 @@ namespace ssr {
 void TaaPass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
     Defines d = ctx.defines;
-    const bool thesis = ctx.settings.taa == TaaMode::Thesis;
+    const bool thesis = thesis_;
     d["TAA_THESIS"] = thesis ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/taa.comp"}, d);
     glUseProgram(prog);
@@ -17,7 +17,7 @@ void TaaPass::execute(FrameContext& ctx) {
     glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
     glUniform1f(glGetUniformLocation(prog, "u_history_weight"), ctx.settings.taa_history_weight);
     glBindTextureUnit(0, r.get("color").id());
-    glBindTextureUnit(1, r.get("reprojection").id());
+    if (!thesis) glBindTextureUnit(1, r.get("reprojection").id());
     glBindTextureUnit(2, history ? ctx.history->get(history_name).id() : r.get("color").id());
     bind_image_layered(0, r.get("color.taa"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);

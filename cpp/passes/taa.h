@@ -4,7 +4,9 @@
 //            colour and the previous frame's colour at the same pixel, no reprojection
 //   clamped: the reprojected previous TAA output, clamped to the min/max box of this frame's
 //            3x3 neighbourhood in YCoCg, blended with weight Settings.taa_history_weight
-//   inputs : color, reprojection (+ the previous frame's color or color.taa)
+//   inputs : color (+ reprojection for clamped; + the previous frame's color or color.taa).
+//            One object per mode, so that the thesis blend, which never reprojects, does not
+//            make the chain run the reprojection pass.
 //   outputs: color.taa (RGBA32F; Frame.color reads it when present)
 #pragma once
 
@@ -14,12 +16,18 @@ namespace ssr {
 
 class TaaPass : public RenderPass {
 public:
+    explicit TaaPass(bool thesis) : thesis_(thesis) {}
     std::string name() const override { return "taa"; }
-    std::vector<std::string> inputs() const override { return {"color", "reprojection"}; }
+    std::vector<std::string> inputs() const override {
+        return thesis_ ? std::vector<std::string>{"color"} : std::vector<std::string>{"color", "reprojection"};
+    }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"color.taa", GL_RGBA32F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;
+
+private:
+    bool thesis_;
 };
 
 }  // namespace ssr

@@ -117,9 +117,10 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     if (shadows) chain.push_back(&shadow_map_);
     chain.push_back(&depth_peel_);
     chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
-    // Frames in time (issue 10): reprojection whenever a temporal technique is on, before the
-    // resolve (bounces="history" and temporal_ray_reuse read it there).
-    if (s.temporal_reflections || s.taa != TaaMode::Off || s.bounces == Bounces::History || s.temporal_ray_reuse) chain.push_back(&reproject_);
+    // Frames in time (issue 10): reprojection whenever a temporal technique that reprojects is
+    // on, before the resolve (bounces="history" and temporal_ray_reuse read it there). The
+    // thesis's TAA blends at the same pixel and needs none.
+    if (s.temporal_reflections || s.taa == TaaMode::Clamped || s.bounces == Bounces::History || s.temporal_ray_reuse) chain.push_back(&reproject_);
     if (reflections) {
         // glossy="cone" needs the min-max pyramid whatever tracer follows the mirror ray.
         const bool hiz = s.method == TraceMethod::Hiz || s.glossy == Glossy::Cone;
@@ -154,7 +155,7 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     const bool temporal = reflections && s.temporal_reflections;
     if (temporal) chain.push_back(&temporal_);
     chain.push_back(temporal ? &composite_temporal_ : reflections ? &composite_reflections_ : &composite_plain_);
-    if (s.taa != TaaMode::Off) chain.push_back(&taa_);
+    if (s.taa != TaaMode::Off) chain.push_back(s.taa == TaaMode::Thesis ? &taa_thesis_ : &taa_clamped_);
     return chain;
 }
 

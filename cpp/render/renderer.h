@@ -148,7 +148,7 @@ private:
     ResolvePass resolve_;
     ReprojectPass reproject_;
     TemporalPass temporal_;
-    TaaPass taa_;
+    TaaPass taa_thesis_{true}, taa_clamped_{false};
     PreconvolvePass preconvolve_;
     PreintegratePass preintegrate_;
     ConeTracePass cone_trace_;
