@@ -82,3 +82,16 @@ def test_single_render_filters_glossy_pixels_and_leaves_mirrors(renderer):
     mirror = renderer.render(scenes.spheres_and_boxes(seed=1, count=8, floor_roughness=0.0),
                              settings=small(denoise="svgf"))
     np.testing.assert_array_equal(mirror.reflection, mirror.read("reflection")[0, :, :, :3])
+
+
+def test_hybrid_sweep_file_plans_every_configuration():
+    from pathlib import Path
+
+    from ssrlab import bench, hybrid
+    cfg = bench.load_sweep(Path(__file__).resolve().parents[1] / "benchmarks/sweeps/hybrid.toml")
+    plan = bench.plan_sweep(cfg["grid"], cfg["scenes"], None, cfg["base"])  # every configuration is valid
+    assert len(plan) == 3 * 8 and cfg["frames"] == 8
+    assert {c["settings"]["denoise"] for c in plan} == {"none", "svgf"}
+    # The notebook's list has probes exactly when the Settings validation accepts them.
+    assert ("SSR + probes" in hybrid.configurations()) == hybrid.probes_available()
+    assert set(hybrid.configurations()) >= {"SSR only", "SSR + BVH fallback", "pure BVH"}
