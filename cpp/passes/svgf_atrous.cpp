@@ -12,7 +12,6 @@ void SvgfAtrousPass::execute(FrameContext& ctx) {
     glUniform1f(glGetUniformLocation(prog, "u_sigma_depth"), s.svgf_sigma_depth);
     glUniform1f(glGetUniformLocation(prog, "u_sigma_normal"), s.svgf_sigma_normal);
     glUniform1f(glGetUniformLocation(prog, "u_sigma_luminance"), s.svgf_sigma_luminance);
-    glUniform1i(glGetUniformLocation(prog, "u_mirror_sampling"), s.sampling == Sampling::Mirror ? 1 : 0);
     bind_inputs_in_order(r, inputs());
     // Iterations ping-pong between svgf.atrous and reflection.denoised, arranged so that the
     // last one writes reflection.denoised; 0 iterations copy the variance pass's colour.

@@ -18,9 +18,7 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(binding = 0) uniform sampler2D u_input;
-layout(binding = 1) uniform sampler2DArray u_linear_depth;
-layout(binding = 2) uniform sampler2DArray u_normal;
-layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = 1) uniform sampler2D u_guide;  // svgf_variance: xyz normal, w depth (< 0: not noisy)
 
 layout(binding = 0, rgba32f) writeonly uniform image2D o_output;
 
@@ -28,17 +26,17 @@ uniform int u_step;           // 2^iteration pixels between taps; 0: copy (svgf_
 uniform float u_sigma_depth;
 uniform float u_sigma_normal;
 uniform float u_sigma_luminance;
-uniform int u_mirror_sampling;
 
 float depth_at(ivec2 p, ivec2 size) {
-    return texelFetch(u_linear_depth, ivec3(clamp(p, ivec2(0), size - 1), 0), 0).r;
+    return abs(texelFetch(u_guide, clamp(p, ivec2(0), size - 1), 0).w);
 }
 
-bool noisy_at(ivec2 p, out vec3 normal) {
-    vec4 nr = texelFetch(u_normal, ivec3(p, 0), 0);
-    vec4 mat = texelFetch(u_material, ivec3(p, 0), 0);
-    normal = normalize(nr.xyz);
-    return svgf_noisy(mat.g > 0.5, mat.r, nr.w, u_mirror_sampling != 0);
+// One fetch per tap: the normal, the depth and whether the pixel is filtered at all.
+bool noisy_at(ivec2 p, out vec3 normal, out float depth) {
+    vec4 g = texelFetch(u_guide, p, 0);
+    normal = g.xyz;
+    depth = g.w;
+    return g.w > 0.0;
 }
 
 void main() {
@@ -47,7 +45,8 @@ void main() {
     if (any(greaterThanEqual(pixel, size))) return;
     vec4 center = texelFetch(u_input, pixel, 0);
     vec3 n_p;
-    if (u_step == 0 || !noisy_at(pixel, n_p)) {
+    float z_p;
+    if (u_step == 0 || !noisy_at(pixel, n_p, z_p)) {
         imageStore(o_output, pixel, center);
         return;
     }
@@ -59,7 +58,8 @@ void main() {
             ivec2 q = pixel + ivec2(dx, dy);
             if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
             vec3 n_q;
-            if (!noisy_at(q, n_q)) continue;
+            float z_q;
+            if (!noisy_at(q, n_q, z_q)) continue;
             float k = (dx == 0 ? 0.5 : 0.25) * (dy == 0 ? 0.5 : 0.25);
             var_blur += k * texelFetch(u_input, q, 0).a;
             var_w += k;
@@ -68,7 +68,6 @@ void main() {
     var_blur /= max(var_w, 1e-10);
     float luminance_scale = u_sigma_luminance * sqrt(max(var_blur, 0.0));
 
-    float z_p = depth_at(pixel, size);
     vec2 grad = svgf_depth_gradient(z_p, depth_at(pixel - ivec2(1, 0), size), depth_at(pixel + ivec2(1, 0), size),
                                     depth_at(pixel - ivec2(0, 1), size), depth_at(pixel + ivec2(0, 1), size));
     float l_p = svgf_luminance(center.rgb);
@@ -84,10 +83,11 @@ void main() {
             ivec2 q = pixel + offset;
             if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
             vec3 n_q;
-            if (!noisy_at(q, n_q)) continue;
+            float z_q;
+            if (!noisy_at(q, n_q, z_q)) continue;
             vec4 c = texelFetch(u_input, q, 0);
             float w = svgf_b3(i) * svgf_b3(j) *
-                      svgf_weight(z_p, depth_at(q, size), abs(dot(grad, vec2(offset))), u_sigma_depth, n_p, n_q,
+                      svgf_weight(z_p, z_q, abs(dot(grad, vec2(offset))), u_sigma_depth, n_p, n_q,
                                   u_sigma_normal, l_p, svgf_luminance(c.rgb), luminance_scale);
             color += w * c.rgb;
             variance += w * w * c.a;

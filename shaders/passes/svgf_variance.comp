@@ -8,7 +8,9 @@
 // the accumulated mean, E[l^2] - E[l]^2 over n frames divided by n: the noise left in the colour
 // the wavelets filter shrinks as the history grows, and so does their blur (the paper keeps the
 // per-sample variance, which over-blurs a static camera's converging image).
-//   output: svgf.variance (RGBA32F: rgb accumulated colour, a luminance variance)
+//   outputs: svgf.variance (RGBA32F: rgb accumulated colour, a luminance variance)
+//            svgf.guide (RGBA32F: xyz normal, w linear depth, negated where the pixel is not
+//            noisy): what the a-trous taps test, in one fetch instead of three
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/svgf.glsl"
@@ -22,6 +24,7 @@ layout(binding = 3) uniform sampler2DArray u_normal;
 layout(binding = 4) uniform sampler2DArray u_material;
 
 layout(binding = 0, rgba32f) writeonly uniform image2D o_variance;
+layout(binding = 1, rgba32f) writeonly uniform image2D o_guide;
 
 uniform float u_sigma_depth;
 uniform float u_sigma_normal;
@@ -45,7 +48,10 @@ void main() {
     vec4 color = texelFetch(u_accumulated, pixel, 0);
     vec4 m = texelFetch(u_moments, pixel, 0);
     vec3 n_p;
-    if (!noisy_at(pixel, n_p)) {
+    bool noisy = noisy_at(pixel, n_p);
+    float z = depth_at(pixel, size);
+    imageStore(o_guide, pixel, vec4(n_p, noisy ? z : -max(z, 1e-30)));
+    if (!noisy) {
         imageStore(o_variance, pixel, vec4(color.rgb, 0.0));
         return;
     }
