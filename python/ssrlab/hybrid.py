@@ -66,23 +66,26 @@ class HybridExperiment:
     scale: str
     rows: list[dict]                 # one per (scene, configuration, denoise); "config" names it
     fronts: dict[str, list[dict]]    # scene label -> Pareto front, fastest first
-    verdicts: list[dict]             # per scene: budgets, winner per budget, doubt
+    verdicts: list[dict]             # per scene: its front, why each point's budget claim is in doubt (None: none)
     device: str
     probes: bool
 
     def table(self) -> str:
-        """Per scene and time budget (a front point's frame time): the configuration with the least
-        error within it, or why the timings bear no such claim."""
+        """Per scene, one row per Pareto-front point, fastest first: within a frame budget from its time
+        up to the next point's, it has the least error. That is a timing claim, so it "wins" only
+        when its time differs from both neighbours' on the front beyond the repeats' spread
+        (timing_doubt); otherwise the row says why it is too small to judge."""
         lines = ["| scene | within (frame GPU ms) | least error | thesis error | verdict |", "|---|---|---|---|---|"]
         for v in self.verdicts:
-            if v["doubt"]:
-                best = v["best"]
-                lines.append(f"| {v['scene']} | any | {best['config']} | {best[ERROR]:.4f} | "
-                             f"**{experiments.TOO_SMALL}** (timings: {v['doubt']}) |")
-                continue
-            for r in v["front"]:
-                lines.append(f"| {v['scene']} | {r[TIME]:.1f} (IQR {r[TIME + '_iqr']:.1f}) | {r['config']} | "
-                             f"{r[ERROR]:.4f} | **wins** |")
+            front = v["front"]
+            for i, r in enumerate(front):
+                upper = f" to {front[i + 1][TIME]:.0f}" if i + 1 < len(front) else " on"
+                doubt = v["doubts"][i]
+                verdict = "**wins**" if doubt is None else f"**{experiments.TOO_SMALL}** (timings: {doubt})"
+                iqr = r.get(TIME + "_iqr")
+                spread = "" if iqr is None else f" (IQR {iqr:.0f})"
+                lines.append(f"| {v['scene']} | from {r[TIME]:.0f}{spread}{upper} | "
+                             f"{r['config']} | {r[ERROR]:.4f} | {verdict} |")
         return "\n".join(lines)
 
 
@@ -108,10 +111,15 @@ def sweep(scale: str | None = None, *, progress: bool = False, executor=None) ->
         sel = [r for r in rows if r["scene"] == scene]
         front = bench.pareto_front(sel, TIME, ERROR)
         fronts[scene] = front
-        # The front orders configurations by time: that order is a claim only when each step is
-        # beyond the repeats' spread (a one-point front still needs timings that can be judged).
-        doubt = experiments.timing_doubt(front, TIME, pairwise=True)
-        verdicts.append(dict(scene=scene, front=front, doubt=doubt, best=min(sel, key=lambda r: r[ERROR])))
+        # Each front point's budget is bounded by its neighbours' times: its claim stands when
+        # both steps are beyond the repeats' spread (a one-point front still needs timings that
+        # can be judged at all).
+        doubts = []
+        for i in range(len(front)):
+            pairs = [front[j:j + 2] for j in (i - 1, i) if j >= 0 and j + 1 < len(front)] or [front[i:i + 1]]
+            doubts.append(next((d for d in (experiments.timing_doubt(p, TIME, pairwise=True) for p in pairs) if d),
+                               None))
+        verdicts.append(dict(scene=scene, front=front, doubts=doubts, best=min(sel, key=lambda r: r[ERROR])))
     r0 = rows[0]
     return HybridExperiment(scale=p["name"], rows=rows, fronts=fronts, verdicts=verdicts,
                             device=f"{r0['gl_renderer']} ({r0['device']})", probes="SSR + probes" in configs)
