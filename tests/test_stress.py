@@ -193,6 +193,9 @@ def any_settings(draw, **fixed):
     if kw["glossy"] != "stochastic" or kw["temporal_ray_reuse"]:
         kw["method"] = "linear" if kw["method"] == "bvh" else kw["method"]
         kw["fallback"] = "environment" if kw["fallback"] == "bvh" else kw["fallback"]
+    # SVGF accumulates its own history (issue 12).
+    if kw["denoise"] == "svgf" and "temporal_reflections" not in fixed:
+        kw["temporal_reflections"] = False
     return ssrlab.Settings(**kw)
 
 
