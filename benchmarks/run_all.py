@@ -37,6 +37,7 @@ BENCHMARKS = {
     "temporal": ([], ["--width", "96", "--height", "64", "--frames", "4"]),
     "skip": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--reference-rays", "32", "--error-seeds", "1"]),
     "hybrid": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--reference-rays", "16"]),
+    "svgf": ([], ["--width", "96", "--height", "64", "--frames", "4", "--repeats", "1"]),
     "depth_precision": ([], ["--width", "96", "--height", "64"]),
     "memory": ([], ["--renders", "50"]),
     "thesis_findings": (["--scale", "full"], ["--scale", "small"]),

@@ -65,3 +65,30 @@ def test_numerical_stability_notebook_runs_at_reduced_size(tmp_path, monkeypatch
     assert "| standard | 1e+08 |" in text and "| reversed_z | 1e+02 |" in text
     verdicts = [l for l in text.splitlines() if "hit-position error under 1 px up to" in l]
     assert len(verdicts) == 2
+
+
+def test_hybrid_notebook_runs_at_reduced_size(tmp_path, monkeypatch):
+    """notebooks/hybrid.ipynb (issue 12): error against time of SSR, SSR + BVH fallback, pure BVH (and
+    SSR + probes where the build accepts fallback="probes"), with and without SVGF; at reduced size
+    (one timed run) every time-budget verdict is "too small to judge" and says why."""
+    model_path("Suzanne/Suzanne.gltf")  # the glTF scene: skip where the sample models are absent
+    from ssrlab import hybrid
+
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_SCALE", "small")
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_OUT", str(tmp_path / "figures"))
+    monkeypatch.setenv("SSRLAB_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(NOTEBOOKS / "hybrid.ipynb", as_version=4)
+    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    assert (tmp_path / "figures" / "hybrid.png").stat().st_size > 10_000
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])]
+    text = "\n".join(o.get("data", {}).get("text/markdown", "") for o in outputs)
+    stdout = "\n".join(o.get("text", "") for o in outputs if o.get("name") == "stdout")
+    assert "| scene | within (frame GPU ms) | least error | thesis error | verdict |" in text
+    rows = [l for l in text.splitlines() if l.startswith("| ") and "**" in l]
+    assert {l.split(" | ")[0] for l in rows} == {"| hall(floor_roughness=0.2)", "| spheres_and_boxes(floor_roughness=0.2)",
+                                                 "| spheres_and_boxes(with_suzanne=True, floor_roughness=0.2)"}
+    assert all("**too small to judge**" in l and "timed run" in l for l in rows)
+    assert ("SSR + probes" in stdout) == hybrid.probes_available()
+    assert "pure BVH + SVGF" in stdout and "svgf_atrous" in text

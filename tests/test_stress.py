@@ -198,6 +198,9 @@ def any_settings(draw, **fixed):
         kw["adaptive_rays"] = True
         if kw["method"] not in ("linear", "hiz") or kw["glossy"] != "stochastic":
             kw["variance_rays"] = False
+    # SVGF accumulates its own history (issue 12).
+    if kw["denoise"] == "svgf" and "temporal_reflections" not in fixed:
+        kw["temporal_reflections"] = False
     return ssrlab.Settings(**kw)
 
 

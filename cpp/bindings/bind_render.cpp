@@ -87,6 +87,12 @@ void bind_render(py::module_& m) {
         .def_property("method", enum_getter(&RenderSettings::method), enum_setter("method", &RenderSettings::method))
         .def_property("fallback", enum_getter(&RenderSettings::fallback), enum_setter("fallback", &RenderSettings::fallback))
         .def_readwrite("fallback_confidence", &RenderSettings::fallback_confidence)
+        .def_property("denoise", enum_getter(&RenderSettings::denoise), enum_setter("denoise", &RenderSettings::denoise))
+        .def_readwrite("svgf_max_history", &RenderSettings::svgf_max_history)
+        .def_readwrite("svgf_iterations", &RenderSettings::svgf_iterations)
+        .def_readwrite("svgf_sigma_depth", &RenderSettings::svgf_sigma_depth)
+        .def_readwrite("svgf_sigma_normal", &RenderSettings::svgf_sigma_normal)
+        .def_readwrite("svgf_sigma_luminance", &RenderSettings::svgf_sigma_luminance)
         .def_property("sampling", enum_getter(&RenderSettings::sampling), enum_setter("sampling", &RenderSettings::sampling))
         .def_property("noise", enum_getter(&RenderSettings::noise), enum_setter("noise", &RenderSettings::noise))
         .def_property("thickness_mode", enum_getter(&RenderSettings::thickness_mode),

@@ -120,7 +120,9 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     // Frames in time (issue 10): reprojection whenever a temporal technique that reprojects is
     // on, before the resolve (bounces="history" and temporal_ray_reuse read it there). The
     // thesis's TAA blends at the same pixel and needs none.
-    if (s.temporal_reflections || s.taa == TaaMode::Clamped || s.bounces == Bounces::History || s.temporal_ray_reuse) chain.push_back(&reproject_);
+    const bool svgf = reflections && s.denoise == Denoise::Svgf;
+    if (s.temporal_reflections || s.taa == TaaMode::Clamped || s.bounces == Bounces::History || s.temporal_ray_reuse || svgf)
+        chain.push_back(&reproject_);
     if (reflections) {
         // glossy="cone" needs the min-max pyramid whatever tracer follows the mirror ray.
         const bool hiz = s.method == TraceMethod::Hiz || s.glossy == Glossy::Cone;
@@ -154,7 +156,14 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     // The reflection's temporal accumulation, when there is a reflection to accumulate.
     const bool temporal = reflections && s.temporal_reflections;
     if (temporal) chain.push_back(&temporal_);
-    chain.push_back(temporal ? &composite_temporal_ : reflections ? &composite_reflections_ : &composite_plain_);
+    // The SVGF denoiser (issue 12, seed 003): accumulation, variance, a-trous wavelet iterations.
+    if (svgf) {
+        chain.push_back(&svgf_temporal_);
+        chain.push_back(&svgf_variance_);
+        chain.push_back(&svgf_atrous_);
+    }
+    chain.push_back(svgf ? &composite_denoised_
+                         : temporal ? &composite_temporal_ : reflections ? &composite_reflections_ : &composite_plain_);
     if (s.taa != TaaMode::Off) chain.push_back(s.taa == TaaMode::Thesis ? &taa_thesis_ : &taa_clamped_);
     return chain;
 }

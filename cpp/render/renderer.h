@@ -26,6 +26,9 @@
 #include "passes/reproject.h"
 #include "passes/resolve.h"
 #include "passes/shadow_map.h"
+#include "passes/svgf_atrous.h"
+#include "passes/svgf_temporal.h"
+#include "passes/svgf_variance.h"
 #include "passes/taa.h"
 #include "passes/temporal.h"
 #include "passes/trace_bvh.h"
@@ -155,6 +158,11 @@ private:
     BlurMipsPass blur_mips_;
     CompositePass composite_plain_{false}, composite_reflections_{true};
     CompositePass composite_temporal_{true, "reflection.temporal"};
+    // The SVGF denoiser of the reflection (issue 12, seed 003).
+    SvgfTemporalPass svgf_temporal_;
+    SvgfVariancePass svgf_variance_;
+    SvgfAtrousPass svgf_atrous_;
+    CompositePass composite_denoised_{true, "reflection.denoised"};
 };
 
 }  // namespace ssr

@@ -28,6 +28,11 @@ const std::vector<std::pair<Fallback, std::string>>& names() {
     return n;
 }
 template <>
+const std::vector<std::pair<Denoise, std::string>>& names() {
+    static const std::vector<std::pair<Denoise, std::string>> n = {{Denoise::None, "none"}, {Denoise::Svgf, "svgf"}};
+    return n;
+}
+template <>
 const std::vector<std::pair<Sampling, std::string>>& names() {
     static const std::vector<std::pair<Sampling, std::string>> n = {{Sampling::Mirror, "mirror"},
                                                                     {Sampling::Ggx, "ggx"},
@@ -106,6 +111,7 @@ std::string enum_name(E value) {
     template std::string enum_name<E>(E);
 SSR_INSTANTIATE(TraceMethod)
 SSR_INSTANTIATE(Fallback)
+SSR_INSTANTIATE(Denoise)
 SSR_INSTANTIATE(Sampling)
 SSR_INSTANTIATE(Noise)
 SSR_INSTANTIATE(ThicknessMode)
@@ -177,6 +183,14 @@ void RenderSettings::validate() const {
     range(taa_history_weight, 0, 0.99, "taa_history_weight");
     range(cone_max_samples, 1, 64, "cone_max_samples");
     range(cone_level_bias, -4, 4, "cone_level_bias");
+    range(svgf_max_history, 1, 1024, "svgf_max_history");
+    range(svgf_iterations, 0, 8, "svgf_iterations");
+    range(svgf_sigma_depth, 1e-3, 1e3, "svgf_sigma_depth");
+    range(svgf_sigma_normal, 0, 1024, "svgf_sigma_normal");
+    range(svgf_sigma_luminance, 1e-3, 1e3, "svgf_sigma_luminance");
+    // SVGF accumulates its own history; a second accumulation after it would only add lag.
+    check(denoise != Denoise::Svgf || !temporal_reflections,
+          "Settings.denoise 'svgf' accumulates its own history: it needs Settings.temporal_reflections off");
     // The BVH tracer and the BVH fallback hand their radiance to the resolve (issue 12).
     check(method != TraceMethod::Bvh || glossy == Glossy::Stochastic,
           "Settings.method 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");

@@ -22,6 +22,8 @@ enum class TaaMode { Off, Thesis, Clamped };
 enum class Bounces { Single, History };
 enum class Glossy { Stochastic, Cone, BlurMips };  // order = GLOSSY_* in ssr_settings.glsl
 enum class ConeRemainder { Hit, Environment };     // order = CONE_REMAINDER_*
+// Denoiser of the resolved reflection (issue 12, seed 003): none, or SVGF (Schied et al. 2017).
+enum class Denoise { None, Svgf };
 
 // Names <-> values, for Python and for error messages.
 template <typename E> E parse_enum(const std::string& field, const std::string& name);
@@ -104,6 +106,15 @@ struct RenderSettings {
     float cone_level_bias = 1.0f;  // added to the mip level of every cone / blur_mips fetch
     ConeRemainder cone_remainder = ConeRemainder::Hit;  // what fills a cone whose weights stay below 1
     bool cone_stretch = false;  // seed 002 4.6.8: footprints stretched along the ray at grazing angles
+
+    // Denoiser of the resolved reflection (issue 12; seed 003: SVGF, Schied et al. 2017); units in
+    // python/ssrlab/settings.py.
+    Denoise denoise = Denoise::None;
+    int svgf_max_history = 32;          // frames; colour and moments blend with weight 1 / min(n, this)
+    int svgf_iterations = 5;            // a-trous wavelet iterations (step 2^i pixels)
+    float svgf_sigma_depth = 1.0f;      // sigma_z: depth difference over the depth gradient's prediction
+    float svgf_sigma_normal = 128.0f;   // sigma_n: exponent on the normals' cosine
+    float svgf_sigma_luminance = 4.0f;  // sigma_l: luminance difference in standard deviations
 
     // Rays traced per pixel: the cone and blur_mips methods trace one mirror ray.
     int traced_rays() const { return glossy == Glossy::Stochastic ? rays_per_pixel : 1; }

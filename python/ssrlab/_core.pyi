@@ -557,6 +557,14 @@ class RenderSettings:
     def cone_stretch(self, arg0: bool) -> None:
         ...
     @property
+    def denoise(self) -> str:
+        """
+        ssrlab.Settings.denoise: denoiser of the resolved reflection, for every method and fallback: 'svgf' (Schied et al. 2017 as seed 003 uses it: the svgf_temporal pass accumulates colour and the first and second luminance moments over a sequence's frames through the reproject pass's history and rejection; svgf_variance estimates the luminance variance, spatially (7x7, depth- and normal-guided) while the history holds fewer than 4 frames; svgf_atrous filters with svgf_iterations a-trous wavelet passes guided by depth, normal and luminance variance; the composite and frame.reflection use the result). A single render() has no history: spatial variance and the wavelet passes only. Pixels whose rays are noiseless (roughness 0 or sampling 'mirror') are left as traced. 'none': no denoiser
+        """
+    @denoise.setter
+    def denoise(self, arg1: str) -> None:
+        ...
+    @property
     def depth_mode(self) -> str:
         """
         ssrlab.Settings.depth_mode: depth convention: 'standard' (GL, near->0, far->1) or 'reversed_z' (float, near->1, far->0)
@@ -899,6 +907,46 @@ class RenderSettings:
         """
     @stride.setter
     def stride(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def svgf_iterations(self) -> int:
+        """
+        ssrlab.Settings.svgf_iterations [iterations]: svgf: a-trous wavelet iterations; iteration i spaces its 5x5 B3-spline taps 2^i pixels apart (5: a 125-pixel footprint); its first output is the colour history of the next frame; 0: temporal accumulation only
+        """
+    @svgf_iterations.setter
+    def svgf_iterations(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def svgf_max_history(self) -> int:
+        """
+        ssrlab.Settings.svgf_max_history [frames]: svgf: history length cap n_max of the colour and moments accumulation: this frame weighs 1/n, n = min(frames of valid history + 1, n_max) (SVGF's alpha = 0.2 is n_max = 5)
+        """
+    @svgf_max_history.setter
+    def svgf_max_history(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def svgf_sigma_depth(self) -> float:
+        """
+        ssrlab.Settings.svgf_sigma_depth: svgf sigma_z: taps weigh exp(-|z_p - z_q| / (sigma_z |grad z . (p - q)|)), linear depth against what the depth gradient predicts over the tap's offset
+        """
+    @svgf_sigma_depth.setter
+    def svgf_sigma_depth(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def svgf_sigma_luminance(self) -> float:
+        """
+        ssrlab.Settings.svgf_sigma_luminance [sigma]: svgf sigma_l: taps weigh exp(-|l_p - l_q| / (sigma_l sqrt(variance of l_p, 3x3 Gaussian-filtered))), the luminance difference in standard deviations of the noise
+        """
+    @svgf_sigma_luminance.setter
+    def svgf_sigma_luminance(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def svgf_sigma_normal(self) -> float:
+        """
+        ssrlab.Settings.svgf_sigma_normal: svgf sigma_n: taps weigh max(0, n_p . n_q)^sigma_n
+        """
+    @svgf_sigma_normal.setter
+    def svgf_sigma_normal(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def taa(self) -> str:

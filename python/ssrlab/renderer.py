@@ -291,8 +291,11 @@ class Frame:
     def reflection(self) -> np.ndarray:
         """The resolved reflection colour c_r the composite used, float32 (height, width, 3); 0 where
         a pixel does not reflect (or nothing was traced). With temporal_reflections, the accumulation
-        over the sequence's frames (this frame's own: read("reflection"))."""
+        over the sequence's frames; with denoise="svgf", the denoised reflection (this frame's own, as
+        resolved: read("reflection"))."""
         self._check_live("the reflection")
+        if "reflection.denoised" in self.texture_names:
+            return self.read("reflection.denoised")[0, :, :, :3]
         if "reflection.temporal" in self.texture_names:
             return self.read("reflection.temporal")[0, :, :, :3]
         if "reflection" not in self.texture_names:

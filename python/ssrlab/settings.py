@@ -260,6 +260,35 @@ class Settings:
         "becomes r / sqrt(N.V) along the ray's screen direction and r sqrt(N.V) across it (at most 4:1), "
         "read as up to 4 samples along the ray at the narrow side's mip level", group="glossy")
 
+    # -- denoiser of the reflection (issue 12; seed 003: SVGF, Schied et al. 2017) -------------------
+    denoise: str = _setting(
+        "none", "denoiser of the resolved reflection, for every method and fallback: 'svgf' (Schied et al. "
+        "2017 as seed 003 uses it: the svgf_temporal pass accumulates colour and the first and second "
+        "luminance moments over a sequence's frames through the reproject pass's history and rejection; "
+        "svgf_variance estimates the luminance variance, spatially (7x7, depth- and normal-guided) while the "
+        "history holds fewer than 4 frames; svgf_atrous filters with svgf_iterations a-trous wavelet passes "
+        "guided by depth, normal and luminance variance; the composite and frame.reflection use the result). "
+        "A single render() has no history: spatial variance and the wavelet passes only. Pixels whose rays "
+        "are noiseless (roughness 0 or sampling 'mirror') are left as traced. 'none': no denoiser",
+        choices=("none", "svgf"), group="denoiser")
+    svgf_max_history: int = _setting(
+        32, "svgf: history length cap n_max of the colour and moments accumulation: this frame weighs 1/n, "
+        "n = min(frames of valid history + 1, n_max) (SVGF's alpha = 0.2 is n_max = 5)", "frames", 1, 1024,
+        group="denoiser")
+    svgf_iterations: int = _setting(
+        5, "svgf: a-trous wavelet iterations; iteration i spaces its 5x5 B3-spline taps 2^i pixels apart "
+        "(5: a 125-pixel footprint); its first output is the colour history of the next frame; 0: temporal "
+        "accumulation only", "iterations", 0, 8, group="denoiser")
+    svgf_sigma_depth: float = _setting(
+        1.0, "svgf sigma_z: taps weigh exp(-|z_p - z_q| / (sigma_z |grad z . (p - q)|)), linear depth against "
+        "what the depth gradient predicts over the tap's offset", "", 1e-3, 1e3, group="denoiser")
+    svgf_sigma_normal: float = _setting(
+        128.0, "svgf sigma_n: taps weigh max(0, n_p . n_q)^sigma_n", "", 0.0, 1024.0, group="denoiser")
+    svgf_sigma_luminance: float = _setting(
+        4.0, "svgf sigma_l: taps weigh exp(-|l_p - l_q| / (sigma_l sqrt(variance of l_p, 3x3 Gaussian-"
+        "filtered))), the luminance difference in standard deviations of the noise", "sigma", 1e-3, 1e3,
+        group="denoiser")
+
     # ---------------------------------------------------------------------------------------------
     def __post_init__(self) -> None:
         # Construction, replace() and from_dict() end here: the fields are checked one by one
@@ -420,6 +449,9 @@ CONSTRAINTS = (
                "method != 'bvh' and fallback != 'bvh' when temporal_ray_reuse",
                lambda s: not s.temporal_ray_reuse or (s.method != "bvh" and s.fallback != "bvh"),
                "the previous frame's rays would bring their screen-space hits only, not the BVH's radiance"),
+    Constraint(("denoise", "temporal_reflections"), "temporal_reflections is off when denoise == 'svgf'",
+               lambda s: s.denoise != "svgf" or not s.temporal_reflections,
+               "SVGF accumulates its own history; a second accumulation after it would only add lag"),
     Constraint(("fallback", "glossy"), "glossy == 'stochastic' when fallback == 'bvh'",
                lambda s: s.fallback != "bvh" or s.glossy == "stochastic",
                "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),

@@ -9,6 +9,7 @@
 //   output (RGBA32F): rgb accumulated reflection, a history length n in frames
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/ycocg.glsl"
+#include "../lib/history_fetch.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -26,18 +27,6 @@ uniform int u_max_history;
 // did not (reflections are view-dependent), i.e. the ghost trails of a moving camera. 0: off.
 uniform float u_clamp_gamma;
 
-// Bilinear fetch at window position `pos` (pixel centres at .5), clamped to the edge.
-vec4 history_at(vec2 pos, ivec2 size) {
-    vec2 t = pos - 0.5;
-    ivec2 b = ivec2(floor(t));
-    vec2 f = t - vec2(b);
-    vec4 c00 = texelFetch(u_history, clamp(b, ivec2(0), size - 1), 0);
-    vec4 c10 = texelFetch(u_history, clamp(b + ivec2(1, 0), ivec2(0), size - 1), 0);
-    vec4 c01 = texelFetch(u_history, clamp(b + ivec2(0, 1), ivec2(0), size - 1), 0);
-    vec4 c11 = texelFetch(u_history, clamp(b + ivec2(1, 1), ivec2(0), size - 1), 0);
-    return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
-}
-
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -47,7 +36,7 @@ void main() {
     vec3 result = current;
     float n = 1.0;
     if (u_has_history != 0 && r.z > 0.5) {
-        vec4 h = history_at(r.xy, size);
+        vec4 h = history_bilinear(u_history, r.xy, size);
         if (u_clamp_gamma > 0.0) {
             vec3 m1 = vec3(0.0), m2 = vec3(0.0);
             for (int dy = -1; dy <= 1; ++dy) {
