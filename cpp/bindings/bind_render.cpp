@@ -85,6 +85,10 @@ void bind_render(py::module_& m) {
         .def_property("method", enum_getter(&RenderSettings::method), enum_setter("method", &RenderSettings::method))
         .def_property("fallback", enum_getter(&RenderSettings::fallback), enum_setter("fallback", &RenderSettings::fallback))
         .def_readwrite("fallback_confidence", &RenderSettings::fallback_confidence)
+        .def_property("bvh_shadows", enum_getter(&RenderSettings::bvh_shadows),
+                      enum_setter("bvh_shadows", &RenderSettings::bvh_shadows))
+        .def_readwrite("probe_size", &RenderSettings::probe_size)
+        .def_readwrite("probe_grid", &RenderSettings::probe_grid)
         .def_property("sampling", enum_getter(&RenderSettings::sampling), enum_setter("sampling", &RenderSettings::sampling))
         .def_property("noise", enum_getter(&RenderSettings::noise), enum_setter("noise", &RenderSettings::noise))
         .def_property("thickness_mode", enum_getter(&RenderSettings::thickness_mode),
