@@ -77,6 +77,8 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
     const bool traced = s.bvh_shadows == BvhShadows::Traced;
     d["SHADOWS"] = shadows_ && !traced ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced ? "1" : "0";
+    // A double-sided surface shows the probe the side its ray meets, not the camera's side.
+    d["FACING_FROM_RAY"] = "1";
     const GLuint prog = ctx.shaders.program({"passes/fallback_probes.comp"}, d);  // compiled outside the clock
     glFinish();
     const auto start = std::chrono::steady_clock::now();
