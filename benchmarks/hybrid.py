@@ -1,65 +1,121 @@
-"""Hybrid reflections (issue 12): accuracy and cost of SSR alone, SSR + BVH fallback and pure BVH.
+"""Hybrid reflections (issue 12): accuracy and cost of SSR alone, SSR + reflection probes, SSR + BVH
+fallback and pure BVH, and how often SSR's accepted hits are wrong.
 
-    python benchmarks/hybrid.py [--width 640 --height 360 --scenes hall spheres_and_boxes --repeats 5]
+    python benchmarks/hybrid.py [--width 640 --height 360 --scenes hall hall_floor60 spheres_and_boxes
+                                 --repeats 5]
 
-For each scene (hall with a mirror floor, floor_roughness=0, and its default view, whose floor
-reflections leave the top of the screen; spheres_and_boxes as built), prints for SSR alone
-(fallback "environment"), SSR + BVH fallback with and without the confidence test, and pure
-BVH (method "bvh"): the reflection's PSNR against the converged reference (viewer "camera",
-shadows "map": the shading the lit G-buffer and the BVH passes use, so that only what each
-method finds differs), on reflective pixels and, for hall, on floor pixels; where the rays were
-resolved (frame.fallback_stats); and the median GPU time of the frame and of its tracing passes
-over --repeats renders after warm-up. All methods use origin_bias 0.0005 (see README).
+Views: `hall` (mirror floor, floor_roughness=0) from its default camera, whose floor reflections
+leave the top of the screen; `hall_floor60`, the same hall from a camera looking down at the floor
+at 60 degrees below the horizontal (position (0, 5, 1), direction (0, -sin 60, -cos 60): toward -z,
+the nave's length; fov_y 60, so the floor fills the image and its reflections climb steeply past
+the columns, capitals and beams into the open roof); `spheres_and_boxes` as built (1 glossy ray).
+
+For each view, prints for SSR alone (fallback "environment"), SSR + probes (fallback "probes":
+the default single probe at the scene bounds' centre, and a probe placed by hand near the camera,
+low over the floor), SSR + BVH fallback with and without the confidence test, and pure BVH
+(method "bvh"): the reflection's PSNR against the converged reference (viewer "camera", shadows
+"map": the shading the lit G-buffer and the BVH passes use, so that only what each method finds
+differs), on reflective pixels and, for hall, on floor pixels; the thesis error E on reflective
+pixels; where the rays were resolved (frame.fallback_stats); the share of SSR's accepted hits that
+are wrong against the per-ray reference (ssrlab.reference.wrong_hits: another surface, or more than
+2 px from the true hit; after the confidence test where it runs); and the median GPU time of the
+frame and of its tracing and fallback passes over --repeats renders after warm-up. The probes'
+one-time capture is printed apart (it is never in a frame's timings). All methods use origin_bias
+0.0005 (see README).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
 import ssrlab
 from ssrlab.metrics import psnr, thesis_error
+from ssrlab.reference import wrong_hits
 from common import benchmark_arguments, median_timings, open_renderer
 
+NEAR_PROBE = (0.0, 0.5, 1.5)  # hall: low over the floor, near the camera (both views)
 CONFIGS = {
     "SSR only (linear)": dict(fallback="environment"),
+    "SSR + probes (centre)": dict(fallback="probes"),
+    "SSR + probes (near the camera)": dict(fallback="probes", _probes=[NEAR_PROBE]),
     "SSR + BVH fallback": dict(fallback="bvh"),
     "SSR + BVH fallback, no confidence": dict(fallback="bvh", fallback_confidence=False),
     "pure BVH": dict(method="bvh"),
 }
-TRACE_PASSES = ("trace_linear", "trace_hiz", "trace_bvh", "fallback_bvh")
+TRACE_PASSES = ("trace_linear", "trace_hiz", "trace_bvh", "fallback_bvh", "fallback_probes")
+
+
+def floor60_camera() -> ssrlab.Camera:
+    pos = np.array([0.0, 5.0, 1.0])
+    a = math.radians(60.0)
+    target = pos + 6.0 * np.array([0.0, -math.sin(a), -math.cos(a)])
+    return ssrlab.Camera(position=tuple(pos), target=tuple(target), fov_y=60.0, near=0.1, far=80.0)
+
+
+def load(name: str) -> ssrlab.Scene:
+    if name in ("hall", "hall_floor60"):
+        scene = ssrlab.scenes.hall(floor_roughness=0.0)
+        if name == "hall_floor60":
+            scene.camera = floor60_camera()
+        return scene
+    return ssrlab.scenes.load(name)
 
 
 def main() -> None:
     ap = benchmark_arguments(__doc__, repeats=5)
+    ap.set_defaults(scenes=["hall", "hall_floor60", "spheres_and_boxes"])
     ap.add_argument("--reference-rays", type=int, default=64, help="converged reference rays per glossy pixel")
     args = ap.parse_args()
     r = open_renderer(args)
     print(f"{args.width}x{args.height}, median of {args.repeats} renders after 2 warm-up renders\n")
     for name in args.scenes:
-        scene = ssrlab.scenes.hall(floor_roughness=0.0) if name == "hall" else ssrlab.scenes.load(name)
+        scene = load(name)
+        hall = name.startswith("hall")
         base = ssrlab.Settings(width=args.width, height=args.height, origin_bias=0.0005)
         f = r.render(scene, settings=base)
         ref = f.reference("converged", rays=args.reference_rays, viewer="camera", shadows="map")
         truth = ref.reflection[..., :3]
         masks = {"reflective": ref.reflective}
-        if name == "hall":
+        if hall:
             masks["floor"] = f.gbuffer.object_id[0] == 0
-        print(f"{name}" + (" (mirror floor)" if name == "hall" else "") +
-              f": {int(ref.reflective.sum())} reflective pixels")
-        head = "  {:<36}".format("method") + "".join(f"{'PSNR ' + k:>17}" for k in masks)
-        print(head + f"{'E refl.':>9}{'screen':>8}{'bvh':>6}{'env':>6}{'rej.':>6}{'frame ms':>10}{'trace ms':>10}")
+        print(f"{name}" + (" (mirror floor)" if hall else "") + f": {int(ref.reflective.sum())} reflective pixels")
+        head = "  {:<34}".format("method") + "".join(f"{'PSNR ' + k:>17}" for k in masks)
+        print(head + f"{'E refl.':>9}{'screen':>8}{'probe':>6}{'bvh':>6}{'env':>6}{'rej.':>6}{'wrong':>7}"
+              f"{'frame ms':>10}{'trace ms':>10}")
+        captures = []
         for label, kw in CONFIGS.items():
+            kw = dict(kw)
+            probes = kw.pop("_probes", None)
+            if probes is not None and not hall:
+                continue
+            sc = scene
+            if probes is not None:
+                sc = scene.copy()
+                sc.probes = probes
             st = base.replace(**kw)
-            g = r.render(scene, settings=st)
+            g = r.render(sc, settings=st)
+            if "probe_capture_ms" in g.stats:
+                # A second capture of the same probes (a copy of the scene): the first one also
+                # paid the capture shader's first-dispatch compilation.
+                again = sc.copy()
+                captures.append((label, int(g.stats["probes"]), r.render(again, settings=st).stats["probe_capture_ms"]))
             refl = g.reflection[..., :3]
             s = g.fallback_stats
-            t = median_timings(r, scene, st, repeats=args.repeats)
+            wrong = wrong_hits(g, g.reference("per_ray", viewer="camera", shadows="map"), tolerance_px=2.0) \
+                if st.method != "bvh" else None
+            t = median_timings(r, sc, st, repeats=args.repeats)
             trace_ms = sum(t.get(p, 0.0) for p in TRACE_PASSES)
-            row = "  {:<36}".format(label) + "".join(f"{psnr(refl, truth, mask=m):>14.2f} dB" for m in masks.values())
+            row = "  {:<34}".format(label) + "".join(f"{psnr(refl, truth, mask=m):>14.2f} dB" for m in masks.values())
             row += f"{thesis_error(refl, truth, masks['reflective']):>9.4f}"
-            row += f"{s['screen']:>8.2f}{s['bvh']:>6.2f}{s['environment']:>6.2f}{s['rejected']:>6.2f}"
+            row += f"{s['screen']:>8.2f}{s['probes']:>6.2f}{s['bvh']:>6.2f}{s['environment']:>6.2f}{s['rejected']:>6.2f}"
+            row += f"{100 * wrong['wrong_share']:>6.2f}%" if wrong else f"{'-':>7}"
             row += f"{t['total']:>10.1f}{trace_ms:>10.1f}"
             print(row)
+        for label, n, ms in captures:
+            print(f"  probe capture ({label}): {n} probe(s) of 6 x {base.probe_size}^2 texels, {ms:.1f} ms once "
+                  "(wall clock around the finished GPU work, cached until the scene or probe set changes)")
         print()
 
 

@@ -85,7 +85,7 @@ def test_fallback_only_retraces_what_screen_space_did_not_resolve(renderer, meth
 
 def test_hybrid_settings_are_validated():
     with pytest.raises(ValueError, match="fallback"):
-        ssrlab.Settings(fallback="probes")
+        ssrlab.Settings(fallback="cubemap")
     with pytest.raises(ValueError, match="glossy"):
         ssrlab.Settings(method="bvh", glossy="cone")
     with pytest.raises(ValueError, match="glossy"):

@@ -189,10 +189,10 @@ def any_settings(draw, **fixed):
         if kw["fade_distance_start"] >= 1e7:
             kw["fade_distance_start"] = 5e6
         kw["fade_distance_end"] = min(1e7, 2 * kw["fade_distance_start"])
-    # method / fallback "bvh" hand their radiance to the resolve (issue 12).
+    # method / fallback "bvh" and "probes" hand their radiance to the resolve (issue 12).
     if kw["glossy"] != "stochastic" or kw["temporal_ray_reuse"]:
         kw["method"] = "linear" if kw["method"] == "bvh" else kw["method"]
-        kw["fallback"] = "environment" if kw["fallback"] == "bvh" else kw["fallback"]
+        kw["fallback"] = "environment" if kw["fallback"] in ("bvh", "probes") else kw["fallback"]
     # variance_rays adds the rays adaptive_rays left out to the screen-space stochastic rays (issue 11).
     if kw["variance_rays"]:
         kw["adaptive_rays"] = True
@@ -201,6 +201,9 @@ def any_settings(draw, **fixed):
     # SVGF accumulates its own history (issue 12).
     if kw["denoise"] == "svgf" and "temporal_reflections" not in fixed:
         kw["temporal_reflections"] = False
+    # A probe capture traces 6 * probe_size^2 rays per probe on the CPU here: kept small.
+    kw["probe_size"] = min(kw["probe_size"], 32)
+    kw["probe_grid"] = min(kw["probe_grid"], 2)
     return ssrlab.Settings(**kw)
 
 

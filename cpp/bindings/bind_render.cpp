@@ -93,6 +93,10 @@ void bind_render(py::module_& m) {
         .def_readwrite("svgf_sigma_depth", &RenderSettings::svgf_sigma_depth)
         .def_readwrite("svgf_sigma_normal", &RenderSettings::svgf_sigma_normal)
         .def_readwrite("svgf_sigma_luminance", &RenderSettings::svgf_sigma_luminance)
+        .def_property("bvh_shadows", enum_getter(&RenderSettings::bvh_shadows),
+                      enum_setter("bvh_shadows", &RenderSettings::bvh_shadows))
+        .def_readwrite("probe_size", &RenderSettings::probe_size)
+        .def_readwrite("probe_grid", &RenderSettings::probe_grid)
         .def_property("sampling", enum_getter(&RenderSettings::sampling), enum_setter("sampling", &RenderSettings::sampling))
         .def_property("noise", enum_getter(&RenderSettings::noise), enum_setter("noise", &RenderSettings::noise))
         .def_property("thickness_mode", enum_getter(&RenderSettings::thickness_mode),

@@ -396,6 +396,19 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
             },
             "ambient radiance, linear RGB >= 0, added to every surface's diffuse term")
         .def_property(
+            "probes", [](const Scene& s) { return s.probes; },
+            [](Scene& s, const std::vector<glm::vec3>& p) {
+                for (size_t i = 0; i < p.size(); ++i)
+                    if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z))
+                        throw std::invalid_argument("Scene.probes: probe " + std::to_string(i) +
+                                                    " must have finite coordinates");
+                if (p.size() > 64) throw std::invalid_argument("Scene.probes: at most 64 probes, got " + std::to_string(p.size()));
+                s.probes = p;
+                s.touch();
+            },
+            "reflection-probe positions (world space) for fallback 'probes'; each must lie inside the scene "
+            "bounds (checked at render); empty: placed by Settings.probe_grid")
+        .def_property(
             "environment", [](const Scene& s) { return s.environment; },
             [](Scene& s, const Environment& e) {
                 s.environment = e;

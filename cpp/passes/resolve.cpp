@@ -17,7 +17,8 @@ void ResolvePass::execute(FrameContext& ctx) {
     d["TEMPORAL_RAY_REUSE"] = ray_reuse ? "1" : "0";
     // Issue 12: rays traced by the BVH (method "bvh", fallback "bvh") bring their radiance in
     // rays.radiance; fallback "none" lets unresolved rays bring nothing instead of the environment.
-    const bool ray_radiance = ctx.settings.method == TraceMethod::Bvh || ctx.settings.fallback == Fallback::Bvh;
+    const bool ray_radiance = ctx.settings.method == TraceMethod::Bvh || ctx.settings.fallback == Fallback::Bvh ||
+                              ctx.settings.fallback == Fallback::Probes;  // the probes' radiance, likewise
     d["RAY_RADIANCE"] = ray_radiance ? "1" : "0";
     d["FALLBACK_NONE"] = ctx.settings.method != TraceMethod::Bvh && ctx.settings.fallback == Fallback::None ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/resolve.comp"}, d);

@@ -29,7 +29,11 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["FALLBACK"] = fallback_ ? "1" : "0";
     d["STAGE"] = "0";
-    d["SHADOWS"] = shadows_ ? "1" : "0";
+    // bvh_shadows (issue 12): the frame's shadow map as the lit G-buffer has it, or the
+    // reference's traced shadow ray (lib/trace_shade.glsl), exact where the map blurs.
+    const bool traced = ctx.settings.bvh_shadows == BvhShadows::Traced;
+    d["SHADOWS"] = shadows_ && !traced ? "1" : "0";
+    d["TRACED_SHADOWS"] = shadows_ && traced ? "1" : "0";
     d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/trace_bvh.comp"}, d);
     const RenderSettings& s = ctx.settings;

@@ -71,6 +71,8 @@ void Renderer::destroy_gl_objects() {
     shaders_->release();
     shadow_map_.release();
     depth_peel_.release();
+    fallback_probes_shadowed_.release();
+    fallback_probes_unshadowed_.release();
 }
 
 const GpuScene& Renderer::gpu_scene(const Scene& scene) {
@@ -144,6 +146,9 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
             }
             // What screen space could not resolve goes to the triangles (issue 12; thesis 4.3).
             if (s.fallback == Fallback::Bvh) chain.push_back(shadows ? &fallback_bvh_shadowed_ : &fallback_bvh_unshadowed_);
+            // Or seed 004's local cube maps, then the environment.
+            if (s.fallback == Fallback::Probes)
+                chain.push_back(shadows ? &fallback_probes_shadowed_ : &fallback_probes_unshadowed_);
         }
         if (s.glossy == Glossy::Cone) {
             chain.push_back(&cone_trace_);  // seed 002, 4.4.5
@@ -358,8 +363,15 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     const std::string variant = variant_key(chain, descs, defines) + "scene:" + std::to_string(scene.id()) + "/" +
                                 std::to_string(scene.revision());
     bool warm = warmed_variants_.count(variant) != 0;
+    // Reflection probes: a bad probe position is the user's error, raised before any pass runs.
+    FallbackProbesPass* probes = nullptr;
+    for (RenderPass* p : chain)
+        if (p == &fallback_probes_shadowed_ || p == &fallback_probes_unshadowed_) probes = static_cast<FallbackProbesPass*>(p);
+    if (probes) FallbackProbesPass::positions(scene, gs.bounds(), s);
+    const uint64_t captures_at_start = probes ? probes->captures() : 0;
     for (int run = 0;; ++run) {
         const size_t programs_before = shaders_->cached_programs();
+        const uint64_t captures_before = probes ? probes->captures() : 0;
         timer_.begin_frame();
         frame->passes.clear();
         fc.layers_used = -1;
@@ -380,7 +392,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
                 fc.layers_used = used;
             }
         }
-        const bool compiled = shaders_->cached_programs() != programs_before;
+        // A probe capture (once per scene and probe set) is a first-use cost too.
+        const bool compiled = shaders_->cached_programs() != programs_before ||
+                              (probes && probes->captures() != captures_before);
         if ((warm && !compiled) || run >= 2) break;
         warm = true;
         if (warmed_variants_.size() >= kMaxWarmedVariants) warmed_variants_.clear();
@@ -393,6 +407,12 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     if (std::find(chain.begin(), chain.end(), &variance_rays_) != chain.end())
         for (const auto& [k, v] : variance_rays_.extra_counters()) frame->stats[k] = v;
     frame->stats["passes_run"] = double(chain.size());
+    if (probes) {
+        frame->stats["probes"] = double(probes->probe_count());
+        // The one-time capture's cost (wall clock around the finished GPU work), on the
+        // render that captured; 0 when the cached probes served.
+        frame->stats["probe_capture_ms"] = probes->captures() != captures_at_start ? probes->last_capture_ms() : 0.0;
+    }
     // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):
     // peeling stops drawing after the first empty one (depth_peel.cpp).
     int layers_used = 0;

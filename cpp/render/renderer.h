@@ -17,6 +17,7 @@
 #include "passes/composite.h"
 #include "passes/cone_trace.h"
 #include "passes/depth_peel.h"
+#include "passes/fallback_probes.h"
 #include "passes/classify.h"
 #include "passes/hiz_build.h"
 #include "passes/lighting.h"
@@ -148,6 +149,8 @@ private:
     // Ray-traced reflections and the BVH fallback (issue 12), with and without the shadow map.
     TraceBvhPass trace_bvh_shadowed_{false, true}, trace_bvh_unshadowed_{false, false};
     TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};
+    // Reflection probes (issue 12, seed 004): captured once per scene and probe set.
+    FallbackProbesPass fallback_probes_shadowed_{true}, fallback_probes_unshadowed_{false};
     ResolvePass resolve_;
     ReprojectPass reproject_;
     TemporalPass temporal_;

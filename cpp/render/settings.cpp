@@ -24,7 +24,14 @@ const std::vector<std::pair<TraceMethod, std::string>>& names() {
 template <>
 const std::vector<std::pair<Fallback, std::string>>& names() {
     static const std::vector<std::pair<Fallback, std::string>> n = {
-        {Fallback::None, "none"}, {Fallback::Environment, "environment"}, {Fallback::Bvh, "bvh"}};
+        {Fallback::None, "none"}, {Fallback::Environment, "environment"}, {Fallback::Bvh, "bvh"},
+        {Fallback::Probes, "probes"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<BvhShadows, std::string>>& names() {
+    static const std::vector<std::pair<BvhShadows, std::string>> n = {{BvhShadows::Map, "map"},
+                                                                      {BvhShadows::Traced, "traced"}};
     return n;
 }
 template <>
@@ -112,6 +119,7 @@ std::string enum_name(E value) {
 SSR_INSTANTIATE(TraceMethod)
 SSR_INSTANTIATE(Fallback)
 SSR_INSTANTIATE(Denoise)
+SSR_INSTANTIATE(BvhShadows)
 SSR_INSTANTIATE(Sampling)
 SSR_INSTANTIATE(Noise)
 SSR_INSTANTIATE(ThicknessMode)
@@ -191,14 +199,17 @@ void RenderSettings::validate() const {
     // SVGF accumulates its own history; a second accumulation after it would only add lag.
     check(denoise != Denoise::Svgf || !temporal_reflections,
           "Settings.denoise 'svgf' accumulates its own history: it needs Settings.temporal_reflections off");
+    range(probe_size, 8, 1024, "probe_size");
+    range(probe_grid, 1, 4, "probe_grid");
     // The BVH tracer and the BVH fallback hand their radiance to the resolve (issue 12).
     check(method != TraceMethod::Bvh || glossy == Glossy::Stochastic,
           "Settings.method 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
-    check(!temporal_ray_reuse || (method != TraceMethod::Bvh && fallback != Fallback::Bvh),
-          "Settings.temporal_ray_reuse does not reuse BVH-traced rays yet: it needs Settings.method and "
-          "Settings.fallback other than 'bvh'");
-    check(fallback != Fallback::Bvh || glossy == Glossy::Stochastic,
-          "Settings.fallback 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
+    check(!temporal_ray_reuse ||
+              (method != TraceMethod::Bvh && fallback != Fallback::Bvh && fallback != Fallback::Probes),
+          "Settings.temporal_ray_reuse does not reuse BVH-traced rays yet: it needs Settings.method other than "
+          "'bvh' and Settings.fallback other than 'bvh' and 'probes'");
+    check((fallback != Fallback::Bvh && fallback != Fallback::Probes) || glossy == Glossy::Stochastic,
+          "Settings.fallback 'bvh' and 'probes' need Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
 }
 
 }  // namespace ssr

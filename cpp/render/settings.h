@@ -11,8 +11,11 @@
 namespace ssr {
 
 enum class TraceMethod { Off, Linear, Hiz, Bvh };
-// Where rays screen space cannot resolve go (issue 12): nothing, the environment, the BVH.
-enum class Fallback { None, Environment, Bvh };
+// Where rays screen space cannot resolve go (issue 12): nothing, the environment, the BVH,
+// reflection probes (seed 004's local cube maps, then the environment).
+enum class Fallback { None, Environment, Bvh, Probes };
+// How the BVH passes (trace_bvh, fallback_bvh, the probes' capture) shadow what they shade.
+enum class BvhShadows { Map, Traced };
 enum class Sampling { Mirror, Ggx, Vndf, GgxThesisLiteral };  // order = SAMPLING_* in ssr_settings.glsl
 enum class Noise { Pcg, ThesisHash };
 enum class ThicknessMode { Constant, RayStep };
@@ -49,6 +52,9 @@ struct RenderSettings {
     TraceMethod method = TraceMethod::Linear;
     Fallback fallback = Fallback::Environment;
     bool fallback_confidence = true;  // fallback "bvh": retrace screen-space hits failing the confidence test
+    BvhShadows bvh_shadows = BvhShadows::Map;  // the frame's shadow map, or a traced shadow ray (issue 12)
+    int probe_size = 128;  // fallback "probes": cube-map face size, texels
+    int probe_grid = 1;    // fallback "probes", scene without probes: g x g x g probes over the bounds (1: centre)
     int rays_per_pixel = 1;
     Sampling sampling = Sampling::Ggx;
     Noise noise = Noise::Pcg;

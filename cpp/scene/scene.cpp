@@ -25,6 +25,7 @@ Scene& Scene::operator=(const Scene& o) {
     lights = o.lights;
     ambient = o.ambient;
     environment = o.environment;
+    probes = o.probes;
     camera = o.camera;
     revision_ = 0;
     id_ = next_scene_id();  // a copy is another scene for GPU caches

@@ -467,6 +467,14 @@ class Scene:
         objects (mesh instances)
         """
     @property
+    def probes(self) -> list[tuple[float, ...]]:
+        """
+        reflection-probe positions (world space) for fallback 'probes'; each must lie inside the scene bounds (checked at render); empty: placed by Settings.probe_grid
+        """
+    @probes.setter
+    def probes(self, arg1: collections.abc.Sequence[tuple[float, ...]]) -> None:
+        ...
+    @property
     def revision(self) -> int:
         """
         counts changes; GPU copies are refreshed when it moves
@@ -507,6 +515,14 @@ class RenderSettings:
         """
     @bounces.setter
     def bounces(self, arg1: str) -> None:
+        ...
+    @property
+    def bvh_shadows(self) -> str:
+        """
+        ssrlab.Settings.bvh_shadows: how the BVH passes (method 'bvh', fallback 'bvh', the probes' capture) shadow the surfaces they shade: 'map' (the frame's shadow map, as the lit G-buffer) or 'traced' (a shadow ray toward the light the frame shadows, the reference's shadows='traced')
+        """
+    @bvh_shadows.setter
+    def bvh_shadows(self, arg1: str) -> None:
         ...
     @property
     def classify_facing(self) -> float:
@@ -647,7 +663,7 @@ class RenderSettings:
     @property
     def fallback(self) -> str:
         """
-        ssrlab.Settings.fallback: what a ray screen space cannot resolve (a miss: it left the screen, reached max_steps or ran behind every layer; or a faded hit) brings: 'environment' (the environment along it), 'bvh' (the ray retraced from its origin against the scene's triangles and shaded as method 'bvh' shades; faded hits fade toward it; thesis 4.3, seed 004) or 'none' (nothing: black). Ignored by method 'bvh'
+        ssrlab.Settings.fallback: what a ray screen space cannot resolve (a miss: it left the screen, reached max_steps or ran behind every layer; or a faded hit) brings: 'environment' (the environment along it), 'bvh' (the ray retraced from its origin against the scene's triangles and shaded as method 'bvh' shades; faded hits fade toward it; thesis 4.3, seed 004), 'probes' (seed 004's local cube maps: the nearest reflection probe, box-projected on the scene bounds, refined by its distances and pre-filtered by roughness, then the environment; probes at Scene.probes or placed by probe_grid, captured once per scene and probe set) or 'none' (nothing: black). Ignored by method 'bvh'
         """
     @fallback.setter
     def fallback(self, arg1: str) -> None:
@@ -655,7 +671,7 @@ class RenderSettings:
     @property
     def fallback_confidence(self) -> bool:
         """
-        ssrlab.Settings.fallback_confidence: with fallback 'bvh': screen-space hits that fail the confidence test (the hit surface faces the ray, the hit lies within 2 pixel footprints of the ray, its object is its 4 neighbours'; shaders/passes/trace_bvh.comp) are retraced by the BVH too
+        ssrlab.Settings.fallback_confidence: with fallback 'bvh': screen-space hits that fail the confidence test (the hit surface faces the ray, the hit lies within 2 pixel footprints of the ray, its object is its 4 neighbours'; shaders/lib/screen_confidence.glsl) are retraced by the BVH too (fallback 'probes' keeps them: a probe is no better than a doubtful hit)
         """
     @fallback_confidence.setter
     def fallback_confidence(self, arg0: bool) -> None:
@@ -787,6 +803,22 @@ class RenderSettings:
         """
     @origin_bias.setter
     def origin_bias(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def probe_grid(self) -> int:
+        """
+        ssrlab.Settings.probe_grid [probes per axis]: fallback 'probes' on a scene without Scene.probes: g x g x g probes at the cell centres of the scene bounds (1: one probe at the bounds' centre)
+        """
+    @probe_grid.setter
+    def probe_grid(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def probe_size(self) -> int:
+        """
+        ssrlab.Settings.probe_size [texels]: fallback 'probes': face size of each probe's cube map (lit colour + distance, with a mip chain)
+        """
+    @probe_size.setter
+    def probe_size(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def rays_per_pixel(self) -> int:

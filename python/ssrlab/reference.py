@@ -299,6 +299,33 @@ def hit_position_error(frame, truth: PerRayReference | None = None) -> np.ndarra
     return np.linalg.norm(frame.rays.hit_pixel[m] - truth.hit_pixel[m], axis=-1)
 
 
+def wrong_hits(frame, truth: PerRayReference | None = None, *, tolerance_px: float = 2.0) -> dict:
+    """How often SSR's accepted hits are wrong (issue 12): of the rays this frame's screen-space
+    tracer kept a hit for (rays.hit after any confidence test; a rejected hit is a miss there),
+    the share whose true hit (the per-ray reference) is another surface or elsewhere: the true
+    ray misses, or hits an object other than the one the G-buffer shows at SSR's hit pixel, or
+    projects more than `tolerance_px` pixels from SSR's hit. Returns {'accepted': rays with a
+    kept hit, 'wrong': of those, wrong, 'wrong_share': wrong / accepted (0 without any),
+    'wrong_of_rays': wrong / rays traced}."""
+    truth = truth if truth is not None else frame.reference("per_ray")
+    rays, g, s = frame.rays, frame.gbuffer, frame.settings
+    traced = np.broadcast_to(rays.traced, truth.hit.shape) & (rays.weight > 0)
+    accepted = rays.hit & traced
+    right = np.zeros(accepted.shape, bool)
+    both = accepted & truth.hit & truth.on_screen
+    if both.any():
+        layer = np.clip(rays.hit_layer[both] - 1, 0, g.layers - 1)
+        px = np.floor(rays.hit_pixel[both]).astype(np.int64)
+        row, col = np.clip(px[:, 1], 0, s.height - 1), np.clip(px[:, 0], 0, s.width - 1)
+        same_object = g.object_id[layer, row, col] == truth.object[both]
+        close = np.linalg.norm(rays.hit_pixel[both] - truth.hit_pixel[both], axis=-1) <= tolerance_px
+        right[both] = same_object & close
+    wrong = accepted & ~right
+    n_acc, n_wrong, n = int(accepted.sum()), int(wrong.sum()), int(traced.sum())
+    return {"accepted": n_acc, "wrong": n_wrong, "wrong_share": n_wrong / n_acc if n_acc else 0.0,
+            "wrong_of_rays": n_wrong / n if n else 0.0}
+
+
 def reference_image(renderer, scene, camera=None, settings: Settings | None = None, *, kind: str = "converged",
                     rays: int | None = None, seed: int = 0, cache: bool = True,
                     folder=None, shadows: str = "traced", viewer: str = "ray") -> ReferenceImage:

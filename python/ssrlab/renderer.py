@@ -325,11 +325,12 @@ class Frame:
     def fallback_stats(self) -> dict:
         """Where this frame's rays were resolved (issue 12), as shares of the rays traced:
         'screen' (a screen-space hit at full strength), 'bvh' (traced against the triangles and
-        hit one: method 'bvh', or fallback 'bvh' retracing a miss or a faded hit), 'environment'
-        (a ray nothing resolved that brings the environment) and 'none' (such a ray bringing
-        nothing: fallback 'none'); 'rays' is the count of rays traced. Shares sum to 1 (all 0
-        when no ray was traced). 'rejected' (a part of 'bvh' + 'environment'): screen-space hits
-        that failed the confidence test (fallback_confidence) and were retraced."""
+        hit one: method 'bvh', or fallback 'bvh' retracing a miss or a faded hit), 'probes'
+        (fallback 'probes': a reflection probe's surface), 'environment' (a ray nothing resolved
+        that brings the environment) and 'none' (such a ray bringing nothing: fallback 'none');
+        'rays' is the count of rays traced. Shares sum to 1 (all 0 when no ray was traced).
+        'rejected' (a part of 'bvh'/'probes' + 'environment'): screen-space hits that failed the
+        confidence test (fallback_confidence) and fell back."""
         self._check_live("the fallback statistics")
         if "rays.hit" not in self.texture_names:
             raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
@@ -340,16 +341,19 @@ class Frame:
         unresolved = traced & ~screen
         if "rays.radiance" in self.texture_names:
             dist = self.read("rays.radiance")[..., 3]
-            bvh = unresolved & (dist >= 0.0)
+            found = unresolved & (dist >= 0.0)
         else:
-            bvh = np.zeros_like(traced)
-        rest = unresolved & ~bvh
+            found = np.zeros_like(traced)
+        probes = self.settings.method != "bvh" and self.settings.fallback == "probes"
+        bvh, by_probe = (np.zeros_like(found), found) if probes else (found, np.zeros_like(found))
+        rest = unresolved & ~found
         n = int(traced.sum())
         share = (lambda m: float(m.sum()) / n) if n else (lambda m: 0.0)
         none = self.settings.method != "bvh" and self.settings.fallback == "none"
         rejected = traced & (hit[..., 2] < 0.5) & (hit[..., 3] < 0.0)
-        return {"rays": n, "screen": share(screen), "bvh": share(bvh), "rejected": share(rejected),
-                "environment": 0.0 if none else share(rest), "none": share(rest) if none else 0.0}
+        return {"rays": n, "screen": share(screen), "bvh": share(bvh), "probes": share(by_probe),
+                "rejected": share(rejected), "environment": 0.0 if none else share(rest),
+                "none": share(rest) if none else 0.0}
 
     def reference(self, kind: str = "converged", *, rays: int | None = None, seed: int = 0,
                   sampling: str = "vndf", viewer: str = "ray", shadows: str = "traced"):

@@ -163,6 +163,24 @@ class Scene(_core.Scene):
         m = T.translate(center) @ T.scale(radius)
         return self._add_primitive("sphere", material or Material(), m, name, segments=segments)
 
+    @property
+    def probes(self) -> list:
+        """Reflection-probe positions (world space) for Settings.fallback 'probes' (issue 12;
+        seed 004's local cube maps), as (x, y, z) tuples; empty (the default): placed by
+        Settings.probe_grid. Each probe must lie strictly inside the scene bounds (its
+        box-projection proxy), checked at render."""
+        return list(_core.Scene.probes.fget(self))
+
+    @probes.setter
+    def probes(self, value) -> None:
+        if value is None or (hasattr(value, "__len__") and len(value) == 0):
+            _core.Scene.probes.fset(self, [])
+            return
+        rows = _vertex_rows(value, "Scene.probes", 3)
+        if len(rows) > 64:
+            raise ValueError(f"Scene.probes: at most 64 probes, got {len(rows)}")
+        _core.Scene.probes.fset(self, [tuple(float(c) for c in r) for r in rows])
+
     def save(self, path: str | Path, *, overwrite: bool = False) -> Path:
         """Writes the scene as glTF 2.0 (.gltf + .bin, or .glb). Refuses to replace an existing
         file unless overwrite=True."""

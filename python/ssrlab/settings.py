@@ -66,12 +66,27 @@ class Settings:
         "environment", "what a ray screen space cannot resolve (a miss: it left the screen, reached max_steps or "
         "ran behind every layer; or a faded hit) brings: 'environment' (the environment along it), 'bvh' (the "
         "ray retraced from its origin against the scene's triangles and shaded as method 'bvh' shades; faded "
-        "hits fade toward it; thesis 4.3, seed 004) or 'none' (nothing: black). Ignored by method 'bvh'",
-        choices=("none", "environment", "bvh"), group="rays")
+        "hits fade toward it; thesis 4.3, seed 004), 'probes' (seed 004's local cube maps: the nearest "
+        "reflection probe, box-projected on the scene bounds, refined by its distances and pre-filtered by "
+        "roughness, then the "
+        "environment; probes at Scene.probes or placed by probe_grid, captured once per scene and probe set) "
+        "or 'none' (nothing: black). Ignored by method 'bvh'",
+        choices=("none", "environment", "bvh", "probes"), group="rays")
     fallback_confidence: bool = _setting(
         True, "with fallback 'bvh': screen-space hits that fail the confidence test (the hit surface faces the "
         "ray, the hit lies within 2 pixel footprints of the ray, its object is its 4 neighbours'; "
-        "shaders/passes/trace_bvh.comp) are retraced by the BVH too", group="rays")
+        "shaders/lib/screen_confidence.glsl) are retraced by the BVH too (fallback 'probes' keeps them: a "
+        "probe is no better than a doubtful hit)", group="rays")
+    bvh_shadows: str = _setting(
+        "map", "how the BVH passes (method 'bvh', fallback 'bvh', the probes' capture) shadow the surfaces they "
+        "shade: 'map' (the frame's shadow map, as the lit G-buffer) or 'traced' (a shadow ray toward the light "
+        "the frame shadows, the reference's shadows='traced')", choices=("map", "traced"), group="rays")
+    probe_size: int = _setting(
+        128, "fallback 'probes': face size of each probe's cube map (lit colour + distance, with a mip chain)",
+        "texels", 8, 1024, group="rays")
+    probe_grid: int = _setting(
+        1, "fallback 'probes' on a scene without Scene.probes: g x g x g probes at the cell centres of the "
+        "scene bounds (1: one probe at the bounds' centre)", "probes per axis", 1, 4, group="rays")
     rays_per_pixel: int = _setting(1, "reflection rays per reflective pixel", "rays", 1, 32, group="rays")
     sampling: str = _setting(
         "ggx", "ray directions: 'mirror'; 'ggx' (the thesis's theta/phi GGX normal sampling, 2.3.2); "
@@ -446,14 +461,14 @@ CONSTRAINTS = (
                lambda s: s.method != "bvh" or s.glossy == "stochastic",
                "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),
     Constraint(("method", "fallback", "temporal_ray_reuse"),
-               "method != 'bvh' and fallback != 'bvh' when temporal_ray_reuse",
-               lambda s: not s.temporal_ray_reuse or (s.method != "bvh" and s.fallback != "bvh"),
+               "method != 'bvh' and fallback not in ('bvh', 'probes') when temporal_ray_reuse",
+               lambda s: not s.temporal_ray_reuse or (s.method != "bvh" and s.fallback not in ("bvh", "probes")),
                "the previous frame's rays would bring their screen-space hits only, not the BVH's radiance"),
     Constraint(("denoise", "temporal_reflections"), "temporal_reflections is off when denoise == 'svgf'",
                lambda s: s.denoise != "svgf" or not s.temporal_reflections,
                "SVGF accumulates its own history; a second accumulation after it would only add lag"),
-    Constraint(("fallback", "glossy"), "glossy == 'stochastic' when fallback == 'bvh'",
-               lambda s: s.fallback != "bvh" or s.glossy == "stochastic",
+    Constraint(("fallback", "glossy"), "glossy == 'stochastic' when fallback in ('bvh', 'probes')",
+               lambda s: s.fallback not in ("bvh", "probes") or s.glossy == "stochastic",
                "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),
     Constraint(("variance_rays", "adaptive_rays", "method", "glossy"),
                "adaptive_rays, method in ('linear', 'hiz') and glossy == 'stochastic' when variance_rays",

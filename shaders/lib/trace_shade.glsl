@@ -74,7 +74,12 @@ ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w, bool viewer_is_ray) {
     mat3 model_view = mat3(frame.view) * mat3(o.model);
     vec3 n = normalize(mat3(frame.view) * (mat3(o.normal_matrix) * a.normal));
     vec3 face = cross(model_view * (a.p1 - a.p0), model_view * (a.p2 - a.p0));  // counter-clockwise = front
+#if defined(FACING_FROM_RAY) && FACING_FROM_RAY
+    // (the probes' capture: the side the probe's ray meets, for double-sided materials)
+    bool front_facing = dot(face, -(mat3(frame.view) * dir_w)) > 0.0;
+#else
     bool front_facing = dot(face, -s.position) > 0.0;  // as the camera would see it
+#endif
     vec3 t, b;
     bool has_frame = false;
     if (m.flags.z != 0) {

@@ -1,7 +1,8 @@
 #version 450 core
 // trace_bvh: reflection rays traced against the scene's triangles (issue 12), with the
 // trace-and-shade code of the reference pass (lib/trace_shade.glsl): the BVH hit shaded by the
-// G-buffer's own material and lighting code and the frame's shadow map, seen from the camera
+// G-buffer's own material and lighting code and the frame's shadow map (SHADOWS) or a traced
+// shadow ray (TRACED_SHADOWS, Settings.bvh_shadows "traced"), seen from the camera
 // as the lit G-buffer has it. One invocation per (trace pixel, ray). Two modes:
 //   FALLBACK 0 (method "bvh", seed 003's ray-traced reflections): every ray of the frame,
 //              generated exactly as the screen-space tracers generate it
@@ -52,7 +53,6 @@ layout(binding = 1) uniform sampler2DArray u_albedo;
 layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
 layout(binding = 4) uniform sampler2DShadow u_shadow_map;
-#define TRACED_SHADOWS 0
 #include "../lib/trace_shade.glsl"
 
 #if FALLBACK
@@ -83,40 +83,7 @@ ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
 #endif
 
 #if FALLBACK && CONFIDENCE
-// The confidence test of a screen-space hit (issue 12). A depth buffer cannot tell a surface
-// from the volume behind it, so a screen-space tracer accepts any crossing of a layer's
-// [depth, depth + thickness] slab; the G-buffer can still check that the hit is plausible:
-//   1. the surface hit faces the ray (its normal against the ray's direction): a ray cannot
-//      hit the back of a surface, so a back-facing "hit" passed behind or along it;
-//   2. the hit point lies on the ray: its distance from the ray's line is at most
-//      CONFIDENCE_PIXELS pixel footprints at its depth (the crossing is found to within a
-//      pixel; a hit accepted deep inside the thickness slab lies off the ray);
-//   3. the hit pixel's object and surface are its 4 neighbours' (same layer: same object id,
-//      normals within CONFIDENCE_CREASE): at a silhouette the layer's depth jumps and at a
-//      crease (a box's edge) the surface turns within the pixel, and a ray crossing there
-//      may pass just beside the surface the pixel shows (sub-pixel geometry).
-const float CONFIDENCE_PIXELS = 2.0;
-const float CONFIDENCE_CREASE = 0.9;  // cosine between the hit's normal and a neighbour's
-bool screen_hit_confident(vec4 hit, vec3 origin, vec3 dir) {
-    ivec2 size = ivec2(frame.viewport.xy);
-    int layer = int(hit.z) - 1;
-    ivec2 hp = clamp(ivec2(hit.xy), ivec2(0), size - 1);
-    GSample h = gbuffer_decode(texelFetch(u_albedo, ivec3(hp, layer), 0), texelFetch(u_normal, ivec3(hp, layer), 0),
-                               texelFetch(u_material, ivec3(hp, layer), 0));
-    if (!h.covered || dot(h.normal, dir) >= 0.0) return false;
-    float depth = texelFetch(u_linear_depth, ivec3(hp, layer), 0).r;
-    vec3 hit_view = view_position(hit.xy, depth);
-    float footprint = 2.0 * depth / (frame.proj[1][1] * frame.viewport.y);  // one pixel, view units
-    if (length(cross(hit_view - origin, dir)) > CONFIDENCE_PIXELS * footprint) return false;
-    const ivec2 nb[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
-    for (int i = 0; i < 4; ++i) {
-        ivec2 q = clamp(hp + nb[i], ivec2(0), size - 1);
-        GSample n = gbuffer_decode(texelFetch(u_albedo, ivec3(q, layer), 0), texelFetch(u_normal, ivec3(q, layer), 0),
-                                   texelFetch(u_material, ivec3(q, layer), 0));
-        if (n.object_id != h.object_id || dot(n.normal, h.normal) < CONFIDENCE_CREASE) return false;
-    }
-    return true;
-}
+#include "../lib/screen_confidence.glsl"
 #endif
 
 // Whether screen space resolved a ray fully: a hit at full strength. A miss or a faded hit
