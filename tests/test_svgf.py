@@ -90,7 +90,8 @@ def test_hybrid_sweep_file_plans_every_configuration():
     from ssrlab import bench, hybrid
     cfg = bench.load_sweep(Path(__file__).resolve().parents[1] / "benchmarks/sweeps/hybrid.toml")
     plan = bench.plan_sweep(cfg["grid"], cfg["scenes"], None, cfg["base"])  # every configuration is valid
-    assert len(plan) == 3 * 8 and cfg["frames"] == 8
+    assert len(plan) == 3 * 12 and cfg["frames"] == 8  # 2 methods x 3 fallbacks x 2 denoisers, 3 scenes
+    assert {c["settings"]["fallback"] for c in plan} == {"environment", "probes", "bvh"}
     assert {c["settings"]["denoise"] for c in plan} == {"none", "svgf"}
     # The notebook's list has probes exactly when the Settings validation accepts them.
     assert ("SSR + probes" in hybrid.configurations()) == hybrid.probes_available()
