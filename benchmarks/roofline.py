@@ -18,7 +18,9 @@
 3. The issue's ratios: composite / copy pass, resolve / Hi-Z trace (hall, 1 ray, radius 1),
    the Hi-Z trace's share of the dependent-fetch rate, and the thesis-configuration frame
    against a recorded baseline (--baseline: a JSON {"<scene>": total_ms} or the output of an
-   earlier run's --json).
+   earlier run's --json), or, better, measured in the same run against another shader tree
+   (--baseline-shaders DIR, e.g. `git archive main shaders | tar -x -C /tmp/main`: the frames of
+   both renderers interleaved, with the thesis error between their images).
 4. A render call's CPU overhead: wall time of render() plus reading frame.color against the GPU
    total, and the readback alone.
 
@@ -138,6 +140,8 @@ def main(argv=None) -> int:
     ap.add_argument("--micro-width", type=int, default=1280, help="grid of the peak kernels")
     ap.add_argument("--micro-height", type=int, default=720)
     ap.add_argument("--baseline", help="JSON {scene: thesis-config frame total ms} recorded before a change")
+    ap.add_argument("--baseline-shaders", help="shader folder of the code before a change: thesis-config frames "
+                    "of both, interleaved in this run, and the thesis error between their images")
     ap.add_argument("--json", help="write every figure to this JSON file")
     ap.add_argument("--quick", action="store_true", help="tiny sizes, 2 repeats: a smoke run, not figures")
     args = ap.parse_args(argv)
@@ -206,6 +210,29 @@ def main(argv=None) -> int:
             cur = result["configs"].get(f"{scene_name}/thesis")
             if b and cur:
                 ratios[f"{scene_name}/thesis: baseline / now (frame speed-up)"] = b / cur["passes"]["total"]["ms"]
+    if args.baseline_shaders:
+        from ssrlab import metrics
+
+        before = ssrlab.Renderer(args.device, shader_dir=args.baseline_shaders)
+        for scene_name in args.scenes:
+            scene = getattr(ssrlab.scenes, scene_name)()
+            s = ssrlab.Settings(width=args.width, height=args.height, **THESIS)
+            for r in (before, renderer):
+                for _ in range(2):
+                    r.render(scene, settings=s)
+            t_before, t_now = [], []
+            for _ in range(args.repeats):
+                fb, fn = before.render(scene, settings=s), renderer.render(scene, settings=s)
+                t_before.append(fb.timings["total"])
+                t_now.append(fn.timings["total"])
+            err = metrics.thesis_error(fn.color, fb.color)
+            diff = float(abs(fn.color - fb.color).sum(axis=-1).max())
+            print(f"{scene_name}/thesis: before {statistics.median(t_before):.1f} ms "
+                  f"({min(t_before):.1f}-{max(t_before):.1f}), now {statistics.median(t_now):.1f} ms "
+                  f"({min(t_now):.1f}-{max(t_now):.1f}), same run; thesis error of the image {err:.2e}, "
+                  f"largest per-pixel error {diff:.2e}")
+            ratios[f"{scene_name}/thesis: before / now, same run (frame speed-up)"] = (
+                statistics.median(t_before) / statistics.median(t_now))
     targets = {"composite / copy": ("<=", 2.0), "resolve / trace_hiz": ("<=", 0.6),
                "share of dependent-fetch rate": (">=", 0.25), "speed-up": (">=", 2.0)}
     for k, v in ratios.items():

@@ -49,3 +49,45 @@ def test_roofline_script_prints_finite_positive_figures(tmp_path, capsys):
         if "share" in r:
             assert r["fetches"] > 0 and r["rate"] > 0 and math.isfinite(r["share"])
     assert all(math.isfinite(v) and v > 0 for v in result["ratios"].values())
+
+
+# -- the resolve's fast paths (issue 13) ---------------------------------------------------------
+
+def _general_resolve_shaders(tmp_path):
+    """A copy of the shader tree whose resolve takes the general path everywhere: no group vote,
+    the shared tile even where only a pixel's own rays count, one ray per chunk (two barriers per
+    ray, as before issue 13)."""
+    import shutil
+
+    root = tmp_path / "shaders"
+    shutil.copytree(ssrlab.renderer.shader_dir(), root)
+    path = root / "passes" / "resolve.comp"
+    text = path.read_text()
+    patches = [("#ifndef OWN_RAYS_ONLY\n#define OWN_RAYS_ONLY 0\n#endif", "#undef OWN_RAYS_ONLY\n#define OWN_RAYS_ONLY 0"),
+               ("if (s_any_receiver == 0u) {", "if (false) {"),
+               ("int chunk = max(1, TILE_CAPACITY / entries);", "int chunk = 1;")]
+    for old, new in patches:
+        assert text.count(old) == 1, f"resolve.comp no longer has {old!r}: update this test"
+        text = text.replace(old, new)
+    path.write_text(text)
+    return root
+
+
+@pytest.mark.parametrize("scene_name, kw", [
+    ("hall", dict(layers=1, method="hiz", sampling="mirror")),                      # own rays only
+    ("hall", dict(layers=2, rays_per_pixel=4, stride=4.0, downscale=2, max_steps=250)),  # thesis: one chunk
+    ("spheres_and_boxes", dict(layers=2, rays_per_pixel=3, reuse_radius=2)),        # chunks of 1 at s=1
+    ("spheres_and_boxes", dict(layers=1, rays_per_pixel=2, reuse_weighting="thesis", skip=False)),
+])
+def test_resolve_fast_paths_leave_the_image_unchanged(renderer, tmp_path, scene_name, kw):
+    from ssrlab import metrics
+
+    general = ssrlab.Renderer(shader_dir=_general_resolve_shaders(tmp_path))
+    scene = getattr(ssrlab.scenes, scene_name)()
+    s = small(width=128, height=72, **kw)
+    fast, slow = renderer.render(scene, settings=s), general.render(scene, settings=s)
+    assert np.asarray(fast.reflection).any(), "nothing reflects: the comparison would prove nothing"
+    # Only the sums' order may differ (neighbours outer, rays inner): float rounding.
+    err = np.abs(np.asarray(fast.reflection) - np.asarray(slow.reflection)).sum(axis=-1)
+    assert err.max() <= 1e-3, err.max()
+    assert metrics.thesis_error(fast.color, slow.color) <= 1e-4
