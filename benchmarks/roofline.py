@@ -16,7 +16,8 @@
    the formats and the ray-list counters; the model is `work_of` below), the achieved rate and
    its share of the matching peak (coherent fetches; dependent fetches for the tracers).
 3. The issue's ratios: composite / copy pass, resolve / Hi-Z trace (hall, 1 ray, radius 1),
-   the Hi-Z trace's share of the dependent-fetch rate, and the thesis-configuration frame
+   the Hi-Z trace's share of the dependent-fetch rate (copy and dependent kernels at the frame's
+   size, run between the frames so that both sides of a ratio see the same load), and the thesis-configuration frame
    against a recorded baseline (--baseline: a JSON {"<scene>": total_ms} or the output of an
    earlier run's --json), or, better, measured in the same run against another shader tree
    (--baseline-shaders DIR, e.g. `git archive main shaders | tar -x -C /tmp/main`: the frames of
@@ -96,10 +97,17 @@ def work_of(pass_name, s, stats):
         texel = 8 if pass_name == "trace_hiz" else 4
         return f, f * texel + rays * 16, rays * 24, "dependent"
     if pass_name == "resolve":
-        group, radius = 16, s.reuse_radius
-        tile = ((group // s.downscale) + 2 * radius + 1) ** 2
-        per_px = 3 + tile / group ** 2 * (3 + 5 * s.rays_per_pixel)
-        f = int(px * per_px)
+        # Every pixel: its normal, material and depth (3). Own-rays-only path (full resolution,
+        # radius 0 or mirror rays with BRDF weights): each traced pixel's sample flag and its rays'
+        # hit, sample, direction, lit colour and hit depth (1 + 5 per ray). Tiled path: an upper
+        # bound, as if every group held a receiver: per tile entry its origin (3) and 5 per ray.
+        own = s.downscale == 1 and (s.reuse_radius == 0 or (s.sampling == "mirror" and s.reuse_weighting == "brdf"))
+        if own:
+            f = px * 3 + stats.get("pixels_traced", px) * (1 + 5 * s.rays_per_pixel)
+        else:
+            group, radius = 16, s.reuse_radius
+            tile = ((group // s.downscale) + 2 * radius + 1) ** 2
+            f = int(px * (3 + tile / group ** 2 * (3 + 5 * s.rays_per_pixel)))
         return f, f * 8, px * 8, "coherent"
     if pass_name == "composite":
         return px * 3, px * (4 + 8 + 8), px * 16, "coherent"
@@ -111,7 +119,7 @@ def run_config(renderer, scene, settings, repeats):
     last frame's stats, and the CPU side of a render call."""
     for _ in range(2):
         renderer.render(scene, settings=settings).color
-    runs, walls, reads = [], [], []
+    runs, walls, reads, peaks = [], [], [], {"copy": [], "dependent": []}
     frame = None
     for _ in range(repeats):
         t0 = time.perf_counter()
@@ -122,9 +130,14 @@ def run_config(renderer, scene, settings, repeats):
         runs.append(frame.timings)
         walls.append((t2 - t0) * 1e3)
         reads.append((t2 - t1) * 1e3)
+        # The peaks the ratios use, between the frames: on a shared machine (llvmpipe on busy
+        # cores) the load changes within seconds, so a ratio takes both sides at the same moments.
+        peaks["copy"] += renderer.microbenchmark("copy", settings.width, settings.height, 1, 1)
+        peaks["dependent"] += renderer.microbenchmark("dependent", settings.width, settings.height, 64, 1)
     keys = [k for k in runs[0] if "." not in k]
     return ({k: spread([r[k] for r in runs]) for k in keys}, frame.stats,
-            dict(wall=spread(walls), readback=spread(reads)))
+            dict(wall=spread(walls), readback=spread(reads), copy=spread(peaks["copy"]),
+                 dependent=spread(peaks["dependent"])))
 
 
 def fmt_rate(x):
@@ -188,17 +201,22 @@ def main(argv=None) -> int:
             print(f"render() + frame.color wall {cpu['wall'][0]:.1f} ms against GPU total "
                   f"{times['total'][0]:.1f} ms (CPU-side overhead {cpu['wall'][0] - times['total'][0]:.1f} ms), "
                   f"color readback {cpu['readback'][0]:.1f} ms")
-            result["configs"][f"{scene_name}/{cname}"] = dict(passes=rows, stats=stats,
-                                                               wall_ms=cpu["wall"][0], readback_ms=cpu["readback"][0])
+            px = s.width * s.height
+            dep_rate = px * 64 / (cpu["dependent"][0] * 1e-3)
+            print(f"interleaved peaks: copy pass {cpu['copy'][0]:.2f} ms ({cpu['copy'][1]:.2f}-{cpu['copy'][2]:.2f}), "
+                  f"dependent fetches {fmt_rate(dep_rate)}/s")
+            result["configs"][f"{scene_name}/{cname}"] = dict(
+                passes=rows, stats=stats, wall_ms=cpu["wall"][0], readback_ms=cpu["readback"][0],
+                copy_ms=cpu["copy"][0], dependent_rate=dep_rate)
 
     print("\nratios (issue 13's targets)")
     ratios = result["ratios"]
     for key, cfg in result["configs"].items():
         p = cfg["passes"]
         if "composite" in p:
-            ratios[f"{key}: composite / copy"] = p["composite"]["ms"] / peaks["copy"]["ms"]
+            ratios[f"{key}: composite / copy"] = p["composite"]["ms"] / cfg["copy_ms"]
         if "trace_hiz" in p and "rate" in p["trace_hiz"]:
-            ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = p["trace_hiz"]["share"]
+            ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = p["trace_hiz"]["rate"] / cfg["dependent_rate"]
     for key, cfg in result["configs"].items():
         p = cfg["passes"]
         if "trace_hiz" in p and "resolve" in p:

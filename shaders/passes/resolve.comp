@@ -210,7 +210,8 @@ void main() {
     vec3 p = view_pos(min(pixel, size - 1));
     vec3 v = normalize(-p);
     mat3 tbn = frame_from_normal(g.normal);
-    vec3 v_local = transpose(tbn) * v;
+    mat3 to_local = transpose(tbn);
+    vec3 v_local = to_local * v;
     float alpha = g.roughness * g.roughness;
     bool mirror_receiver = alpha < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
     ivec2 base = pixel / s;
@@ -290,6 +291,7 @@ void main() {
                 ivec2 t = q - tile_lo;
                 int e = t.y * tile_dim.x + t.x;
                 bool own = s == 1 && dx == 0 && dy == 0;
+                vec3 origin_q = s_origin[e].xyz;  // read once for all the neighbour's rays
                 float edge = -1.0;  // computed at the neighbour's first ray that weighs anything
                 for (int k = 0; k < rays; ++k) {
                     int slot = k * entries + e;
@@ -300,15 +302,15 @@ void main() {
                         if (s_pdf[slot] > 0.0 && !mirror_receiver) {
                             // Toward the neighbour's hit point, or along its direction if it missed.
                             vec4 d = s_direction[slot];
-                            vec3 l = d.w >= 0.0 ? normalize(s_origin[e].xyz + d.xyz * d.w - p) : d.xyz;
-                            w = brdf_cosine(v_local, transpose(tbn) * l, alpha) / s_pdf[slot];
+                            vec3 l = d.w >= 0.0 ? normalize(origin_q + d.xyz * d.w - p) : d.xyz;
+                            w = brdf_cosine(v_local, to_local * l, alpha) / s_pdf[slot];
                         } else if (s == 1) {
                             w = 0.0;  // mirror rays only serve their own pixel at full resolution
                         }
                     }
                     if (w == 0.0) continue;  // adds nothing: skip its edge weight
                     if (ssr.edge_aware != 0) {
-                        if (edge < 0.0) edge = edge_weight(p, g.normal, s_origin[e].xyz, s_normal[e]);
+                        if (edge < 0.0) edge = edge_weight(p, g.normal, origin_q, s_normal[e]);
                         w *= edge;
                     }
                     sum_c += w * rc.rgb;
