@@ -47,7 +47,7 @@ HIZ_MIRROR = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, r
 
 # name: (kernel, operations per texel, bytes read per operation, bytes written per operation)
 PEAKS = {
-    "coherent": ("coherent", 64, 8, 0),     # RGBA16F texelFetch
+    "coherent": ("coherent", 64, 8, 0),     # RG32F texelFetch, addresses known up front
     "dependent": ("dependent", 64, 8, 0),   # RG32F texelFetch, address from the previous one
     "store": ("store", 8, 0, 8),            # RGBA16F imageStore
     "bandwidth": ("bandwidth", 8, 16, 0),   # RGBA32F texelFetch, each texel once

@@ -514,6 +514,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     {
         Defines d = defines;
         d["REFLECTIONS"] = "1";
+        d["PBR_COMPOSITE"] = s.composite == CompositeMode::Pbr ? "1" : "0";  // as CompositePass compiles it
         shaders_->program({"passes/composite.comp"}, d);
     }
     check_gl(*ctx_, "reference set-up");

@@ -159,7 +159,7 @@ class Renderer:
     def microbenchmark(self, kernel: str, width: int, height: int, iterations: int, repeats: int = 5) -> list[float]:
         """GPU milliseconds of each of `repeats` runs of a device-peak kernel (issue 13's roofline,
         shaders/tools/microbench.comp, benchmarks/roofline.py), after one untimed run: 'coherent'
-        (RGBA16F texelFetch, neighbours fetching neighbours), 'dependent' (each fetch's address is
+        (RG32F texelFetch, neighbours fetching neighbours), 'dependent' (each fetch's address is
         the previous fetch's result), 'store' (RGBA16F imageStore), 'bandwidth' (RGBA32F texels each
         read once) or 'copy' (one RGBA16F fetch and one RGBA32F store per texel), one invocation per
         texel of width x height and `iterations` operations each (1 for 'copy'; at most 16 for

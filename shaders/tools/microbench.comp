@@ -5,8 +5,8 @@
 // width x height grid and `u_iterations` operations per invocation, and times it; the work is
 // counted on the host from these definitions (one "operation" each):
 //   KERNEL_INIT        fills u_source (RGBA16F array) and u_chain (RG32F) with their content
-//   KERNEL_COHERENT    texelFetch of RGBA16F texels, neighbouring invocations fetching
-//                      neighbouring texels (a tracer's first steps, a resolve's neighbours)
+//   KERNEL_COHERENT    texelFetch of RG32F texels (the Hi-Z pyramid's format) at addresses known
+//                      up front, neighbouring invocations fetching neighbouring texels
 //   KERNEL_DEPENDENT   texelFetch whose coordinate is the previous fetch's result (pointer
 //                      chasing within a few pixels, as a tracer's next cell depends on the depth
 //                      it just fetched: seed 002 4.7.2); latency-bound
@@ -52,13 +52,14 @@ void main() {
     ivec2 next = clamp(p + ivec2(int(h & 7u) - 4, int((h >> 3) & 7u) - 4), ivec2(0), size - 1);
     imageStore(o_chain, p, vec4(vec2(next), 0.0, 0.0));
 #elif KERNEL_COHERENT
-    vec4 sum = vec4(0.0);
+    // The dependent kernel's texture and texel count, with addresses known up front: every
+    // invocation walks the same offsets, so a wavefront fetches a contiguous block.
+    vec2 sum = vec2(0.0);
     for (int i = 0; i < u_iterations; ++i) {
-        // Every invocation walks the same offsets: a wavefront fetches a contiguous block.
-        ivec2 q = clamp(p + ivec2(i & 7, (i >> 3) & 7), ivec2(0), size - 1);
-        sum += texelFetch(u_source, ivec3(q, i % u_layers), 0);
+        ivec2 q = clamp(p + ivec2(i & 7, (i >> 3) & 7) - 4, ivec2(0), size - 1);
+        sum += texelFetch(u_chain, q, 0).xy;
     }
-    imageStore(o_sink, p, sum);
+    imageStore(o_sink, p, vec4(sum, 0.0, 1.0));
 #elif KERNEL_DEPENDENT
     vec2 q = vec2(p);
     for (int i = 0; i < u_iterations; ++i) q = texelFetch(u_chain, ivec2(q), 0).xy;
