@@ -41,6 +41,7 @@ BENCHMARKS = {
     "depth_precision": ([], ["--width", "96", "--height", "64"]),
     "memory": ([], ["--renders", "50"]),
     "thesis_findings": (["--scale", "full"], ["--scale", "small"]),
+    "roofline": ([], ["--quick"]),
 }
 
 

@@ -213,6 +213,11 @@ void bind_render(py::module_& m) {
             py::arg("stratified") = false,
             "Reflection directions from the tracers' GLSL sampler: (count, 8) float32, columns 0-2 l, 3 weight,\n"
             "4 pdf, 5-6 the uniform numbers (see ssrlab.Renderer.sample_reflections).")
+        .def("microbenchmark", &Renderer::microbenchmark, py::arg("kernel"), py::arg("width"), py::arg("height"),
+             py::arg("iterations"), py::arg("repeats") = 5,
+             "Device peak kernels for the roofline (shaders/tools/microbench.comp): 'coherent', 'dependent',\n"
+             "'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,\n"
+             "run once untimed then `repeats` times; returns each repeat's GPU milliseconds.")
         .def(
             "compile",
             [](Renderer& r, const std::vector<std::string>& stages, const std::map<std::string, std::string>& defines) {

@@ -7,6 +7,9 @@ namespace ssr {
 void CompositePass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["REFLECTIONS"] = reflections_ ? "1" : "0";
+    // Issue 13: the formula is compiled in, not chosen per pixel from the settings block: on
+    // llvmpipe the unused pbr branch (its table fetch and material lookups) cost 2.5x the pass.
+    d["PBR_COMPOSITE"] = ctx.settings.composite == CompositeMode::Pbr ? "1" : "0";
     glUseProgram(ctx.shaders.program({"passes/composite.comp"}, d));
     auto& r = ctx.resources;
     glBindTextureUnit(0, r.get(direct_).id());

@@ -21,6 +21,13 @@ void ResolvePass::execute(FrameContext& ctx) {
                               ctx.settings.fallback == Fallback::Probes;  // the probes' radiance, likewise
     d["RAY_RADIANCE"] = ray_radiance ? "1" : "0";
     d["FALLBACK_NONE"] = ctx.settings.method != TraceMethod::Bvh && ctx.settings.fallback == Fallback::None ? "1" : "0";
+    // Issue 13: where no neighbour's ray can weigh anything (full-resolution rays with reuse
+    // radius 0, or mirror rays with BRDF weights, which serve only their own pixel), each pixel
+    // reads its own rays directly: no shared tile and no barriers, the same sums.
+    const RenderSettings& s = ctx.settings;
+    const bool own_rays_only = s.downscale == 1 && (s.reuse_radius == 0 || (s.sampling == Sampling::Mirror &&
+                                                                            s.reuse_weighting == ReuseWeighting::Brdf));
+    d["OWN_RAYS_ONLY"] = own_rays_only ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/resolve.comp"}, d);
     glUseProgram(prog);
     if (ray_reuse) {
@@ -59,7 +66,10 @@ void ResolvePass::execute(FrameContext& ctx) {
     for (GLuint unit = 0; unit < 8; ++unit) glBindTextureUnit(unit, r.get(inputs[unit]).id());
     if (ray_radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
     bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
-    dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 16, 16);
+    // The group size is the shader's choice (its shared-memory tile): read it from the program.
+    GLint group[3] = {16, 16, 1};
+    glGetProgramiv(prog, GL_COMPUTE_WORK_GROUP_SIZE, group);
+    dispatch_2d(ctx.settings.width, ctx.settings.height, 1, group[0], group[1]);
 }
 
 }  // namespace ssr

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
@@ -567,6 +568,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     {
         Defines d = defines;
         d["REFLECTIONS"] = "1";
+        d["PBR_COMPOSITE"] = s.composite == CompositeMode::Pbr ? "1" : "0";  // as CompositePass compiles it
         shaders_->program({"passes/composite.comp"}, d);
     }
     check_gl(*ctx_, "reference set-up");
@@ -608,6 +610,71 @@ std::vector<float> Renderer::sample_reflections(const std::string& sampling, flo
     glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(bytes), data.data());
     check_gl(*ctx_, "sample_reflections");
     return data;
+}
+
+std::vector<double> Renderer::microbenchmark(const std::string& kernel, int width, int height, int iterations,
+                                             int repeats) {
+    static const char* kernels[] = {"coherent", "dependent", "store", "bandwidth", "copy"};
+    if (std::find_if(std::begin(kernels), std::end(kernels), [&](const char* k) { return kernel == k; }) ==
+        std::end(kernels))
+        throw std::invalid_argument("microbenchmark kernel '" + kernel +
+                                    "' unknown (coherent, dependent, store, bandwidth, copy)");
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw std::invalid_argument("microbenchmark width and height must be in [1, 16384]");
+    // Store and bandwidth kernels touch one layer per iteration: bounded to keep memory small.
+    const int max_iterations = (kernel == "store" || kernel == "bandwidth") ? 16 : 4096;
+    if (iterations < 1 || iterations > max_iterations)
+        throw std::invalid_argument("microbenchmark iterations must be in [1, " + std::to_string(max_iterations) +
+                                    "] for kernel '" + kernel + "'");
+    if (repeats < 1 || repeats > 1000) throw std::invalid_argument("microbenchmark repeats must be in [1, 1000]");
+    CurrentContext current(*ctx_);
+    constexpr int kSourceLayers = 4;
+    const bool layered = kernel == "store" || kernel == "bandwidth";
+    Texture source = Texture::create_2d_array(GL_RGBA16F, width, height, kSourceLayers);
+    Texture chain = Texture::create_2d(GL_RG32F, width, height);
+    Texture wide = Texture::create_2d_array(GL_RGBA32F, width, height, kernel == "bandwidth" ? iterations : 1);
+    Texture store = Texture::create_2d_array(GL_RGBA16F, width, height, layered ? iterations : 1);
+    Texture sink = Texture::create_2d(GL_RGBA32F, width, height);
+    const GLuint groups_x = GLuint((width + 7) / 8), groups_y = GLuint((height + 7) / 8);
+    // Selects kernel `name` (define KERNEL_<NAME>) with its two uniforms.
+    auto use = [&](const std::string& name, int its, int layers) {
+        std::string define = "KERNEL_";
+        for (char c : name) define += char(std::toupper(static_cast<unsigned char>(c)));
+        const GLuint prog = shaders_->program({"tools/microbench.comp"}, {{define, "1"}});
+        glUseProgram(prog);
+        glUniform1i(glGetUniformLocation(prog, "u_iterations"), its);
+        glUniform1i(glGetUniformLocation(prog, "u_layers"), layers);
+    };
+    glBindTextureUnit(0, source.id());
+    glBindTextureUnit(1, chain.id());
+    glBindTextureUnit(2, wide.id());
+    use("init", wide.layers(), kSourceLayers);
+    glBindImageTexture(0, source.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(1, chain.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glBindImageTexture(2, wide.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glDispatchCompute(groups_x, groups_y, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    use(kernel, iterations, kernel == "store" ? iterations : kSourceLayers);
+    if (kernel == "store")
+        glBindImageTexture(0, store.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    else
+        glBindImageTexture(0, sink.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    std::vector<double> ms;
+    GpuTimer timer;
+    for (int i = -1; i < repeats; ++i) {  // i = -1: untimed (llvmpipe compiles at first dispatch)
+        timer.begin_frame();
+        if (i >= 0) timer.begin("run");
+        glDispatchCompute(groups_x, groups_y, 1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        if (i >= 0) {
+            timer.end("run");
+            ms.push_back(timer.resolve()["run"]);
+        } else {
+            glFinish();
+        }
+    }
+    check_gl(*ctx_, "microbenchmark");
+    return ms;
 }
 
 unsigned Renderer::compile(const std::vector<std::string>& stages, const Defines& defines) {

@@ -73,6 +73,12 @@ public:
     std::vector<float> sample_reflections(const std::string& sampling, float alpha, const glm::vec3& view, int count,
                                           uint32_t seed, bool stratified);
 
+    // Device peaks for the roofline (issue 13, shaders/tools/microbench.comp): runs kernel `kernel`
+    // ("coherent", "dependent", "store", "bandwidth", "copy") over a width x height grid with
+    // `iterations` operations per invocation, once untimed (compilation, first use) and then
+    // `repeats` times, each timed alone on the GPU; returns the milliseconds of each repeat.
+    std::vector<double> microbenchmark(const std::string& kernel, int width, int height, int iterations, int repeats);
+
     // The split-sum table (A, B) of the GGX directional albedo (shaders/lib/specular_albedo.glsl),
     // integrated once per renderer: (size, size, 2) floats, rows roughness, columns n.v.
     Readback specular_albedo_table();

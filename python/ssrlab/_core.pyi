@@ -1193,6 +1193,12 @@ class Renderer:
         """
         Vendor, renderer, GL version and the device chosen.
         """
+    def microbenchmark(self, kernel: str, width: typing.SupportsInt | typing.SupportsIndex, height: typing.SupportsInt | typing.SupportsIndex, iterations: typing.SupportsInt | typing.SupportsIndex, repeats: typing.SupportsInt | typing.SupportsIndex = 5) -> list[float]:
+        """
+        Device peak kernels for the roofline (shaders/tools/microbench.comp): 'coherent', 'dependent',
+        'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,
+        run once untimed then `repeats` times; returns each repeat's GPU milliseconds.
+        """
     def recycle(self, force: bool = True) -> None:
         """
         Frees idle texture sets beyond the pool and returns freed heap memory to the OS.

@@ -165,6 +165,16 @@ class Renderer:
                                             int(seed), bool(stratified))
         return {"l": a[:, :3], "weight": a[:, 3], "pdf": a[:, 4], "u": a[:, 5:7]}
 
+    def microbenchmark(self, kernel: str, width: int, height: int, iterations: int, repeats: int = 5) -> list[float]:
+        """GPU milliseconds of each of `repeats` runs of a device-peak kernel (issue 13's roofline,
+        shaders/tools/microbench.comp, benchmarks/roofline.py), after one untimed run: 'coherent'
+        (RG32F texelFetch, neighbours fetching neighbours), 'dependent' (each fetch's address is
+        the previous fetch's result), 'store' (RGBA16F imageStore), 'bandwidth' (RGBA32F texels each
+        read once) or 'copy' (one RGBA16F fetch and one RGBA32F store per texel), one invocation per
+        texel of width x height and `iterations` operations each (1 for 'copy'; at most 16 for
+        'store' and 'bandwidth')."""
+        return list(self._native.microbenchmark(kernel, int(width), int(height), int(iterations), int(repeats)))
+
     def compile(self, *stages: str, defines: dict | None = None) -> int:
         """Compiles shader stages (paths under the shader folder); raises ShaderError."""
         return self._native.compile(list(stages), {k: str(v) for k, v in (defines or {}).items()})

@@ -21,6 +21,10 @@
 #include "../lib/specular_albedo.glsl"
 #endif
 
+#ifndef PBR_COMPOSITE
+#define PBR_COMPOSITE 0  // 1: c = c_d + k E c_r (Settings.composite "pbr"); set by passes/composite.cpp
+#endif
+
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform sampler2DArray u_lit;
@@ -46,9 +50,10 @@ void main() {
         float r = material.r;
         if (r > 0.0) {
             vec3 reflection = texelFetch(u_reflection, p, 0).rgb;
-            if (ssr.composite_mode == COMPOSITE_LINEAR) {
-                c = r * reflection + (1.0 - r) * c;
-            } else {
+#if !PBR_COMPOSITE
+            c = r * reflection + (1.0 - r) * c;
+#else
+            {
                 GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
                                            material);
                 vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
@@ -57,6 +62,7 @@ void main() {
                 bool auto_r = g.object_id >= 0 && materials[objects[g.object_id].material.x].params.z < 0.0;
                 c += (auto_r ? 1.0 : r) * specular_albedo(specular_f0(g.albedo, g.metallic), ab) * reflection;
             }
+#endif
         }
 #endif
     } else {

@@ -91,14 +91,25 @@ vec3 previous_view_position(vec2 pix, float z) {
 layout(binding = 16) uniform sampler2DArray u_ray_radiance;
 #endif
 
+#ifndef OWN_RAYS_ONLY
+#define OWN_RAYS_ONLY 0
+#endif
+
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
+const int TILE_CAPACITY = MAX_TILE * MAX_TILE;
 
-shared vec4 s_color[MAX_TILE * MAX_TILE];     // rgb: radiance the ray brings; a: its weight
-shared vec4 s_direction[MAX_TILE * MAX_TILE]; // xyz: view direction; w: distance to its hit (< 0: miss)
-shared float s_pdf[MAX_TILE * MAX_TILE];
-shared vec4 s_origin[MAX_TILE * MAX_TILE];    // xyz: view position the rays start from; w: 1 if it traced
-shared vec3 s_normal[MAX_TILE * MAX_TILE];
+#if !OWN_RAYS_ONLY
+// Ray data of a chunk of rays of every trace pixel in the tile, entry (ray - chunk start) *
+// entries + tile entry: as many rays as fit in TILE_CAPACITY entries per chunk (issue 13: each
+// chunk costs two barriers, which llvmpipe pays dearly; 4 rays at half resolution fit in one).
+shared vec4 s_color[TILE_CAPACITY];     // rgb: radiance the ray brings; a: its weight
+shared vec4 s_direction[TILE_CAPACITY]; // xyz: view direction; w: distance to its hit (< 0: miss)
+shared float s_pdf[TILE_CAPACITY];
+shared vec4 s_origin[TILE_CAPACITY];    // xyz: view position the rays start from; w: 1 if it traced
+shared vec3 s_normal[TILE_CAPACITY];
+#endif
+shared uint s_any_receiver;
 
 GSample gsample(ivec2 p) {
     return gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
@@ -130,6 +141,58 @@ float edge_weight(vec3 p, vec3 n, vec3 pq, vec3 nq) {
     return exp(-dz / ssr.edge_depth_sigma) * pow(max(dot(n, nq), 0.0), ssr.edge_normal_power);
 }
 
+// What a pixel that receives no rays reflects: the environment for a surface rougher than
+// the cutoff (seed 003's threshold, seed 004's fallback hierarchy), nothing where no surface
+// reflects.
+vec3 non_receiver_reflection(GSample g, vec3 v) {
+    return g.covered && g.reflectivity > 0.0 ? environment_view(reflect(-v, g.normal)) : vec3(0.0);
+}
+
+// One ray's contribution: the radiance it brings (rgb) and its weight (a); its view direction
+// and the distance from `origin` to its hit (w; -1: a miss) and its pdf.
+struct RayResult {
+    vec4 color;
+    vec4 direction;
+    float pdf;
+};
+
+RayResult fetch_ray(ivec2 q, int r, vec3 origin, ivec2 size) {
+    vec4 hit = texelFetch(u_hit, ivec3(q, r), 0);
+    vec4 smp = texelFetch(u_sample, ivec3(q, r), 0);
+    vec3 dir = texelFetch(u_direction, ivec3(q, r), 0).xyz;
+    // What the ray brings where screen space did not resolve it; a hit at full fade weight
+    // (hit.w = 1, most hits) never needs it (issue 13: the environment costs more than the
+    // hit's own fetch).
+    bool opaque_hit = hit.z > 0.5 && hit.w >= 1.0;
+    vec3 c = vec3(0.0);
+    float dist = -1.0;
+#if defined(RAY_RADIANCE) && RAY_RADIANCE
+    vec4 traced = texelFetch(u_ray_radiance, ivec3(q, r), 0);
+    if (traced.a > -1.5) {
+        c = traced.rgb;
+        dist = traced.a;
+    } else if (!opaque_hit) {
+        c = unresolved_radiance(dir);
+    }
+#else
+    if (!opaque_hit) c = unresolved_radiance(dir);
+#endif
+    if (hit.z > 0.5) {
+        ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
+        vec3 lit = texelFetch(u_lit, hp, 0).rgb;
+#if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
+        if (hp.z == 0) lit = previous_final(hp.xy, lit);
+#endif
+        c = opaque_hit ? lit : mix(c, lit, hit.w);
+        dist = distance(view_position(hit.xy, texelFetch(u_linear_depth, hp, 0).r), origin);
+    }
+    RayResult res;
+    res.color = vec4(c, smp.x);
+    res.direction = vec4(dir, dist);
+    res.pdf = smp.y;
+    return res;
+}
+
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 trace_size = ivec2(ssr.trace_width, ssr.trace_height);
@@ -140,19 +203,6 @@ void main() {
     int entries = tile_dim.x * tile_dim.y;
     int lid = int(gl_LocalInvocationIndex);
 
-    // Origins of every trace pixel in the tile.
-    for (int e = lid; e < entries; e += GROUP * GROUP) {
-        ivec2 q = tile_lo + ivec2(e % tile_dim.x, e / tile_dim.x);
-        s_origin[e] = vec4(0.0);
-        s_normal[e] = vec3(0.0, 0.0, 1.0);
-        if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, trace_size))) {
-            ivec2 p = min(q * s + s / 2, size - 1);
-            bool traced = texelFetch(u_sample, ivec3(q, 0), 0).w > 0.5;
-            s_origin[e] = vec4(view_pos(p), traced ? 1.0 : 0.0);
-            s_normal[e] = gsample(p).normal;
-        }
-    }
-
     ivec2 pixel = group_origin + ivec2(gl_LocalInvocationID.xy);
     bool inside = all(lessThan(pixel, size));
     GSample g = gsample(min(pixel, size - 1));
@@ -160,73 +210,116 @@ void main() {
     vec3 p = view_pos(min(pixel, size - 1));
     vec3 v = normalize(-p);
     mat3 tbn = frame_from_normal(g.normal);
-    vec3 v_local = transpose(tbn) * v;
+    mat3 to_local = transpose(tbn);
+    vec3 v_local = to_local * v;
     float alpha = g.roughness * g.roughness;
     bool mirror_receiver = alpha < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
     ivec2 base = pixel / s;
     vec3 sum_c = vec3(0.0);
     float sum_w = 0.0;
 
-    for (int r = 0; r < ssr.rays_per_pixel; ++r) {
-        barrier();
-        // Fetch ray r of every trace pixel in the tile once: hit colour, weight, direction.
+#if !OWN_RAYS_ONLY
+    // Issue 13: a group none of whose pixels receives rays (most of a frame: sky, rough or
+    // non-reflective surfaces) needs no ray data at all; it writes what a non-receiving pixel
+    // writes below and leaves, skipping the tile fetches. One group vote costs two barriers.
+    if (lid == 0) s_any_receiver = 0u;
+    barrier();
+    if (receives) atomicOr(s_any_receiver, 1u);
+    barrier();
+    if (s_any_receiver == 0u) {
+        if (inside) imageStore(o_reflection, pixel, vec4(non_receiver_reflection(g, v), 1.0));
+        return;
+    }
+#endif
+
+#if OWN_RAYS_ONLY
+    // Full-resolution rays whose neighbours weigh nothing here (reuse radius 0, or mirror rays
+    // with BRDF weights: a mirror ray serves only its own pixel): each pixel fetches its own
+    // rays directly, with no tile, shared memory, group vote or barrier (issue 13). The same sums as the
+    // tiled path below, term for term.
+    if (receives && texelFetch(u_sample, ivec3(base, 0), 0).w > 0.5) {
+        for (int r = 0; r < ssr.rays_per_pixel; ++r) {
+            RayResult ray = fetch_ray(base, r, p, size);
+            if (ray.color.a <= 0.0) continue;
+            float w = ray.color.a;
+            if (ssr.edge_aware != 0) w *= edge_weight(p, g.normal, p, g.normal);
+            sum_c += w * ray.color.rgb;
+            sum_w += w;
+        }
+    }
+#else
+    // Chunks of rays: as many rays per chunk as the shared tile holds.
+    int chunk = max(1, TILE_CAPACITY / entries);
+    for (int r0 = 0; r0 < ssr.rays_per_pixel; r0 += chunk) {
+        int rays = min(chunk, ssr.rays_per_pixel - r0);
+        if (r0 > 0) barrier();  // every pixel has summed the previous chunk
+        // Fetch rays r0 .. r0 + rays - 1 of every trace pixel in the tile once: hit colour,
+        // weight, direction. The invocation that fetches an entry's rays also fetched its origin
+        // (first chunk), so no barrier separates the two.
         for (int e = lid; e < entries; e += GROUP * GROUP) {
+            if (r0 == 0) {
+                ivec2 q = tile_lo + ivec2(e % tile_dim.x, e / tile_dim.x);
+                s_origin[e] = vec4(0.0);
+                s_normal[e] = vec3(0.0, 0.0, 1.0);
+                if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, trace_size))) {
+                    ivec2 op = min(q * s + s / 2, size - 1);
+                    bool traced = texelFetch(u_sample, ivec3(q, 0), 0).w > 0.5;
+                    s_origin[e] = vec4(view_pos(op), traced ? 1.0 : 0.0);
+                    s_normal[e] = gsample(op).normal;
+                }
+            }
             ivec2 q = tile_lo + ivec2(e % tile_dim.x, e / tile_dim.x);
-            s_color[e] = vec4(0.0);
-            if (s_origin[e].w == 0.0) continue;
-            vec4 hit = texelFetch(u_hit, ivec3(q, r), 0);
-            vec4 smp = texelFetch(u_sample, ivec3(q, r), 0);
-            vec3 dir = texelFetch(u_direction, ivec3(q, r), 0).xyz;
-            vec3 c = unresolved_radiance(dir);
-            float dist = -1.0;
-#if defined(RAY_RADIANCE) && RAY_RADIANCE
-            vec4 traced = texelFetch(u_ray_radiance, ivec3(q, r), 0);
-            if (traced.a > -1.5) {
-                c = traced.rgb;
-                dist = traced.a;
+            vec4 origin = s_origin[e];
+            for (int k = 0; k < rays; ++k) {
+                int slot = k * entries + e;
+                s_color[slot] = vec4(0.0);
+                if (origin.w == 0.0) continue;
+                RayResult ray = fetch_ray(q, r0 + k, origin.xyz, size);
+                s_color[slot] = ray.color;
+                s_direction[slot] = ray.direction;
+                s_pdf[slot] = ray.pdf;
             }
-#endif
-            if (hit.z > 0.5) {
-                ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
-                vec3 lit = texelFetch(u_lit, hp, 0).rgb;
-#if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
-                if (hp.z == 0) lit = previous_final(hp.xy, lit);
-#endif
-                c = mix(c, lit, hit.w);
-                dist = distance(view_position(hit.xy, texelFetch(u_linear_depth, hp, 0).r), s_origin[e].xyz);
-            }
-            s_color[e] = vec4(c, smp.x);
-            s_direction[e] = vec4(dir, dist);
-            s_pdf[e] = smp.y;
         }
         barrier();
         if (!receives) continue;
+        // Neighbours outer, rays inner: a neighbour's edge weight depends on it alone, so it is
+        // computed once for all its rays (issue 13; the sums' order changes, by float rounding only).
         for (int dy = -radius; dy <= radius; ++dy) {
             for (int dx = -radius; dx <= radius; ++dx) {
                 ivec2 q = base + ivec2(dx, dy);
                 if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, trace_size))) continue;
                 ivec2 t = q - tile_lo;
                 int e = t.y * tile_dim.x + t.x;
-                vec4 rc = s_color[e];
-                if (rc.a <= 0.0) continue;
                 bool own = s == 1 && dx == 0 && dy == 0;
-                float w = rc.a;
-                if (ssr.reuse_weighting == REUSE_BRDF && !own) {
-                    if (s_pdf[e] > 0.0 && !mirror_receiver) {
-                        // Toward the neighbour's hit point, or along its direction if it missed.
-                        vec4 d = s_direction[e];
-                        vec3 l = d.w >= 0.0 ? normalize(s_origin[e].xyz + d.xyz * d.w - p) : d.xyz;
-                        w = brdf_cosine(v_local, transpose(tbn) * l, alpha) / s_pdf[e];
-                    } else if (s == 1) {
-                        w = 0.0;  // mirror rays only serve their own pixel at full resolution
+                vec3 origin_q = s_origin[e].xyz;  // read once for all the neighbour's rays
+                float edge = -1.0;  // computed at the neighbour's first ray that weighs anything
+                for (int k = 0; k < rays; ++k) {
+                    int slot = k * entries + e;
+                    vec4 rc = s_color[slot];
+                    if (rc.a <= 0.0) continue;
+                    float w = rc.a;
+                    if (ssr.reuse_weighting == REUSE_BRDF && !own) {
+                        if (s_pdf[slot] > 0.0 && !mirror_receiver) {
+                            // Toward the neighbour's hit point, or along its direction if it missed.
+                            vec4 d = s_direction[slot];
+                            vec3 l = d.w >= 0.0 ? normalize(origin_q + d.xyz * d.w - p) : d.xyz;
+                            w = brdf_cosine(v_local, to_local * l, alpha) / s_pdf[slot];
+                        } else if (s == 1) {
+                            w = 0.0;  // mirror rays only serve their own pixel at full resolution
+                        }
                     }
+                    if (w == 0.0) continue;  // adds nothing: skip its edge weight
+                    if (ssr.edge_aware != 0) {
+                        if (edge < 0.0) edge = edge_weight(p, g.normal, origin_q, s_normal[e]);
+                        w *= edge;
+                    }
+                    sum_c += w * rc.rgb;
+                    sum_w += w;
                 }
-                if (ssr.edge_aware != 0) w *= edge_weight(p, g.normal, s_origin[e].xyz, s_normal[e]);
-                sum_c += w * rc.rgb;
-                sum_w += w;
             }
         }
     }
+#endif
 #if defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE
     vec4 rp = texelFetch(u_reprojection, min(pixel, size - 1), 0);
     if (receives && u_has_previous_rays != 0 && rp.z > 0.5) {
@@ -278,10 +371,8 @@ void main() {
     vec3 reflection = vec3(0.0);
     if (receives) {
         reflection = sum_w > 1e-8 ? sum_c / sum_w : environment_view(reflect(-v, g.normal));
-    } else if (g.covered && g.reflectivity > 0.0) {
-        // Rougher than the cutoff: no rays, the environment stands in (seed 003's threshold,
-        // seed 004's fallback hierarchy).
-        reflection = environment_view(reflect(-v, g.normal));
+    } else {
+        reflection = non_receiver_reflection(g, v);
     }
     imageStore(o_reflection, pixel, vec4(reflection, 1.0));
 }

@@ -1,0 +1,267 @@
+"""A roofline of the frame (issue 13): every pass against what the device can do, in one run.
+
+    python benchmarks/roofline.py [--width 640 --height 360] [--scenes hall spheres_and_boxes]
+                                  [--repeats 5] [--baseline base.json] [--device auto|gpu|cpu] [--quick]
+
+1. The device's peaks, through ssrlab's own EGL context and the frame's texture formats
+   (Renderer.microbenchmark, shaders/tools/microbench.comp): coherent texelFetch rate,
+   dependent (pointer-chasing) texelFetch rate, imageStore rate, streaming read bandwidth, and
+   a trivial copy pass of one RGBA texture of the frame's size (the floor of a full-screen pass).
+2. The frame at two configurations per scene: the thesis's (4 layers, 4 GGX rays, half
+   resolution, stride 4, 250 steps, linear tracing) and one layer of Hi-Z mirror rays, one ray
+   per pixel, reuse radius 1 (the issue's resolve-vs-trace pair).
+   Per pass: median GPU time (min-max) of `repeats` renders after a warm-up (timings never
+   include compilation or first use), its counted work (fetches, bytes read and written: the
+   tracers' depth fetches are counted by the shaders, the rest derived from the dispatch sizes,
+   the formats and the ray-list counters; the model is `work_of` below), the achieved rate and
+   its share of the matching peak (coherent fetches; dependent fetches for the tracers).
+3. The issue's ratios: composite / copy pass, resolve / Hi-Z trace (hall, 1 ray, radius 1),
+   the Hi-Z trace's share of the dependent-fetch rate (copy and dependent kernels at the frame's
+   size, run between the frames so that both sides of a ratio see the same load), and the thesis-configuration frame
+   against a recorded baseline (--baseline: a JSON {"<scene>": total_ms} or the output of an
+   earlier run's --json), or, better, measured in the same run against another shader tree
+   (--baseline-shaders DIR, e.g. `git archive main shaders | tar -x -C /tmp/main`: the frames of
+   both renderers interleaved, with the thesis error between their images).
+4. A render call's CPU overhead: wall time of render() plus reading frame.color against the GPU
+   total, and the readback alone.
+
+Timings on llvmpipe are CPU time on shared cores: compare ratios from one run, never absolute
+figures across runs. The same command runs on a GPU (--device gpu).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from common import benchmark_arguments, open_renderer  # noqa: E402
+
+THESIS = dict(layers=4, rays_per_pixel=4, stride=4.0, downscale=2, max_steps=250)
+# The issue's resolve-vs-trace pair: one layer, Hi-Z mirror rays, 1 ray, reuse radius 1.
+HIZ_MIRROR = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, reuse_radius=1)
+
+# name: (kernel, operations per texel, bytes read per operation, bytes written per operation)
+PEAKS = {
+    "coherent": ("coherent", 64, 8, 0),     # RG32F texelFetch, addresses known up front
+    "dependent": ("dependent", 64, 8, 0),   # RG32F texelFetch, address from the previous one
+    "store": ("store", 8, 0, 8),            # RGBA16F imageStore
+    "bandwidth": ("bandwidth", 8, 16, 0),   # RGBA32F texelFetch, each texel once
+}
+
+
+def spread(values):
+    return statistics.median(values), min(values), max(values)
+
+
+def measure_peaks(renderer, width, height, frame_width, frame_height, repeats):
+    """Operations (and bytes) per second of each micro-kernel; the copy pass at the frame's size."""
+    out = {}
+    for name, (kernel, its, rd, wr) in PEAKS.items():
+        ms = renderer.microbenchmark(kernel, width, height, its, repeats)
+        med, lo, hi = spread(ms)
+        ops = width * height * its
+        out[name] = dict(ms=med, lo=lo, hi=hi, ops=ops, rate=ops / (med * 1e-3), bytes_rate=ops * (rd + wr) / (med * 1e-3))
+    ms = renderer.microbenchmark("copy", frame_width, frame_height, 1, repeats)
+    med, lo, hi = spread(ms)
+    px = frame_width * frame_height
+    out["copy"] = dict(ms=med, lo=lo, hi=hi, ops=px, rate=px / (med * 1e-3), bytes_rate=px * 24 / (med * 1e-3))
+    return out
+
+
+def work_of(pass_name, s, stats):
+    """Counted work of one pass: (fetches, bytes read, bytes written, peak it is bound by), or None
+    for the rasterising passes (shadow_map, depth_peel), which the compute roofline does not model.
+    Derived from the dispatch sizes, the formats (RGBA16F 8 B, RGBA32F 16 B, R32F 4 B, RG32F 8 B,
+    RGBA8/SRGB8_A8 4 B) and the shaders' own counters in frame.stats."""
+    px = s.width * s.height
+    layers_lit = stats.get("layers_lit", s.layers)
+    tw, th = (s.width + s.downscale - 1) // s.downscale, (s.height + s.downscale - 1) // s.downscale
+    trace_px = tw * th
+    rays = stats.get("rays_traced", trace_px * s.rays_per_pixel)
+    if pass_name == "lighting":
+        taps = (2 * s.shadow_pcf_radius + 1) ** 2
+        f = px * layers_lit * (4 + taps)
+        return f, px * layers_lit * (4 + 4 + 8 + 4 + taps * 4), px * layers_lit * (8 + 4), "coherent"
+    if pass_name == "classify":
+        return trace_px * 4, trace_px * 20, rays * 4, "coherent"
+    if pass_name == "hiz_build":
+        f = int(px * s.layers * 4 / 3)
+        return f, f * 8, int(px * s.layers / 3) * 8, "coherent"
+    if pass_name in ("trace_hiz", "trace_linear"):
+        f = stats.get("depth_fetches", 0)
+        texel = 8 if pass_name == "trace_hiz" else 4
+        return f, f * texel + rays * 16, rays * 24, "dependent"
+    if pass_name == "resolve":
+        # Every pixel: its normal, material and depth (3). Own-rays-only path (full resolution,
+        # radius 0 or mirror rays with BRDF weights): each traced pixel's sample flag and its rays'
+        # hit, sample, direction, lit colour and hit depth (1 + 5 per ray). Tiled path: an upper
+        # bound, as if every group held a receiver: per tile entry its origin (3) and 5 per ray.
+        own = s.downscale == 1 and (s.reuse_radius == 0 or (s.sampling == "mirror" and s.reuse_weighting == "brdf"))
+        if own:
+            f = px * 3 + stats.get("pixels_traced", px) * (1 + 5 * s.rays_per_pixel)
+        else:
+            group, radius = 16, s.reuse_radius
+            tile = ((group // s.downscale) + 2 * radius + 1) ** 2
+            f = int(px * (3 + tile / group ** 2 * (3 + 5 * s.rays_per_pixel)))
+        return f, f * 8, px * 8, "coherent"
+    if pass_name == "composite":
+        return px * 3, px * (4 + 8 + 8), px * 16, "coherent"
+    return None
+
+
+def run_config(renderer, scene, settings, repeats):
+    """Median, min, max GPU ms per pass (top-level keys) of `repeats` renders after warm-ups, the
+    last frame's stats, and the CPU side of a render call."""
+    for _ in range(2):
+        renderer.render(scene, settings=settings).color
+    runs, walls, reads, peaks = [], [], [], {"copy": [], "dependent": []}
+    frame = None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        frame = renderer.render(scene, settings=settings)
+        t1 = time.perf_counter()
+        frame.color
+        t2 = time.perf_counter()
+        runs.append(frame.timings)
+        walls.append((t2 - t0) * 1e3)
+        reads.append((t2 - t1) * 1e3)
+        # The peaks the ratios use, between the frames: on a shared machine (llvmpipe on busy
+        # cores) the load changes within seconds, so a ratio takes both sides at the same moments.
+        peaks["copy"] += renderer.microbenchmark("copy", settings.width, settings.height, 1, 1)
+        peaks["dependent"] += renderer.microbenchmark("dependent", settings.width, settings.height, 64, 1)
+    keys = [k for k in runs[0] if "." not in k]
+    return ({k: spread([r[k] for r in runs]) for k in keys}, frame.stats,
+            dict(wall=spread(walls), readback=spread(reads), copy=spread(peaks["copy"]),
+                 dependent=spread(peaks["dependent"])))
+
+
+def fmt_rate(x):
+    for unit, div in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
+        if x >= div:
+            return f"{x / div:.2f} {unit}"
+    return f"{x:.0f} "
+
+
+def main(argv=None) -> int:
+    ap = benchmark_arguments(__doc__, repeats=5)
+    ap.set_defaults(scenes=["hall", "spheres_and_boxes"])
+    ap.add_argument("--micro-width", type=int, default=1280, help="grid of the peak kernels")
+    ap.add_argument("--micro-height", type=int, default=720)
+    ap.add_argument("--baseline", help="JSON {scene: thesis-config frame total ms} recorded before a change")
+    ap.add_argument("--baseline-shaders", help="shader folder of the code before a change: thesis-config frames "
+                    "of both, interleaved in this run, and the thesis error between their images")
+    ap.add_argument("--json", help="write every figure to this JSON file")
+    ap.add_argument("--quick", action="store_true", help="tiny sizes, 2 repeats: a smoke run, not figures")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.width, args.height, args.micro_width, args.micro_height, args.repeats = 96, 64, 64, 64, 2
+        args.scenes = args.scenes[:1]
+
+    import ssrlab
+
+    renderer = open_renderer(args)
+    print(f"frame {args.width}x{args.height}, peaks at {args.micro_width}x{args.micro_height}, "
+          f"medians (min-max) of {args.repeats} after warm-up")
+    peaks = measure_peaks(renderer, args.micro_width, args.micro_height,
+                          args.width, args.height, args.repeats)
+    print("\n| peak | ms (min-max) | rate /s | bytes /s |\n|---|---|---|---|")
+    for name, p in peaks.items():
+        print(f"| {name} | {p['ms']:.2f} ({p['lo']:.2f}-{p['hi']:.2f}) | {fmt_rate(p['rate'])} | "
+              f"{fmt_rate(p['bytes_rate'])}B |")
+
+    result = {"device": renderer.info["renderer"], "peaks": peaks, "configs": {}, "ratios": {}}
+    configs = {"thesis": THESIS, "hiz_mirror": HIZ_MIRROR}
+    for scene_name in args.scenes:
+        scene = getattr(ssrlab.scenes, scene_name)()
+        for cname, kw in configs.items():
+            s = ssrlab.Settings(width=args.width, height=args.height, **kw)
+            times, stats, cpu = run_config(renderer, scene, s, args.repeats)
+            rows = {}
+            print(f"\n{scene_name} {cname} ({', '.join(f'{k}={v}' for k, v in kw.items())})")
+            print("| pass | ms (min-max) | fetches | read B | written B | rate /s | share of peak |")
+            print("|---|---|---|---|---|---|---|")
+            for name, (med, lo, hi) in times.items():
+                w = work_of(name, s, stats)
+                row = dict(ms=med, lo=lo, hi=hi)
+                if w is None or name == "total" or med <= 0:
+                    print(f"| {name} | {med:.2f} ({lo:.2f}-{hi:.2f}) | | | | | |")
+                else:
+                    f, rd, wr, bound = w
+                    rate = f / (med * 1e-3)
+                    share = rate / peaks[bound]["rate"]
+                    row.update(fetches=f, bytes_read=rd, bytes_written=wr, rate=rate, share=share, bound=bound)
+                    print(f"| {name} | {med:.2f} ({lo:.2f}-{hi:.2f}) | {f:,} | {rd:,} | {wr:,} | "
+                          f"{fmt_rate(rate)} | {100 * share:.1f} % of {bound} |")
+                rows[name] = row
+            print(f"render() + frame.color wall {cpu['wall'][0]:.1f} ms against GPU total "
+                  f"{times['total'][0]:.1f} ms (CPU-side overhead {cpu['wall'][0] - times['total'][0]:.1f} ms), "
+                  f"color readback {cpu['readback'][0]:.1f} ms")
+            px = s.width * s.height
+            dep_rate = px * 64 / (cpu["dependent"][0] * 1e-3)
+            print(f"interleaved peaks: copy pass {cpu['copy'][0]:.2f} ms ({cpu['copy'][1]:.2f}-{cpu['copy'][2]:.2f}), "
+                  f"dependent fetches {fmt_rate(dep_rate)}/s")
+            result["configs"][f"{scene_name}/{cname}"] = dict(
+                passes=rows, stats=stats, wall_ms=cpu["wall"][0], readback_ms=cpu["readback"][0],
+                copy_ms=cpu["copy"][0], dependent_rate=dep_rate)
+
+    print("\nratios (issue 13's targets)")
+    ratios = result["ratios"]
+    for key, cfg in result["configs"].items():
+        p = cfg["passes"]
+        if "composite" in p:
+            ratios[f"{key}: composite / copy"] = p["composite"]["ms"] / cfg["copy_ms"]
+        if "trace_hiz" in p and "rate" in p["trace_hiz"]:
+            ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = p["trace_hiz"]["rate"] / cfg["dependent_rate"]
+    for key, cfg in result["configs"].items():
+        p = cfg["passes"]
+        if "trace_hiz" in p and "resolve" in p:
+            ratios[f"{key}: resolve / trace_hiz"] = p["resolve"]["ms"] / p["trace_hiz"]["ms"]
+    if args.baseline:
+        base = json.loads(Path(args.baseline).read_text())
+        for scene_name in args.scenes:
+            b = base.get(scene_name)
+            cur = result["configs"].get(f"{scene_name}/thesis")
+            if b and cur:
+                ratios[f"{scene_name}/thesis: baseline / now (frame speed-up)"] = b / cur["passes"]["total"]["ms"]
+    if args.baseline_shaders:
+        from ssrlab import metrics
+
+        before = ssrlab.Renderer(args.device, shader_dir=args.baseline_shaders)
+        for scene_name in args.scenes:
+            scene = getattr(ssrlab.scenes, scene_name)()
+            s = ssrlab.Settings(width=args.width, height=args.height, **THESIS)
+            for r in (before, renderer):
+                for _ in range(2):
+                    r.render(scene, settings=s)
+            t_before, t_now = [], []
+            for _ in range(args.repeats):
+                fb, fn = before.render(scene, settings=s), renderer.render(scene, settings=s)
+                t_before.append(fb.timings["total"])
+                t_now.append(fn.timings["total"])
+            err = metrics.thesis_error(fn.color, fb.color)
+            diff = float(abs(fn.color - fb.color).sum(axis=-1).max())
+            print(f"{scene_name}/thesis: before {statistics.median(t_before):.1f} ms "
+                  f"({min(t_before):.1f}-{max(t_before):.1f}), now {statistics.median(t_now):.1f} ms "
+                  f"({min(t_now):.1f}-{max(t_now):.1f}), same run; thesis error of the image {err:.2e}, "
+                  f"largest per-pixel error {diff:.2e}")
+            ratios[f"{scene_name}/thesis: before / now, same run (frame speed-up)"] = (
+                statistics.median(t_before) / statistics.median(t_now))
+    targets = {"composite / copy": ("<=", 2.0), "resolve / trace_hiz": ("<=", 0.6),
+               "share of dependent-fetch rate": (">=", 0.25), "speed-up": (">=", 2.0)}
+    for k, v in ratios.items():
+        op, goal = next((t for name, t in targets.items() if name in k), ("", None))
+        met = "" if goal is None else ("met" if (v <= goal if op == "<=" else v >= goal) else "not met")
+        print(f"  {k}: {v:.3g}  (target {op} {goal}: {met})")
+    bad = [k for k, v in ratios.items() if not math.isfinite(v)]
+    if args.json:
+        Path(args.json).write_text(json.dumps(result, indent=1, default=float))
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
