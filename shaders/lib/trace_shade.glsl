@@ -49,6 +49,25 @@ vec3 hit_normal_w(TraceHit h, vec3 toward) {
     return dot(n, toward) >= 0.0 ? n : -n;
 }
 
+// The world-space origin of a reflection ray leaving pixel p's G-buffer surface (view-space
+// point pos, reconstructed from the linear depth), placed as the converged reference places
+// its own: the camera ray through the pixel centre traced against the triangles and, where it
+// meets the G-buffer's object, its hit point moved off the triangle by lib/ray_offset's ulp
+// offset along the geometric normal (Waechter and Binder 2019). Elsewhere (a silhouette the
+// rasteriser and the trace sample differently) SSR's origin: pos + origin_bias along the normal.
+// Why (issue 12): origin_bias lifts the origin by a fraction of its depth (2.5 mm at 5 m for
+// 0.0005), which shifts every edge a reflection ray meets by a fraction of a pixel; on a mirror
+// floor a whole row of pixels along each such edge then sees past it (hall's 60-degree view:
+// 36.0 dB against the converged reference at 640x360, 45 dB with this origin).
+vec3 surface_origin_w(ivec2 p, GSample g, vec3 pos) {
+    vec3 camera_w = frame.inv_view[3].xyz;
+    vec3 pixel_dir_w = normalize(mat3(frame.inv_view) * normalize(view_position(vec2(p) + 0.5, 1.0)));
+    TraceHit primary = trace_closest(camera_w, pixel_dir_w, 0.0, 3.4e38);
+    if (g.covered && primary.triangle >= 0 && floatBitsToInt(bvh_triangles[primary.triangle].v0.w) == g.object_id)
+        return offset_ray_origin(hit_point_w(primary), hit_normal_w(primary, -pixel_dir_w));
+    return (frame.inv_view * vec4(pos + g.normal * (ssr.origin_bias * -pos.z), 1.0)).xyz;
+}
+
 // Traces a world-space ray through the scene and shades what it hits (or the environment).
 // viewer_is_ray: the hit is viewed from the ray's origin (the physical reflection) instead
 // of from the camera (as the lit G-buffer has it).

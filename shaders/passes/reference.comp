@@ -6,7 +6,8 @@
 // resolves wrongly. The reflected surface is seen from the camera by default, as the lit
 // G-buffer has it; u_viewer = 1 views it from the ray's origin instead (the physical
 // reflection, whose view-dependent specular differs). Two modes:
-//   PER_RAY (0):   the rays an SSR frame traced (same origins and directions), one
+//   PER_RAY (0):   the rays an SSR frame traced (same directions; origins on the exact
+//                  surface point, as below and as the BVH passes place them), one
 //                  invocation per (trace pixel, ray): true hit, its position, its radiance.
 //   CONVERGED (1): one invocation per pixel, rays_per_pixel rays drawn from the pixel's BRDF
 //                  (one for a mirror), accumulated over dispatches of u_ray_count rays into
@@ -75,13 +76,15 @@ void main() {
     vec4 smp = texelFetch(u_ray_sample, id, 0);
     vec4 hit = vec4(0.0), position = vec4(0.0), radiance = vec4(0.0, 0.0, 0.0, smp.x);
     if (smp.w > 0.5 && smp.x > 0.0) {
-        // The SSR ray's own origin (as ray_generation.glsl placed it) and direction.
+        // The SSR ray's direction, from the surface point itself (as the converged mode and the
+        // BVH passes place origins: lib/trace_shade.glsl's surface_origin_w), not from SSR's
+        // origin_bias, whose lift is part of SSR's error.
         ivec2 p = min(id.xy * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
         GSample g = pixel_sample(p);
         vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
-        vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
         vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
-        ShadedHit s = trace_and_shade(origin, dir, u_viewer != 0);
+        ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir),
+                                        u_viewer != 0);
         radiance.rgb = s.radiance;
         if (s.hit) {
             vec4 c = frame.proj * vec4(s.position, 1.0);

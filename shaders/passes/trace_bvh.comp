@@ -112,9 +112,10 @@ void main() {
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
     vec4 radiance = vec4(0.0, 0.0, 0.0, -2.0);
 #if FALLBACK && STAGE == 2
-    vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
+    // Retraced from the surface point itself (lib/trace_shade.glsl: surface_origin_w), as the
+    // per-ray and converged references place their origins, not from SSR's biased one.
     vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
-    ShadedHit s = trace_and_shade(origin, dir, false);
+    ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), false);
     radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
 #elif FALLBACK
     vec4 smp = texelFetch(u_ray_sample, id, 0);
@@ -139,7 +140,8 @@ void main() {
     imageStore(o_direction, id, vec4(ray.dir, 0.0));
     if (ray.weight > 0.0) {
         vec3 dir = normalize(imageLoad(o_direction, id).xyz);
-        ShadedHit s = trace_and_shade(ray.origin, dir, false);
+        // From the surface point itself, not ray.origin (SSR's origin_bias): see surface_origin_w.
+        ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), false);
         radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
     }
 #endif
