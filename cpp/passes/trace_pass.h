@@ -2,7 +2,7 @@
 // resolution (the image divided by Settings.downscale), one layer per ray of a pixel:
 //   rays.hit       RGBA32F: hit position (pixels), hit layer (1-based, 0 = miss), fade
 //   rays.sample    RGBA32F: weight, pdf, depth fetches spent, 1 if the pixel traced rays
-//   rays.direction RGBA16F: view-space direction of the ray
+//   rays.direction RGBA32F: view-space direction of the ray
 #pragma once
 
 #include "passes/classify.h"
@@ -24,7 +24,7 @@ public:
         const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
         return {{"rays.hit", GL_RGBA32F, w, h, r, 1},
                 {"rays.sample", GL_RGBA32F, w, h, r, 1},
-                {"rays.direction", GL_RGBA16F, w, h, r, 1}};
+                {"rays.direction", GL_RGBA32F, w, h, r, 1}};
     }
 
 protected:

@@ -70,11 +70,11 @@ ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
 }
 #else
 // The outputs of lib/trace_common.glsl, but with rays.direction readable: the direction is
-// read back as stored (RGBA16F), so that the per-ray reference, which reads rays.direction,
+// read back as stored (RGBA32F), so that the per-ray reference, which reads rays.direction,
 // traces exactly the ray this pass traces (same invocation: the load sees the store).
 layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;
 layout(binding = 1, rgba32f) writeonly uniform image2DArray o_sample;
-layout(binding = 2, rgba16f) uniform image2DArray o_direction;
+layout(binding = 2, rgba32f) uniform image2DArray o_direction;
 layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
 
 ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
