@@ -14,6 +14,19 @@ nbclient = pytest.importorskip("nbclient")
 NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
 
 
+def execute_small(name: str, tmp_path, monkeypatch):
+    """Runs notebooks/<name>.ipynb at reduced size, its figures into tmp_path/figures and its
+    reference cache into tmp_path/cache; returns the executed notebook."""
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_SCALE", "small")
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_OUT", str(tmp_path / "figures"))
+    monkeypatch.setenv("SSRLAB_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(NOTEBOOKS / f"{name}.ipynb", as_version=4)
+    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    return nb
+
+
 @pytest.mark.parametrize("name, figures", [
     ("thesis_layers", ["thesis_layers.png", "thesis_layers_pareto.png"]),
     ("thesis_downscale_rays_stride", ["thesis_downscale_rays_stride.png"]),
@@ -24,13 +37,7 @@ NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
 def test_notebook_runs_at_reduced_size(name, figures, tmp_path, monkeypatch):
     if name == "thesis_layers":
         model_path("Suzanne/Suzanne.gltf")  # the thesis's elephant: skip where the sample models are absent
-    monkeypatch.setenv("SSRLAB_NOTEBOOK_SCALE", "small")
-    monkeypatch.setenv("SSRLAB_NOTEBOOK_OUT", str(tmp_path / "figures"))
-    monkeypatch.setenv("SSRLAB_CACHE", str(tmp_path / "cache"))
-    monkeypatch.setenv("MPLBACKEND", "Agg")
-    nb = nbformat.read(NOTEBOOKS / f"{name}.ipynb", as_version=4)
-    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
-                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    nb = execute_small(name, tmp_path, monkeypatch)
     for fig in figures:
         path = tmp_path / "figures" / fig
         assert path.is_file() and path.stat().st_size > 10_000, fig
@@ -53,12 +60,7 @@ def test_notebook_runs_at_reduced_size(name, figures, tmp_path, monkeypatch):
 
 
 def test_numerical_stability_notebook_runs_at_reduced_size(tmp_path, monkeypatch):
-    monkeypatch.setenv("SSRLAB_NOTEBOOK_SCALE", "small")
-    monkeypatch.setenv("SSRLAB_NOTEBOOK_OUT", str(tmp_path / "figures"))
-    monkeypatch.setenv("MPLBACKEND", "Agg")
-    nb = nbformat.read(NOTEBOOKS / "numerical_stability.ipynb", as_version=4)
-    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
-                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    nb = execute_small("numerical_stability", tmp_path, monkeypatch)
     assert (tmp_path / "figures" / "depth_precision.png").stat().st_size > 10_000
     text = "\n".join(o.get("data", {}).get("text/markdown", "") for c in nb.cells if c.cell_type == "code"
                      for o in c.get("outputs", []))
@@ -74,13 +76,7 @@ def test_hybrid_notebook_runs_at_reduced_size(tmp_path, monkeypatch):
     model_path("Suzanne/Suzanne.gltf")  # the glTF scene: skip where the sample models are absent
     from ssrlab import hybrid
 
-    monkeypatch.setenv("SSRLAB_NOTEBOOK_SCALE", "small")
-    monkeypatch.setenv("SSRLAB_NOTEBOOK_OUT", str(tmp_path / "figures"))
-    monkeypatch.setenv("SSRLAB_CACHE", str(tmp_path / "cache"))
-    monkeypatch.setenv("MPLBACKEND", "Agg")
-    nb = nbformat.read(NOTEBOOKS / "hybrid.ipynb", as_version=4)
-    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
-                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    nb = execute_small("hybrid", tmp_path, monkeypatch)
     assert (tmp_path / "figures" / "hybrid.png").stat().st_size > 10_000
     outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])]
     text = "\n".join(o.get("data", {}).get("text/markdown", "") for o in outputs)
