@@ -97,12 +97,16 @@ layout(binding = 16) uniform sampler2DArray u_ray_radiance;
 
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
-const int TILE_CAPACITY = MAX_TILE * MAX_TILE;
+const int TILE_ENTRIES = MAX_TILE * MAX_TILE;
+// Ray slots: two rays of the widest tile. Issue 13: 32 000 bytes of shared memory in all, within
+// the 32 KiB every OpenGL 4.3 device offers; at full resolution and radius 1, 4 rays now take two
+// chunks instead of four (each chunk pays two barriers, the origins and every neighbour's edge weight).
+const int TILE_CAPACITY = 2 * TILE_ENTRIES;
 
 #if !OWN_RAYS_ONLY
 // Ray data of a chunk of rays of every trace pixel in the tile, entry (ray - chunk start) *
 // entries + tile entry: as many rays as fit in TILE_CAPACITY entries per chunk (issue 13: each
-// chunk costs two barriers, which llvmpipe pays dearly; 4 rays at half resolution fit in one).
+// chunk costs two barriers, which llvmpipe pays dearly; up to 8 rays at half resolution fit in one).
 // Issue 13: a pixel reads 8 floats per reused ray and 4 per neighbour (was 9 and 6): llvmpipe
 // (Mesa 22.3) loads shared memory one lane and one component at a time, so these reads, 36 rays
 // per pixel at the thesis's configuration, cost more than the arithmetic on them.
@@ -112,7 +116,7 @@ shared vec4 s_color[TILE_CAPACITY];     // rgb: radiance the ray brings; a: its 
 // once per tile entry rather than by every pixel that reuses the ray; w: the pdf its direction
 // was sampled with, negated for a miss (a pdf of 0, which is never reweighted, needs no flag).
 shared vec4 s_target[TILE_CAPACITY];
-shared vec4 s_surface[TILE_CAPACITY];   // xyz: the origin's view normal; w: its view z (edge weights)
+shared vec4 s_surface[TILE_ENTRIES];   // xyz: the origin's view normal; w: its view z (edge weights)
 #endif
 shared uint s_any_receiver;
 
