@@ -262,7 +262,7 @@ def main(argv=None) -> int:
     for k, v in ratios.items():
         op, goal = next((t for name, t in targets.items() if name in k), ("", None))
         met = "" if goal is None else ("met" if (v <= goal if op == "<=" else v >= goal) else "not met")
-        print(f"  {k}: {v:.3g}  (target {op} {goal}: {met})")
+        print(f"  {k}: {v:.3g}" + ("" if goal is None else f"  (target {op} {goal}: {met})"))
     bad = [k for k, v in ratios.items() if not math.isfinite(v)]
     if args.json:
         Path(args.json).write_text(json.dumps(result, indent=1, default=float))
