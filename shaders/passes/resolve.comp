@@ -98,7 +98,7 @@ layout(binding = 16) uniform sampler2DArray u_ray_radiance;
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
 const int TILE_ENTRIES = MAX_TILE * MAX_TILE;
-// Ray slots: two rays of the widest tile. Issue 13: 32 000 bytes of shared memory in all, within
+// Ray slots: two rays of the widest tile. Issue 13: 32 004 bytes of shared memory in all, within
 // the 32 KiB every OpenGL 4.3 device offers; at full resolution and radius 1, 4 rays now take two
 // chunks instead of four (each chunk pays two barriers, the origins and every neighbour's edge weight).
 const int TILE_CAPACITY = 2 * TILE_ENTRIES;
