@@ -569,6 +569,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
         Defines d = defines;
         d["REFLECTIONS"] = "1";
         d["PBR_COMPOSITE"] = s.composite == CompositeMode::Pbr ? "1" : "0";  // as CompositePass compiles it
+        d["LIT_CARRIES_R"] = "0";  // reference.direct, not lit
         shaders_->program({"passes/composite.comp"}, d);
     }
     check_gl(*ctx_, "reference set-up");
