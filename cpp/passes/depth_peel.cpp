@@ -110,7 +110,8 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         const GLuint depth_prog = layer > 0 ? depth_peeled : depth_first;
         glUseProgram(depth_prog);
         const GLint loc_depth_object = glGetUniformLocation(depth_prog, "u_object");
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        // No colour attachment drawn at all (a colour mask alone left llvmpipe a colour stage).
+        glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
         glDepthMask(GL_TRUE);
         ctx.depth.apply_gl_state();
         glBeginQuery(GL_SAMPLES_PASSED, queries_[size_t(layer)]);
@@ -124,7 +125,7 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         // depth the last drawn one's colour stays, where the depth test alone kept the first:
         // the draws go in reverse order, so the same object wins (triangles within one draw
         // still go in order).
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glNamedFramebufferDrawBuffers(fbo_.id(), 3, draw_buffers);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
         const auto& draws = ctx.gpu_scene.draws();
