@@ -1,5 +1,8 @@
 #include "passes/depth_peel.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace ssr {
 
 std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const {
@@ -92,6 +95,10 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         queries_.push_back(q);
     }
     used_queries_ = s.layers;
+    const bool scissor_deeper = ctx.gl.info().chosen == "cpu";
+    const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
+    std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));
+    glDisable(GL_SCISSOR_TEST);
     for (int layer = 0; layer < s.layers; ++layer) {
         GpuScope timer(ctx.timer, "depth_peel.layer" + std::to_string(layer));
         if (layer > 0)
@@ -104,6 +111,26 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         if (layer == 0) fbo_.check_complete("depth_peel");
         for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
+        // On the CPU device, layer i > 0 rasterises only the bounding box of layer i-1's covered
+        // tiles (where alone a fragment can be behind it): llvmpipe bins and runs the peel test
+        // for every fragment of every triangle, so a nearly empty deep layer cost as much as the
+        // first. Exact (a scissor, after the clears). Reading the flags waits for layer i-1; a GPU
+        // would stall on that, so it rasterises the whole frame.
+        if (layer > 0 && scissor_deeper) {
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * (4 + size_t(layer - 1) * flags.size())),
+                                    GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());
+            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
+            for (int ty = 0; ty < grid_y; ++ty)
+                for (int tx = 0; tx < grid_x; ++tx)
+                    if (flags[size_t(ty * grid_x + tx)]) {
+                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
+                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
+                    }
+            glEnable(GL_SCISSOR_TEST);
+            if (x1 < 0) glScissor(0, 0, 0, 0);
+            else glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+        }
         // Draw only if the previous layer covered something (its query counted samples).
         if (layer > 0) glBeginConditionalRender(queries_[size_t(layer - 1)], GL_QUERY_WAIT);
         // Depth pass: the samples it counts are the depth-test-passing fragments of the layer.
@@ -146,6 +173,7 @@ void DepthPeelPass::execute(FrameContext& ctx) {
                                      reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
         }
         if (layer > 0) glEndConditionalRender();
+        glDisable(GL_SCISSOR_TEST);
         glDepthMask(GL_TRUE);
         ctx.depth.apply_gl_state();
     }
