@@ -20,6 +20,9 @@ std::vector<ResourceDesc> LightingPass::outputs(const RenderSettings& s) const {
 void LightingPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["SHADOWS"] = shadows_ ? "1" : "0";
+    // Issue 13: the PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
+    // weights instead of two nested loops over a uniform bound.
+    if (shadows_) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
     // Issue 13: with the peeling's covered tiles, one indirect dispatch over the covered 8x8 tiles
     // of every layer; the rest is cleared. llvmpipe runs each SIMD vector through every branch,
     // so an uncovered texel cost as much as a covered one (4 layers of spheres_and_boxes, 59 %

@@ -15,7 +15,11 @@ float shadow_visibility(vec3 p_view, vec3 n_view) {
     vec3 p = p_view + n_view * (frame.shadow.y * frame.shadow.z);  // texel size x offset in texels
     vec3 s = (frame.view_to_shadow * vec4(p, 1.0)).xyz;
     if (any(lessThan(s, vec3(0.0))) || any(greaterThan(s, vec3(1.0)))) return 1.0;
+#ifdef SHADOW_PCF_RADIUS
+    const int r = SHADOW_PCF_RADIUS;  // compiled in (passes/lighting.cpp): the loops unroll
+#else
     int r = int(frame.shadow.w);
+#endif
     vec2 size = vec2(textureSize(u_shadow_map, 0));
     vec2 t = s.xy * size - 0.5;  // texel i's centre is at i + 0.5
     vec2 base = floor(t);
