@@ -28,6 +28,7 @@ void LightingPass::execute(FrameContext& ctx) {
     // so an uncovered texel cost as much as a covered one (4 layers of spheres_and_boxes, 59 %
     // to 2 % covered, cost as much as hall's, 94 % to 37 %).
     const Buffer* tiles = peel_ ? peel_->covered_tiles(ctx.settings) : nullptr;
+    tiles_ = tiles;
     const int tile_count = DepthPeelPass::covered_tiles_per_layer(ctx.settings) * ctx.settings.layers;
     if (tiles) {
         Defines dl = d;
@@ -84,6 +85,13 @@ void LightingPass::execute(FrameContext& ctx) {
         dispatch_2d(ctx.settings.width, ctx.settings.height, shaded, 8, 8);
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+int LightingPass::tiles_shaded() const {
+    if (!tiles_ || !*tiles_) return -1;
+    GLuint header[4] = {0, 0, 0, 0};
+    glGetNamedBufferSubData(tiles_->id(), 0, sizeof(header), header);
+    return int(header[0]);
 }
 
 }  // namespace ssr

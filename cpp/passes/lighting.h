@@ -24,11 +24,15 @@ public:
     void execute(FrameContext& ctx) override;
     // Layers the last run shaded (the rest were cleared as empty).
     int layers_shaded() const { return layers_shaded_; }
+    // 8x8 tiles the last run shaded from the covered-tile list (read back from the GPU), or -1
+    // where it dispatched over whole layers.
+    int tiles_shaded() const;
 
 private:
     bool shadows_;
     int layers_shaded_ = 0;
     DepthPeelPass* peel_;
+    const Buffer* tiles_ = nullptr;  // the covered-tile list the last run used
 };
 
 }  // namespace ssr

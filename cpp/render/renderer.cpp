@@ -422,6 +422,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     if (std::find(chain.begin(), chain.end(), &hiz_build_) != chain.end())
         frame->stats["hiz_layers_built"] = double(hiz_build_.layers_built());
     frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
+    // Issue 13: with skip's counters, the 8x8 tiles the lighting shaded (-1: every texel of its layers).
+    if (s.skip)
+        frame->stats["tiles_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).tiles_shaded());
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
     frame->timings["total"] = total;
