@@ -84,9 +84,12 @@ def work_of(pass_name, s, stats):
     trace_px = tw * th
     rays = stats.get("rays_traced", trace_px * s.rays_per_pixel)
     if pass_name == "lighting":
-        taps = (2 * s.shadow_pcf_radius + 1) ** 2
-        f = px * layers_lit * (4 + taps)
-        return f, px * layers_lit * (4 + 4 + 8 + 4 + taps * 4), px * layers_lit * (8 + 4), "coherent"
+        # Issue 13: (r+1)^2 hardware-compare taps of 4 texels each; only the covered 8x8 tiles
+        # (stats["tiles_lit"]) are shaded, the rest of each layer is cleared (not counted).
+        taps = (s.shadow_pcf_radius + 1) ** 2
+        texels = stats["tiles_lit"] * 64 if stats.get("tiles_lit", -1) >= 0 else px * layers_lit
+        f = texels * (4 + 4 * taps)
+        return f, texels * (4 + 4 + 8 + 4 + taps * 16), texels * (8 + 4), "coherent"
     if pass_name == "classify":
         return trace_px * 4, trace_px * 20, rays * 4, "coherent"
     if pass_name == "hiz_build":
@@ -110,7 +113,8 @@ def work_of(pass_name, s, stats):
             f = int(px * (3 + tile / group ** 2 * (3 + 5 * s.rays_per_pixel)))
         return f, f * 8, px * 8, "coherent"
     if pass_name == "composite":
-        return px * 3, px * (4 + 8 + 8), px * 16, "coherent"
+        # lit (its alpha carries coverage and r, issue 13) and the reflection; RGBA32F out.
+        return px * 2, px * (8 + 8), px * 16, "coherent"
     return None
 
 

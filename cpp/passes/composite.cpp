@@ -10,6 +10,9 @@ void CompositePass::execute(FrameContext& ctx) {
     // Issue 13: the formula is compiled in, not chosen per pixel from the settings block: on
     // llvmpipe the unused pbr branch (its table fetch and material lookups) cost 2.5x the pass.
     d["PBR_COMPOSITE"] = ctx.settings.composite == CompositeMode::Pbr ? "1" : "0";
+    // Issue 13: the lighting pass's lit colour carries coverage and r in its alpha (lighting.h),
+    // which saves the material fetch; another direct light (the reference's) does not.
+    d["LIT_CARRIES_R"] = direct_ == "lit" ? "1" : "0";
     glUseProgram(ctx.shaders.program({"passes/composite.comp"}, d));
     auto& r = ctx.resources;
     glBindTextureUnit(0, r.get(direct_).id());

@@ -1,5 +1,8 @@
 #include "passes/depth_peel.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace ssr {
 
 std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const {
@@ -23,10 +26,30 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     Texture& material = ctx.resources.get("gbuffer.material");
     Texture& previous = ctx.resources.get("depth_peel.previous_depth");
 
-    const GLuint prog = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, ctx.defines);
-    glUseProgram(prog);
-    const GLint loc_object = glGetUniformLocation(prog, "u_object");
-    const GLint loc_layer = glGetUniformLocation(prog, "u_layer");
+    // Issue 13: each layer is drawn twice. The depth pass rasterises the layer's depth with a
+    // shader that only peels (one fetch; nothing for layer 0); the shading pass then evaluates the
+    // material only where the depth test finds the depth the depth pass kept (GL_EQUAL, early
+    // tests). One shader doing both ran the whole material for every fragment the peel discards
+    // or the depth test rejects afterwards: llvmpipe tests depth late in a shader that may discard,
+    // and deeper layers cost as much as layer 0 whatever they cover. Both programs share the
+    // vertex shader, whose `invariant gl_Position` makes the two depths bit-identical.
+    Defines peel_defines = ctx.defines;
+    peel_defines["PEEL_DEPTH_ONLY"] = "1";
+    peel_defines["PEEL_TEST"] = "0";
+    const GLuint depth_first = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+    peel_defines["PEEL_TEST"] = "1";
+    const GLuint depth_peeled = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+    // The shading pass per material kind (bit 0: textures, bit 1: auto reflectivity).
+    GLuint shade[4] = {0, 0, 0, 0};
+    for (const DrawItem& d : ctx.gpu_scene.draws()) {
+        const int kind = ctx.gpu_scene.material_features(d.material);
+        if (shade[kind]) continue;
+        Defines shade_defines = ctx.defines;
+        shade_defines["PEEL_DEPTH_ONLY"] = "0";
+        shade_defines["MATERIAL_TEXTURES"] = kind & 1 ? "1" : "0";
+        shade_defines["MATERIAL_AUTO_R"] = kind & 2 ? "1" : "0";
+        shade[kind] = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, shade_defines);
+    }
 
     if (!fbo_) fbo_ = Framebuffer::create();
     const GLenum draw_buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
@@ -46,6 +69,21 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     } else {
         glDisable(GL_CULL_FACE);
     }
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);  // the clears below obey the write masks
+    // The covered-tile flags the shading pass sets (shaders/lib/covered_tiles.glsl), cleared,
+    // with the header the lighting pass's compaction counts into.
+    const int tiles = covered_tiles_per_layer(s) * s.layers;
+    const size_t tile_bytes = sizeof(GLuint) * (4 + 2 * size_t(tiles));
+    if (tiles_.size() < tile_bytes) tiles_ = Buffer::create(tile_bytes);
+    const GLuint header[4] = {0, 1, 1, 0};
+    tiles_.upload(header, sizeof(header));
+    const GLuint zero_flag = 0;
+    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, sizeof(header), sizeof(GLuint) * size_t(tiles), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero_flag);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoveredTilesBinding, tiles_.id());
+    tiles_layers_ = s.layers;
+    tiles_width_ = s.width;
+    tiles_height_ = s.height;
     ctx.gpu_scene.bind_geometry();
     glBindTextureUnit(3, previous.id());
 
@@ -57,6 +95,10 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         queries_.push_back(q);
     }
     used_queries_ = s.layers;
+    const bool scissor_deeper = ctx.gl.info().chosen == "cpu";
+    const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
+    std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));
+    glDisable(GL_SCISSOR_TEST);
     for (int layer = 0; layer < s.layers; ++layer) {
         GpuScope timer(ctx.timer, "depth_peel.layer" + std::to_string(layer));
         if (layer > 0)
@@ -69,18 +111,71 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         if (layer == 0) fbo_.check_complete("depth_peel");
         for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
-        glUniform1i(loc_layer, layer);
+        // On the CPU device, layer i > 0 rasterises only the bounding box of layer i-1's covered
+        // tiles (where alone a fragment can be behind it): llvmpipe bins and runs the peel test
+        // for every fragment of every triangle, so a nearly empty deep layer cost as much as the
+        // first. Exact (a scissor, after the clears). Reading the flags waits for layer i-1; a GPU
+        // would stall on that, so it rasterises the whole frame.
+        if (layer > 0 && scissor_deeper) {
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * (4 + size_t(layer - 1) * flags.size())),
+                                    GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());
+            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
+            for (int ty = 0; ty < grid_y; ++ty)
+                for (int tx = 0; tx < grid_x; ++tx)
+                    if (flags[size_t(ty * grid_x + tx)]) {
+                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
+                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
+                    }
+            glEnable(GL_SCISSOR_TEST);
+            if (x1 < 0) glScissor(0, 0, 0, 0);
+            else glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+        }
         // Draw only if the previous layer covered something (its query counted samples).
         if (layer > 0) glBeginConditionalRender(queries_[size_t(layer - 1)], GL_QUERY_WAIT);
+        // Depth pass: the samples it counts are the depth-test-passing fragments of the layer.
+        const GLuint depth_prog = layer > 0 ? depth_peeled : depth_first;
+        glUseProgram(depth_prog);
+        const GLint loc_depth_object = glGetUniformLocation(depth_prog, "u_object");
+        // No colour attachment drawn at all (a colour mask alone left llvmpipe a colour stage).
+        glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
+        glDepthMask(GL_TRUE);
+        ctx.depth.apply_gl_state();
         glBeginQuery(GL_SAMPLES_PASSED, queries_[size_t(layer)]);
         for (const DrawItem& d : ctx.gpu_scene.draws()) {
-            glUniform1i(loc_object, d.object);
-            ctx.gpu_scene.bind_material_textures(d.material);
+            glUniform1i(loc_depth_object, d.object);
             glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                                      reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
         }
         glEndQuery(GL_SAMPLES_PASSED);
+        // Shading pass: only fragments at the kept depth. Of objects meeting at exactly equal
+        // depth the last drawn one's colour stays, where the depth test alone kept the first:
+        // the draws go in reverse order, so the same object wins (triangles within one draw
+        // still go in order).
+        glNamedFramebufferDrawBuffers(fbo_.id(), 3, draw_buffers);
+        glDepthMask(GL_FALSE);
+        glDepthFunc(GL_EQUAL);
+        const auto& draws = ctx.gpu_scene.draws();
+        GLuint current = 0;
+        GLint loc_object = -1;
+        for (auto it = draws.rbegin(); it != draws.rend(); ++it) {
+            const DrawItem& d = *it;
+            const int kind = ctx.gpu_scene.material_features(d.material);
+            if (shade[kind] != current) {
+                current = shade[kind];
+                glUseProgram(current);
+                loc_object = glGetUniformLocation(current, "u_object");
+                glUniform1i(glGetUniformLocation(current, "u_layer"), layer);
+            }
+            glUniform1i(loc_object, d.object);
+            if (kind & 1) ctx.gpu_scene.bind_material_textures(d.material);
+            glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
+                                     reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
+        }
         if (layer > 0) glEndConditionalRender();
+        glDisable(GL_SCISSOR_TEST);
+        glDepthMask(GL_TRUE);
+        ctx.depth.apply_gl_state();
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_CULL_FACE);
@@ -88,6 +183,8 @@ void DepthPeelPass::execute(FrameContext& ctx) {
 }
 
 void DepthPeelPass::release() {
+    tiles_.reset();
+    tiles_layers_ = 0;
     if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
     queries_.clear();
     used_queries_ = 0;

@@ -9,6 +9,11 @@
 // nearest surface behind layer i. Back-face culling is off by default, as in the thesis,
 // so back faces populate deeper layers. Each layer is timed as depth_peel.layer<i>.
 //
+// Issue 13: each layer is a depth pass (peel test only) and a shading pass at the kept depth
+// (GL_EQUAL, early fragment tests), so the material runs once per covered pixel; the shading
+// pass also marks the layer's covered 8x8 tiles in a buffer (covered_tiles(),
+// shaders/lib/covered_tiles.glsl) that the lighting pass dispatches over.
+//
 // Beyond the thesis: a layer that covers no pixel means every deeper layer is empty too, so
 // each layer's draws are conditionally rendered on the previous layer's sample count
 // (glBeginConditionalRender): the GPU skips the geometry of empty layers without a CPU
@@ -31,10 +36,21 @@ public:
     std::vector<uint64_t> layer_samples();
     void release();  // deletes the pass's GL objects (in the current context)
 
+    // The covered-tile buffer of the last run (shaders/lib/covered_tiles.glsl), bound as SSBO
+    // kCoveredTilesBinding, or nullptr where the last run had other settings' sizes.
+    static constexpr GLuint kCoveredTilesBinding = 14;
+    static int covered_tiles_per_layer(const RenderSettings& s) { return ((s.width + 7) / 8) * ((s.height + 7) / 8); }
+    const Buffer* covered_tiles(const RenderSettings& s) const {
+        return tiles_ && tiles_layers_ == s.layers && tiles_width_ == s.width && tiles_height_ == s.height ? &tiles_
+                                                                                                             : nullptr;
+    }
+
 private:
     Framebuffer fbo_;
     std::vector<GLuint> queries_;
     int used_queries_ = 0;
+    Buffer tiles_;
+    int tiles_layers_ = 0, tiles_width_ = 0, tiles_height_ = 0;
 };
 
 }  // namespace ssr

@@ -2,7 +2,8 @@
 // ambient term (shaders/lib/shading.glsl), and writes each layer's linear view depth.
 //   inputs : gbuffer.depth, gbuffer.albedo, gbuffer.normal, gbuffer.material, shadow_map
 //            (when shadows are on)
-//   outputs: lit (RGBA16F array: radiance per layer), linear_depth (R32F array: positive
+//   outputs: lit (RGBA16F array: radiance per layer; alpha 0.5 + r / 2 where a surface
+//            covers the texel, r its reflectivity, and 0 where none does), linear_depth (R32F array: positive
 //            view-space depth per layer; the far-plane distance where nothing is covered)
 // With Settings.skip (issue 11) the layers that are empty everywhere (from the peeling's
 // occlusion queries) are cleared to those "nothing here" values instead of shaded.
@@ -23,11 +24,15 @@ public:
     void execute(FrameContext& ctx) override;
     // Layers the last run shaded (the rest were cleared as empty).
     int layers_shaded() const { return layers_shaded_; }
+    // 8x8 tiles the last run shaded from the covered-tile list (read back from the GPU), or -1
+    // where it dispatched over whole layers.
+    int tiles_shaded() const;
 
 private:
     bool shadows_;
     int layers_shaded_ = 0;
     DepthPeelPass* peel_;
+    const Buffer* tiles_ = nullptr;  // the covered-tile list the last run used
 };
 
 }  // namespace ssr

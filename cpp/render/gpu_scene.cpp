@@ -75,6 +75,11 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
         material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
                                       texture_for(scene, m.metallic_roughness_texture, false),
                                       texture_for(scene, m.normal_texture, false)});
+        material_features_.push_back((m.base_color_texture.valid() || m.metallic_roughness_texture.valid() ||
+                                              m.normal_texture.valid()
+                                          ? 1
+                                          : 0) |
+                                     (m.auto_reflectivity() ? 2 : 0));
     }
     materials_ = Buffer::create(mats.size() * sizeof(GpuMaterial), mats.data());
 

@@ -60,6 +60,9 @@ public:
     void bind_material_textures(int material) const;
 
     const std::vector<DrawItem>& draws() const { return draws_; }
+    // What a material's G-buffer shading needs beyond its factors (issue 13: the peeling compiles
+    // a variant per combination): bit 0 (1) it has a texture, bit 1 (2) its reflectivity is "auto".
+    int material_features(int material) const { return material_features_[size_t(material)]; }
     // True when some object's material has reflectivity > 0: without one, no ray is traced.
     bool has_reflective_surfaces() const { return reflective_; }
     // The equirectangular environment map (0 when the environment is not a map).
@@ -79,6 +82,7 @@ private:
     Buffer vertices_, indices_, objects_, materials_;
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
     std::vector<std::array<GLuint, 3>> material_textures_;
+    std::vector<int> material_features_;  // per material: bit 0 any texture, bit 1 auto reflectivity
     Texture white_, flat_normal_, environment_map_;
     Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;
     bool ray_tracing_ready_ = false;

@@ -422,6 +422,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     if (std::find(chain.begin(), chain.end(), &hiz_build_) != chain.end())
         frame->stats["hiz_layers_built"] = double(hiz_build_.layers_built());
     frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
+    // Issue 13: with skip's counters, the 8x8 tiles the lighting shaded (-1: every texel of its layers).
+    if (s.skip)
+        frame->stats["tiles_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).tiles_shaded());
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
     frame->timings["total"] = total;
@@ -569,6 +572,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
         Defines d = defines;
         d["REFLECTIONS"] = "1";
         d["PBR_COMPOSITE"] = s.composite == CompositeMode::Pbr ? "1" : "0";  // as CompositePass compiles it
+        d["LIT_CARRIES_R"] = "0";  // reference.direct, not lit
         shaders_->program({"passes/composite.comp"}, d);
     }
     check_gl(*ctx_, "reference set-up");

@@ -257,6 +257,7 @@ class Frame:
         depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups);
         layers_used (layers holding a surface somewhere: with skip, the Hi-Z build, the trace's
         layer walk, pre-convolution and pre-integration work on these only), layers_lit,
+        with skip tiles_lit (the 8x8 covered tiles the lighting shaded, issue 13; -1: whole layers),
         hiz_layers_built; with Settings.variance_rays, variance_pixels (pixels given extra
         rays), extra_rays and extra_depth_fetches (the second trace's)."""
         return {k: int(v) for k, v in self._native.stats.items()}

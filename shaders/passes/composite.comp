@@ -21,6 +21,9 @@
 #include "../lib/specular_albedo.glsl"
 #endif
 
+#ifndef LIT_CARRIES_R
+#define LIT_CARRIES_R 0  // 1: u_lit is the lighting pass's "lit", whose alpha holds coverage and r
+#endif
 #ifndef PBR_COMPOSITE
 #define PBR_COMPOSITE 0  // 1: c = c_d + k E c_r (Settings.composite "pbr"); set by passes/composite.cpp
 #endif
@@ -42,12 +45,22 @@ layout(binding = 0, rgba32f) writeonly uniform image2D o_color;
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (p.x >= int(frame.viewport.x) || p.y >= int(frame.viewport.y)) return;
-    vec4 material = texelFetch(u_material, ivec3(p, 0), 0);
+    vec4 lit = texelFetch(u_lit, ivec3(p, 0), 0);
+#if LIT_CARRIES_R
+    // Issue 13: coverage and r come with the lit colour (lit.a = 0.5 + r / 2 where covered, 0
+    // where not; passes/lighting.comp), one fetch instead of two. r is the G-buffer's RGBA8
+    // value k / 255, which the half float keeps to 2.5e-4, so rounding to k / 255 recovers it.
+    bool covered = lit.a > 0.25;
+    float r = round((2.0 * lit.a - 1.0) * 255.0) / 255.0;
+#else
+    vec4 m = texelFetch(u_material, ivec3(p, 0), 0);
+    bool covered = m.g > 0.5;
+    float r = m.r;
+#endif
     vec3 c;
-    if (material.g > 0.5) {
-        c = texelFetch(u_lit, ivec3(p, 0), 0).rgb;
+    if (covered) {
+        c = lit.rgb;
 #if REFLECTIONS
-        float r = material.r;
         if (r > 0.0) {
             vec3 reflection = texelFetch(u_reflection, p, 0).rgb;
 #if !PBR_COMPOSITE
@@ -55,7 +68,7 @@ void main() {
 #else
             {
                 GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
-                                           material);
+                                           texelFetch(u_material, ivec3(p, 0), 0));
                 vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
                 float NoV = max(dot(g.normal, normalize(-pos)), 0.0);
                 vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;

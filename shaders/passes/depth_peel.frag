@@ -2,19 +2,55 @@
 // Geometry pass with depth peeling (seed 000, 1.5.1 and 2.2): fragment stage.
 // Layer 0 is the ordinary G-buffer; layer i > 0 keeps only fragments strictly behind
 // layer i-1 at the same pixel (Everitt 2001), and the depth test keeps the nearest of them.
+// Two variants (issue 13, passes/depth_peel.cpp): PEEL_DEPTH_ONLY 1 is the depth pass, which
+// only peels (PEEL_TEST: layer i > 0) and writes the layer's depth; PEEL_DEPTH_ONLY 0 shades
+// the G-buffer afterwards with the depth test EQUAL and early fragment tests, so the material
+// is evaluated once per pixel instead of for every fragment the peel or the depth test rejects
+// after shading (a shader that may discard gets only late depth writes).
+#ifndef PEEL_DEPTH_ONLY
+#define PEEL_DEPTH_ONLY 0
+#endif
+#ifndef PEEL_TEST
+#define PEEL_TEST 0
+#endif
+// Issue 13: the shading pass is compiled per material kind (GpuScene::material_features), as
+// llvmpipe runs the texture samples of a branch no lane takes: MATERIAL_TEXTURES 0 for a
+// material without textures, MATERIAL_AUTO_R 0 for one with an explicit reflectivity.
+#ifndef MATERIAL_TEXTURES
+#define MATERIAL_TEXTURES 1
+#endif
+#ifndef MATERIAL_AUTO_R
+#define MATERIAL_AUTO_R 1
+#endif
+
+// (the shader library includes a file once: includes both variants use come first)
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
+
+#if PEEL_DEPTH_ONLY
+
+layout(binding = 3) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
+
+void main() {
+#if PEEL_TEST
+    float previous = texelFetch(u_previous_layer_depth, ivec2(gl_FragCoord.xy), 0).r;
+    if (!is_farther(gl_FragCoord.z, previous)) discard;
+#endif
+}
+#else
+// Only fragments at the depth the depth pass kept reach the shader.
+layout(early_fragment_tests) in;
 #include "../lib/scene_data.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/normal_mapping.glsl"
 #include "../lib/material.glsl"
 #include "../lib/brdf.glsl"
 #include "../lib/specular_albedo.glsl"
+#include "../lib/covered_tiles.glsl"
 
 layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
 layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
 layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent space
-layout(binding = 3) uniform sampler2D u_previous_layer_depth;        // depth of layer i-1
 layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
 
 uniform int u_object;
@@ -32,15 +68,11 @@ layout(location = 1) out vec4 o_normal_roughness;
 layout(location = 2) out vec4 o_material;
 
 void main() {
-    if (u_layer > 0) {
-        float previous = texelFetch(u_previous_layer_depth, ivec2(gl_FragCoord.xy), 0).r;
-        if (!is_farther(gl_FragCoord.z, previous)) discard;
-    }
-
     MaterialData m = materials[objects[u_object].material.x];
     vec3 n = normalize(fs.view_normal);
-    vec3 t, b;
+    vec3 t = vec3(0.0), b = vec3(0.0);
     bool has_frame = false;
+#if MATERIAL_TEXTURES
     if (m.flags.z != 0) {
         has_frame = tangent_frame_from_vertex(n, fs.view_tangent, t, b) ||
                     tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), dFdx(fs.uv),
@@ -48,6 +80,11 @@ void main() {
     }
     GSample g = material_sample(m, texture(u_base_color_texture, fs.uv), texture(u_metallic_roughness_texture, fs.uv),
                                 texture(u_normal_texture, fs.uv).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
+#else
+    // No texture: material_sample ignores the texel values (its flags are 0).
+    GSample g = material_sample(m, vec4(1.0), vec4(1.0), vec3(0.5, 0.5, 1.0), n, t, b, false, gl_FrontFacing, u_object);
+#endif
+#if MATERIAL_AUTO_R
     if (m.params.z < 0.0) {
         // A material without the thesis's explicit r (glTF files from other tools): it reflects
         // the share of light its GGX lobe does at this view angle, E = F0 A + B.
@@ -55,5 +92,11 @@ void main() {
         vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
         g.reflectivity = specular_reflectivity(specular_f0(g.albedo, g.metallic), ab);
     }
+#endif
     gbuffer_encode(g, o_albedo_metallic, o_normal_roughness, o_material);
+    // This layer's tile holds a surface (every fragment of it stores the same value).
+    ivec2 grid = covered_tile_grid();
+    ivec2 tile = ivec2(gl_FragCoord.xy) / COVERED_TILE_SIZE;
+    covered_tile[(u_layer * grid.y + tile.y) * grid.x + tile.x] = 1u;
 }
+#endif

@@ -9,7 +9,16 @@
 #include "../lib/lights.glsl"
 #include "../lib/shading.glsl"
 
-layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+#include "../lib/covered_tiles.glsl"
+
+#ifndef TILE_LIST
+#define TILE_LIST 0  // 1: the compaction of the covered tiles into the list (passes/lighting.cpp)
+#endif
+#ifndef TILED
+#define TILED 0  // 1: one work group per listed covered tile (an indirect dispatch)
+#endif
+
+uniform int u_tiles;  // layers x tiles per layer: where covered_tile[] holds the list
 
 layout(binding = 0) uniform sampler2DArray u_depth;
 layout(binding = 1) uniform sampler2DArray u_albedo;
@@ -22,8 +31,28 @@ layout(binding = 1, r32f) writeonly uniform image2DArray o_linear_depth;
 
 #include "../lib/shadow_map.glsl"
 
+#if TILE_LIST
+layout(local_size_x = 64) in;
+
 void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= uint(u_tiles) || covered_tile[i] == 0u) return;
+    covered_tile[uint(u_tiles) + atomicAdd(covered_header.x, 1u)] = i;
+}
+#else
+layout(local_size_x = COVERED_TILE_SIZE, local_size_y = COVERED_TILE_SIZE, local_size_z = 1) in;
+
+void main() {
+#if TILED
+    // Issue 13: only covered tiles are dispatched; the rest of every layer was cleared to what an
+    // uncovered texel gets below.
+    ivec2 grid = covered_tile_grid();
+    int entry = int(covered_tile[uint(u_tiles) + gl_WorkGroupID.x]);
+    int layer = entry / (grid.x * grid.y), tile = entry % (grid.x * grid.y);
+    ivec3 p = ivec3(ivec2(tile % grid.x, tile / grid.x) * COVERED_TILE_SIZE + ivec2(gl_LocalInvocationID.xy), layer);
+#else
     ivec3 p = ivec3(gl_GlobalInvocationID);
+#endif
     if (p.x >= int(frame.viewport.x) || p.y >= int(frame.viewport.y)) return;
 
     GSample g = gbuffer_decode(texelFetch(u_albedo, p, 0), texelFetch(u_normal, p, 0), texelFetch(u_material, p, 0));
@@ -36,5 +65,7 @@ void main() {
     imageStore(o_linear_depth, p, vec4(z));
     vec3 pos = view_position(vec2(p.xy) + 0.5, z);
     vec3 radiance = shade_surface(g, pos, normalize(-pos));
-    imageStore(o_lit, p, vec4(radiance, 1.0));
+    // Alpha: coverage and the reflectivity r for the composite (0.5 + r / 2 > 0; 0 where nothing is).
+    imageStore(o_lit, p, vec4(radiance, 0.5 + 0.5 * g.reflectivity));
 }
+#endif
