@@ -4,7 +4,7 @@
 
 namespace ssr {
 
-void CompositePass::execute(FrameContext& ctx) {
+Defines CompositePass::program_defines(const FrameContext& ctx) const {
     Defines d = ctx.defines;
     d["REFLECTIONS"] = reflections_ ? "1" : "0";
     // Issue 13: the formula is compiled in, not chosen per pixel from the settings block: on
@@ -13,7 +13,14 @@ void CompositePass::execute(FrameContext& ctx) {
     // Issue 13: the lighting pass's lit colour carries coverage and r in its alpha (lighting.h),
     // which saves the material fetch; another direct light (the reference's) does not.
     d["LIT_CARRIES_R"] = direct_ == "lit" ? "1" : "0";
-    glUseProgram(ctx.shaders.program({"passes/composite.comp"}, d));
+    // Issue 13: the background's environment type compiled in (lib/environment.glsl's
+    // environment_radiance_view): a run-time choice cost llvmpipe both kinds for every pixel.
+    d["ENVIRONMENT_TYPE"] = std::to_string(int(ctx.scene.environment.type));
+    return d;
+}
+
+void CompositePass::execute(FrameContext& ctx) {
+    glUseProgram(ctx.shaders.program({"passes/composite.comp"}, program_defines(ctx)));
     auto& r = ctx.resources;
     glBindTextureUnit(0, r.get(direct_).id());
     glBindTextureUnit(1, r.get("gbuffer.material").id());

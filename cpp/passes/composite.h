@@ -28,6 +28,8 @@ public:
         return {{output_, GL_RGBA32F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;
+    // The defines its program is compiled with (the reference precompiles it before timing).
+    Defines program_defines(const FrameContext& ctx) const;
 
 private:
     bool reflections_;

@@ -568,13 +568,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     gs.bind_ray_tracing(scene);
     // Compile before timing (timings never include compilation).
     pass.program(fc);
-    {
-        Defines d = defines;
-        d["REFLECTIONS"] = "1";
-        d["PBR_COMPOSITE"] = s.composite == CompositeMode::Pbr ? "1" : "0";  // as CompositePass compiles it
-        d["LIT_CARRIES_R"] = "0";  // reference.direct, not lit
-        shaders_->program({"passes/composite.comp"}, d);
-    }
+    shaders_->program({"passes/composite.comp"}, composite.program_defines(fc));
     check_gl(*ctx_, "reference set-up");
     timer_.begin_frame();
     for (RenderPass* p : chain) {

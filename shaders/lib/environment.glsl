@@ -12,16 +12,24 @@
 layout(binding = 15) uniform sampler2D u_environment_map;  // equirectangular, u = longitude, v = 0 at the zenith
 #endif
 
+#ifndef ENVIRONMENT_TYPE
+#define ENVIRONMENT_TYPE -1  // the scene's type compiled in (0 constant, 1 sky, 2 map); -1: frame.env_params.x
+#endif
+
+// A gradient sky at world-space height y of a unit direction: horizon to zenith above, horizon
+// to ground below, with a soft transition at the horizon.
+vec3 sky_gradient(float y) {
+    y = clamp(y, -1.0, 1.0);
+    return y >= 0.0 ? mix(frame.env_horizon.rgb, frame.env_zenith.rgb, sqrt(y))
+                    : mix(frame.env_horizon.rgb, frame.env_ground.rgb, sqrt(min(-y * 4.0, 1.0)));
+}
+
 // Radiance arriving from world-space direction `dir` (unit length).
 vec3 environment_radiance(vec3 dir) {
     int type = int(frame.env_params.x);
     vec3 c = frame.env_color.rgb;
     if (type == 1) {
-        // A gradient sky: horizon to zenith above, horizon to ground below, with a soft
-        // transition at the horizon.
-        float y = clamp(dir.y, -1.0, 1.0);
-        c = y >= 0.0 ? mix(frame.env_horizon.rgb, frame.env_zenith.rgb, sqrt(y))
-                     : mix(frame.env_horizon.rgb, frame.env_ground.rgb, sqrt(min(-y * 4.0, 1.0)));
+        c = sky_gradient(dir.y);
     }
 #if ENVIRONMENT_MAP
     else if (type == 2) {
@@ -32,4 +40,19 @@ vec3 environment_radiance(vec3 dir) {
     }
 #endif
     return c * frame.env_params.y;
+}
+
+// The same from a view-space direction of any length: the background a camera ray sees. With the
+// type compiled in, the constant needs no direction and the sky only the world-space height of
+// the unit direction (issue 13: on llvmpipe the composite's background, run for covered pixels
+// too, was half the pass).
+vec3 environment_radiance_view(vec3 d_view) {
+#if ENVIRONMENT_TYPE == 0
+    return frame.env_color.rgb * frame.env_params.y;
+#elif ENVIRONMENT_TYPE == 1
+    vec3 world_up_row = vec3(frame.inv_view[0].y, frame.inv_view[1].y, frame.inv_view[2].y);
+    return sky_gradient(dot(world_up_row, d_view) * inversesqrt(dot(d_view, d_view))) * frame.env_params.y;
+#else
+    return environment_radiance(normalize(mat3(frame.inv_view) * d_view));
+#endif
 }

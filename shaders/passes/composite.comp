@@ -79,8 +79,7 @@ void main() {
         }
 #endif
     } else {
-        vec3 dir_view = normalize(view_position(vec2(p) + 0.5, 1.0));
-        c = environment_radiance(normalize(mat3(frame.inv_view) * dir_view));
+        c = environment_radiance_view(view_position(vec2(p) + 0.5, 1.0));
     }
     imageStore(o_color, p, vec4(c, 1.0));
 }
