@@ -29,27 +29,27 @@ const uint RESOLVE_LIST_ROW = 1024u;
 uint resolve_list_pack(ivec2 v) { return uint(v.x) | (uint(v.y) << 16); }
 ivec2 resolve_list_unpack(uint e) { return ivec2(int(e & 0xffffu), int(e >> 16)); }
 
-// Appends `entry`; entry i opens group i / per_group, and a group that starts a row adds the row.
-void resolve_list_append(uint entry, uint per_group) {
-    uint i = atomicAdd(resolve_list.count, 1u);
-    resolve_list.entries[i] = entry;
-    if (i % per_group != 0u) return;
-    uint g = i / per_group;
-    atomicMax(resolve_list.groups_x, min(g + 1u, RESOLVE_LIST_ROW));
-    if (g % RESOLVE_LIST_ROW == 0u) atomicAdd(resolve_list.groups_y, 1u);
+// Reserves `n` consecutive entries (one atomic for several, issue 11) and returns the first;
+// entry i opens group i / per_group, and a group that starts a row adds the row.
+uint resolve_list_reserve(uint n, uint per_group) {
+    uint first = atomicAdd(resolve_list.count, n);
+    for (uint i = first; i < first + n; ++i) {
+        if (i % per_group != 0u) continue;
+        uint g = i / per_group;
+        atomicMax(resolve_list.groups_x, min(g + 1u, RESOLVE_LIST_ROW));
+        if (g % RESOLVE_LIST_ROW == 0u) atomicAdd(resolve_list.groups_y, 1u);
+    }
+    return first;
 }
 
-// The classify pass's part: full-resolution pixel `p` receives rays (is_reflective).
-void resolve_list_add_receiver(ivec2 p, int image_width) {
-#if RESOLVE_LIST_PIXELS
-    resolve_list_append(resolve_list_pack(p), 64u);
-#else
+// The classify pass's part for the tiles: full-resolution pixel `p` receives rays.
+void resolve_list_add_tile_of(ivec2 p, int image_width) {
     ivec2 t = p / 16;
     uint flag = resolve_list.capacity + uint(t.y * ((image_width + 15) / 16) + t.x);
     // A plain read first: after the tile's first receiver, the others leave without an atomic.
     if (resolve_list.entries[flag] != 0u) return;
-    if (atomicExchange(resolve_list.entries[flag], 1u) == 0u) resolve_list_append(resolve_list_pack(t), 1u);
-#endif
+    if (atomicExchange(resolve_list.entries[flag], 1u) == 0u)
+        resolve_list.entries[resolve_list_reserve(1u, 1u)] = resolve_list_pack(t);
 }
 
 // The resolve's part: the index of the entry (pixels) or the group's tile (tiles) it serves.

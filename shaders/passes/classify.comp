@@ -38,6 +38,18 @@
 layout(binding = 3, rgba16f) writeonly uniform image2D o_reflection;
 #endif
 
+// Issue 11: llvmpipe pays a fixed cost per work group (~2 us, measured: an empty 8x8 classify
+// cost 2 ms at 320x180), so the groups are CLASSIFY_GROUP wide.
+#ifndef CLASSIFY_GROUP_X
+#define CLASSIFY_GROUP_X 8
+#define CLASSIFY_GROUP_Y 8
+#endif
+// One invocation per CLASSIFY_BLOCK x CLASSIFY_BLOCK pixels (2 or 4: a bit mask holds the
+// block's list entries, gathers read 2x2): llvmpipe pays a fixed cost per invocation
+// (cpp/passes/classify.cpp).
+#ifndef CLASSIFY_BLOCK
+#define CLASSIFY_BLOCK 4
+#endif
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(binding = 0) uniform sampler2DArray u_linear_depth;
@@ -54,54 +66,98 @@ bool origin_line(int x, int trace_size, int image_size) {
 }
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    const int B = CLASSIFY_BLOCK;
     ivec2 size = ivec2(frame.viewport.xy);
     // The trace pixels examined (those whose origin pixel is in this group), counted once per
     // group rather than by one atomic per pixel on the same counter.
     if (gl_LocalInvocationIndex == 0u) {
-        ivec2 o = ivec2(gl_WorkGroupID.xy) * 8;
+        ivec2 o = ivec2(gl_WorkGroupID.xy) * 8 * B;
         uint nx = 0u, ny = 0u;
-        for (int i = 0; i < 8; ++i) {
+        for (int i = 0; i < 8 * B; ++i) {
             if (origin_line(o.x + i, ssr.trace_width, size.x)) ++nx;
             if (origin_line(o.y + i, ssr.trace_height, size.y)) ++ny;
         }
         if (nx * ny > 0u) atomicAdd(ray_list.classified, nx * ny);
     }
-    if (any(greaterThanEqual(p, size))) return;
-    // The material first: most pixels of most frames leave here (no surface, no reflectivity).
-    vec4 material = texelFetch(u_material, ivec3(p, 0), 0);
-    if (!(material.g > 0.5 && material.r > 0.0)) return;
-    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0), material);
-    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
-    if (!is_reflective(g)) {  // rougher than the cutoff: the environment, no ray
-#if RESOLVE_LISTS
-        imageStore(o_reflection, p, vec4(non_receiver_reflection(g, normalize(-pos)), 1.0));
-        atomicAdd(resolve_list.environment_pixels, 1u);
-#endif
-        return;
+    ivec2 block = ivec2(gl_GlobalInvocationID.xy) * B;
+    if (any(greaterThanEqual(block, size))) return;
+    uint traced = 0u;     // bit i: pixel i of the block joins the ray list
+    uint receivers = 0u;  // bit i: pixel i of the block receives rays (is_reflective)
+    uint environment = 0u;
+    // The reflectivity (material.r; 0 where no surface is) of the block's pixels first, 2x2 per
+    // gather: most blocks of most frames hold no reflective pixel and stop here (issue 11: four
+    // gathers cost llvmpipe half of sixteen texelFetch). A gather at the corner shared by texels
+    // (x, y) .. (x + 1, y + 1) returns their r as (x, y+1), (x+1, y+1), (x+1, y), (x, y).
+    float reflectivity[B * B];
+    vec2 inv_size = 1.0 / vec2(size);
+    bool any_reflective = false;
+    for (int j = 0; j < B; j += 2) {
+        for (int i = 0; i < B; i += 2) {
+            vec4 r = textureGather(u_material, vec3((vec2(block + ivec2(i, j)) + 1.0) * inv_size, 0.0), 0);
+            reflectivity[j * B + i] = r.w;
+            reflectivity[j * B + i + 1] = r.z;
+            reflectivity[(j + 1) * B + i] = r.x;
+            reflectivity[(j + 1) * B + i + 1] = r.y;
+            any_reflective = any_reflective || any(greaterThan(r, vec4(0.0)));
+        }
     }
+    if (!any_reflective) return;
+    for (int i = 0; i < B * B; ++i) {
+        ivec2 p = block + ivec2(i % B, i / B);
+        if (reflectivity[i] <= 0.0 || any(greaterThanEqual(p, size))) continue;
+        vec4 material = texelFetch(u_material, ivec3(p, 0), 0);
+        if (!(material.g > 0.5 && material.r > 0.0)) continue;
+        GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0), material);
+        vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+        if (!is_reflective(g)) {  // rougher than the cutoff: the environment, no ray
 #if RESOLVE_LISTS
-    resolve_list_add_receiver(p, size.x);
+            imageStore(o_reflection, p, vec4(non_receiver_reflection(g, normalize(-pos)), 1.0));
+            ++environment;
 #endif
-    ivec2 q = p / ssr.downscale;
-    if (!origin_line(p.x, ssr.trace_width, size.x) || !origin_line(p.y, ssr.trace_height, size.y)) return;
-    float facing = dot(g.normal, normalize(-pos));
-    if (!(facing > max(1e-4, float(CLASSIFY_FACING)))) return;  // no ray: the cleared zeros
+            continue;
+        }
+        receivers |= 1u << uint(i);
+        if (!origin_line(p.x, ssr.trace_width, size.x) || !origin_line(p.y, ssr.trace_height, size.y)) continue;
+        float facing = dot(g.normal, normalize(-pos));
+        if (!(facing > max(1e-4, float(CLASSIFY_FACING)))) continue;  // no ray: the cleared zeros
+        ivec2 q = p / ssr.downscale;
 #if RAY_LIST_PER_RAY
-    // One entry per ray the pixel traces (adaptive rays); the slots past them get what the
-    // full-screen trace writes for them (weight 0 of a pixel that traces).
-    int n = rays_for_roughness(g.roughness);
-    uint i = atomicAdd(ray_list.count, uint(n));
-    atomicAdd(ray_list.listed_pixels, 1u);
-    for (int k = 0; k < n; ++k) {
-        ray_list.pixels[2u * (i + uint(k))] = pack_pixel(q);
-        ray_list.pixels[2u * (i + uint(k)) + 1u] = uint(k);
-        ray_list_open_group(i + uint(k));
-    }
-    for (int r = n; r < u_rays; ++r) store_ray(ivec3(q, r), generate_ray(g, pos, q, r), true, vec4(0.0), 0.0);
+        // One entry per ray the pixel traces (adaptive rays); the slots past them get what the
+        // full-screen trace writes for them (weight 0 of a pixel that traces).
+        int n = rays_for_roughness(g.roughness);
+        uint first = atomicAdd(ray_list.count, uint(n));
+        atomicAdd(ray_list.listed_pixels, 1u);
+        for (int k = 0; k < n; ++k) {
+            ray_list.pixels[2u * (first + uint(k))] = pack_pixel(q);
+            ray_list.pixels[2u * (first + uint(k)) + 1u] = uint(k);
+            ray_list_open_group(first + uint(k));
+        }
+        for (int r = n; r < u_rays; ++r) store_ray(ivec3(q, r), generate_ray(g, pos, q, r), true, vec4(0.0), 0.0);
 #else
-    uint i = atomicAdd(ray_list.count, 1u);
-    ray_list.pixels[i] = pack_pixel(q);
-    ray_list_open_group(i);
+        traced |= 1u << uint(i);
+#endif
+    }
+#if !RAY_LIST_PER_RAY
+    // The block's ray list entries, consecutive: one atomic.
+    if (traced != 0u) {
+        uint k = atomicAdd(ray_list.count, uint(bitCount(traced)));
+        for (int i = 0; i < B * B; ++i) {
+            if ((traced & (1u << uint(i))) == 0u) continue;
+            ray_list.pixels[k] = pack_pixel((block + ivec2(i % B, i / B)) / ssr.downscale);
+            ray_list_open_group(k++);
+        }
+    }
+#endif
+#if RESOLVE_LISTS
+    if (environment > 0u) atomicAdd(resolve_list.environment_pixels, environment);
+    if (receivers != 0u) {
+#if RESOLVE_LIST_PIXELS
+        uint k = resolve_list_reserve(uint(bitCount(receivers)), 64u);
+        for (int i = 0; i < B * B; ++i)
+            if ((receivers & (1u << uint(i))) != 0u) resolve_list.entries[k++] = resolve_list_pack(block + ivec2(i % B, i / B));
+#else
+        resolve_list_add_tile_of(block, size.x);  // a block lies in one 16x16 tile (B divides 16)
+#endif
+    }
 #endif
 }
