@@ -107,7 +107,9 @@ void main() {
         if (reflectivity[i] <= 0.0 || any(greaterThanEqual(p, size))) continue;
         vec4 material = texelFetch(u_material, ivec3(p, 0), 0);
         if (!(material.g > 0.5 && material.r > 0.0)) continue;
-        GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0), material);
+        // No albedo: nothing here reads it (the ray's direction and weight depend on the normal
+        // and roughness only), and llvmpipe's sRGB fetch is dear.
+        GSample g = gbuffer_decode(vec4(0.0), texelFetch(u_normal, ivec3(p, 0), 0), material);
         vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
         if (!is_reflective(g)) {  // rougher than the cutoff: the environment, no ray
 #if RESOLVE_LISTS
