@@ -12,11 +12,15 @@ spread (min-max of the repeats). 0 % keeps one mirror strip off-screen, so the s
 reflective surface and the reflection passes still run. Then, for a view whose depth complexity is
 2, depth peeling with 2 and 16 layers allowed (later layers are skipped on the GPU by conditional
 rendering): depth_peel, lighting, hiz_build, trace and frame totals, with skip on and off (the
-per-layer passes work on the layers used only with skip on). Last, adaptive rays on a floor of
-strips of mixed roughness (0 to 0.6): error of the reflection (RMSE over the reflective pixels)
-against the converged reference and trace+resolve time, for fixed 8 rays, adaptive rays (at most
-8), adaptive rays with the variance-guided second pass, and fixed 2 and 4 rays; also the error
-against the same tracer with 32 rays (RMSE/SSR32: the noise alone, without screen space's bias).
+per-layer passes work on the layers used only with skip on). Last, adaptive rays' error per time
+(gallery(): a floor of strips of mixed roughness before a checkered wall in view, so that screen
+space's misses stay few and the BVH tracer's error against the converged reference is its noise
+alone): for method "bvh" and "hiz", with and without the resolve's 3x3 reuse, fixed 1-16 rays
+against adaptive rays (at most 8, 16; with variance-guided rays for Hi-Z), each row over several
+seeds: RMSE against the converged reference, trace and trace+resolve time, MSE x ms, RMSE per
+roughness class, verdicts at equal time (only where the spreads do not overlap), the best
+roughness -> rays map the fixed rows' per-class errors allow, and a paired bias check of the
+adaptive and fixed frames' means.
 The ratios the issue asks for (skip on: 10 % reflective <= 20 % of 100 %, 0 % <= 5 % of 100 %)
 are printed after each sweep, for the trace alone and for trace + resolve.
 
@@ -132,45 +136,256 @@ def peel_section(r, args):
     print()
 
 
+ADAPTIVE_ROUGHNESS = (0.0, 0.1, 0.2, 0.4, 0.6)
+# The floor's roughness mixes (the strips cycle through them): "graded", every step from mirror
+# to 0.6; "mirrors", two mirror strips for one of roughness 0.5 (a polished floor among glossy
+# ones: most reflective pixels need one ray).
+ADAPTIVE_MIXES = {"graded": ADAPTIVE_ROUGHNESS, "mirrors": (0.0, 0.0, 0.5)}
+
+
+def gallery(roughness=ADAPTIVE_ROUGHNESS, strips: int = 20, wall: str = "checker") -> Scene:
+    """A mixed-roughness floor in front of a checkered wall that stands in view: the adaptive
+    section's scene. The floor's strips (1 unit wide, running away from the camera) cycle through
+    `roughness`; the wall (matte tiles, bright and dark, so that a glossy lobe averages contrast
+    and the ray count shows in the noise) is narrower than the view and lower than its top edge,
+    and nothing else is in the scene, so what a floor ray does not hit on the wall's visible face
+    is the environment, which a screen-space miss returns too: screen space's bias stays small
+    and the error against the converged reference is mostly the rays' noise. wall="smooth": the
+    same wall with its colour varying slowly across it instead (low-frequency content: a narrow
+    lobe sees nearly one colour, a wide one a range of them)."""
+    if wall not in ("checker", "smooth"):
+        raise ValueError(f"gallery: wall must be 'checker' or 'smooth', got {wall!r}")
+    s = Scene()
+    s.name = "adaptive_gallery"
+    half = strips / 2
+    for i in range(strips):
+        x0 = -half + i
+        p = np.float32([(x0, 0, 5), (x0 + 1, 0, 5), (x0 + 1, 0, -8), (x0, 0, -8)])
+        s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name=f"strip{i}",
+                   normals=np.tile(np.float32([0, 1, 0]), (4, 1)),
+                   material=Material(base_color=(0.9, 0.9, 0.9), roughness=roughness[i % len(roughness)],
+                                     metallic=1.0, reflectivity=1.0))
+    bright = [Material(base_color=c, roughness=0.9, reflectivity=0.0)
+              for c in ((0.95, 0.85, 0.6), (0.6, 0.85, 0.95), (0.95, 0.6, 0.6))]
+    dark = Material(base_color=(0.04, 0.04, 0.05), roughness=0.9, reflectivity=0.0)
+    tile = 0.75
+    for j in range(6):
+        for i in range(16):
+            x0, y0 = -6 + i * tile, j * tile
+            p = np.float32([(x0, y0, -8), (x0 + tile, y0, -8), (x0 + tile, y0 + tile, -8), (x0, y0 + tile, -8)])
+            if wall == "checker":
+                m = bright[(i // 2 + j) % 3] if (i + j) % 2 == 0 else dark
+            else:  # a slow ramp over the wall: neighbouring tiles differ by a few percent
+                u, v = i / 15, j / 5
+                m = Material(base_color=(0.2 + 0.7 * u, 0.3 + 0.4 * v, 0.9 - 0.6 * u), roughness=0.9, reflectivity=0.0)
+            s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name=f"tile{j}_{i}",
+                       normals=np.tile(np.float32([0, 0, 1]), (4, 1)), material=m)
+    s.add_light(directional_light((0.2, -0.6, -1.0), intensity=3.0, cast_shadow=False))
+    s.environment = Environment.constant((0.2, 0.25, 0.3))
+    s.camera = Camera(position=(0.0, 1.6, 5.0), target=(0.0, 1.2, -8.0), fov_y=60.0, near=0.1, far=60.0)
+    return s
+
+
+def adaptive_rows(method: str):
+    """(label, Settings keywords, fixed ray count or None) of the adaptive section."""
+    rows = [(f"fixed {n}", dict(rays_per_pixel=n), n) for n in (1, 2, 4, 8, 16)]
+    rows += [("adaptive <= 8", dict(rays_per_pixel=8, adaptive_rays=True), None),
+             ("adaptive <= 16", dict(rays_per_pixel=16, adaptive_rays=True), None)]
+    if method == "bvh":  # what the compacted list gives: the same rays, one invocation per ray slot
+        rows.append(("adaptive <= 8, skip off", dict(rays_per_pixel=8, adaptive_rays=True, skip=False), None))
+    else:  # variance_rays: the screen-space tracers only
+        rows += [("adaptive <= 8 + variance", dict(rays_per_pixel=8, adaptive_rays=True, variance_rays=True), None),
+                 ("adaptive <= 16 + variance", dict(rays_per_pixel=16, adaptive_rays=True, variance_rays=True), None)]
+    return rows
+
+
+def fixed_error_at(fixed, t):
+    """The fixed-count rows' error at time `t`, interpolated in log-log between the two rows
+    around it ((ms, error) pairs sorted by time); None outside their range (no extrapolation)."""
+    for (t0, e0), (t1, e1) in zip(fixed, fixed[1:]):
+        if t0 <= t <= t1 and t1 > t0:
+            f = (np.log(t) - np.log(t0)) / (np.log(t1) - np.log(t0))
+            return float(np.exp(np.log(e0) + f * (np.log(e1) - np.log(e0))))
+    return None
+
+
 def adaptive_section(r, args):
+    """Adaptive rays' error per time against fixed ray counts, on gallery(): per method, every row
+    rendered with seeds 1..n, each frame timed and its error measured."""
+    for wall in args.adaptive_walls:
+        for mix in args.adaptive_mixes:
+            adaptive_scene(r, args, wall, ADAPTIVE_MIXES[mix])
+
+
+def adaptive_scene(r, args, wall, roughness):
     from ssrlab.metrics import rmse
 
-    print("adaptive rays on a floor of strips of roughness 0, 0.1, 0.2, 0.4, 0.6 (all reflective), method=hiz: "
-          "reflection RMSE over the reflective pixels against the converged reference "
-          f"({args.reference_rays} rays per pixel) and trace+resolve GPU ms")
-    scene = strip_floor(1.0, [0.0, 0.1, 0.2, 0.4, 0.6])
-    base = dict(width=args.width, height=args.height, method="hiz", sampling="vndf", layers=2, roughness_cutoff=1.0)
+    scene = gallery(roughness, wall=wall)
+    values = sorted(set(roughness))  # the roughness classes
+    n = max(args.repeats, args.error_seeds)
+    print(f"adaptive rays on a mixed-roughness floor (strips of roughness {', '.join(map(str, roughness))}, "
+          f"cycled) in front of a {wall} wall in view; {n} frames per row (seeds 1..{n}) in two rounds over the rows")
     truth = None
-    rows = [("fixed 8 rays", dict(rays_per_pixel=8)),
-            ("adaptive, max 8", dict(rays_per_pixel=8, adaptive_rays=True)),
-            ("adaptive + variance 0.25", dict(rays_per_pixel=8, adaptive_rays=True, variance_rays=True)),
-            ("adaptive + variance 0.1", dict(rays_per_pixel=8, adaptive_rays=True, variance_rays=True,
-                                             variance_threshold=0.1)),
-            ("fixed 4 rays", dict(rays_per_pixel=4)),
-            ("fixed 2 rays", dict(rays_per_pixel=2))]
-    # The noise alone: the same tracer's image with 32 fixed rays per pixel (its screen-space bias,
-    # the same for every row, is left out), as an SSR-converged image.
-    ssr_truth = r.render(scene, settings=ssrlab.Settings(**base, rays_per_pixel=32)).reflection
-    print(f"  {'rays':>26} {'rays traced':>11} {'extra':>6} {'RMSE':>8} {'RMSE/SSR32':>10} "
-          f"{'trace ms':>24} {'trace+resolve ms':>24} {'RMSE x ms':>10}")
-    for label, kw in rows:
-        s = ssrlab.Settings(**base, **kw)
-        mt, lot, hit, _ = timed(r, scene, s, trace_keys("hiz"), args.repeats)
-        m, lo, hi, f = timed(r, scene, s, trace_keys("hiz") + ("resolve",), args.repeats)
+    for method, reuse in [(m, k) for m in args.adaptive_methods for k in args.adaptive_reuse]:
+        # reuse_radius 1 (the default: each pixel also averages its 3x3 neighbours' rays, BRDF-
+        # weighted, so a rough pixel already gathers many rays) and 0 (each pixel its own rays).
+        base = dict(width=args.width, height=args.height, method=method, sampling="vndf", layers=1,
+                    roughness_cutoff=1.0, reuse_radius=reuse)
+        rows = adaptive_rows(method)
+        trace = ("trace_bvh",) if method == "bvh" else trace_keys(method)
+        settings = [ssrlab.Settings(**base, **kw) for _, kw, _ in rows]
+        f = None
+        for s in settings:  # warm-up: shader variants
+            f = r.render(scene, settings=s)
         if truth is None:
-            truth = f.reference(kind="converged", rays=args.reference_rays)
-        mask = truth.reflective
-        # Error over several seeds: one frame's noise is itself noisy.
-        errors, noise = [], []
-        for seed in range(args.error_seeds):
-            g = r.render(scene, settings=s.replace(seed=seed + 1))
-            errors.append(rmse(g.reflection, truth.reflection, mask))
-            noise.append(rmse(g.reflection, ssr_truth, mask))
-        err, nse = statistics.mean(errors), statistics.mean(noise)
-        st = f.stats
-        print(f"  {label:>26} {st.get('rays_traced', 0):>11} {st.get('extra_rays', 0):>6} {err:>8.4f} {nse:>10.4f} "
-              f"{fmt(mt, lot, hit):>24} {fmt(m, lo, hi):>24} {err * m:>10.3f}")
-    print()
+            # The converged reference as the lit G-buffer sees the hit surfaces (viewer "camera",
+            # the frame's shadow map: what the BVH tracer shades), so the BVH tracer's error is
+            # its noise alone. Two references of different seeds: their mean is the truth and
+            # their difference measures what noise the truth itself keeps.
+            refs = []
+            for k in (1, 2):  # read each before the next overwrites the frame's reference textures
+                ref = f.reference(kind="converged", rays=args.reference_rays, seed=k, viewer="camera", shadows="map")
+                refs.append((np.array(ref.reflection), np.array(ref.reflective)))
+            mask = refs[0][1]
+            truth = 0.5 * (refs[0][0] + refs[1][0])
+            truth_mse = rmse(refs[0][0], refs[1][0], mask) ** 2 / 4
+            print(f"  converged reference: mean of 2 x {args.reference_rays} rays per pixel, its own noise "
+                  f"RMSE {np.sqrt(truth_mse):.5f} (subtracted from the MSE below); {int(mask.sum())} reflective px")
+        times = {label: ([], []) for label, _, _ in rows}
+        errors = {label: [] for label, _, _ in rows}
+        images = {label: [] for label, _, _ in rows}
+        rays = {}
+        classes = None  # per roughness of the floor: its pixels among the reflective ones
+        class_rays = {}  # per row, the rays drawn in each class
+        # Two rounds over the rows, each a block of frames of one row after one warm-up frame
+        # (a block reuses its textures; a row switch reallocates them), so that the machine's
+        # load drifts over every row alike.
+        blocks = [range(1, n // 2 + 1), range(n // 2 + 1, n + 1)]
+        for block in blocks:
+            for (label, _, _), s in zip(rows, settings):
+                r.render(scene, settings=s)
+                for seed in block:
+                    f = r.render(scene, settings=s.replace(seed=seed))
+                    times[label][0].append(sum(f.timings.get(k, 0.0) for k in trace))
+                    times[label][1].append(sum(f.timings.get(k, 0.0) for k in trace + ("resolve",)))
+                    img = f.reflection
+                    errors[label].append(rmse(img, truth, mask))
+                    images[label].append(img[mask])
+                    if seed == 1:  # the rays drawn (weight > 0): method "bvh" has no trace counter
+                        drawn = (f.read("rays.sample")[..., 0] > 0).sum(axis=0)
+                        rays[label] = int(drawn.sum())
+                        if classes is None:
+                            rough = f.gbuffer.roughness[0]
+                            classes = [np.abs(rough[mask] - v) < 0.02 for v in values]
+                        class_rays[label] = [int(drawn[mask][c].sum()) for c in classes]
+        print(f"method={method}, reuse_radius={reuse}, {args.width}x{args.height}, 1 layer; "
+              f"GPU ms median (min-max) of {n} frames; "
+              "RMSE of the reflection over the reflective pixels, mean (min-max) of the frames; "
+              "MSE x ms: (MSE - the reference's) x trace+resolve ms, the inverse of Monte Carlo efficiency, "
+              "constant over ray counts for an unbiased estimator whose time follows its rays")
+        print(f"  {'rays':>26} {'rays traced':>11} {'RMSE':>26} {'trace ms':>22} {'trace+resolve ms':>22} "
+              f"{'MSE x ms':>9} {'ns/ray':>6} | RMSE at roughness " + " ".join(f"{v:>6}" for v in values))
+        summary = {}
+        for label, _, count in rows:
+            e = errors[label]
+            mt, mtr = statistics.median(times[label][0]), statistics.median(times[label][1])
+            mse = max(statistics.mean(x * x for x in e) - truth_mse, 0.0)
+            summary[label] = (count, times[label], e)
+            print(f"  {label:>26} {rays[label]:>11} {statistics.mean(e):>8.5f} ({min(e):.5f}-{max(e):.5f}) "
+                  f"{fmt(mt, min(times[label][0]), max(times[label][0])):>22} "
+                  f"{fmt(mtr, min(times[label][1]), max(times[label][1])):>22} {1e3 * mse * mtr:>9.4f} "
+                  f"{1e6 * mt / max(rays[label], 1):>6.0f} | {'':>17} " +
+                  " ".join(f"{np.sqrt(np.mean([np.mean((im[c] - truth[mask][c]) ** 2) for im in images[label]])):>6.4f}"
+                           for c in classes))
+        adaptive_verdicts(summary, n)
+        best_allocation(rows, images, truth[mask], classes, values, rays, class_rays)
+        # Unbiased? The n-frame means of adaptive and fixed rays differ by their noise alone if
+        # the resolve's weights keep adaptive rays unbiased. A seed's adaptive rays are the first
+        # rays of the same seed's fixed frame, so the two frames' noise is correlated: the test
+        # is paired, on the per-frame difference d = adaptive - fixed. Its mean's square over
+        # its variance / n, per pixel, averages ~1 if the two have the same expectation.
+        for fixed, adaptive in (("fixed 8", "adaptive <= 8"), ("fixed 16", "adaptive <= 16")):
+            a, b = np.stack(images[adaptive]), np.stack(images[fixed])
+            d = a - b
+            diff = np.mean(d.mean(0) ** 2)
+            expected = np.mean(d.var(0, ddof=1) / n)
+            ea = float(np.sqrt(np.mean((a.mean(0) - truth[mask]) ** 2)))
+            eb = float(np.sqrt(np.mean((b.mean(0) - truth[mask]) ** 2)))
+            ratio = diff / expected
+            verdict = ("agree within their noise (unbiased)" if ratio < 1.25 else
+                       "differ beyond their noise: adaptive rays are biased here" if ratio > 2.0 else "undecided")
+            print(f"  bias check, mean of {n} frames: {adaptive} RMSE {ea:.5f}, {fixed} {eb:.5f}; "
+                  f"mean squared difference of the means / its expectation from noise = {ratio:.2f}: {verdict}")
+        print()
+
+
+def best_allocation(rows, images, truth, classes, values, rays, class_rays):
+    """What a roughness -> rays rule could give at best, in rays (not time): from the fixed rows'
+    error per roughness class, the map (one of the fixed counts per class) with the lowest error
+    for each adaptive row's rays, against the fixed rows' error at those rays (log-log). An
+    emulation: it composes the classes of different frames (a strip's edge reuses its
+    neighbour strip's rays at that strip's own count)."""
+    import itertools
+
+    counts = [c for _, _, c in rows if c is not None]
+    share = np.array([c.mean() for c in classes])
+    mse = {c: np.array([np.mean([np.mean((im[k] - truth[k]) ** 2) for im in images[f"fixed {c}"]]) for k in classes])
+           for c in counts}
+    px = sum(c.sum() for c in classes)
+    fixed_curve = sorted((rays[f"fixed {c}"], float(np.sqrt(share @ mse[c]))) for c in counts)
+    for label, kw, c in rows:
+        if c is not None or kw.get("variance_rays") or kw.get("skip") is False:
+            continue
+        budget = rays[label] / px  # rays per reflective pixel
+        best = None
+        for combo in itertools.product(counts, repeat=len(classes)):
+            # The rays this map draws: each class's rays as the fixed row of its count drew them
+            # (a few VNDF samples come out invalid, more on rough strips).
+            if sum(class_rays[f"fixed {n}"][k] for k, n in enumerate(combo)) <= rays[label]:
+                e = float(np.sqrt(sum(share[k] * mse[n][k] for k, n in enumerate(combo))))
+                if best is None or e < best[0]:
+                    best = (e, combo)
+        at = fixed_error_at(fixed_curve, rays[label])
+        if best is None or at is None:
+            continue
+        got = float(np.sqrt(np.mean([np.mean((im - truth) ** 2) for im in images[label]])))
+        rule = ", ".join(f"{r:g}: {n}" for r, n in zip(values, best[1]))
+        print(f"  best roughness -> rays map for {label}'s {budget:.2f} rays per pixel (emulated): {{{rule}}} "
+              f"RMSE {best[0]:.5f}; {label} {got:.5f}; fixed rays at the same rays {at:.5f}")
+
+
+def adaptive_verdicts(summary, n):
+    """Equal-time verdicts: each adaptive row's error against the fixed rows' error at the same
+    time (log-log interpolation). Decided only where the ranges do not overlap: the adaptive
+    frames' min-max error against the fixed curve taken at the adaptive row's min and max time,
+    with the fixed rows' own min-max errors."""
+    for key, name in ((0, "trace"), (1, "trace+resolve")):
+        fixed = sorted((statistics.median(t[key]), statistics.mean(e), min(e), max(e))
+                       for c, t, e in summary.values() if c is not None)
+        lo_curve = [(t, lo) for t, _, lo, _ in fixed]
+        hi_curve = [(t, hi) for t, _, _, hi in fixed]
+        mean_curve = [(t, m) for t, m, _, _ in fixed]
+        for label, (count, t, e) in summary.items():
+            if count is not None:
+                continue
+            tm, tlo, thi = statistics.median(t[key]), min(t[key]), max(t[key])
+            at = fixed_error_at(mean_curve, tm)
+            if at is None:
+                print(f"  equal {name} time, {label}: {tm:.1f} ms is outside the fixed rows' "
+                      f"{fixed[0][0]:.1f}-{fixed[-1][0]:.1f} ms: no comparison")
+                continue
+            # The fixed curve's error range over the adaptive row's time range (clamped to the curve).
+            ends = [fixed_error_at(c, min(max(x, fixed[0][0]), fixed[-1][0])) for c in (lo_curve, hi_curve)
+                    for x in (tlo, thi)]
+            f_lo, f_hi = min(ends), max(ends)
+            if max(e) < f_lo:
+                verdict = f"adaptive lower error, {100 * (1 - statistics.mean(e) / at):.0f} % below fixed"
+            elif min(e) > f_hi:
+                verdict = f"fixed lower error, adaptive {100 * (statistics.mean(e) / at - 1):.0f} % above"
+            else:
+                verdict = "undecided (the ranges overlap)"
+            print(f"  equal {name} time, {label}: RMSE {statistics.mean(e):.5f} ({min(e):.5f}-{max(e):.5f}) at "
+                  f"{tm:.1f} ms; fixed rays at that time {at:.5f} ({f_lo:.5f}-{f_hi:.5f}): {verdict}")
 
 
 def main() -> None:
@@ -179,8 +394,12 @@ def main() -> None:
     ap.add_argument("--shares", type=float, nargs="+", default=[0, 1, 10, 50, 100])
     ap.add_argument("--sections", nargs="+", default=["shares", "peel", "adaptive"],
                     choices=("shares", "peel", "adaptive"))
-    ap.add_argument("--reference-rays", type=int, default=256)
-    ap.add_argument("--error-seeds", type=int, default=4)
+    ap.add_argument("--reference-rays", type=int, default=1024)
+    ap.add_argument("--error-seeds", type=int, default=8, help="adaptive: frames per row (at least --repeats)")
+    ap.add_argument("--adaptive-walls", nargs="+", default=["checker"], choices=("checker", "smooth"))
+    ap.add_argument("--adaptive-mixes", nargs="+", default=list(ADAPTIVE_MIXES), choices=tuple(ADAPTIVE_MIXES))
+    ap.add_argument("--adaptive-reuse", type=int, nargs="+", default=[1, 0], choices=(0, 1, 2))
+    ap.add_argument("--adaptive-methods", nargs="+", default=["bvh", "hiz"], choices=("bvh", "hiz", "linear"))
     args = ap.parse_args()
     r = open_renderer(args)
     print(f"{args.width}x{args.height}, median (min-max) of {args.repeats} runs after 2 warm-up runs; GPU ms\n")

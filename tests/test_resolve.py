@@ -141,6 +141,38 @@ def test_reuse_reduces_noise(renderer):
         assert errors[1, w] < errors[0, w] and errors[2, w] < errors[0, w], errors
 
 
+
+@pytest.mark.parametrize("kw", [
+    dict(layers=2, rays_per_pixel=4, stride=4.0, downscale=2, max_steps=250),  # the thesis's configuration
+    dict(rays_per_pixel=2, sampling="vndf"),                                  # full resolution, radius 1
+])
+def test_reuse_weights_equal_the_local_frame_formulation(renderer, tmp_path, kw):
+    """Issue 13: the resolve weighs a neighbour's ray by brdf_cosine_over_pdf, the GGX terms
+    rearranged over the cosines in view space, toward hit points precomputed per tile entry. The
+    same sums with the plain formulation (local frame, half vector, ggx_D and two ggx_G1, the
+    direction rebuilt from origin, direction and distance per pixel) give the same image."""
+    import shutil
+
+    from ssrlab import metrics
+
+    root = tmp_path / "shaders"
+    shutil.copytree(ssrlab.renderer.shader_dir(), root)
+    path = root / "passes" / "resolve.comp"
+    text = path.read_text()
+    old = "float wb = brdf_cosine_over_pdf(g.normal, v, l, alpha, receiver, pdf);"
+    assert text.count(old) == 1, "resolve.comp no longer weighs rays this way: update this test"
+    path.write_text(text.replace(old, "mat3 local = transpose(frame_from_normal(g.normal)); "
+                                      "float wb = brdf_cosine(local * v, local * l, alpha) / pdf;"))
+    plain = ssrlab.Renderer(shader_dir=root)
+    scene = ssrlab.scenes.spheres_and_boxes(seed=2, floor_roughness=0.2)
+    s = small(width=128, height=72, **kw)
+    fast, slow = renderer.render(scene, settings=s), plain.render(scene, settings=s)
+    assert np.asarray(fast.reflection).any(), "nothing reflects: the comparison would prove nothing"
+    # Float rounding only; the sharpest lobes (D at small alpha) amplify it the most.
+    err = np.abs(np.asarray(fast.reflection) - np.asarray(slow.reflection)).sum(axis=-1)
+    assert err.max() <= 1e-2, err.max()
+    assert metrics.thesis_error(fast.color, slow.color) <= 1e-4
+
 def test_downscaled_rays(renderer):
     scene = ssrlab.scenes.spheres_and_boxes(seed=1)
     for d in (1, 2, 4):

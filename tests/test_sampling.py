@@ -52,6 +52,33 @@ def test_the_thesis_literal_construction_is_biased(renderer):
 
 
 @pytest.mark.parametrize("sampling", ["ggx", "vndf"])
+@pytest.mark.parametrize("alpha", [0.01, 0.1, 0.5])
+@pytest.mark.parametrize("theta", [0, 60, 85])
+def test_resolve_reuse_weight_reproduces_the_sample_weight(renderer, sampling, alpha, theta):
+    """The resolve weighs a reused ray by f_r(v, l)(n.l) / pdf, rearranged over the cosines
+    (brdf.glsl's brdf_cosine_over_pdf, issue 13); for the view a direction was sampled for it is
+    that sample's weight (Walter et al. eq. 41; G1(l) for visible normals), and matches the terms
+    evaluated here in double precision."""
+    v = view(theta)
+    s = renderer.sample_reflections(sampling, alpha, v, 20_000, seed=7)
+    valid = (s["weight"] > 0) & (s["pdf"] > 0)
+    assert valid.mean() > 0.5
+    assert np.all(s["reuse"][~valid] == 0)
+    l = s["l"][valid].astype(np.float64)
+    l /= np.linalg.norm(l, axis=1, keepdims=True)
+    h = l + v
+    h /= np.linalg.norm(h, axis=1, keepdims=True)
+    d = h[:, 2] ** 2 * (alpha * alpha - 1) + 1
+    def g1(c):  # ggx_G1, with its floor c^2 >= 1e-8 (grazing directions)
+        c2 = np.maximum(c * c, 1e-8)
+        return 2 / (1 + np.sqrt(1 + alpha * alpha * np.maximum(1 - c2, 0) / c2))
+
+    f = alpha * alpha / (np.pi * d * d) * g1(l[:, 2]) * g1(v[2]) / (4 * v[2])
+    np.testing.assert_allclose(s["reuse"][valid] * s["pdf"][valid], f, rtol=1e-4)
+    # The sampler's own pdf and weight are float too, with 1 - (n.m)^2 cancelling at small alpha.
+    np.testing.assert_allclose(s["reuse"][valid], s["weight"][valid], rtol=1e-3 if alpha >= 0.1 else 1e-2)
+
+@pytest.mark.parametrize("sampling", ["ggx", "vndf"])
 def test_pdf_integrates_to_one_and_directions_are_unit(renderer, sampling):
     v = view(30)
     s = renderer.sample_reflections(sampling, 0.3, v, 50_000, seed=5)

@@ -35,6 +35,16 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     d["SHADOWS"] = shadows_ && !traced ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced ? "1" : "0";
     d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
+    // Issue 11: method "bvh" draws adaptive rays as the screen-space tracers do
+    // (lib/ray_generation.glsl's rays_for_roughness); the fallback retraces only the rays the
+    // screen-space tracer drew, so it needs no count of its own.
+    d["ADAPTIVE_RAYS"] = !fallback_ && ctx.settings.adaptive_rays ? "1" : "0";
+    // Issue 11, skip with method "bvh": the rays to trace (weight > 0) are compacted into the
+    // list the fallback uses, so the BVH's SIMD lanes follow the rays drawn. Without it, one
+    // invocation per (pixel, ray slot): an adaptive pixel's unused slots and a matte pixel's
+    // idle lanes ride along with their neighbours' traversals. The images are the same.
+    const bool compact = !fallback_ && ctx.settings.skip;
+    d["COMPACT"] = compact ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/trace_bvh.comp"}, d);
     const RenderSettings& s = ctx.settings;
     // The BVH and the scene's vertex and image buffers (built on first use, then kept with the
@@ -56,12 +66,13 @@ void TraceBvhPass::execute(FrameContext& ctx) {
         bind_image_layered(2, r.get("rays.direction"), GL_READ_WRITE);
     }
     bind_image_layered(3, r.get("rays.radiance"), GL_WRITE_ONLY);
-    if (!fallback_) {
+    if (!fallback_ && !compact) {
         dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
         return;
     }
     // The fallback: select the rays to retrace into a compacted list (stage 0), size the
-    // indirect dispatch from its count on the GPU (stage 1), trace the list (stage 2).
+    // indirect dispatch from its count on the GPU (stage 1), trace the list (stage 2). Compact
+    // method "bvh": stage 0 draws every ray and lists those with a weight.
     const size_t rays = size_t(s.trace_width()) * size_t(s.trace_height()) * size_t(s.traced_rays());
     if (list_.size() < rays * 16) list_ = Buffer::create(rays * 16);
     if (!count_) count_ = Buffer::create(16);
@@ -69,14 +80,15 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     count_.upload(zero, sizeof(zero));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, list_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, count_.id());
-    dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
+    // Compact method "bvh": stage 0 is one invocation per trace pixel for all its ray slots.
+    dispatch_2d(s.trace_width(), s.trace_height(), compact ? 1 : s.traced_rays(), 8, 8);
     for (int stage = 1; stage <= 2; ++stage) {
         Defines ds = d;
         ds["STAGE"] = std::to_string(stage);
         glUseProgram(ctx.shaders.program({"passes/trace_bvh.comp"}, ds));
         if (stage == 1) {
             glDispatchCompute(1, 1, 1);
-            glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+            glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         } else {
             glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, count_.id());
             glDispatchComputeIndirect(4);  // groups[3] follows the count

@@ -4,6 +4,8 @@
 //   method "bvh" (seed 003's ray-traced reflections): every ray, no screen space.
 //     inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material (+ shadow_map)
 //     outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h), rays.radiance
+//     With Settings.skip (issue 11) the rays with a weight are compacted into the fallback's
+//     list first and traced by indirect dispatch over it; adaptive_rays as the other tracers.
 //   fallback "bvh" (thesis 4.3, seed 004): after a screen-space tracer, only the rays it could
 //     not resolve (a miss, a faded hit, a hit failing the confidence test) are retraced: a
 //     full-screen selection appends them to a compacted list (atomic counter), whose count
@@ -30,7 +32,7 @@ public:
 
 private:
     bool fallback_, shadows_;
-    Buffer list_, count_;  // fallback: the compacted list of rays to retrace, its count + indirect args
+    Buffer list_, count_;  // the compacted list of rays to (re)trace, its count + indirect args
 };
 
 }  // namespace ssr

@@ -159,11 +159,14 @@ class Renderer:
         in the local frame where the surface normal is +z (view.z > 0) and GGX alpha.
 
         Returns l (count, 3), weight (count,), pdf (count,) and u (count, 2), the uniform
-        numbers used; with stratified=True they form a randomly offset Hammersley set.
+        numbers used; with stratified=True they form a randomly offset Hammersley set. reuse
+        (count,) is the resolve's BRDF reuse weight f_r(v, l)(n.l) / pdf for each direction
+        (brdf.glsl's brdf_cosine_over_pdf; 0 where pdf or weight is 0), which for a sample's
+        own view must equal its weight.
         """
         a = self._native.sample_reflections(sampling, float(alpha), tuple(map(float, view)), int(count),
                                             int(seed), bool(stratified))
-        return {"l": a[:, :3], "weight": a[:, 3], "pdf": a[:, 4], "u": a[:, 5:7]}
+        return {"l": a[:, :3], "weight": a[:, 3], "pdf": a[:, 4], "u": a[:, 5:7], "reuse": a[:, 7]}
 
     def microbenchmark(self, kernel: str, width: int, height: int, iterations: int, repeats: int = 5) -> list[float]:
         """GPU milliseconds of each of `repeats` runs of a device-peak kernel (issue 13's roofline,

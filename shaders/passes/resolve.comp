@@ -112,17 +112,26 @@ layout(binding = 16) uniform sampler2DArray u_ray_radiance;
 
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
-const int TILE_CAPACITY = MAX_TILE * MAX_TILE;
+const int TILE_ENTRIES = MAX_TILE * MAX_TILE;
+// Ray slots: two rays of the widest tile. Issue 13: 32 004 bytes of shared memory in all, within
+// the 32 KiB every OpenGL 4.3 device offers; at full resolution and radius 1, 4 rays now take two
+// chunks instead of four (each chunk pays two barriers, the origins and every neighbour's edge weight).
+const int TILE_CAPACITY = 2 * TILE_ENTRIES;
 
 #if !OWN_RAYS_ONLY
 // Ray data of a chunk of rays of every trace pixel in the tile, entry (ray - chunk start) *
 // entries + tile entry: as many rays as fit in TILE_CAPACITY entries per chunk (issue 13: each
-// chunk costs two barriers, which llvmpipe pays dearly; 4 rays at half resolution fit in one).
+// chunk costs two barriers, which llvmpipe pays dearly; up to 8 rays at half resolution fit in one).
+// Issue 13: a pixel reads 8 floats per reused ray and 4 per neighbour (was 9 and 6): llvmpipe
+// (Mesa 22.3) loads shared memory one lane and one component at a time, so these reads, 36 rays
+// per pixel at the thesis's configuration, cost more than the arithmetic on them.
 shared vec4 s_color[TILE_CAPACITY];     // rgb: radiance the ray brings; a: its weight
-shared vec4 s_direction[TILE_CAPACITY]; // xyz: view direction; w: distance to its hit (< 0: miss)
-shared float s_pdf[TILE_CAPACITY];
-shared vec4 s_origin[TILE_CAPACITY];    // xyz: view position the rays start from; w: 1 if it traced
-shared vec3 s_normal[TILE_CAPACITY];
+// xyz: the view position of the ray's hit (origin + direction * distance), or its view direction
+// if it missed, so that a pixel's direction toward it is xyz - p (hit) or xyz (miss), computed
+// once per tile entry rather than by every pixel that reuses the ray; w: the pdf its direction
+// was sampled with, negated for a miss (a pdf of 0, which is never reweighted, needs no flag).
+shared vec4 s_target[TILE_CAPACITY];
+shared vec4 s_surface[TILE_ENTRIES];   // xyz: the origin's view normal; w: its view z (edge weights)
 #endif
 shared uint s_any_receiver;
 
@@ -267,42 +276,51 @@ void main() {
         }
     }
 #else
+    // The receiver's part of every BRDF weight below (brdf.glsl: brdf_cosine_over_pdf).
+    float nv = dot(g.normal, v);
+    float receiver = brdf_cosine_receiver(nv, alpha);
     // Chunks of rays: as many rays per chunk as the shared tile holds.
     int chunk = max(1, TILE_CAPACITY / entries);
     for (int r0 = 0; r0 < ssr.rays_per_pixel; r0 += chunk) {
         int rays = min(chunk, ssr.rays_per_pixel - r0);
         if (r0 > 0) barrier();  // every pixel has summed the previous chunk
         // Fetch rays r0 .. r0 + rays - 1 of every trace pixel in the tile once: hit colour,
-        // weight, direction. The invocation that fetches an entry's rays also fetched its origin
-        // (first chunk), so no barrier separates the two.
+        // weight, hit point or direction, pdf (what every pixel reusing them needs, precomputed
+        // here), and with the first chunk the trace pixel's surface. Issue 13: every shared
+        // array is written once per entry (llvmpipe stores shared memory one lane at a time), and
+        // the rays' origin is recomputed per chunk instead of passing through shared memory.
         for (int e = lid; e < entries; e += GROUP * GROUP) {
-            if (r0 == 0) {
-                ivec2 q = tile_lo + ivec2(e % tile_dim.x, e / tile_dim.x);
-                s_origin[e] = vec4(0.0);
-                s_normal[e] = vec3(0.0, 0.0, 1.0);
-                if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, trace_size))) {
-                    ivec2 op = min(q * s + s / 2, size - 1);
-                    bool traced = texelFetch(u_sample, ivec3(q, 0), 0).w > 0.5;
-                    s_origin[e] = vec4(view_pos(op), traced ? 1.0 : 0.0);
-                    s_normal[e] = gsample(op).normal;
-                }
-            }
             ivec2 q = tile_lo + ivec2(e % tile_dim.x, e / tile_dim.x);
-            vec4 origin = s_origin[e];
+            vec3 origin = vec3(0.0);
+            bool traced = false;
+            vec3 normal = vec3(0.0, 0.0, 1.0);
+            if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, trace_size))) {
+                ivec2 op = min(q * s + s / 2, size - 1);
+                traced = texelFetch(u_sample, ivec3(q, 0), 0).w > 0.5;
+                origin = view_pos(op);
+                if (r0 == 0) normal = gsample(op).normal;
+            }
+            if (r0 == 0) s_surface[e] = vec4(normal, origin.z);
             for (int k = 0; k < rays; ++k) {
-                int slot = k * entries + e;
-                s_color[slot] = vec4(0.0);
-                if (origin.w == 0.0) continue;
-                RayResult ray = fetch_ray(q, r0 + k, origin.xyz, size);
-                s_color[slot] = ray.color;
-                s_direction[slot] = ray.direction;
-                s_pdf[slot] = ray.pdf;
+                vec4 color = vec4(0.0);
+                vec4 target = vec4(0.0, 0.0, 1.0, 0.0);
+                if (traced) {
+                    RayResult ray = fetch_ray(q, r0 + k, origin, size);
+                    vec4 d = ray.direction;
+                    color = ray.color;
+                    target = d.w >= 0.0 ? vec4(origin + d.xyz * d.w, ray.pdf) : vec4(d.xyz, -ray.pdf);
+                }
+                s_color[k * entries + e] = color;
+                s_target[k * entries + e] = target;
             }
         }
         barrier();
         if (!receives) continue;
         // Neighbours outer, rays inner: a neighbour's edge weight depends on it alone, so it is
-        // computed once for all its rays (issue 13; the sums' order changes, by float rounding only).
+        // computed once for all its rays, and a neighbour it zeroes adds nothing (issue 13; the
+        // sums' order changes, by float rounding only). Every ray runs the same instructions, the
+        // cases chosen by selects: llvmpipe runs 8 pixels in SIMD lanes and executes a branch
+        // that any lane takes for all of them, masked.
         for (int dy = -radius; dy <= radius; ++dy) {
             for (int dx = -radius; dx <= radius; ++dx) {
                 ivec2 q = base + ivec2(dx, dy);
@@ -310,28 +328,26 @@ void main() {
                 ivec2 t = q - tile_lo;
                 int e = t.y * tile_dim.x + t.x;
                 bool own = s == 1 && dx == 0 && dy == 0;
-                vec3 origin_q = s_origin[e].xyz;  // read once for all the neighbour's rays
-                float edge = -1.0;  // computed at the neighbour's first ray that weighs anything
+                vec4 surface = s_surface[e];
+                float edge = ssr.edge_aware != 0 ? edge_weight(p, g.normal, vec3(0.0, 0.0, surface.w), surface.xyz) : 1.0;
+                if (edge == 0.0) continue;
+                // BRDF weights: a neighbour's ray by this pixel's BRDF toward the ray's hit point
+                // (along its direction if it missed) over its pdf; mirror rays (pdf 0) keep their
+                // weight at reduced resolution and only serve their own pixel at full resolution.
+                bool reweigh = ssr.reuse_weighting == REUSE_BRDF && !own;
                 for (int k = 0; k < rays; ++k) {
                     int slot = k * entries + e;
                     vec4 rc = s_color[slot];
-                    if (rc.a <= 0.0) continue;
                     float w = rc.a;
-                    if (ssr.reuse_weighting == REUSE_BRDF && !own) {
-                        if (s_pdf[slot] > 0.0 && !mirror_receiver) {
-                            // Toward the neighbour's hit point, or along its direction if it missed.
-                            vec4 d = s_direction[slot];
-                            vec3 l = d.w >= 0.0 ? normalize(origin_q + d.xyz * d.w - p) : d.xyz;
-                            w = brdf_cosine(v_local, to_local * l, alpha) / s_pdf[slot];
-                        } else if (s == 1) {
-                            w = 0.0;  // mirror rays only serve their own pixel at full resolution
-                        }
+                    if (reweigh) {
+                        vec4 target = s_target[slot];
+                        float pdf = abs(target.w);
+                        vec3 l = target.w > 0.0 ? target.xyz - p : target.xyz;
+                        l *= inversesqrt(dot(l, l));
+                        float wb = brdf_cosine_over_pdf(g.normal, v, l, alpha, receiver, pdf);
+                        w = pdf > 0.0 && !mirror_receiver ? wb : (s == 1 ? 0.0 : w);
                     }
-                    if (w == 0.0) continue;  // adds nothing: skip its edge weight
-                    if (ssr.edge_aware != 0) {
-                        if (edge < 0.0) edge = edge_weight(p, g.normal, origin_q, s_normal[e]);
-                        w *= edge;
-                    }
+                    w = rc.a > 0.0 ? w * edge : 0.0;  // a ray of weight <= 0 adds nothing
                     sum_c += w * rc.rgb;
                     sum_w += w;
                 }

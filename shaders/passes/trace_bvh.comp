@@ -8,7 +8,12 @@
 //              generated exactly as the screen-space tracers generate it
 //              (lib/ray_generation.glsl), no screen space at all. Writes the rays.* outputs
 //              of the screen-space tracers (rays.hit always a screen miss: the radiance comes
-//              from rays.radiance) and rays.radiance.
+//              from rays.radiance) and rays.radiance. With COMPACT (Settings.skip, issue 11)
+//              in the same three stages as the fallback: 0 draws every ray (one invocation
+//              per trace pixel) and lists those with a weight, 2 traces the list, so that an
+//              adaptive pixel's
+//              unused ray slots (adaptive_rays) and matte pixels leave no idle SIMD lanes
+//              beside a neighbour's BVH traversal.
 //   FALLBACK 1 (fallback "bvh"; thesis 4.3's hybrid, seed 004's fallback hierarchy): after a
 //              screen-space tracer, the rays it could not resolve (a miss: it left the screen,
 //              reached its step limit or ran behind every layer; or a faded hit) are retraced
@@ -40,9 +45,15 @@
 #include "../lib/scene_textures.glsl"
 #include "../lib/ray_offset.glsl"
 
-#if FALLBACK && STAGE == 2
+#ifndef COMPACT
+#define COMPACT 0
+#endif
+// The passes that run over a compacted list of rays: the fallback, and method "bvh" with skip.
+#define LISTED (FALLBACK || COMPACT)
+
+#if LISTED && STAGE == 2
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
-#elif FALLBACK && STAGE == 1
+#elif LISTED && STAGE == 1
 layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
 #else
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -60,10 +71,6 @@ layout(binding = 4, rgba32f) uniform image2DArray io_ray_hit;  // rays.hit of th
 layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
 layout(binding = 7) uniform sampler2DArray u_ray_direction;  // rays.direction
 layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
-// The compacted list: the (trace pixel, ray) of every ray to retrace, and the count and the
-// indirect dispatch's group counts (x, y, z).
-layout(std430, binding = 11) buffer RetraceList { ivec4 retrace[]; };
-layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint groups[3]; };
 
 ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
     return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
@@ -82,6 +89,13 @@ ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
 }
 #endif
 
+#if LISTED
+// The compacted list: the (trace pixel, ray) of every ray to (re)trace, and the count and the
+// indirect dispatch's group counts (x, y, z).
+layout(std430, binding = 11) buffer RetraceList { ivec4 retrace[]; };
+layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint groups[3]; };
+#endif
+
 #if FALLBACK && CONFIDENCE
 #include "../lib/screen_confidence.glsl"
 #endif
@@ -93,13 +107,13 @@ bool screen_resolved(vec4 hit) {
 }
 
 void main() {
-#if FALLBACK && STAGE == 1
+#if LISTED && STAGE == 1
     groups[0] = (retrace_count + 63u) / 64u;
     groups[1] = 1u;
     groups[2] = 1u;
     return;
 #endif
-#if FALLBACK && STAGE == 2
+#if LISTED && STAGE == 2
     if (gl_GlobalInvocationID.x >= retrace_count) return;
     ivec3 id = retrace[gl_GlobalInvocationID.x].xyz;
 #else
@@ -117,6 +131,11 @@ void main() {
     vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
     ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), false);
     radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
+#elif COMPACT && STAGE == 2
+    // The ray stage 0 drew and stored, traced as the full-screen dispatch traces it.
+    vec3 dir = normalize(imageLoad(o_direction, id).xyz);
+    ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), false);
+    radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
 #elif FALLBACK
     vec4 smp = texelFetch(u_ray_sample, id, 0);
     vec4 hit = imageLoad(io_ray_hit, id);
@@ -131,6 +150,26 @@ void main() {
     }
 #endif
     if (smp.w > 0.5 && smp.x > 0.0 && !resolved) retrace[atomicAdd(retrace_count, 1u)] = ivec4(id, 0);
+#elif COMPACT
+    // Stage 0 of method "bvh" with the list: one invocation per trace pixel (id.z = 0) draws
+    // all its ray slots from one G-buffer decode, writes what the full-screen dispatch writes
+    // (radiance: not traced yet), and lists the rays with a weight with one atomic.
+    uint drawn = 0u;  // rays_per_pixel <= 32 (Settings)
+    for (int r = 0; r < ssr.rays_per_pixel; ++r) {
+        ivec3 rid = ivec3(id.xy, r);
+        ReflectionRay ray = generate_ray(g, pos, id.xy, r);
+        bool traces = is_reflective(g) && ray.dir != vec3(0.0);  // else zeros, as lib/trace_common.glsl
+        imageStore(o_hit, rid, vec4(0.0));
+        imageStore(o_sample, rid, traces ? vec4(ray.weight, ray.pdf, 0.0, 1.0) : vec4(0.0));
+        imageStore(o_direction, rid, traces ? vec4(ray.dir, 0.0) : vec4(0.0));
+        imageStore(o_radiance, rid, radiance);
+        if (ray.weight > 0.0) drawn |= 1u << uint(r);
+    }
+    if (drawn == 0u) return;
+    uint at = atomicAdd(retrace_count, uint(bitCount(drawn)));
+    for (int r = 0; r < ssr.rays_per_pixel; ++r)
+        if ((drawn & (1u << uint(r))) != 0u) retrace[at++] = ivec4(id.xy, r, 0);
+    return;
 #else
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     // rays.hit: never a screen-space hit (the radiance is in rays.radiance); rays.sample: no

@@ -16,7 +16,7 @@ uniform uint u_count;
 uniform uint u_seed;
 uniform int u_stratified;  // 1: a Hammersley set rotated by one random offset
 
-layout(std430, binding = 0) writeonly buffer Samples { vec4 samples[]; };  // (l.xyz, weight), (pdf, m...) pairs
+layout(std430, binding = 0) writeonly buffer Samples { vec4 samples[]; };  // (l.xyz, weight), (pdf, u, reuse weight) pairs
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -26,7 +26,13 @@ void main() {
         vec2 offset = vec2(unit_float(pcg_hash(u_seed)), unit_float(pcg_hash(u_seed + 1u)));
         u = fract(hammersley(i, u_count) + offset);
     }
-    BrdfSample s = sample_reflection(normalize(u_view), u_alpha, u_method, u);
+    vec3 v = normalize(u_view);
+    BrdfSample s = sample_reflection(v, u_alpha, u_method, u);
+    // The resolve's BRDF reuse weight (brdf.glsl, issue 13) for this very direction and pdf: for
+    // a pixel's own ray it must reproduce the sampler's weight.
+    float reuse = s.pdf > 0.0 && s.weight > 0.0
+        ? brdf_cosine_over_pdf(vec3(0.0, 0.0, 1.0), v, s.l, u_alpha, brdf_cosine_receiver(v.z, u_alpha), s.pdf)
+        : 0.0;
     samples[2u * i] = vec4(s.l, s.weight);
-    samples[2u * i + 1u] = vec4(s.pdf, u, 0.0);
+    samples[2u * i + 1u] = vec4(s.pdf, u, reuse);
 }
