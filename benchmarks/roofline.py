@@ -91,7 +91,14 @@ def work_of(pass_name, s, stats):
         f = texels * (4 + 4 * taps)
         return f, texels * (4 + 4 + 8 + 4 + taps * 16), texels * (8 + 4), "coherent"
     if pass_name == "classify":
-        return trace_px * 4, trace_px * 20, rays * 4, "coherent"
+        # Issue 11: every pixel's reflectivity (gathered 2x2), the G-buffer of the reflective ones
+        # (3 more fetches; counted as the resolve list's receivers and rough pixels); writes: the
+        # clears of the ray textures (3 RGBA32F per trace pixel and ray) and of the reflection,
+        # and the list entries.
+        reflective = stats.get("resolve_pixels", stats.get("pixels_traced", 0)) + stats.get("environment_pixels", 0)
+        f = px + 3 * reflective
+        written = trace_px * s.rays_per_pixel * 48 + (px * 8 if "resolve_groups" in stats else 0) + rays * 4
+        return f, px * 4 + reflective * 16, written, "coherent"
     if pass_name == "hiz_build":
         f = int(px * s.layers * 4 / 3)
         return f, f * 8, int(px * s.layers / 3) * 8, "coherent"
@@ -104,14 +111,17 @@ def work_of(pass_name, s, stats):
         # radius 0 or mirror rays with BRDF weights): each traced pixel's sample flag and its rays'
         # hit, sample, direction, lit colour and hit depth (1 + 5 per ray). Tiled path: an upper
         # bound, as if every group held a receiver: per tile entry its origin (3) and 5 per ray.
+        # With skip (issue 11) only the listed receiving pixels (own rays) or 16x16 tiles run.
         own = s.downscale == 1 and (s.reuse_radius == 0 or (s.sampling == "mirror" and s.reuse_weighting == "brdf"))
         if own:
-            f = px * 3 + stats.get("pixels_traced", px) * (1 + 5 * s.rays_per_pixel)
+            run = stats.get("resolve_pixels", px)
+            f = run * 3 + stats.get("pixels_traced", px) * (1 + 5 * s.rays_per_pixel)
         else:
             group, radius = 16, s.reuse_radius
+            run = stats.get("resolve_tiles", px / group ** 2) * group ** 2
             tile = ((group // s.downscale) + 2 * radius + 1) ** 2
-            f = int(px * (3 + tile / group ** 2 * (3 + 5 * s.rays_per_pixel)))
-        return f, f * 8, px * 8, "coherent"
+            f = int(run * (3 + tile / group ** 2 * (3 + 5 * s.rays_per_pixel)))
+        return f, f * 8, int(run * 8), "coherent"
     if pass_name == "composite":
         # lit (its alpha carries coverage and r, issue 13) and the reflection; RGBA32F out.
         return px * 2, px * (8 + 8), px * 16, "coherent"

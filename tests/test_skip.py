@@ -206,6 +206,10 @@ def test_a_list_longer_than_a_row_of_groups_is_traced_whole(renderer):
     assert on.stats["trace_groups"] == 1024 * 2
     np.testing.assert_array_equal(on.read("rays.sample"), off.read("rays.sample"))
     np.testing.assert_array_equal(on.read("rays.hit"), off.read("rays.hit"))
+    # The resolve's list of receiving pixels (own rays: mirror) spans two rows of groups too.
+    assert on.stats["resolve_pixels"] == 320 * 240
+    assert on.stats["resolve_groups"] == 1024 * 2
+    np.testing.assert_array_equal(on.reflection, off.reflection)
 
 
 def _three_layer_scene(roughness: float = 0.0) -> Scene:
@@ -370,3 +374,87 @@ def test_skip_agrees_with_adaptive_and_variance_rays(renderer, scene_name):
     assert on.stats["extra_rays"] == off.stats["extra_rays"]
     assert on.stats["rays_traced"] == int((on.read("rays.sample")[..., 0] > 0).sum()) - on.stats["extra_rays"]
     assert thesis_error(on.color, off.color) <= 1e-3
+
+
+# The resolve over the classify pass's resolve list (issue 11): the receiving pixels (own rays:
+# mirror rays with BRDF weights, or reuse radius 0, at full resolution) or the 16x16 tiles
+# holding one; the classify pass writes the other pixels' reflection (0, or the environment
+# where a reflective surface is rougher than the cutoff).
+def _mirror_and_rough_scene(with_mirror: bool = True) -> Scene:
+    """The 18 x 10 pixel mirror quad of _quad_scene, and a rough reflective quad beside it."""
+    pitch = 2 * math.tan(math.radians(30)) * 5 / H
+    s = _quad_scene(9 * pitch, 5 * pitch)
+    if not with_mirror:
+        s = _quad_scene(0.0, 0.0)
+    p = np.float32([(1.6, -1.0, 0.2), (2.4, -1.0, 0.2), (2.4, 1.2, 0.2), (1.6, 1.2, 0.2)])
+    s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name="rough", normals=np.tile(np.float32([0, 0, 1]), (4, 1)),
+               material=Material(base_color=(1, 1, 1), roughness=0.8, metallic=1.0, reflectivity=1.0))
+    return s
+
+
+def _tiles_holding(mask: np.ndarray) -> int:
+    h, w = mask.shape
+    t = np.zeros(((h + 15) // 16, (w + 15) // 16), bool)
+    ys, xs = np.nonzero(mask)
+    t[ys // 16, xs // 16] = True
+    return int(t.sum())
+
+
+@pytest.mark.parametrize("sampling,rays,radius,downscale,own", [
+    ("mirror", 1, 1, 1, True),    # mirror rays with BRDF weights: own rays
+    ("vndf", 2, 0, 1, True),      # reuse radius 0: own rays
+    ("vndf", 2, 1, 1, False),     # neighbour reuse: tiles
+    ("mirror", 1, 1, 2, False),   # half-resolution rays: tiles
+])
+def test_the_resolve_runs_over_the_receivers_only(renderer, sampling, rays, radius, downscale, own):
+    assert W % 16 == 0 and H % 16 == 0  # the tiles are the same counted from the top or the bottom
+    scene = _mirror_and_rough_scene()
+    kw = dict(sampling=sampling, rays_per_pixel=rays, reuse_radius=radius, downscale=downscale, roughness_cutoff=0.5)
+    on, off = _pair(renderer, scene, **kw)
+    g = off.gbuffer
+    reflective = g.coverage[0] & (g.reflectivity[0] > 0)
+    receivers = reflective & (g.roughness[0] <= 0.5)
+    rough = reflective & (g.roughness[0] > 0.5)
+    assert int(receivers.sum()) == 18 * 10 and int(rough.sum()) > 0
+    assert on.stats["environment_pixels"] == int(rough.sum())
+    if own:
+        assert on.stats["resolve_pixels"] == 18 * 10
+        assert on.stats["resolve_groups"] == math.ceil(18 * 10 / 64)
+        assert "resolve_tiles" not in on.stats
+    else:
+        assert on.stats["resolve_tiles"] == _tiles_holding(receivers) == 2
+        assert on.stats["resolve_groups"] == 2
+        assert "resolve_pixels" not in on.stats
+    assert "resolve_pixels" not in off.stats and "resolve_tiles" not in off.stats
+    # The same reflection everywhere: receivers resolved, rough pixels the environment, the rest 0.
+    np.testing.assert_array_equal(on.reflection, off.reflection)
+    np.testing.assert_array_equal(on.color, off.color)
+    assert (on.reflection[rough] > 0).all()
+    assert not on.reflection[~reflective].any()
+
+
+@pytest.mark.parametrize("sampling", ["mirror", "vndf"])
+def test_an_empty_resolve_list_dispatches_no_group(renderer, sampling):
+    # Only the rough quad reflects: nothing receives rays, the resolve runs no group.
+    on, off = _pair(renderer, _mirror_and_rough_scene(with_mirror=False), sampling=sampling, roughness_cutoff=0.5)
+    assert "resolve" in on.passes
+    assert on.stats["resolve_groups"] == 0
+    assert on.stats.get("resolve_pixels", 0) == on.stats.get("resolve_tiles", 0) == 0
+    g = off.gbuffer
+    rough = g.coverage[0] & (g.reflectivity[0] > 0)
+    assert on.stats["environment_pixels"] == int(rough.sum()) > 0
+    np.testing.assert_array_equal(on.reflection, off.reflection)
+
+
+@pytest.mark.parametrize("skip", [True, False])
+def test_no_ray_is_all_zeros(renderer, skip):
+    # A pixel that traces no ray (here: not reflective) holds zeros in every ray texture, with
+    # skip (the classify pass's clear) and without (the full-screen trace writes them).
+    f = renderer.render(_mirror_and_rough_scene(), settings=small(width=W, height=H, skip=skip, sampling="vndf",
+                                                                   rays_per_pixel=2, roughness_cutoff=0.5))
+    traced = f.read("rays.sample")[0, ..., 3] > 0.5
+    assert int(traced.sum()) == 18 * 10
+    for name in ("rays.hit", "rays.sample", "rays.direction"):
+        assert not f.read(name)[:, ~traced].any(), name
+    d = f.read("rays.direction")[:, traced, :3]
+    np.testing.assert_allclose(np.linalg.norm(d, axis=-1), 1.0, atol=1e-5)

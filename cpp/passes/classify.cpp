@@ -3,11 +3,13 @@
 #include <cstdint>
 
 #include "passes/compute.h"
+#include "passes/resolve.h"
 
 namespace ssr {
 
 namespace {
 constexpr size_t kHeaderUints = 8;  // shaders/lib/ray_list.glsl
+constexpr int kBlock = 4;  // pixels per invocation along x and y (classify.comp's CLASSIFY_BLOCK)
 }
 
 void ClassifyPass::bind() const {
@@ -26,34 +28,93 @@ void ClassifyPass::reset_list(int w, int h, int rays, bool per_ray) {
     list_.upload(header, sizeof(header));
 }
 
+void ClassifyPass::bind_resolve_list() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kResolveBinding, resolve_list_.id());
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, resolve_list_.id());
+}
+
+void ClassifyPass::reset_resolve_list(int width, int height, bool pixels) {
+    const size_t tiles = size_t((width + 15) / 16) * size_t((height + 15) / 16);
+    const size_t capacity = pixels ? size_t(width) * size_t(height) : tiles;
+    const size_t bytes = (kHeaderUints + capacity + (pixels ? 0 : tiles)) * sizeof(uint32_t);
+    if (resolve_list_.size() < bytes) resolve_list_ = Buffer::create(bytes);
+    const uint32_t header[kHeaderUints] = {0, 0, 1, 0, 0, uint32_t(capacity), 0, 0};
+    resolve_list_.upload(header, sizeof(header));
+    if (!pixels) {  // the tiles' flags: none listed yet
+        const uint32_t zero = 0;
+        glClearNamedBufferSubData(resolve_list_.id(), GL_R32UI, (kHeaderUints + capacity) * sizeof(uint32_t),
+                                  tiles * sizeof(uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    }
+    resolve_pixels_ = pixels;
+}
+
 void ClassifyPass::execute(FrameContext& ctx) {
     const RenderSettings& s = ctx.settings;
     const int w = s.trace_width(), h = s.trace_height();
     reset_list(w, h, s.traced_rays(), per_ray(s));
+    resolve_lists_ = resolves_over_lists(s);
+    if (resolve_lists_) reset_resolve_list(s.width, s.height, ResolvePass::own_rays_only(s));
+
+    auto& r = ctx.resources;
+    // "No ray" is all zeros (lib/trace_common.glsl): one clear of the ray textures per frame,
+    // here so that the pass's timing holds it (llvmpipe clears on the calling thread, between
+    // this pass's timestamps), and the shader writes the listed pixels only.
+    {
+        GpuScope t(ctx.timer, "classify.clear");  // a part of this pass's interval, shown apart
+        const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (const char* name : {"rays.hit", "rays.sample", "rays.direction"}) clear_layers(r.get(name), 0, zero);
+        if (resolve_lists_) {
+            // What a non-receiver reflects where the resolve will not run: nothing (alpha 1, as
+            // the resolve writes it); the rough reflective pixels' environment is the shader's.
+            const float none[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+            clear_layers(r.get("reflection"), 0, none);
+        }
+    }
 
     Defines d = ctx.defines;
     d["RAY_LIST_PER_RAY"] = per_ray(s) ? "1" : "0";
     d["CLASSIFY_FACING"] = std::to_string(s.classify_facing);
     d["ADAPTIVE_RAYS"] = s.adaptive_rays ? "1" : "0";
+    d["RESOLVE_LISTS"] = resolve_lists_ ? "1" : "0";
+    d["RESOLVE_LIST_PIXELS"] = resolve_lists_ && resolve_pixels_ ? "1" : "0";
+    d["CLASSIFY_BLOCK"] = std::to_string(kBlock);
     const GLuint prog = ctx.shaders.program({"passes/classify.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_rays"), s.traced_rays());
-    auto& r = ctx.resources;
     bind_ray_generation_io(r);
+    if (resolve_lists_) {
+        bind_image_layered(3, r.get("reflection"), GL_WRITE_ONLY);
+        bind_resolve_list();
+    }
     bind();
-    dispatch_2d(w, h, 1, 8, 8);
-    glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the trace pass's indirect arguments
+    // One invocation per block of kBlock x kBlock full-resolution pixels (receivers are
+    // full-resolution pixels; a trace pixel is examined at its origin pixel). llvmpipe pays a
+    // fixed cost per invocation even for one that returns at once, and its texelFetch of the
+    // RGBA8 material costs ~25 ns (2 shared cores, 320x180: an 8x8-group dispatch of one
+    // invocation per pixel measured 2-4 ms with nothing else to do); blocks of 4x4 pixels
+    // that first gather their reflectivity 2x2 at a time measured 0.25-0.45 ms, and a block's
+    // list entries take one atomic.
+    dispatch_2d(s.width, s.height, 1, 8 * kBlock, 8 * kBlock);
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the trace's and the resolve's indirect arguments
 }
 
 std::map<std::string, double> ClassifyPass::counters() const {
     uint32_t header[kHeaderUints] = {};
     if (!list_) return {};
     glGetNamedBufferSubData(list_.id(), 0, sizeof(header), header);
-    return {{"pixels_classified", double(header[6])},
-            {"pixels_traced", double(per_ray_ ? header[7] : header[3])},
-            {"trace_groups", double(header[0]) * header[1] * header[2]},
-            {"rays_traced", double(header[4])},
-            {"depth_fetches", double(header[5])}};
+    std::map<std::string, double> c = {{"pixels_classified", double(header[6])},
+                                       {"pixels_traced", double(per_ray_ ? header[7] : header[3])},
+                                       {"trace_groups", double(header[0]) * header[1] * header[2]},
+                                       {"rays_traced", double(header[4])},
+                                       {"depth_fetches", double(header[5])}};
+    if (resolve_lists_ && resolve_list_) {
+        uint32_t rh[kHeaderUints] = {};  // shaders/lib/resolve_list.glsl
+        glGetNamedBufferSubData(resolve_list_.id(), 0, sizeof(rh), rh);
+        c[resolve_pixels_ ? "resolve_pixels" : "resolve_tiles"] = double(rh[3]);
+        c["resolve_groups"] = double(rh[0]) * rh[1] * rh[2];
+        c["environment_pixels"] = double(rh[4]);
+    }
+    return c;
 }
 
 }  // namespace ssr

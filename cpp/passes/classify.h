@@ -2,11 +2,15 @@
 // roughness and angle; FidelityFX SSSR's classification): marks the trace pixels that need
 // rays and compacts them into a ray list with an atomic counter, in a buffer that also holds
 // the trace pass's indirect dispatch arguments: the trace pass then runs over the list only,
-// and an empty list costs it no work. The pixels left out get the trace pass's "no ray"
-// outputs here (shaders/passes/classify.comp).
+// and an empty list costs it no work. The pixels left out keep the trace pass's "no ray"
+// outputs, all zeros, from a clear of the ray textures timed with this pass. When the resolve
+// follows (resolves_over_lists), it also lists the resolve's work, the receiving pixels (own
+// rays) or the 16x16 tiles holding one, and writes the environment of the reflective pixels
+// rougher than the cutoff into a cleared reflection texture (shaders/passes/classify.comp).
 //   inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material
 //   outputs: rays.* of the skipped pixels (declared by the trace pass that follows), the
-//            ray list buffer (not a texture: see ray_list())
+//            reflection of the non-receivers (declared by the resolve), the ray list and the
+//            resolve list buffers (not textures: see bind(), bind_resolve_list())
 #pragma once
 
 #include <map>
@@ -32,6 +36,15 @@ public:
     std::map<std::string, double> counters() const;
     // Whether the list holds one entry per (pixel, ray): Settings.adaptive_rays with skip.
     static bool per_ray(const RenderSettings& s) { return s.skip && s.adaptive_rays && s.traced_rays() > 1; }
+    // Whether the resolve runs over this pass's resolve list (Settings.skip, the stochastic
+    // resolve after a screen-space trace).
+    static bool resolves_over_lists(const RenderSettings& s) {
+        return s.skip && s.method != TraceMethod::Bvh && s.method != TraceMethod::Off && s.glossy == Glossy::Stochastic;
+    }
+    // The SSBO binding of the resolve list (shaders/lib/resolve_list.glsl).
+    static constexpr GLuint kResolveBinding = 13;
+    // Binds the resolve list as SSBO kResolveBinding and as the dispatch-indirect buffer.
+    void bind_resolve_list() const;
 
 protected:
     // Also the variance_rays pass's list of pixels that get extra rays (same layout).
@@ -41,6 +54,12 @@ protected:
     // group layer (adaptive rays over the list, ray_list.glsl's RAY_LIST_PER_RAY).
     void reset_list(int w, int h, int rays, bool per_ray = false);
     bool per_ray_ = false;  // the last run listed (pixel, ray) entries
+
+private:
+    Buffer resolve_list_;
+    bool resolve_lists_ = false;     // the last run wrote the resolve list
+    bool resolve_pixels_ = false;    // ... of pixels (the own-rays resolve), else of tiles
+    void reset_resolve_list(int width, int height, bool pixels);
 };
 
 }  // namespace ssr

@@ -2,6 +2,8 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/errors.h"
+#include "passes/classify.h"
 #include "passes/compute.h"
 
 namespace ssr {
@@ -21,13 +23,15 @@ void ResolvePass::execute(FrameContext& ctx) {
                               ctx.settings.fallback == Fallback::Probes;  // the probes' radiance, likewise
     d["RAY_RADIANCE"] = ray_radiance ? "1" : "0";
     d["FALLBACK_NONE"] = ctx.settings.method != TraceMethod::Bvh && ctx.settings.fallback == Fallback::None ? "1" : "0";
-    // Issue 13: where no neighbour's ray can weigh anything (full-resolution rays with reuse
-    // radius 0, or mirror rays with BRDF weights, which serve only their own pixel), each pixel
-    // reads its own rays directly: no shared tile and no barriers, the same sums.
+    // Issue 13: own rays only (own_rays_only in resolve.h): no shared tile, no barriers.
     const RenderSettings& s = ctx.settings;
-    const bool own_rays_only = s.downscale == 1 && (s.reuse_radius == 0 || (s.sampling == Sampling::Mirror &&
-                                                                            s.reuse_weighting == ReuseWeighting::Brdf));
+    const bool own_rays_only = ResolvePass::own_rays_only(s);
     d["OWN_RAYS_ONLY"] = own_rays_only ? "1" : "0";
+    // Issue 11: over the classify pass's resolve list (receiving pixels, or tiles holding one).
+    const bool list = ClassifyPass::resolves_over_lists(s);
+    if (list && !lists_) throw GLError(name() + ": Settings.skip needs the classify pass's resolve list");
+    d["RESOLVE_LIST"] = list ? "1" : "0";
+    d["RESOLVE_LIST_PIXELS"] = list && own_rays_only ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/resolve.comp"}, d);
     glUseProgram(prog);
     if (ray_reuse) {
@@ -66,6 +70,15 @@ void ResolvePass::execute(FrameContext& ctx) {
     for (GLuint unit = 0; unit < 8; ++unit) glBindTextureUnit(unit, r.get(inputs[unit]).id());
     if (ray_radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
     bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
+    if (list) {
+        // The classify pass (run before, build_chain) wrote the list and its dispatch arguments;
+        // an empty list is a dispatch of 0 groups.
+        lists_->bind_resolve_list();
+        glDispatchComputeIndirect(0);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+        return;
+    }
     // The group size is the shader's choice (its shared-memory tile): read it from the program.
     GLint group[3] = {16, 16, 1};
     glGetProgramiv(prog, GL_COMPUTE_WORK_GROUP_SIZE, group);

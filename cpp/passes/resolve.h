@@ -4,14 +4,28 @@
 //            gbuffer.normal, gbuffer.material
 //            (+ rays.radiance with method or fallback "bvh", issue 12)
 //   outputs: reflection (RGBA16F, full resolution; 0 where a pixel does not reflect)
+// With Settings.skip (issue 11) it runs by indirect dispatch over the classify pass's resolve
+// list only: the receiving pixels (own rays) or the 16x16 tiles holding one; the classify pass
+// wrote the other pixels' reflection.
 #pragma once
 
 #include "render/render_pass.h"
 
 namespace ssr {
 
+class ClassifyPass;
+
 class ResolvePass : public RenderPass {
 public:
+    // `lists`: the classify pass whose resolve list the resolve runs over with Settings.skip.
+    explicit ResolvePass(const ClassifyPass* lists = nullptr) : lists_(lists) {}
+    // Issue 13: where no neighbour's ray can weigh anything (full-resolution rays with reuse
+    // radius 0, or mirror rays with BRDF weights, which serve only their own pixel), each pixel
+    // reads its own rays directly: no shared tile and no barriers, the same sums.
+    static bool own_rays_only(const RenderSettings& s) {
+        return s.downscale == 1 &&
+               (s.reuse_radius == 0 || (s.sampling == Sampling::Mirror && s.reuse_weighting == ReuseWeighting::Brdf));
+    }
     std::string name() const override { return "resolve"; }
     std::vector<std::string> inputs() const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
@@ -21,6 +35,9 @@ public:
         return {{"reflection", GL_RGBA16F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;
+
+private:
+    const ClassifyPass* lists_;
 };
 
 }  // namespace ssr

@@ -157,7 +157,7 @@ private:
     TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};
     // Reflection probes (issue 12, seed 004): captured once per scene and probe set.
     FallbackProbesPass fallback_probes_shadowed_{true}, fallback_probes_unshadowed_{false};
-    ResolvePass resolve_;
+    ResolvePass resolve_{&classify_};
     ReprojectPass reproject_;
     TemporalPass temporal_;
     TaaPass taa_thesis_{true}, taa_clamped_{false};

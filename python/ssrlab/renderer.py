@@ -259,7 +259,11 @@ class Frame:
         layer walk, pre-convolution and pre-integration work on these only), layers_lit,
         with skip tiles_lit (the 8x8 covered tiles the lighting shaded, issue 13; -1: whole layers),
         hiz_layers_built; with Settings.variance_rays, variance_pixels (pixels given extra
-        rays), extra_rays and extra_depth_fetches (the second trace's)."""
+        rays), extra_rays and extra_depth_fetches (the second trace's); with skip and the
+        stochastic resolve, the resolve's list: resolve_pixels (receiving pixels, own-rays
+        resolve) or resolve_tiles (16x16 tiles holding a receiver), resolve_groups (its indirect
+        groups) and environment_pixels (reflective pixels rougher than the cutoff, given the
+        environment by the classify pass)."""
         return {k: int(v) for k, v in self._native.stats.items()}
 
     @property
@@ -532,8 +536,9 @@ class RayResults:
     pdf        (R, h, w) solid-angle pdf of the direction; 0 for mirror (Dirac) directions
     steps      (R, h, w) depth fetches the ray spent
     fade       (R, h, w) 1 = hit kept, 0 = replaced by the environment
-    direction  (R, h, w, 3) view-space unit direction
-    traced     (h, w) bool: the pixel is reflective and traced rays
+    direction  (R, h, w, 3) view-space unit direction (0 where the pixel traces no ray)
+    traced     (h, w) bool: the pixel is reflective, faces the camera and traced rays
+    A pixel that traces no ray holds zeros in every field.
     """
 
     def __init__(self, frame: Frame):

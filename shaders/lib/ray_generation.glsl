@@ -5,7 +5,7 @@
 
 struct ReflectionRay {
     vec3 origin;   // view space, biased off the surface along its normal
-    vec3 dir;      // view space, unit length
+    vec3 dir;      // view space, unit length; 0 when the surface traces no ray at all
     float weight;  // 0: no ray (not reflective, too rough, or an invalid sample)
     float pdf;
 };
@@ -55,12 +55,14 @@ int rays_for_roughness(float roughness) {
 ReflectionRay generate_ray(GSample g, vec3 p_view, ivec2 q, int r) {
     ReflectionRay ray;
     ray.origin = p_view;
-    ray.dir = vec3(0.0, 0.0, -1.0);
+    // Direction 0: this surface traces no ray at all (issue 11's "no ray", stored as zeros).
+    ray.dir = vec3(0.0);
     ray.weight = 0.0;
     ray.pdf = 0.0;
     vec3 v = normalize(-p_view);
     vec3 n = g.normal;
     if (!is_reflective(g) || dot(n, v) <= 1e-4) return ray;  // no ray from surfaces seen edge-on or from behind
+    ray.dir = vec3(0.0, 0.0, -1.0);  // a slot of a pixel that traces, weight 0
     if (r >= rays_for_roughness(g.roughness)) return ray;  // adaptive rays: this pixel needs fewer
     mat3 tbn = frame_from_normal(n);
     vec3 v_local = transpose(tbn) * v;

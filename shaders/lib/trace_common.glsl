@@ -5,6 +5,9 @@
 //   rays.sample    RGBA32F: weight, pdf, depth fetches spent, 1 if the pixel traced rays
 //   rays.direction RGBA32F: view-space direction (full precision: a half-float direction moves
 //                  a BVH ray by up to ~0.2 px at 640x360, which bounded pure BVH near 46 dB)
+// A pixel that traces no ray at all (not reflective, seen edge-on: generate_ray's direction 0)
+// gets all zeros in every layer (issue 11): what the classify pass's clear leaves for the
+// pixels it does not list, so skip on and off write the same textures.
 // The including pass binds the G-buffer samplers named below.
 
 layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;
@@ -18,6 +21,12 @@ ivec2 origin_pixel(ivec2 q) {
 }
 
 void store_ray(ivec3 id, ReflectionRay ray, bool traced, vec4 hit, float fetches) {
+    if (!traced || ray.dir == vec3(0.0)) {
+        imageStore(o_hit, id, vec4(0.0));
+        imageStore(o_sample, id, vec4(0.0));
+        imageStore(o_direction, id, vec4(0.0));
+        return;
+    }
     imageStore(o_hit, id, hit);
     imageStore(o_sample, id, vec4(ray.weight, ray.pdf, fetches, traced ? 1.0 : 0.0));
     imageStore(o_direction, id, vec4(ray.dir, 0.0));

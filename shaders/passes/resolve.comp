@@ -21,8 +21,27 @@
 #include "../lib/ggx_sampling.glsl"
 #include "../lib/ray_generation.glsl"
 #include "../lib/environment.glsl"
+#include "../lib/non_receiver.glsl"
 
+#ifndef OWN_RAYS_ONLY
+#define OWN_RAYS_ONLY 0
+#endif
+// Issue 11 (Settings.skip): the dispatch runs over the classify pass's resolve list
+// (resolve_list.glsl): one invocation per receiving pixel for the own-rays resolve, one group
+// per 16x16 tile holding a receiver for the tiled one. The classify pass wrote every other
+// pixel's reflection (0, or the environment where the surface is rougher than the cutoff).
+#ifndef RESOLVE_LIST
+#define RESOLVE_LIST 0
+#endif
+#if RESOLVE_LIST
+#include "../lib/resolve_list.glsl"
+#endif
+
+#if RESOLVE_LIST && OWN_RAYS_ONLY
+layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+#else
 layout(local_size_x = 16, local_size_y = 16, local_size_z = 1) in;
+#endif
 
 layout(binding = 0) uniform sampler2DArray u_hit;
 layout(binding = 1) uniform sampler2DArray u_sample;
@@ -91,10 +110,6 @@ vec3 previous_view_position(vec2 pix, float z) {
 layout(binding = 16) uniform sampler2DArray u_ray_radiance;
 #endif
 
-#ifndef OWN_RAYS_ONLY
-#define OWN_RAYS_ONLY 0
-#endif
-
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
 const int TILE_ENTRIES = MAX_TILE * MAX_TILE;
@@ -150,13 +165,6 @@ float edge_weight(vec3 p, vec3 n, vec3 pq, vec3 nq) {
     return exp(-dz / ssr.edge_depth_sigma) * pow(max(dot(n, nq), 0.0), ssr.edge_normal_power);
 }
 
-// What a pixel that receives no rays reflects: the environment for a surface rougher than
-// the cutoff (seed 003's threshold, seed 004's fallback hierarchy), nothing where no surface
-// reflects.
-vec3 non_receiver_reflection(GSample g, vec3 v) {
-    return g.covered && g.reflectivity > 0.0 ? environment_view(reflect(-v, g.normal)) : vec3(0.0);
-}
-
 // One ray's contribution: the radiance it brings (rgb) and its weight (a); its view direction
 // and the distance from `origin` to its hit (w; -1: a miss) and its pdf.
 struct RayResult {
@@ -206,13 +214,24 @@ void main() {
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 trace_size = ivec2(ssr.trace_width, ssr.trace_height);
     int s = ssr.downscale, radius = ssr.reuse_radius;
+#if RESOLVE_LIST && OWN_RAYS_ONLY
+    uint index = resolve_list_index();
+    if (index >= resolve_list.count) return;
+    ivec2 pixel = resolve_list_unpack(resolve_list.entries[index]);
+#else
+#if RESOLVE_LIST
+    uint tile_index = resolve_list_index();
+    if (tile_index >= resolve_list.count) return;  // the whole group: past the list's last row
+    ivec2 group_origin = resolve_list_unpack(resolve_list.entries[tile_index]) * GROUP;
+#else
     ivec2 group_origin = ivec2(gl_WorkGroupID.xy) * GROUP;
+#endif
     ivec2 tile_lo = group_origin / s - radius;
     ivec2 tile_dim = (group_origin + GROUP - 1) / s + radius - tile_lo + 1;
     int entries = tile_dim.x * tile_dim.y;
     int lid = int(gl_LocalInvocationIndex);
-
     ivec2 pixel = group_origin + ivec2(gl_LocalInvocationID.xy);
+#endif
     bool inside = all(lessThan(pixel, size));
     GSample g = gsample(min(pixel, size - 1));
     bool receives = inside && is_reflective(g);
@@ -227,7 +246,7 @@ void main() {
     vec3 sum_c = vec3(0.0);
     float sum_w = 0.0;
 
-#if !OWN_RAYS_ONLY
+#if !OWN_RAYS_ONLY && !RESOLVE_LIST
     // Issue 13: a group none of whose pixels receives rays (most of a frame: sky, rough or
     // non-reflective surfaces) needs no ray data at all; it writes what a non-receiving pixel
     // writes below and leaves, skipping the tile fetches. One group vote costs two barriers.

@@ -158,9 +158,10 @@ void main() {
     for (int r = 0; r < ssr.rays_per_pixel; ++r) {
         ivec3 rid = ivec3(id.xy, r);
         ReflectionRay ray = generate_ray(g, pos, id.xy, r);
+        bool traces = is_reflective(g) && ray.dir != vec3(0.0);  // else zeros, as lib/trace_common.glsl
         imageStore(o_hit, rid, vec4(0.0));
-        imageStore(o_sample, rid, vec4(ray.weight, ray.pdf, 0.0, is_reflective(g) ? 1.0 : 0.0));
-        imageStore(o_direction, rid, vec4(ray.dir, 0.0));
+        imageStore(o_sample, rid, traces ? vec4(ray.weight, ray.pdf, 0.0, 1.0) : vec4(0.0));
+        imageStore(o_direction, rid, traces ? vec4(ray.dir, 0.0) : vec4(0.0));
         imageStore(o_radiance, rid, radiance);
         if (ray.weight > 0.0) drawn |= 1u << uint(r);
     }
@@ -173,9 +174,11 @@ void main() {
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     // rays.hit: never a screen-space hit (the radiance is in rays.radiance); rays.sample: no
     // depth fetches.
+    // A surface that traces no ray at all (direction 0) gets zeros, as lib/trace_common.glsl.
+    bool traces = is_reflective(g) && ray.dir != vec3(0.0);
     imageStore(o_hit, id, vec4(0.0));
-    imageStore(o_sample, id, vec4(ray.weight, ray.pdf, 0.0, is_reflective(g) ? 1.0 : 0.0));
-    imageStore(o_direction, id, vec4(ray.dir, 0.0));
+    imageStore(o_sample, id, traces ? vec4(ray.weight, ray.pdf, 0.0, 1.0) : vec4(0.0));
+    imageStore(o_direction, id, traces ? vec4(ray.dir, 0.0) : vec4(0.0));
     if (ray.weight > 0.0) {
         vec3 dir = normalize(imageLoad(o_direction, id).xyz);
         // From the surface point itself, not ray.origin (SSR's origin_bias): see surface_origin_w.
