@@ -125,16 +125,13 @@ HizHit trace_hiz(ReflectionRay ray) {
         float sb = o.z + v.z * t_out;
         layer = cell_overlap(cell, level, min(sa, sb), max(sa, sb), front);
         if (layer >= 0 && level <= stop_level) break;
-        if (layer < 0) {  // nothing for this ray in the cell: cross it and go up
-            t = t_out + eps_t;
-            if (linear_left > 0) {
-                if (--linear_left == 0) level = start_level;
-            } else {
-                level = min(level + 1, max_level);
-            }
-        } else {
-            --level;
-        }
+        // Nothing for this ray in the cell: cross it and go up (after the linear steps, the
+        // level stays 0 while they last); else go down. Selects, no branches.
+        bool miss = layer < 0;
+        int up = linear_left > 1 ? level : linear_left == 1 ? start_level : min(level + 1, max_level);
+        t = miss ? t_out + eps_t : t;
+        level = miss ? up : level - 1;
+        linear_left = miss ? max(linear_left - 1, 0) : linear_left;
         layer = -1;
     }
     if (layer >= 0) {
