@@ -47,6 +47,10 @@ layout(binding = 4) uniform sampler2DArray u_hiz_trace;
 // Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
 // empty everywhere, where it would only find the empty layer that ends it.
 uniform int u_layers_used;
+// 1 when exactly one layer is in use (trace_pass.cpp): the layer walk is a single test.
+#ifndef TRACE_ONE_LAYER
+#define TRACE_ONE_LAYER 0
+#endif
 
 // GL's mip size rule, max(1, size >> level). Computed rather than asked of textureSize():
 // llvmpipe answers textureSize with the lod of one lane when lanes ask for different levels.
@@ -64,9 +68,17 @@ vec2 hiz_fetch(ivec2 cell, int layer, int level, inout float fetches) {
 // `cell`, -1 for none; `front` receives that layer's nearest screen depth there.
 // A layer covering nothing in the cell has min HIZ_EMPTY, so `hi < min` ends the walk there
 // too (nor does any deeper layer cover it). The slab's back (behind the max, or infinity for
-// a min-only Hi-Z) is the atlas texel's second value. (Testing layer 0 before the loop, as
-// straight-line code, measured 1.4x slower on llvmpipe: keep the one loop.)
+// a min-only Hi-Z) is the atlas texel's second value. (Layer 0 tested before a loop over the
+// deeper layers that `return`s measured 1.4x slower on llvmpipe than the one loop; without any
+// loop, for one layer, 1.3x faster.)
 int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, inout float fetches) {
+#if TRACE_ONE_LAYER
+    // One layer in use (the common case; trace_pass.cpp compiles this variant for it): the
+    // test without a loop around it, 1.3x faster on llvmpipe than a loop of one iteration.
+    vec2 mb = hiz_fetch(cell, 0, level, fetches);
+    front = mb.x;
+    return hi < mb.x || lo > mb.y ? -1 : 0;
+#else
     front = 0.0;
     int found = -1;
     for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
@@ -79,6 +91,7 @@ int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, ino
         }
     }
     return found;
+#endif
 }
 
 // A ray's walk: its screen segment o + v t and where the traversal stands.
