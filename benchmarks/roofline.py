@@ -101,7 +101,9 @@ def work_of(pass_name, s, stats):
         return f, px * 4 + reflective * 16, written, "coherent"
     if pass_name == "hiz_build":
         f = int(px * s.layers * 4 / 3)
-        return f, f * 8, int(px * s.layers / 3) * 8, "coherent"
+        # The coarser levels, and with method="hiz" every level again into the tracer's atlas.
+        written = int(px * s.layers / 3) * 8 + (f * 8 if s.method == "hiz" else 0)
+        return f, f * 8, written, "coherent"
     if pass_name in ("trace_hiz", "trace_linear"):
         f = stats.get("depth_fetches", 0)
         texel = 8 if pass_name == "trace_hiz" else 4

@@ -14,9 +14,17 @@ void HizBuildPass::execute(FrameContext& ctx) {
     layers_built_ = layers;
     if (layers == 0) return;
 
+    // The tracer's atlas (issue 13), written by the same dispatches, only where the Hi-Z
+    // tracer will read it (hiz_build also serves cone tracing).
+    const bool atlas = ctx.settings.method == TraceMethod::Hiz;
+    if (atlas) bind_image_layered(2, ctx.resources.get("hiz_trace"), GL_WRITE_ONLY, 0);
+
     Defines level0 = ctx.defines;
     level0["HIZ_LEVEL0"] = "1";
-    glUseProgram(ctx.shaders.program({"passes/hiz_build.comp"}, level0));
+    level0["HIZ_TRACE_ATLAS"] = atlas ? "1" : "0";
+    GLuint prog = ctx.shaders.program({"passes/hiz_build.comp"}, level0);
+    glUseProgram(prog);
+    glUniform1i(glGetUniformLocation(prog, "u_level"), 0);
     glBindTextureUnit(0, ctx.resources.get("gbuffer.depth").id());
     glBindTextureUnit(1, ctx.resources.get("gbuffer.material").id());
     bind_image_layered(0, hiz, GL_WRITE_ONLY, 0);
@@ -24,8 +32,12 @@ void HizBuildPass::execute(FrameContext& ctx) {
 
     Defines coarser = ctx.defines;
     coarser["HIZ_LEVEL0"] = "0";
-    glUseProgram(ctx.shaders.program({"passes/hiz_build.comp"}, coarser));
+    coarser["HIZ_TRACE_ATLAS"] = atlas ? "1" : "0";
+    prog = ctx.shaders.program({"passes/hiz_build.comp"}, coarser);
+    glUseProgram(prog);
+    const GLint level_loc = glGetUniformLocation(prog, "u_level");
     for (int level = 1; level < hiz.levels(); ++level) {
+        glUniform1i(level_loc, level);
         bind_image_layered(0, hiz, GL_WRITE_ONLY, level);
         bind_image_layered(1, hiz, GL_READ_ONLY, level - 1);
         dispatch_2d(std::max(hiz.width() >> level, 1), std::max(hiz.height() >> level, 1), layers, 8, 8);

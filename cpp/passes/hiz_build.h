@@ -4,7 +4,12 @@
 //            cell, the (min, max) screen depth of its covered level-0 pixels)
 // One compute dispatch per level; odd-sized levels fold their last row/column into the
 // last cell. Runs only for method="hiz".
+//   hiz_trace (RG32F array, one level): the Hi-Z tracer's copy, every level in one image,
+//            texels (min s, slab back s) (shaders/lib/hiz_atlas.glsl, issue 13); written
+//            only for method="hiz" (cone tracing reads "hiz"), and only the layers in use.
 #pragma once
+
+#include <algorithm>
 
 #include "render/render_pass.h"
 
@@ -15,9 +20,16 @@ public:
     std::string name() const override { return "hiz_build"; }
     std::vector<std::string> inputs() const override { return {"gbuffer.depth", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"hiz", GL_RG32F, s.width, s.height, s.layers, 0}};
+        return {{"hiz", GL_RG32F, s.width, s.height, s.layers, 0},
+                {"hiz_trace", GL_RG32F, s.width + std::max(s.width >> 1, 1), s.height + levels_of(s), s.layers, 1}};
     }
     void execute(FrameContext& ctx) override;
+    // Levels of the full mip chain of the image: floor(log2(max(width, height))) + 1.
+    static int levels_of(const RenderSettings& s) {
+        int n = 1;
+        while ((std::max(s.width, s.height) >> n) > 0) ++n;
+        return n;
+    }
     // Layers the last run built (frame.stats["hiz_layers_built"], issue 11).
     int layers_built() const { return layers_built_; }
 

@@ -1,6 +1,6 @@
 // trace_hiz: hierarchical min-max traversal over every G-buffer layer (seed 002, 4.4.3,
 // 4.5.3, 4.6.6, 4.6.7, 4.7.1; shaders/passes/trace_hiz.comp).
-//   inputs : hiz, linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material
+//   inputs : hiz_trace (hiz_build's atlas of the pyramid), linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material
 //   outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h)
 #pragma once
 
@@ -13,10 +13,10 @@ public:
     using TracePass::TracePass;
     std::string name() const override { return extra() ? "trace_hiz_extra" : "trace_hiz"; }
     std::vector<std::string> inputs() const override {
-        return {"hiz", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+        return {"hiz_trace", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     void execute(FrameContext& ctx) override {
-        glBindTextureUnit(4, ctx.resources.get("hiz").id());
+        glBindTextureUnit(4, ctx.resources.get("hiz_trace").id());
         run(ctx, "passes/trace_hiz.comp");
     }
 };

@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 #include "passes/compute.h"
+#include "render/ssr_uniforms.h"
 
 namespace ssr {
 
@@ -14,6 +15,13 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays && !extra_ ? "1" : "0";
     d["EXTRA_RAYS"] = extra_ ? "1" : "0";
     d["RAY_LIST_PER_RAY"] = !extra_ && ClassifyPass::per_ray(ctx.settings) ? "1" : "0";
+    // Issue 13: a variant for one layer in use (the layer walk without its loop; at most two
+    // variants, so layers_used changing between frames recompiles nothing more than once).
+    d["TRACE_ONE_LAYER"] = ctx.layers_in_use() == 1 ? "1" : "0";
+    // The sampling method compiled in (lib/ray_generation.glsl, RAY_SAMPLING): llvmpipe runs
+    // both sides of a branch, so a run-time choice paid for every sampler; the value the
+    // settings block holds, from the same function.
+    d["RAY_SAMPLING"] = std::to_string(ssr_uniforms(ctx.settings).sampling);
     const GLuint prog = ctx.shaders.program({stage}, d);
     glUseProgram(prog);
     // Issue 11: the layer walk stops at the layers in use (a uniform: no recompile per count).

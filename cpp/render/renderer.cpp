@@ -456,7 +456,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
 bool Renderer::is_scratch(const std::string& name) {
     // Read by later passes of the same frame only. Python may still read them right after the
     // render (tests look at the pyramid), and the reference pass re-renders the shadow map.
-    return name == "shadow_map" || name == "hiz";
+    return name == "shadow_map" || name == "hiz" || name == "hiz_trace";
 }
 
 const Texture* Renderer::scratch_of(const std::string& name, uint64_t serial) const {

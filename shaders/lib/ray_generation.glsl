@@ -52,6 +52,12 @@ int rays_for_roughness(float roughness) {
 #endif
 }
 
+// A pass may compile its sampling method in (the trace passes do: issue 13); the value must be
+// the settings block's.
+#ifndef RAY_SAMPLING
+#define RAY_SAMPLING ssr.sampling
+#endif
+
 ReflectionRay generate_ray(GSample g, vec3 p_view, ivec2 q, int r) {
     ReflectionRay ray;
     ray.origin = p_view;
@@ -67,7 +73,7 @@ ReflectionRay generate_ray(GSample g, vec3 p_view, ivec2 q, int r) {
     mat3 tbn = frame_from_normal(n);
     vec3 v_local = transpose(tbn) * v;
     float alpha = g.roughness * g.roughness;  // GGX alpha from perceptual roughness (glTF)
-    BrdfSample s = sample_reflection(v_local, alpha, ssr.sampling, ray_random(q, r, g));
+    BrdfSample s = sample_reflection(v_local, alpha, RAY_SAMPLING, ray_random(q, r, g));
     ray.dir = normalize(tbn * s.l);
     ray.weight = s.weight;
     ray.pdf = s.pdf;

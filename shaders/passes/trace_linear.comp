@@ -31,6 +31,10 @@ float g_fetches = 0.0;
 // Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
 // empty everywhere, where it would only find the empty layer that ends it.
 uniform int u_layers_used;
+// 1 when exactly one layer is in use (trace_pass.cpp): the layer walk is a single test.
+#ifndef TRACE_ONE_LAYER
+#define TRACE_ONE_LAYER 0
+#endif
 
 float layer_depth(ivec2 pixel, int layer) {
     g_fetches += 1.0;
@@ -41,18 +45,29 @@ float layer_depth(ivec2 pixel, int layer) {
 // at `pixel` overlaps; -1 for none. Layers are depth-sorted per pixel, so the walk stops at
 // the first surface the ray is in front of, or at an empty layer: a ray in front of every
 // surface costs one fetch whatever the layer count (the thesis fetches every layer).
+// The loop is left by `break`, and for one layer in use (TRACE_ONE_LAYER, trace_pass.cpp) there
+// is no loop: `return`s inside a loop, and a loop of one iteration, cost llvmpipe (issue 13).
 int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
+#if TRACE_ONE_LAYER
+    float d = layer_depth(pixel, 0);
+    surface = d;
+    // an empty layer (d >= far) holds no surface here
+    return d >= frame.clip.y || hi < d || lo > d + thick ? -1 : 0;
+#else
     surface = 0.0;
+    int found = -1;
     for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
         float d = layer_depth(pixel, k);
-        if (d >= frame.clip.y) return -1;  // empty layer: no surface here or behind
-        if (hi < d) return -1;
+        if (d >= frame.clip.y) break;  // empty layer: no surface here or behind
+        if (hi < d) break;
         if (lo <= d + thick) {
             surface = d;
-            return k;
+            found = k;
+            break;
         }
     }
-    return -1;
+    return found;
+#endif
 }
 
 struct LinearHit {
@@ -106,6 +121,11 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
     float end_x = p1.x * step_dir;
     ivec2 last_pixel = ivec2(frame.viewport.xy) - 1;
 
+    // The march leaves its loop by `break` and refines a hit after it (issue 13: a `return`
+    // inside the loop costs llvmpipe).
+    int layer = -1;
+    float surface = 0.0, thick = 0.0;
+    ivec2 pixel = ivec2(0);
     for (int i = 0; i < ssr.max_steps; ++i) {
         p += dp;
         qz += dqz;
@@ -118,13 +138,13 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         float z_next = -(qz + half_step * dqz) / (k + half_step * dk);
         float lo = min(z_prev, z_next), hi = max(z_prev, z_next);
         z_prev = z_next;
-        float thick = ssr.thickness_mode == THICKNESS_RAY_STEP ? max(ssr.thickness, ssr.thickness_scale * (hi - lo))
+        thick = ssr.thickness_mode == THICKNESS_RAY_STEP ? max(ssr.thickness, ssr.thickness_scale * (hi - lo))
                                                                : ssr.thickness;
-        ivec2 pixel = clamp(ivec2(floor(permute ? p.yx : p)), ivec2(0), last_pixel);
-        float surface;
-        int layer = layer_hit(pixel, lo, hi, thick, surface);
-        if (layer < 0) continue;
-
+        pixel = clamp(ivec2(floor(permute ? p.yx : p)), ivec2(0), last_pixel);
+        layer = layer_hit(pixel, lo, hi, thick, surface);
+        if (layer >= 0) break;
+    }
+    if (layer >= 0) {
         // Binary search between the previous step and this one (seed 001 3.4, seed 002
         // Fig. 4.5): keeps the hit on the near side of thin features a long stride skipped.
         float s_lo = -1.0, s_hi = 0.0;
@@ -156,7 +176,6 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         result.pixel = clamp(hp, vec2(pixel) + 0.001, vec2(pixel) + 0.999);
         result.layer = layer;
         result.depth = surface;
-        return result;
     }
     return result;
 }
