@@ -56,13 +56,16 @@ void ClassifyPass::execute(FrameContext& ctx) {
     if (resolve_lists_) reset_resolve_list(s.width, s.height, ResolvePass::own_rays_only(s));
 
     auto& r = ctx.resources;
-    // "No ray" is all zeros (lib/trace_common.glsl): one clear of the ray textures per frame,
-    // here so that the pass's timing holds it (llvmpipe clears on the calling thread, between
-    // this pass's timestamps), and the shader writes the listed pixels only.
+    // "No ray" is all zeros (lib/trace_common.glsl): one clear per frame, here so that the
+    // pass's timing holds it (llvmpipe clears on the calling thread, between this pass's
+    // timestamps), and the shader writes the listed pixels only. Only rays.sample is cleared:
+    // every reader of rays.hit and rays.direction tests the slot's weight or traced flag first
+    // (a third of the bytes: the clear was most of this pass at 0 % reflective, issue 11);
+    // Frame.read zeroes the other two where the flag is 0, so they read as with skip off.
     {
         GpuScope t(ctx.timer, "classify.clear");  // a part of this pass's interval, shown apart
         const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (const char* name : {"rays.hit", "rays.sample", "rays.direction"}) clear_layers(r.get(name), 0, zero);
+        clear_layers(r.get("rays.sample"), 0, zero);
         if (resolve_lists_) {
             // What a non-receiver reflects where the resolve will not run: nothing (alpha 1, as
             // the resolve writes it); the rough reflective pixels' environment is the shader's.
@@ -78,6 +81,12 @@ void ClassifyPass::execute(FrameContext& ctx) {
     d["RESOLVE_LISTS"] = resolve_lists_ ? "1" : "0";
     d["RESOLVE_LIST_PIXELS"] = resolve_lists_ && resolve_pixels_ ? "1" : "0";
     d["CLASSIFY_BLOCK"] = std::to_string(kBlock);
+    // The peeling's list of the 32x32 regions where layer 0 holds a reflective surface (the
+    // group's footprint): the groups run over those only (issue 11: at 0 % reflective the
+    // invocations over the whole image were most of the pass).
+    regions_ = peel_ ? peel_->covered_tiles(s) : nullptr;
+    regions_offset_ = DepthPeelPass::classify_regions_offset(s);
+    d["REFLECTIVE_REGIONS"] = regions_ ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/classify.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_rays"), s.traced_rays());
@@ -86,6 +95,7 @@ void ClassifyPass::execute(FrameContext& ctx) {
         bind_image_layered(3, r.get("reflection"), GL_WRITE_ONLY);
         bind_resolve_list();
     }
+    if (regions_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DepthPeelPass::kCoveredTilesBinding, regions_->id());
     bind();
     // One invocation per block of kBlock x kBlock full-resolution pixels (receivers are
     // full-resolution pixels; a trace pixel is examined at its origin pixel). llvmpipe pays a
@@ -94,7 +104,12 @@ void ClassifyPass::execute(FrameContext& ctx) {
     // invocation per pixel measured 2-4 ms with nothing else to do); blocks of 4x4 pixels
     // that first gather their reflectivity 2x2 at a time measured 0.25-0.45 ms, and a block's
     // list entries take one atomic.
-    dispatch_2d(s.width, s.height, 1, 8 * kBlock, 8 * kBlock);
+    if (regions_) {
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, regions_->id());
+        glDispatchComputeIndirect(GLintptr(regions_offset_));
+    } else {
+        dispatch_2d(s.width, s.height, 1, 8 * kBlock, 8 * kBlock);
+    }
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the trace's and the resolve's indirect arguments
 }
 
@@ -107,6 +122,11 @@ std::map<std::string, double> ClassifyPass::counters() const {
                                        {"trace_groups", double(header[0]) * header[1] * header[2]},
                                        {"rays_traced", double(header[4])},
                                        {"depth_fetches", double(header[5])}};
+    if (regions_) {
+        uint32_t regions = 0;
+        glGetNamedBufferSubData(regions_->id(), GLintptr(regions_offset_), sizeof(regions), &regions);
+        c["classify_regions"] = double(regions);
+    }
     if (resolve_lists_ && resolve_list_) {
         uint32_t rh[kHeaderUints] = {};  // shaders/lib/resolve_list.glsl
         glGetNamedBufferSubData(resolve_list_.id(), 0, sizeof(rh), rh);

@@ -15,12 +15,16 @@
 
 #include <map>
 
+#include "passes/depth_peel.h"
 #include "render/render_pass.h"
 
 namespace ssr {
 
 class ClassifyPass : public RenderPass {
 public:
+    // `peel`: the depth peeling whose shading pass marks the tiles holding a reflective surface
+    // (covered_tiles.glsl); the blocks of the other tiles are skipped without a fetch.
+    explicit ClassifyPass(const DepthPeelPass* peel = nullptr) : peel_(peel) {}
     std::string name() const override { return "classify"; }
     std::vector<std::string> inputs() const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
@@ -56,6 +60,9 @@ protected:
     bool per_ray_ = false;  // the last run listed (pixel, ray) entries
 
 private:
+    const DepthPeelPass* peel_;
+    const Buffer* regions_ = nullptr;  // the last run's region list (the peel's buffer), or none
+    size_t regions_offset_ = 0;
     Buffer resolve_list_;
     bool resolve_lists_ = false;     // the last run wrote the resolve list
     bool resolve_pixels_ = false;    // ... of pixels (the own-rays resolve), else of tiles

@@ -73,13 +73,19 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     // The covered-tile flags the shading pass sets (shaders/lib/covered_tiles.glsl), cleared,
     // with the header the lighting pass's compaction counts into.
     const int tiles = covered_tiles_per_layer(s) * s.layers;
-    const size_t tile_bytes = sizeof(GLuint) * (4 + 2 * size_t(tiles));
+    // Flags and list per layer, then layer 0's reflective regions: dispatch arguments, flags, list.
+    const size_t regions = size_t(classify_regions(s));
+    const size_t tile_bytes = sizeof(GLuint) * (4 + 2 * size_t(tiles) + 4 + 2 * regions);
     if (tiles_.size() < tile_bytes) tiles_ = Buffer::create(tile_bytes);
     const GLuint header[4] = {0, 1, 1, 0};
     tiles_.upload(header, sizeof(header));
     const GLuint zero_flag = 0;
     glClearNamedBufferSubData(tiles_.id(), GL_R32UI, sizeof(header), sizeof(GLuint) * size_t(tiles), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero_flag);
+    const GLuint region_header[4] = {0, 1, 1, 0};  // no region listed yet; a 1 x 1 dispatch layer
+    glNamedBufferSubData(tiles_.id(), GLintptr(classify_regions_offset(s)), sizeof(region_header), region_header);
+    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, GLintptr(classify_regions_offset(s) + sizeof(region_header)),
+                              sizeof(GLuint) * regions, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_flag);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoveredTilesBinding, tiles_.id());
     tiles_layers_ = s.layers;
     tiles_width_ = s.width;

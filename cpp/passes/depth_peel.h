@@ -40,6 +40,12 @@ public:
     // kCoveredTilesBinding, or nullptr where the last run had other settings' sizes.
     static constexpr GLuint kCoveredTilesBinding = 14;
     static int covered_tiles_per_layer(const RenderSettings& s) { return ((s.width + 7) / 8) * ((s.height + 7) / 8); }
+    // Layer 0's reflective 32x32 regions (issue 11), listed for the classify pass's indirect
+    // dispatch: their count and the byte offset of the dispatch arguments in the buffer.
+    static int classify_regions(const RenderSettings& s) { return ((s.width + 31) / 32) * ((s.height + 31) / 32); }
+    static size_t classify_regions_offset(const RenderSettings& s) {
+        return sizeof(GLuint) * (4 + 2 * size_t(covered_tiles_per_layer(s)) * size_t(s.layers));
+    }
     const Buffer* covered_tiles(const RenderSettings& s) const {
         return tiles_ && tiles_layers_ == s.layers && tiles_width_ == s.width && tiles_height_ == s.height ? &tiles_
                                                                                                              : nullptr;

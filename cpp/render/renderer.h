@@ -145,7 +145,7 @@ private:
     DepthPeelPass depth_peel_;
     LightingPass lighting_shadowed_{true, &depth_peel_}, lighting_unshadowed_{false, &depth_peel_};
     HizBuildPass hiz_build_;
-    ClassifyPass classify_;
+    ClassifyPass classify_{&depth_peel_};
     TraceLinearPass trace_linear_{&classify_};
     TraceHizPass trace_hiz_{&classify_};
     // Settings.variance_rays: the extra-ray list and the second trace over it (issue 11).

@@ -294,7 +294,13 @@ class Frame:
         self._check_live(repr(name))
         key = f"{name}@{level}"
         if key not in self._cache:
-            self._cache[key] = self._native.read(name, level)
+            data = self._native.read(name, level)
+            if name in ("rays.hit", "rays.direction") and "classify" in self.passes:
+                # With skip, the GPU clears rays.sample only; a slot whose traced flag is 0 holds
+                # no ray, which reads as zeros here, as the full-screen trace writes it.
+                traced = self.read("rays.sample", level)[..., 3:4] > 0.5
+                data = np.where(traced, data, np.float32(0.0)).astype(np.float32, copy=False)
+            self._cache[key] = data
         return self._cache[key]
 
     @property

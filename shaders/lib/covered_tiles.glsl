@@ -6,8 +6,15 @@
 // One buffer (passes/depth_peel.cpp clears it each frame):
 //   covered_header  x: tiles in the list (the indirect dispatch's group count), y, z: 1
 //   covered_tile[i] for i < layers * tiles: 1 where tile i (layer-major, rows of tiles) is covered;
-//                   then the list: the covered tiles' indices, in no particular order.
+//                   then the list: the covered tiles' indices, in no particular order;
+//   then the reflective regions of layer 0 (issue 11), from classify_regions_base():
+//                   4 uints of indirect dispatch arguments (regions listed, 1, 1, 0), a flag per
+//                   32x32-pixel region (1: layer 0 drew a surface with a reflectivity there), and
+//                   the list of flagged regions, which the classify pass dispatches over: a frame
+//                   without reflective pixels runs no classify group. Overdrawn fragments may flag
+//                   a region needlessly, never miss one.
 #define COVERED_TILE_SIZE 8
+#define CLASSIFY_REGION_SIZE 32  // the classify pass's group footprint (8x8 invocations of 4x4 pixels)
 
 layout(std430, binding = 14) coherent buffer CoveredTiles {
     uvec4 covered_header;
@@ -16,4 +23,15 @@ layout(std430, binding = 14) coherent buffer CoveredTiles {
 
 ivec2 covered_tile_grid() {
     return (ivec2(frame.viewport.xy) + COVERED_TILE_SIZE - 1) / COVERED_TILE_SIZE;
+}
+
+ivec2 classify_region_grid() {
+    return (ivec2(frame.viewport.xy) + CLASSIFY_REGION_SIZE - 1) / CLASSIFY_REGION_SIZE;
+}
+
+// covered_tile[] index of the reflective regions' dispatch arguments, after both per-layer parts
+// of `layers` layers; the flags follow at + 4, the list at + 4 + regions.
+uint classify_regions_base(int layers) {
+    ivec2 grid = covered_tile_grid();
+    return uint(2 * layers * grid.x * grid.y);
 }

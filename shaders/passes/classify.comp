@@ -38,6 +38,15 @@
 layout(binding = 3, rgba16f) writeonly uniform image2D o_reflection;
 #endif
 
+// Issue 11: the groups run over the 32x32 regions where the peeling drew a reflective surface
+// in layer 0 (lib/covered_tiles.glsl, indirect dispatch), not over the whole image.
+#ifndef REFLECTIVE_REGIONS
+#define REFLECTIVE_REGIONS 0
+#endif
+#if REFLECTIVE_REGIONS
+#include "../lib/covered_tiles.glsl"
+#endif
+
 // Issue 11: llvmpipe pays a fixed cost per work group (~2 us, measured: an empty 8x8 classify
 // cost 2 ms at 320x180), so the groups are CLASSIFY_GROUP wide.
 #ifndef CLASSIFY_GROUP_X
@@ -68,10 +77,20 @@ bool origin_line(int x, int trace_size, int image_size) {
 void main() {
     const int B = CLASSIFY_BLOCK;
     ivec2 size = ivec2(frame.viewport.xy);
+#if REFLECTIVE_REGIONS
+    // This group's region: every pixel of the others is known not to reflect, so that (with
+    // their "no ray" and "no reflection" cleared) they need no invocation at all.
+    uint regions_base = classify_regions_base(int(frame.clip.z));
+    ivec2 regions = classify_region_grid();
+    int region = int(covered_tile[regions_base + 4u + uint(regions.x * regions.y) + gl_WorkGroupID.x]);
+    ivec2 group_origin = ivec2(region % regions.x, region / regions.x) * CLASSIFY_REGION_SIZE;
+#else
+    ivec2 group_origin = ivec2(gl_WorkGroupID.xy) * 8 * B;
+#endif
     // The trace pixels examined (those whose origin pixel is in this group), counted once per
     // group rather than by one atomic per pixel on the same counter.
     if (gl_LocalInvocationIndex == 0u) {
-        ivec2 o = ivec2(gl_WorkGroupID.xy) * 8 * B;
+        ivec2 o = group_origin;
         uint nx = 0u, ny = 0u;
         for (int i = 0; i < 8 * B; ++i) {
             if (origin_line(o.x + i, ssr.trace_width, size.x)) ++nx;
@@ -79,7 +98,7 @@ void main() {
         }
         if (nx * ny > 0u) atomicAdd(ray_list.classified, nx * ny);
     }
-    ivec2 block = ivec2(gl_GlobalInvocationID.xy) * B;
+    ivec2 block = group_origin + ivec2(gl_LocalInvocationID.xy) * B;
     if (any(greaterThanEqual(block, size))) return;
     uint traced = 0u;     // bit i: pixel i of the block joins the ray list
     uint receivers = 0u;  // bit i: pixel i of the block receives rays (is_reflective)

@@ -98,5 +98,17 @@ void main() {
     ivec2 grid = covered_tile_grid();
     ivec2 tile = ivec2(gl_FragCoord.xy) / COVERED_TILE_SIZE;
     covered_tile[(u_layer * grid.y + tile.y) * grid.x + tile.x] = 1u;
+    if (u_layer == 0 && g.reflectivity > 0.0) {
+        // Its 32x32 region holds a reflective surface: the first fragment to flag it lists it
+        // for the classify pass (the plain read spares the atomic once the region is flagged).
+        uint base = classify_regions_base(int(frame.clip.z));
+        ivec2 regions = classify_region_grid();
+        ivec2 region = ivec2(gl_FragCoord.xy) / CLASSIFY_REGION_SIZE;
+        uint i = uint(region.y * regions.x + region.x);
+        if (covered_tile[base + 4u + i] == 0u && atomicExchange(covered_tile[base + 4u + i], 1u) == 0u) {
+            uint n = atomicAdd(covered_tile[base], 1u);
+            covered_tile[base + 4u + uint(regions.x * regions.y) + n] = i;
+        }
+    }
 }
 #endif
