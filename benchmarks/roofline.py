@@ -91,14 +91,16 @@ def work_of(pass_name, s, stats):
         f = texels * (4 + 4 * taps)
         return f, texels * (4 + 4 + 8 + 4 + taps * 16), texels * (8 + 4), "coherent"
     if pass_name == "classify":
-        # Issue 11: every pixel's reflectivity (gathered 2x2), the G-buffer of the reflective ones
-        # (3 more fetches; counted as the resolve list's receivers and rough pixels); writes: the
-        # clears of the ray textures (3 RGBA32F per trace pixel and ray) and of the reflection,
-        # and the list entries.
+        # Issue 11: the reflectivity of every pixel of the 32x32 regions the peeling flagged
+        # (gathered 2x2; the examined trace pixels scaled to full resolution), the G-buffer of the
+        # reflective ones (3 more fetches; counted as the resolve list's receivers and rough
+        # pixels); writes: the clears of rays.sample (RGBA32F per trace pixel and ray) and of the
+        # reflection, and the list entries.
         reflective = stats.get("resolve_pixels", stats.get("pixels_traced", 0)) + stats.get("environment_pixels", 0)
-        f = px + 3 * reflective
-        written = trace_px * s.rays_per_pixel * 48 + (px * 8 if "resolve_groups" in stats else 0) + rays * 4
-        return f, px * 4 + reflective * 16, written, "coherent"
+        examined = int(stats.get("pixels_classified", trace_px) * px / max(trace_px, 1))
+        f = examined + 3 * reflective
+        written = trace_px * s.rays_per_pixel * 16 + (px * 8 if "resolve_groups" in stats else 0) + rays * 4
+        return f, examined * 4 + reflective * 16, written, "coherent"
     if pass_name == "hiz_build":
         f = int(px * s.layers * 4 / 3)
         # The coarser levels, and with method="hiz" every level again into the tracer's atlas.

@@ -1,11 +1,12 @@
 """What skipping saves (issue 11): trace + resolve time against the reflective share of the screen.
 
-    python benchmarks/skip.py [--width 320 --height 180 --repeats 7]
+    python benchmarks/skip.py [--width W --height H] [--repeats 7] [--sections shares peel adaptive]
 
-A floor of 100 strips seen from above (boxes stand on it to be reflected), a share of the strips
-mirrors (roughness 0) or glossy (roughness 0.3), the rest matte without reflectivity. For each
-share (0, 1, 10, 50, 100 % of the strips; the share of trace pixels this gives is measured by
-Frame.stats and printed) it renders with Settings.skip on (classify + indirect trace over the ray
+A floor of 100 strips seen from above (boxes stand on it to be reflected), some strips mirrors
+(roughness 0) or glossy (roughness 0.3), the rest matte without reflectivity. For each share of the
+screen (0, 1, 10, 50 %: the strips whose pixels, counted from the G-buffer's object ids, make that
+share; 100 %: every strip, which covers the floor's part of the screen; the measured reflective
+share of the screen is printed) it renders with Settings.skip on (classify + indirect trace over the ray
 list) and off (one trace invocation per pixel and ray over the whole image) and prints the median
 GPU time of classify + trace + resolve over `repeats` renders after 2 warm-up renders, with the
 spread (min-max of the repeats). 0 % keeps one mirror strip off-screen, so the scene still has a
@@ -29,6 +30,7 @@ are printed after each sweep, for the trace alone and for trace + resolve.
 
 from __future__ import annotations
 
+import argparse
 import statistics
 
 import numpy as np
@@ -40,35 +42,40 @@ from common import benchmark_arguments, open_renderer
 STRIPS = 100
 
 
-def strip_floor(share: float, roughness, boxes: bool = True) -> Scene:
-    """`roughness`: one value, or a list the reflective strips cycle through."""
+def strip_floor(share: float, roughness, boxes: bool = True, reflective=None) -> Scene:
+    """`roughness`: one value, or a list the reflective strips cycle through. `reflective`: the
+    indices of the reflective strips (default: the first `share` of them)."""
     roughnesses = list(roughness) if isinstance(roughness, (list, tuple)) else [roughness]
     s = Scene()
     s.name = f"strips{share:g}"
-    n_reflective = int(round(share * STRIPS))
+    chosen = set(range(int(round(share * STRIPS)))) if reflective is None else set(reflective)
+    n_reflective = len(chosen)
     mirrors = [Material(base_color=(0.9, 0.9, 0.9), roughness=r, metallic=1.0, reflectivity=1.0) for r in roughnesses]
     mirror = mirrors[0]
     matte = Material(base_color=(0.5, 0.45, 0.4), roughness=0.9, reflectivity=0.0)
-    width = 24.0
+    width = 64.0  # wide enough to fill the view's sides
     for i in range(STRIPS):
         x0 = -width / 2 + i * width / STRIPS
         x1 = x0 + width / STRIPS
         p = np.float32([(x0, 0, 6), (x1, 0, 6), (x1, 0, -30), (x0, 0, -30)])
         s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name=f"strip{i}", normals=np.tile(np.float32([0, 1, 0]), (4, 1)),
-                   material=mirrors[i % len(mirrors)] if i < n_reflective else matte)
+                   material=mirrors[i % len(mirrors)] if i in chosen else matte)
     if n_reflective == 0:  # a reflective surface off-screen: the reflection passes still run
         s.add_plane((0, -50, 60), (1, 1), name="hidden_mirror", material=mirror)
     rng = np.random.default_rng(3)
     for k in range(12 if boxes else 0):
+        box = Material(base_color=tuple(rng.uniform(0.2, 0.9, 3)), roughness=0.6)
+        # Every strip reflective: the boxes too, so that the whole screen reflects (100 %).
         s.add_box((rng.uniform(-6, 6), 0.6, rng.uniform(-14, -2)), (0.8, 1.2, 0.8), name=f"box{k}",
-                  material=Material(base_color=tuple(rng.uniform(0.2, 0.9, 3)), roughness=0.6))
+                  material=mirrors[k % len(mirrors)] if n_reflective == STRIPS else box)
     if not boxes:  # one single-sided plane over the floor instead: depth complexity 2
         s.add_mesh(np.float32([(-6, 1, -2), (2, 1, -2), (2, 1, -10), (-6, 1, -10)]), np.array([(0, 1, 2), (0, 2, 3)]),
                    name="shelf", normals=np.tile(np.float32([0, 1, 0]), (4, 1)), material=matte)
     s.add_light(directional_light((0.3, -1.0, -0.4), intensity=3.0, cast_shadow=False))
     s.environment = Environment.constant((0.2, 0.25, 0.3))
-    # Centred on the strips' x-range from its mirrored side, so the lower shares land on screen.
-    s.camera = Camera(position=(-3.0, 3.0, 4.0), target=(-3.0, 0.0, -6.0), fov_y=60.0, near=0.1, far=60.0)
+    # Looking down at the floor steeply enough that it fills the view (its far edge, z = -30,
+    # lies beyond the top of the image), so that a share of the strips can be any share of the screen.
+    s.camera = Camera(position=(0.0, 3.0, 4.0), target=(0.0, 0.0, 0.0), fov_y=60.0, near=0.1, far=60.0)
     return s
 
 
@@ -89,16 +96,37 @@ def fmt(m, lo, hi):
     return f"{m:>8.3f} ({lo:.3f}-{hi:.3f})"
 
 
+def screen_share_strips(r, args, share: float) -> list[int]:
+    """The strips whose pixels make `share` of the screen (issue 11 varies "the reflective share
+    of the screen"): each strip's pixels measured once from the G-buffer's object ids, then the
+    strips that still fit, every other one first, so the measured share lands within half a strip
+    of the target.
+    share 1: every strip (the floor does not fill the whole screen: the share is printed)."""
+    if share >= 1.0:
+        return list(range(STRIPS))
+    f = r.render(strip_floor(1.0, 0.0), settings=ssrlab.Settings(width=args.width, height=args.height))
+    ids = f.gbuffer.object_id[0]
+    counts = np.bincount(ids[(ids >= 0) & (ids < STRIPS)].ravel(), minlength=STRIPS)
+    goal, total, chosen = share * ids.size, 0, []
+    # Every other strip first (the reflective pixels spread over the view, not in one block),
+    # then the rest, each while it fits within half its own size of the goal.
+    for i in list(range(0, STRIPS, 2)) + list(range(1, STRIPS, 2)):
+        if counts[i] > 0 and total + counts[i] <= goal + counts[i] / 2:
+            chosen.append(i)
+            total += int(counts[i])
+    return chosen
+
+
 def shares_section(r, args):
     for label, roughness, kw in (("mirror, 1 ray", 0.0, dict(sampling="mirror", rays_per_pixel=1)),
                                  ("glossy 0.3, 4 rays", 0.3, dict(sampling="vndf", rays_per_pixel=4))):
         for method in ("linear", "hiz"):
             print(f"{label}, method={method}")
-            print(f"  {'share':>6} {'traced px':>9} | {'classify+trace on':>22} {'trace off':>22} | "
+            print(f"  {'share':>6} {'screen':>9} | {'classify+trace on':>22} {'trace off':>22} | "
                   f"{'+resolve on':>22} {'+resolve off':>22}")
             medians = {}
             for share in args.shares:
-                scene = strip_floor(share / 100, roughness)
+                scene = strip_floor(share / 100, roughness, reflective=screen_share_strips(r, args, share / 100))
                 trace = trace_keys(method)
                 cols = []
                 for keys in (trace, trace + ("resolve",)):
@@ -107,7 +135,7 @@ def shares_section(r, args):
                         cols.append(timed(r, scene, s, keys, args.repeats))
                 medians[share] = [c[0] for c in cols]
                 f = cols[0][3]
-                px = f.stats.get("pixels_traced", 0) / max(f.stats.get("pixels_classified", 1), 1)
+                px = float((f.gbuffer.reflectivity[0] > 0).mean())  # the measured reflective share of the screen
                 print(f"  {share:>5g}% {100 * px:>8.1f}% | " + " ".join(
                     fmt(m, lo, hi) + (" |" if i == 1 else "") for i, (m, lo, hi, _) in enumerate(cols)))
             if 100 in medians:
@@ -390,7 +418,11 @@ def adaptive_verdicts(summary, n):
 
 def main() -> None:
     ap = benchmark_arguments(__doc__, repeats=7)
-    ap.set_defaults(width=320, height=180)
+    # Defaults per section (--width/--height set all): the shares and the peeling at 640x360, the
+    # resolution of the roofline's targets (at 320x180 a fixed ~0.3 ms per frame, the clears and
+    # the empty dispatches, is already 5 % of a whole Hi-Z mirror frame on llvmpipe); the
+    # adaptive section, 8 seeds of many rows, at 320x180.
+    ap.set_defaults(width=None, height=None)
     ap.add_argument("--shares", type=float, nargs="+", default=[0, 1, 10, 50, 100])
     ap.add_argument("--sections", nargs="+", default=["shares", "peel", "adaptive"],
                     choices=("shares", "peel", "adaptive"))
@@ -402,13 +434,16 @@ def main() -> None:
     ap.add_argument("--adaptive-methods", nargs="+", default=["bvh", "hiz"], choices=("bvh", "hiz", "linear"))
     args = ap.parse_args()
     r = open_renderer(args)
-    print(f"{args.width}x{args.height}, median (min-max) of {args.repeats} runs after 2 warm-up runs; GPU ms\n")
-    if "shares" in args.sections:
-        shares_section(r, args)
-    if "peel" in args.sections:
-        peel_section(r, args)
-    if "adaptive" in args.sections:
-        adaptive_section(r, args)
+
+    def sized(width, height):
+        return argparse.Namespace(**{**vars(args), "width": args.width or width, "height": args.height or height})
+
+    for name, section, size in (("shares", shares_section, (640, 360)), ("peel", peel_section, (640, 360)),
+                                ("adaptive", adaptive_section, (320, 180))):
+        if name in args.sections:
+            a = sized(*size)
+            print(f"{name}: {a.width}x{a.height}, median (min-max) of {a.repeats} runs after 2 warm-up runs; GPU ms\n")
+            section(r, a)
 
 
 if __name__ == "__main__":
