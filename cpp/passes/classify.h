@@ -2,8 +2,10 @@
 // roughness and angle; FidelityFX SSSR's classification): marks the trace pixels that need
 // rays and compacts them into a ray list with an atomic counter, in a buffer that also holds
 // the trace pass's indirect dispatch arguments: the trace pass then runs over the list only,
-// and an empty list costs it no work. The pixels left out keep the trace pass's "no ray"
-// outputs, all zeros, from a clear of the ray textures timed with this pass. When the resolve
+// and an empty list costs it no work. It runs by indirect dispatch over the 32x32 regions where
+// the peeling drew a reflective surface in layer 0 (covered_tiles.glsl). The pixels left out
+// read as the trace pass's "no ray", all zeros: rays.sample is cleared, timed with this pass
+// (rays.hit and rays.direction are read only where its traced flag is set). When the resolve
 // follows (resolves_over_lists), it also lists the resolve's work, the receiving pixels (own
 // rays) or the 16x16 tiles holding one, and writes the environment of the reflective pixels
 // rougher than the cutoff into a cleared reflection texture (shaders/passes/classify.comp).

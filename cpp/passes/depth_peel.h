@@ -12,7 +12,9 @@
 // Issue 13: each layer is a depth pass (peel test only) and a shading pass at the kept depth
 // (GL_EQUAL, early fragment tests), so the material runs once per covered pixel; the shading
 // pass also marks the layer's covered 8x8 tiles in a buffer (covered_tiles(),
-// shaders/lib/covered_tiles.glsl) that the lighting pass dispatches over.
+// shaders/lib/covered_tiles.glsl) that the lighting pass dispatches over; in layer 0 it also
+// lists the 32x32 regions holding a reflective surface, which the classify pass dispatches
+// over (issue 11: a frame with no reflective pixel runs no classify group).
 //
 // Beyond the thesis: a layer that covers no pixel means every deeper layer is empty too, so
 // each layer's draws are conditionally rendered on the previous layer's sample count

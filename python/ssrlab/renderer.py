@@ -252,7 +252,8 @@ class Frame:
     @property
     def stats(self) -> dict[str, int]:
         """Exact work counts read back from the GPU (issue 11): passes_run, and with
-        Settings.skip the classify pass's pixels_classified (trace pixels examined),
+        Settings.skip the classify pass's classify_regions (the 32x32 regions holding a reflective
+        surface, where it runs) and pixels_classified (trace pixels examined there),
         pixels_traced (trace pixels in the ray list), rays_traced (rays generated),
         depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups);
         layers_used (layers holding a surface somewhere: with skip, the Hi-Z build, the trace's
