@@ -257,12 +257,17 @@ def main(argv=None) -> int:
                 for _ in range(2):
                     r.render(scene, settings=s)
             t_before, t_now, r_before, r_now = [], [], [], []
+            per_pass = {}  # pass: (before, now) timings of every pass both frames ran
             for _ in range(args.repeats):
                 fb, fn = before.render(scene, settings=s), renderer.render(scene, settings=s)
                 t_before.append(fb.timings["total"])
                 t_now.append(fn.timings["total"])
                 r_before.append(fb.timings.get("resolve", math.nan))
                 r_now.append(fn.timings.get("resolve", math.nan))
+                for k in fb.timings.keys() & fn.timings.keys():
+                    per_pass.setdefault(k, ([], []))
+                    per_pass[k][0].append(fb.timings[k])
+                    per_pass[k][1].append(fn.timings[k])
             err = metrics.thesis_error(fn.color, fb.color)
             diff = float(abs(fn.color - fb.color).sum(axis=-1).max())
             print(f"{scene_name}/thesis: before {statistics.median(t_before):.1f} ms "
@@ -271,6 +276,11 @@ def main(argv=None) -> int:
                   f"largest per-pixel error {diff:.2e}; resolve before {statistics.median(r_before):.1f} ms "
                   f"({min(r_before):.1f}-{max(r_before):.1f}), now {statistics.median(r_now):.1f} ms "
                   f"({min(r_now):.1f}-{max(r_now):.1f})")
+            for k in sorted(per_pass):
+                b, n = per_pass[k]
+                print(f"  {k}: before {statistics.median(b):.2f} ms ({min(b):.2f}-{max(b):.2f}), now "
+                      f"{statistics.median(n):.2f} ms ({min(n):.2f}-{max(n):.2f}), now / before "
+                      f"{statistics.median(n) / statistics.median(b):.3f}")
             ratios[f"{scene_name}/thesis: before / now, same run (frame speed-up)"] = (
                 statistics.median(t_before) / statistics.median(t_now))
             ratios[f"{scene_name}/thesis: resolve before / now, same run"] = (
