@@ -18,6 +18,8 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     // Issue 13: a variant for one layer in use (the layer walk without its loop; at most two
     // variants, so layers_used changing between frames recompiles nothing more than once).
     d["TRACE_ONE_LAYER"] = ctx.layers_in_use() == 1 ? "1" : "0";
+    // trace_hiz's level-0 steps before the traversal (seed 002 4.7.1), compiled in only when asked.
+    d["HIZ_LINEAR_STEPS"] = ctx.settings.hiz_linear_steps > 0 ? "1" : "0";
     // The sampling method compiled in (lib/ray_generation.glsl, RAY_SAMPLING): llvmpipe runs
     // both sides of a branch, so a run-time choice paid for every sampler; the value the
     // settings block holds, from the same function.

@@ -49,9 +49,14 @@ bool ray_list_entry(out ivec3 id) {
     return true;
 }
 
-// Frame.stats: a ray the trace pass generated and the depth fetches it spent.
+// Frame.stats: rays the trace pass generated and the depth fetches they spent.
+void ray_list_add(uint rays, uint fetches) {
+    if (rays == 0u) return;
+    atomicAdd(ray_list.rays_traced, rays);
+    atomicAdd(ray_list.fetches, fetches);
+}
+
+// The same for one ray (weight 0: no ray).
 void ray_list_count(float weight, float fetches) {
-    if (weight <= 0.0) return;
-    atomicAdd(ray_list.rays_traced, 1u);
-    atomicAdd(ray_list.fetches, uint(fetches));
+    ray_list_add(weight > 0.0 ? 1u : 0u, uint(fetches));
 }

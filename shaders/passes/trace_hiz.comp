@@ -33,7 +33,11 @@
 // Two rays per invocation, walked in lockstep (seed 002 4.7.2's point: more independent
 // dependent-fetch chains in flight; on llvmpipe, where an invocation is a SIMD lane, the CPU
 // overlaps the two chains' latencies: 1.08-1.15x, issue 13). A group of 8x4 invocations serves the 64 trace
-// pixels (or ray-list entries) an 8x8 group served: rows y and y + 4, entries i and i + 32.
+// pixels (or ray-list entries) an 8x8 group served. A row of 8 invocations (one SIMD vector on
+// llvmpipe, which steps it until its longest walk ends) serves neighbours, which walk alike: rows
+// 2y and 2y + 1 of the 8x8 pixels, or 16 consecutive list entries (a 4x4 block of classify's
+// list). With rows y, y + 4 and entries i, i + 32 the vector's lanes did 0.67 of the steps it
+// paid for on hall (0.75 spheres_and_boxes), now 0.72 (0.80): 1.05-1.1x (issue 13).
 layout(local_size_x = 8, local_size_y = 4, local_size_z = 1) in;
 
 layout(binding = 0) uniform sampler2DArray u_linear_depth;
@@ -51,6 +55,11 @@ uniform int u_layers_used;
 #ifndef TRACE_ONE_LAYER
 #define TRACE_ONE_LAYER 0
 #endif
+// 1 when Settings.hiz_linear_steps > 0 (trace_pass.cpp): the level-0 steps' bookkeeping is
+// compiled in only then (each select it costs runs on every step: 1.04x, issue 13).
+#ifndef HIZ_LINEAR_STEPS
+#define HIZ_LINEAR_STEPS 1
+#endif
 
 // GL's mip size rule, max(1, size >> level). Computed rather than asked of textureSize():
 // llvmpipe answers textureSize with the lod of one lane when lanes ask for different levels.
@@ -59,8 +68,7 @@ ivec2 hiz_level_size(int level) {
 }
 
 // (min s, slab back s) of a cell: lod 0 whatever the level (issue 13, lib/hiz_atlas.glsl).
-vec2 hiz_fetch(ivec2 cell, int layer, int level, inout float fetches) {
-    fetches += 1.0;
+vec2 hiz_fetch(ivec2 cell, int layer, int level) {
     return texelFetch(u_hiz_trace, ivec3(hiz_atlas_origin(level) + cell, layer), 0).xy;
 }
 
@@ -75,14 +83,15 @@ int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, ino
 #if TRACE_ONE_LAYER
     // One layer in use (the common case; trace_pass.cpp compiles this variant for it): the
     // test without a loop around it, 1.3x faster on llvmpipe than a loop of one iteration.
-    vec2 mb = hiz_fetch(cell, 0, level, fetches);
+    vec2 mb = hiz_fetch(cell, 0, level);  // one fetch per step: the walk counts its steps
     front = mb.x;
     return hi < mb.x || lo > mb.y ? -1 : 0;
 #else
     front = 0.0;
     int found = -1;
     for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
-        vec2 mb = hiz_fetch(cell, k, level, fetches);
+        vec2 mb = hiz_fetch(cell, k, level);
+        fetches += 1.0;
         if (hi < mb.x) break;  // in front of this layer, so of every deeper one
         if (lo <= mb.y) {
             front = mb.x;
@@ -94,12 +103,15 @@ int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, ino
 #endif
 }
 
-// A ray's walk: its screen segment o + v t and where the traversal stands.
+// A ray's walk: its screen segment o + v t and where the traversal stands: (t, level), from
+// which the cell, its exit and the ray's depth there follow (walk_cell). Only what a step
+// changes is carried: on llvmpipe every variable the loop writes costs a masked blend per step.
 struct HizWalk {
     vec3 o, v;
-    float eps_t, t, t_out, sa, front, fetches;
+    vec2 inv_v;   // 1 / v.xy (1e30 along an axis the ray does not move on)
+    ivec2 ahead;  // 1 where the ray moves toward +x / +y (or not at all): the cell edge it leaves by
+    float eps_t, t, front, fetches;
     int level, linear_left, layer, steps;
-    ivec2 cell;
     bool walking;  // still walking
     bool valid;   // the segment was set up (a hit can be resolved)
 };
@@ -109,8 +121,8 @@ int g_max_level, g_start_level, g_stop_level;
 HizWalk walk_start(ReflectionRay ray, bool traced) {
     HizWalk w;
     w.fetches = 0.0; w.walking = false; w.valid = false; w.layer = -1; w.steps = 0;
-    w.t = 0.0; w.t_out = 0.0; w.sa = 0.0; w.front = 0.0; w.cell = ivec2(0); w.level = 0; w.linear_left = 0;
-    w.o = vec3(0.0); w.v = vec3(0.0); w.eps_t = 0.0;
+    w.t = 0.0; w.front = 0.0; w.level = 0; w.linear_left = 0;
+    w.o = vec3(0.0); w.v = vec3(0.0); w.eps_t = 0.0; w.inv_v = vec2(0.0); w.ahead = ivec2(0);
     if (!traced) return w;
     float len = ray_length_in_front_of_near(ray.origin, ray.dir, ssr.max_distance);
     vec3 end = ray.origin + ray.dir * len;
@@ -128,6 +140,10 @@ HizWalk walk_start(ReflectionRay ray, bool traced) {
     if (major < 0.5) return w;  // the ray stays inside its own pixel on screen
     w.o = o;
     w.v = v;
+    // Along an axis the ray does not move on, the far edge of its cell lies ahead of the
+    // origin (a pixel centre), and a huge reciprocal puts that crossing beyond t = 1.
+    w.inv_v = mix(1.0 / v.xy, vec2(1e30), equal(v.xy, vec2(0.0)));
+    w.ahead = ivec2(greaterThanEqual(v.xy, vec2(0.0)));
     w.eps_t = ssr.hiz_crossing_offset / major;
     // Leave the origin's pixel first, so the ray does not hit the surface it starts on.
     w.t = hiz_cell_exit(o.xy, v.xy, hiz_cell(o.xy, 0), 0) + w.eps_t;
@@ -138,27 +154,56 @@ HizWalk walk_start(ReflectionRay ray, bool traced) {
     return w;
 }
 
+// The cell the walk stands in, where the ray leaves it and the ray's screen depth on entering:
+// a function of (t, level) alone, recomputed after the loop for the hit. Crossings multiply by
+// 1 / v rather than divide (hiz_cell_exit, lib/hiz_cells.glsl, serves the origin's pixel).
+void walk_cell(HizWalk w, out ivec2 cell, out float t_out, out float sa) {
+    vec2 pos = w.o.xy + w.v.xy * w.t;
+    ivec2 size = hiz_level_size(w.level);
+    cell = min(ivec2(floor(pos)) >> w.level, size - 1);
+    // The edge the ray leaves the cell by, in level-0 pixels: the cell's far side along each
+    // axis it moves on (the last cell of a row reaches the image edge, lib/hiz_cells.glsl).
+    ivec2 edge = (cell + w.ahead) << w.level;
+    edge = mix(edge, ivec2(frame.viewport.xy), equal(cell + w.ahead, size));
+    vec2 t_edge = (vec2(edge) - w.o.xy) * w.inv_v;
+    t_out = min(min(t_edge.x, t_edge.y), 1.0);
+    sa = w.o.z + w.v.z * w.t;
+}
+
 // One traversal step of an active walk. The walk ends on a hit (layer >= 0) and resolves it
 // after the loop (a `return` inside the loop measured 1.1-1.2x slower on llvmpipe).
 void walk_step(inout HizWalk w) {
     if (!w.walking) return;
-    vec2 pos = w.o.xy + w.v.xy * w.t;
-    w.cell = hiz_cell(pos, w.level);
-    w.t_out = min(hiz_cell_exit(w.o.xy, w.v.xy, w.cell, w.level), 1.0);
-    w.sa = w.o.z + w.v.z * w.t;
-    float sb = w.o.z + w.v.z * w.t_out;
-    int layer = cell_overlap(w.cell, w.level, min(w.sa, sb), max(w.sa, sb), w.front, w.fetches);
+    ivec2 cell;
+    float t_out, sa;
+    walk_cell(w, cell, t_out, sa);
+    float sb = w.o.z + w.v.z * t_out;
+    int layer = cell_overlap(cell, w.level, min(sa, sb), max(sa, sb), w.front, w.fetches);
     bool hit = layer >= 0 && w.level <= g_stop_level;
     // Nothing for this ray in the cell: cross it and go up (after the linear steps, the level
-    // stays 0 while they last); else go down. Selects, no branches.
+    // stays 0 while they last); else go down. Selects, no branches (llvmpipe runs every
+    // if-block, taken or not, even on a uniform condition: issue 13).
     bool miss = layer < 0;
+#if HIZ_LINEAR_STEPS
     int up = w.linear_left > 1 ? w.level : w.linear_left == 1 ? g_start_level : min(w.level + 1, g_max_level);
-    w.layer = hit ? layer : -1;
-    w.t = hit ? w.t : miss ? w.t_out + w.eps_t : w.t;
-    w.level = hit ? w.level : miss ? up : w.level - 1;
     w.linear_left = miss ? max(w.linear_left - 1, 0) : w.linear_left;
+#else
+    int up = min(w.level + 1, g_max_level);
+#endif
+    w.layer = hit ? layer : -1;
+    w.t = miss ? t_out + w.eps_t : w.t;
+    w.level = hit ? w.level : miss ? up : w.level - 1;
     w.steps += 1;
     w.walking = !hit && w.steps < ssr.max_steps && w.t < 1.0;
+}
+
+// Depth fetches the walk spent: one per step with one layer (not counted in the loop).
+float walk_fetches(HizWalk w) {
+#if TRACE_ONE_LAYER
+    return float(w.steps);
+#else
+    return w.fetches;
+#endif
 }
 
 struct HizHit {
@@ -172,11 +217,14 @@ HizHit walk_result(HizWalk w) {
     HizHit result;
     result.hit = false;
     if (w.valid && w.layer >= 0) {
+        ivec2 cell;
+        float t_out, sa;
+        walk_cell(w, cell, t_out, sa);
         // Where the ray reaches the surface inside the cell (at once if already behind it).
-        float th = (w.v.z > 0.0 && w.sa < w.front) ? (w.front - w.o.z) / w.v.z : w.t;
-        th = clamp(th, w.t, w.t_out);
+        float th = (w.v.z > 0.0 && sa < w.front) ? (w.front - w.o.z) / w.v.z : w.t;
+        th = clamp(th, w.t, t_out);
         vec2 lo, hi;
-        hiz_cell_bounds(w.cell, w.level, lo, hi);
+        hiz_cell_bounds(cell, w.level, lo, hi);
         result.hit = true;
         result.pixel = clamp(w.o.xy + w.v.xy * th, lo + 0.001, hi - 0.001);  // off the cell's edges (issue 8)
         result.layer = w.layer;
@@ -188,7 +236,8 @@ HizHit walk_result(HizWalk w) {
 // The trace pixel (and ray) of one of this invocation's two slots; false when it has none.
 bool slot_entry(int slot, out ivec3 id) {
 #if RAY_LIST
-    uint index = (gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex + uint(slot) * 32u;
+    uint index = (gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.y * 16u
+                 + uint(slot) * 8u + gl_LocalInvocationID.x;
     id = ivec3(0);
     if (index >= ray_list.count) return false;
 #if RAY_LIST_PER_RAY
@@ -198,7 +247,7 @@ bool slot_entry(int slot, out ivec3 id) {
 #endif
     return true;
 #else
-    id = ivec3(gl_WorkGroupID.xy * uvec2(8u, 8u) + uvec2(gl_LocalInvocationID.x, gl_LocalInvocationID.y + uint(slot) * 4u),
+    id = ivec3(gl_WorkGroupID.xy * uvec2(8u, 8u) + uvec2(gl_LocalInvocationID.x, gl_LocalInvocationID.y * 2u + uint(slot)),
                gl_WorkGroupID.z);
     return id.x < ssr.trace_width && id.y < ssr.trace_height;
 #endif
@@ -227,10 +276,7 @@ void slot_store(ivec3 id, ReflectionRay ray, GSample g, HizWalk w) {
         vec3 hit_view = view_position(h.pixel, view_depth_of_screen(h.s));
         hit = vec4(h.pixel, float(h.layer + 1), hit_fade(h.pixel, ray.origin, ray.dir, hit_view));
     }
-    store_ray(id, ray, is_reflective(g), hit, w.fetches);
-#if RAY_LIST
-    ray_list_count(ray.weight, w.fetches);
-#endif
+    store_ray(id, ray, is_reflective(g), hit, walk_fetches(w));
 }
 
 void main() {
@@ -251,4 +297,9 @@ void main() {
     }
     if (keep0) slot_store(id0, ray0, g0, w0);
     if (keep1) slot_store(id1, ray1, g1, w1);
+#if RAY_LIST
+    // Frame.stats: one counter update for both rays (llvmpipe runs an atomic lane by lane).
+    bool c0 = keep0 && ray0.weight > 0.0, c1 = keep1 && ray1.weight > 0.0;
+    ray_list_add(uint(c0) + uint(c1), (c0 ? uint(walk_fetches(w0)) : 0u) + (c1 ? uint(walk_fetches(w1)) : 0u));
+#endif
 }
