@@ -13,9 +13,6 @@ Defines CompositePass::program_defines(const FrameContext& ctx) const {
     // Issue 13: the lighting pass's lit colour carries coverage and r in its alpha (lighting.h),
     // which saves the material fetch; another direct light (the reference's) does not.
     d["LIT_CARRIES_R"] = direct_ == "lit" ? "1" : "0";
-    // Issue 13: the background's environment type compiled in (lib/environment.glsl's
-    // environment_radiance_view): a run-time choice cost llvmpipe both kinds for every pixel.
-    d["ENVIRONMENT_TYPE"] = std::to_string(int(ctx.scene.environment.type));
     return d;
 }
 

@@ -20,10 +20,13 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     d["TRACE_ONE_LAYER"] = ctx.layers_in_use() == 1 ? "1" : "0";
     // trace_hiz's level-0 steps before the traversal (seed 002 4.7.1), compiled in only when asked.
     d["HIZ_LINEAR_STEPS"] = ctx.settings.hiz_linear_steps > 0 ? "1" : "0";
-    // The sampling method compiled in (lib/ray_generation.glsl, RAY_SAMPLING): llvmpipe runs
-    // both sides of a branch, so a run-time choice paid for every sampler; the value the
-    // settings block holds, from the same function.
-    d["RAY_SAMPLING"] = std::to_string(ssr_uniforms(ctx.settings).sampling);
+    // The sampling method, noise and Hammersley switch compiled in (lib/ray_generation.glsl):
+    // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind; the values
+    // the settings block holds, from the same function.
+    const SsrUniforms su = ssr_uniforms(ctx.settings);
+    d["RAY_SAMPLING"] = std::to_string(su.sampling);
+    d["RAY_NOISE"] = std::to_string(su.noise);
+    d["RAY_HAMMERSLEY"] = std::to_string(su.hammersley);
     const GLuint prog = ctx.shaders.program({stage}, d);
     glUseProgram(prog);
     // Issue 11: the layer walk stops at the layers in use (a uniform: no recompile per count).

@@ -348,6 +348,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     Defines defines;
     depth.add_defines(defines);
     defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
+    // Issue 13: the scene's environment type compiled into every pass (lib/environment.glsl):
+    // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind.
+    defines["ENVIRONMENT_TYPE"] = std::to_string(int(scene.environment.type));
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
     if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
         fc.history = sequence->previous.get();
@@ -562,6 +565,9 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     Defines defines;
     depth.add_defines(defines);
     defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
+    // Issue 13: the scene's environment type compiled into every pass (lib/environment.glsl):
+    // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind.
+    defines["ENVIRONMENT_TYPE"] = std::to_string(int(scene.environment.type));
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
                     defines};
     gs.bind_geometry();

@@ -12,8 +12,10 @@
 layout(binding = 15) uniform sampler2D u_environment_map;  // equirectangular, u = longitude, v = 0 at the zenith
 #endif
 
+// The scene's type compiled in (0 constant, 1 sky, 2 map; the renderer defines it for every
+// pass, issue 13); -1: chosen at run time from frame.env_params.x.
 #ifndef ENVIRONMENT_TYPE
-#define ENVIRONMENT_TYPE -1  // the scene's type compiled in (0 constant, 1 sky, 2 map); -1: frame.env_params.x
+#define ENVIRONMENT_TYPE -1
 #endif
 
 // A gradient sky at world-space height y of a unit direction: horizon to zenith above, horizon
@@ -26,6 +28,11 @@ vec3 sky_gradient(float y) {
 
 // Radiance arriving from world-space direction `dir` (unit length).
 vec3 environment_radiance(vec3 dir) {
+#if ENVIRONMENT_TYPE == 0
+    return frame.env_color.rgb * frame.env_params.y;
+#elif ENVIRONMENT_TYPE == 1
+    return sky_gradient(dir.y) * frame.env_params.y;
+#else
     int type = int(frame.env_params.x);
     vec3 c = frame.env_color.rgb;
     if (type == 1) {
@@ -40,6 +47,7 @@ vec3 environment_radiance(vec3 dir) {
     }
 #endif
     return c * frame.env_params.y;
+#endif
 }
 
 // The same from a view-space direction of any length: the background a camera ray sees. With the

@@ -10,10 +10,19 @@ struct ReflectionRay {
     float pdf;
 };
 
+// A pass may compile the noise and the Hammersley switch in (the trace passes do: llvmpipe
+// computed both hashes for every ray, issue 13); the values must be the settings block's.
+#ifndef RAY_NOISE
+#define RAY_NOISE ssr.noise
+#endif
+#ifndef RAY_HAMMERSLEY
+#define RAY_HAMMERSLEY ssr.hammersley
+#endif
+
 // Two uniform numbers for ray `r` of trace pixel `q`.
 vec2 ray_random(ivec2 q, int r, GSample g) {
     vec2 u;
-    if (ssr.noise == NOISE_THESIS_HASH) {
+    if (RAY_NOISE == NOISE_THESIS_HASH) {
         // Seeded by camera position, pixel position and surface normal, as the thesis does.
         vec2 s = vec2(q) + frame.inv_view[3].xy * 0.61 + g.normal.xy * 17.3 + float(ssr.seed % 1000u) * 0.173;
         s += float(r) * vec2(3.31, 7.77);
@@ -22,7 +31,7 @@ vec2 ray_random(ivec2 q, int r, GSample g) {
         uint h = pcg_hash(uint(q.x) ^ pcg_hash(uint(q.y) ^ pcg_hash(ssr.seed)));
         u = vec2(unit_float(pcg_hash(h + 2u * uint(r))), unit_float(pcg_hash(h + 2u * uint(r) + 1u)));
     }
-    if (ssr.hammersley != 0) u = fract(u + hammersley(uint(r), uint(ssr.rays_per_pixel)));
+    if (RAY_HAMMERSLEY != 0) u = fract(u + hammersley(uint(r), uint(ssr.rays_per_pixel)));
     return u;
 }
 

@@ -269,8 +269,10 @@ void main() {
         for (int r = 0; r < ssr.rays_per_pixel; ++r) {
             RayResult ray = fetch_ray(base, r, p, size);
             if (ray.color.a <= 0.0) continue;
+            // The edge weight of a pixel's own rays (edge_weight(p, n, p, n)) is one factor
+            // common to every term: it cancels in the mean (issue 13: on llvmpipe its exp and
+            // pow ran per ray, taken or not).
             float w = ray.color.a;
-            if (ssr.edge_aware != 0) w *= edge_weight(p, g.normal, p, g.normal);
             sum_c += w * ray.color.rgb;
             sum_w += w;
         }
@@ -407,7 +409,9 @@ void main() {
     if (receives) {
         reflection = sum_w > 1e-8 ? sum_c / sum_w : environment_view(reflect(-v, g.normal));
     } else {
+#if !(RESOLVE_LIST && OWN_RAYS_ONLY)  // the list holds receivers only (llvmpipe runs a branch taken or not)
         reflection = non_receiver_reflection(g, v);
+#endif
     }
     imageStore(o_reflection, pixel, vec4(reflection, 1.0));
 }
