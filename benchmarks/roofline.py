@@ -21,7 +21,8 @@
    against a recorded baseline (--baseline: a JSON {"<scene>": total_ms} or the output of an
    earlier run's --json), or, better, measured in the same run against another shader tree
    (--baseline-shaders DIR, e.g. `git archive main shaders | tar -x -C /tmp/main`: the frames of
-   both renderers interleaved, with the thesis error between their images).
+   both renderers interleaved, at both configurations, with every pass's time before and now and
+   the thesis error between their images).
 4. A render call's CPU overhead: wall time of render() plus reading frame.color against the GPU
    total, and the readback alone.
 
@@ -158,6 +159,37 @@ def run_config(renderer, scene, settings, repeats):
                  dependent=spread(peaks["dependent"])))
 
 
+def ab_shaders(before, now, scene, settings, key, repeats, ratios):
+    """Frames of two renderers (two shader trees) interleaved: every pass's median before and now
+    and the error between their images; the frame and resolve ratios go into `ratios`."""
+    from ssrlab import metrics
+
+    for r in (before, now):
+        for _ in range(2):
+            r.render(scene, settings=settings)
+    per_pass = {}  # pass: (before, now) timings of every pass both frames ran
+    for _ in range(repeats):
+        fb, fn = before.render(scene, settings=settings), now.render(scene, settings=settings)
+        for k in fb.timings.keys() & fn.timings.keys():
+            per_pass.setdefault(k, ([], []))
+            per_pass[k][0].append(fb.timings[k])
+            per_pass[k][1].append(fn.timings[k])
+    err = metrics.thesis_error(fn.color, fb.color)
+    diff = float(abs(fn.color - fb.color).sum(axis=-1).max())
+    print(f"{key}: thesis error of the image {err:.2e}, largest per-pixel error {diff:.2e}")
+    for k in sorted(per_pass):
+        b, n = per_pass[k]
+        print(f"  {k}: before {statistics.median(b):.2f} ms ({min(b):.2f}-{max(b):.2f}), now "
+              f"{statistics.median(n):.2f} ms ({min(n):.2f}-{max(n):.2f}), now / before "
+              f"{statistics.median(n) / statistics.median(b):.3f}")
+    total_b, total_n = (statistics.median(x) for x in per_pass["total"])
+    # Not the issue's speed-up target, which is against 069e706 (benchmarks/ab_frame.py).
+    ratios[f"{key}: frame before / now, same run"] = total_b / total_n
+    if "resolve" in per_pass:
+        ratios[f"{key}: resolve before / now, same run"] = (
+            statistics.median(per_pass["resolve"][0]) / statistics.median(per_pass["resolve"][1]))
+
+
 def fmt_rate(x):
     for unit, div in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
         if x >= div:
@@ -171,8 +203,8 @@ def main(argv=None) -> int:
     ap.add_argument("--micro-width", type=int, default=1280, help="grid of the peak kernels")
     ap.add_argument("--micro-height", type=int, default=720)
     ap.add_argument("--baseline", help="JSON {scene: thesis-config frame total ms} recorded before a change")
-    ap.add_argument("--baseline-shaders", help="shader folder of the code before a change: thesis-config frames "
-                    "of both, interleaved in this run, and the thesis error between their images")
+    ap.add_argument("--baseline-shaders", help="shader folder of the code before a change: frames of both at both "
+                    "configurations, interleaved in this run, and the thesis error between their images")
     ap.add_argument("--json", help="write every figure to this JSON file")
     ap.add_argument("--quick", action="store_true", help="tiny sizes, 2 repeats: a smoke run, not figures")
     args = ap.parse_args(argv)
@@ -227,7 +259,6 @@ def main(argv=None) -> int:
                 passes=rows, stats=stats, wall_ms=cpu["wall"][0], readback_ms=cpu["readback"][0],
                 copy_ms=cpu["copy"][0], dependent_rate=dep_rate)
 
-    print("\nratios (issue 13's targets)")
     ratios = result["ratios"]
     for key, cfg in result["configs"].items():
         p = cfg["passes"]
@@ -247,46 +278,16 @@ def main(argv=None) -> int:
             if b and cur:
                 ratios[f"{scene_name}/thesis: baseline / now (frame speed-up)"] = b / cur["passes"]["total"]["ms"]
     if args.baseline_shaders:
-        from ssrlab import metrics
-
+        print(f"\nagainst the shaders in {args.baseline_shaders} (frames interleaved, this run)")
         before = ssrlab.Renderer(args.device, shader_dir=args.baseline_shaders)
         for scene_name in args.scenes:
             scene = getattr(ssrlab.scenes, scene_name)()
-            s = ssrlab.Settings(width=args.width, height=args.height, **THESIS)
-            for r in (before, renderer):
-                for _ in range(2):
-                    r.render(scene, settings=s)
-            t_before, t_now, r_before, r_now = [], [], [], []
-            per_pass = {}  # pass: (before, now) timings of every pass both frames ran
-            for _ in range(args.repeats):
-                fb, fn = before.render(scene, settings=s), renderer.render(scene, settings=s)
-                t_before.append(fb.timings["total"])
-                t_now.append(fn.timings["total"])
-                r_before.append(fb.timings.get("resolve", math.nan))
-                r_now.append(fn.timings.get("resolve", math.nan))
-                for k in fb.timings.keys() & fn.timings.keys():
-                    per_pass.setdefault(k, ([], []))
-                    per_pass[k][0].append(fb.timings[k])
-                    per_pass[k][1].append(fn.timings[k])
-            err = metrics.thesis_error(fn.color, fb.color)
-            diff = float(abs(fn.color - fb.color).sum(axis=-1).max())
-            print(f"{scene_name}/thesis: before {statistics.median(t_before):.1f} ms "
-                  f"({min(t_before):.1f}-{max(t_before):.1f}), now {statistics.median(t_now):.1f} ms "
-                  f"({min(t_now):.1f}-{max(t_now):.1f}), same run; thesis error of the image {err:.2e}, "
-                  f"largest per-pixel error {diff:.2e}; resolve before {statistics.median(r_before):.1f} ms "
-                  f"({min(r_before):.1f}-{max(r_before):.1f}), now {statistics.median(r_now):.1f} ms "
-                  f"({min(r_now):.1f}-{max(r_now):.1f})")
-            for k in sorted(per_pass):
-                b, n = per_pass[k]
-                print(f"  {k}: before {statistics.median(b):.2f} ms ({min(b):.2f}-{max(b):.2f}), now "
-                      f"{statistics.median(n):.2f} ms ({min(n):.2f}-{max(n):.2f}), now / before "
-                      f"{statistics.median(n) / statistics.median(b):.3f}")
-            ratios[f"{scene_name}/thesis: before / now, same run (frame speed-up)"] = (
-                statistics.median(t_before) / statistics.median(t_now))
-            ratios[f"{scene_name}/thesis: resolve before / now, same run"] = (
-                statistics.median(r_before) / statistics.median(r_now))
+            for cname, kw in configs.items():
+                s = ssrlab.Settings(width=args.width, height=args.height, **kw)
+                ab_shaders(before, renderer, scene, s, f"{scene_name}/{cname}", args.repeats, ratios)
     targets = {"composite / copy": ("<=", 2.0), "resolve / trace_hiz": ("<=", 0.6),
                "share of dependent-fetch rate": (">=", 0.25), "speed-up": (">=", 2.0)}
+    print("\nratios (issue 13's targets)")
     for k, v in ratios.items():
         op, goal = next((t for name, t in targets.items() if name in k), ("", None))
         met = "" if goal is None else ("met" if (v <= goal if op == "<=" else v >= goal) else "not met")
