@@ -5,6 +5,7 @@ leave images as they were."""
 import importlib.util
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -49,6 +50,34 @@ def test_roofline_script_prints_finite_positive_figures(tmp_path, capsys):
         if "share" in r:
             assert r["fetches"] > 0 and r["rate"] > 0 and math.isfinite(r["share"])
     assert all(math.isfinite(v) and v > 0 for v in result["ratios"].values())
+
+
+def _load_benchmark(name):
+    spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_ab_pass_same_shaders_give_the_same_hits_and_lane_use_in_range(capsys):
+    ab_pass = _load_benchmark("ab_pass")
+    shaders = str(REPO / "shaders")
+    assert ab_pass.main([shaders, shaders, "--width", "96", "--height", "64", "--scenes", "hall",
+                         "--repeats", "2", "--device", "cpu", "--lane-use"]) == 0
+    text = capsys.readouterr().out
+    assert "largest hit difference 0.00e+00 px" in text  # one shader tree, deterministic: same hits
+    uses = [float(x) for x in re.findall(r"(?:i\+32|consecutive entries) ([0-9.]+)", text)]
+    assert len(uses) == 2 and all(0.0 < u <= 1.0 for u in uses), text
+
+
+def test_lane_use_is_one_for_equal_walks_and_the_share_of_the_longest_otherwise():
+    ab_pass = _load_benchmark("ab_pass")
+    steps = np.full((64, 64), 5.0)
+    assert ab_pass.lane_use(steps) == {"entries i, i+32": 1.0, "16 consecutive entries": 1.0}
+    steps[0, 0] = 10.0  # one long walk: its vector pays 16 x 10 for 15 x 5 + 10 used
+    use = ab_pass.lane_use(steps)
+    total = steps.sum()
+    assert use["16 consecutive entries"] == pytest.approx(total / (total + 15 * 5))
 
 
 # -- the resolve's fast paths (issue 13) ---------------------------------------------------------
