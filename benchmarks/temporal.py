@@ -51,7 +51,7 @@ def main() -> None:
     print(f"  no TAA: {metrics.rmse(r.render(scene, settings=s).color, truth):.4f}")
     for taa in ("thesis", "clamped"):
         frames = list(r.render_sequence(scene, [scene.camera] * args.frames, s.replace(taa=taa)))
-        ms = statistics.median(f.timings["taa"] + f.timings["reproject"] for f in frames[1:])
+        ms = statistics.median(f.timings["taa"] + f.timings.get("reproject", 0.0) for f in frames[1:])  # thesis TAA: no reprojection
         total = statistics.median(f.timings["total"] for f in frames[1:])
         print(f"  taa={taa!r} after {args.frames} frames: {metrics.rmse(frames[-1].color, truth):.4f}; "
               f"reproject + taa {ms:.3f} ms of {total:.3f} ms ({100 * ms / total:.1f} %)")

@@ -123,3 +123,14 @@ def test_resolve_fast_paths_leave_the_image_unchanged(renderer, tmp_path, scene_
     err = np.abs(np.asarray(fast.reflection) - np.asarray(slow.reflection)).sum(axis=-1)
     assert err.max() <= 1e-3, err.max()
     assert metrics.thesis_error(fast.color, slow.color) <= 1e-4
+
+
+def test_device_agreement_of_one_device_with_itself_is_exact(tmp_path, capsys):
+    agreement = _load_benchmark("device_agreement")
+    for name in ("a.npz", "b.npz"):
+        assert agreement.main(["save", str(tmp_path / name), "--device", "cpu", "--width", "48", "--height", "32",
+                               "--scenes", "mirror_test"]) == 0
+    capsys.readouterr()
+    assert agreement.main(["compare", str(tmp_path / "a.npz"), str(tmp_path / "b.npz")]) == 0
+    rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| mirror_test.")]
+    assert len(rows) == 6 and all("| 0.00000 | 0.00000 | 0.000 | 0.00 % |" in r for r in rows)

@@ -8,9 +8,35 @@ import pytest
 import ssrlab
 from ssrlab.metrics import thesis_error
 from ssrlab.scene import Camera, Environment, Material, Scene, directional_light
-from conftest import small
+from conftest import small as _small
 
 W, H = 64, 48
+
+
+def small(**kw) -> ssrlab.Settings:
+    """These tests are about the classify pass and its counters: skip on unless a test says
+    otherwise, on every device (skip='auto' turns it off on a GPU)."""
+    kw.setdefault("skip", True)
+    return _small(**kw)
+
+
+def test_skip_auto_is_on_for_llvmpipe_and_off_for_a_gpu(renderer):
+    s = ssrlab.Settings()
+    assert s.skip == "auto"
+    assert s.resolved("cpu").skip is True and s.resolved("gpu").skip is False
+    assert ssrlab.Settings(skip=False).resolved("cpu").skip is False  # only 'auto' is decided
+    assert s.to_native("gpu").skip is False and s.to_native("cpu").skip is True
+    f = renderer.render(ssrlab.scenes.load("mirror_test"), settings=_small())
+    assert f.settings.skip is (renderer.info["device"] == "cpu")  # the value the frame ran with
+    assert ("classify" in f.passes) is f.settings.skip
+
+
+@pytest.mark.parametrize("value", ["on", 1, None, "Auto"])
+def test_skip_rejects_anything_but_true_false_or_auto(value):
+    with pytest.raises(ValueError, match="Settings.skip must be True, False or one of 'auto'"):
+        ssrlab.Settings(skip=value)
+    with pytest.raises(ValueError, match="device must be 'cpu' or 'gpu'"):
+        ssrlab.Settings().resolved("tpu")
 
 CASES = [  # (glossy, sampling, layers, method, rays)
     ("stochastic", "mirror", 1, "linear", 1),

@@ -90,7 +90,10 @@ EglContext::EglContext(DeviceKind kind) {
     std::vector<EGLDeviceEXT> hardware, software;
     auto query_devices = egl_proc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
     auto query_device_string = egl_proc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
-    const bool can_enumerate = has_extension(client_ext, "EGL_EXT_device_enumeration") &&
+    // NVIDIA's libEGL offers enumeration through EGL_EXT_device_base (device_enumeration and
+    // device_query in one older extension) and does not list EGL_EXT_device_enumeration itself.
+    const bool can_enumerate = (has_extension(client_ext, "EGL_EXT_device_enumeration") ||
+                                has_extension(client_ext, "EGL_EXT_device_base")) &&
                                has_extension(client_ext, "EGL_EXT_platform_device") &&
                                query_devices && query_device_string && get_platform_display;
     if (can_enumerate) {
@@ -108,14 +111,14 @@ EglContext::EglContext(DeviceKind kind) {
         });
     }
 
-    auto try_device = [&](EGLDeviceEXT d, bool want_hardware) {
+    auto try_device = [&](EGLDeviceEXT d, DeviceKind want) {
         EGLDisplay dpy = get_platform_display(EGL_PLATFORM_DEVICE_EXT, d, nullptr);
         std::string why;
         if (dpy == EGL_NO_DISPLAY) {
             info_.rejected.push_back("device display: " + egl_error_name(eglGetError()));
             return false;
         }
-        if (try_display(dpy, "device", want_hardware, &why)) {
+        if (try_display(dpy, "device", want, &why)) {
             const char* ext = query_device_string(d, EGL_EXTENSIONS);
             info_.egl_device_extensions = ext ? ext : "";
             return true;
@@ -127,24 +130,29 @@ EglContext::EglContext(DeviceKind kind) {
     bool ok = false;
     if (kind != DeviceKind::Cpu)
         for (EGLDeviceEXT d : hardware)
-            if ((ok = try_device(d, true))) break;
+            if ((ok = try_device(d, DeviceKind::Gpu))) break;
 
     if (!ok && kind == DeviceKind::Gpu) {
         std::ostringstream os;
         os << "device='gpu' was requested but no hardware EGL device offers an OpenGL 4.5 core "
               "context (hardware EGL devices found: "
            << hardware.size() << ", software: " << software.size() << ")";
+        if (!can_enumerate)
+            os << "; this libEGL offers no device enumeration (client extensions: "
+               << (client_ext ? client_ext : "none") << ")";
         for (const auto& r : info_.rejected) os << "; " << r;
         os << ". Use device='auto' or device='cpu' to render with Mesa's llvmpipe.";
         throw DeviceError(os.str());
     }
     if (!ok)
         for (EGLDeviceEXT d : software)
-            if ((ok = try_device(d, false))) break;
+            if ((ok = try_device(d, DeviceKind::Cpu))) break;
     if (!ok && get_platform_display && has_extension(client_ext, "EGL_MESA_platform_surfaceless")) {
         EGLDisplay dpy = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         std::string why;
-        if (dpy != EGL_NO_DISPLAY && try_display(dpy, "surfaceless", false, &why)) ok = true;
+        // NVIDIA's libEGL offers the surfaceless platform too: device='cpu' must not end on a GPU.
+        if (dpy != EGL_NO_DISPLAY && try_display(dpy, "surfaceless", kind == DeviceKind::Cpu ? kind : DeviceKind::Auto, &why))
+            ok = true;
         else info_.rejected.push_back(why.empty() ? "surfaceless: no display" : why);
     }
     if (!ok) {
@@ -161,7 +169,7 @@ EglContext::EglContext(DeviceKind kind) {
 
 // Displays are never terminated here: EGL returns the same EGLDisplay for the same device to
 // every caller in the process, and eglTerminate would pull it from under other Renderers.
-bool EglContext::try_display(EGLDisplay dpy, const std::string& platform, bool want_hardware,
+bool EglContext::try_display(EGLDisplay dpy, const std::string& platform, DeviceKind want,
                              std::string* why_not) {
     EGLint major = 0, minor = 0;
     if (!eglInitialize(dpy, &major, &minor)) {
@@ -192,8 +200,10 @@ bool EglContext::try_display(EGLDisplay dpy, const std::string& platform, bool w
         return false;
     }
     const std::string renderer = gl_string(GL_RENDERER);
-    if (want_hardware && is_software_renderer(renderer)) {
-        *why_not = platform + ": renderer '" + renderer + "' is a software rasterizer";
+    if ((want == DeviceKind::Gpu && is_software_renderer(renderer)) ||
+        (want == DeviceKind::Cpu && !is_software_renderer(renderer))) {
+        *why_not = platform + ": renderer '" + renderer + "' is " +
+                   (want == DeviceKind::Gpu ? "a software rasterizer" : "not a software rasterizer (device='cpu')");
         eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(dpy, ctx);
         return false;

@@ -53,7 +53,8 @@ public:
     std::vector<std::string> take_debug_errors();
 
 private:
-    bool try_display(EGLDisplay display, const std::string& platform, bool want_hardware,
+    // want: Gpu takes a hardware renderer only, Cpu a software one only, Auto either.
+    bool try_display(EGLDisplay display, const std::string& platform, DeviceKind want,
                      std::string* why_not);
     void enable_debug_output();
 

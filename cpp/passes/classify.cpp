@@ -14,7 +14,15 @@ constexpr int kBlock = 4;  // pixels per invocation along x and y (classify.comp
 
 void ClassifyPass::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinding, list_.id());
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list_.id());
+    // The trace dispatches over the list and adds its counters (rays_traced, fetches) to the
+    // same header. NVIDIA's driver (580, H100) dropped a dispatch's writes to the buffer it read
+    // its indirect arguments from, from that buffer's second frame on (Frame.stats read 0, the
+    // images were right), so the arguments come from a copy of the header's first three words.
+    constexpr size_t kArgs = 3 * sizeof(uint32_t);
+    if (!dispatch_args_) dispatch_args_ = Buffer::create(kArgs);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the classify pass's atomics, before the copy
+    glCopyNamedBufferSubData(list_.id(), dispatch_args_.id(), 0, 0, GLsizeiptr(kArgs));
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, dispatch_args_.id());
 }
 
 void ClassifyPass::reset_list(int w, int h, int rays, bool per_ray) {
@@ -116,6 +124,9 @@ void ClassifyPass::execute(FrameContext& ctx) {
 std::map<std::string, double> ClassifyPass::counters() const {
     uint32_t header[kHeaderUints] = {};
     if (!list_) return {};
+    // GL makes the shaders' atomics visible to glGetBufferSubData only after this barrier
+    // (llvmpipe finishes every dispatch first; a GPU need not).
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(list_.id(), 0, sizeof(header), header);
     std::map<std::string, double> c = {{"pixels_classified", double(header[6])},
                                        {"pixels_traced", double(per_ray_ ? header[7] : header[3])},

@@ -36,7 +36,8 @@ public:
 
     // The SSBO binding of the ray list (shaders/lib/ray_list.glsl).
     static constexpr GLuint kBinding = 12;
-    // Binds the ray list as SSBO kBinding and as the dispatch-indirect buffer.
+    // Binds the ray list as SSBO kBinding and a copy of its dispatch arguments as the
+    // dispatch-indirect buffer.
     void bind() const;
     // The list's counters of the last run, read back from the GPU (Frame.stats).
     std::map<std::string, double> counters() const;
@@ -55,6 +56,8 @@ public:
 protected:
     // Also the variance_rays pass's list of pixels that get extra rays (same layout).
     Buffer list_;
+    // The trace's indirect arguments: a copy of the list header's first three words (see bind()).
+    mutable Buffer dispatch_args_;
     // A list of `w` x `h` entries at most with a fresh header: no group, `rays` group layers.
     // `per_ray`: entries of (pixel, ray) for `rays` rays per pixel at most, dispatched with one
     // group layer (adaptive rays over the list, ray_list.glsl's RAY_LIST_PER_RAY).

@@ -90,6 +90,9 @@ void LightingPass::execute(FrameContext& ctx) {
 int LightingPass::tiles_shaded() const {
     if (!tiles_ || !*tiles_) return -1;
     GLuint header[4] = {0, 0, 0, 0};
+    // GL makes the shaders' atomics visible to glGetBufferSubData only after this barrier
+    // (llvmpipe finishes every dispatch first; a GPU need not).
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(tiles_->id(), 0, sizeof(header), header);
     return int(header[0]);
 }

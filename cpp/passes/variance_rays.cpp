@@ -26,6 +26,9 @@ void VarianceRaysPass::execute(FrameContext& ctx) {
 std::map<std::string, double> VarianceRaysPass::extra_counters() const {
     uint32_t header[8] = {};  // shaders/lib/ray_list.glsl
     if (!list_) return {};
+    // GL makes the shaders' atomics visible to glGetBufferSubData only after this barrier
+    // (llvmpipe finishes every dispatch first; a GPU need not).
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(list_.id(), 0, sizeof(header), header);
     return {{"variance_pixels", double(header[3])},
             {"extra_rays", double(header[4])},

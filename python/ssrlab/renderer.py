@@ -87,6 +87,7 @@ class Renderer:
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
         _warn_depth_precision(camera, settings)
+        settings = settings.resolved(self.info["device"])  # 'auto' decided for this device
         native = self._native.render(scene, camera, settings.to_native())
         frame = Frame(native, settings, renderer=self, scene=scene)
         if settings.method != "off" and not any(p.startswith("trace") for p in native.passes):
@@ -122,7 +123,7 @@ class Renderer:
         sequence = self._native.begin_sequence()
         try:
             for i, camera in enumerate(cameras):
-                s = settings.replace(seed=(settings.seed + i) % 2**31)
+                s = settings.replace(seed=(settings.seed + i) % 2**31).resolved(self.info["device"])
                 _warn_depth_precision(camera, s)
                 native = self._native.render(scene, camera, s.to_native(), sequence)
                 frame = Frame(native, s, renderer=self, scene=scene)

@@ -106,12 +106,14 @@ class Settings:
     roughness_cutoff: float = _setting(
         1.0, "pixels rougher than this trace no rays and reflect the environment (seed 003's threshold)",
         "perceptual roughness", 0.0, 1.0, group="rays")
-    skip: bool = _setting(
-        True, "the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, "
-        "facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; "
-        "FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty "
-        "and clears the others as uncovered. False: every trace pixel and ray, every allocated layer, for "
-        "comparison. The images agree either way", group="rays")
+    skip: bool | str = _setting(
+        "auto", "True: the classify pass lists the trace pixels that need rays (reflective, below "
+        "roughness_cutoff, facing the camera) and the trace pass runs by indirect dispatch over that list "
+        "only (issue 11; FidelityFX SSSR's classification); lighting shades only the layers the peeling "
+        "found non-empty and clears the others as uncovered. False: every trace pixel and ray, every "
+        "allocated layer. 'auto': True on llvmpipe, False on a GPU, the faster of the two on each (an H100 "
+        "ran skip off faster at every reflective share, 0-100 %: README, GPU). The images agree either way; "
+        "Frame.settings holds the value the frame ran with", choices=("auto",), group="rays")
     classify_facing: float = _setting(
         0.0, "skip=True: pixels whose normal faces the camera by less than this (n.v, the cosine of the "
         "viewing angle) get no rays (seed 004's early out by angle); 0 keeps every ray the trace would draw",
@@ -354,11 +356,20 @@ class Settings:
 
         return settings_html(self)
 
-    def to_native(self) -> "_core.RenderSettings":
+    def resolved(self, device: str) -> "Settings":
+        """A copy with every 'auto' value decided for `device` ('cpu': llvmpipe, 'gpu'): what a
+        Renderer on that device renders with (Frame.settings)."""
+        if device not in ("cpu", "gpu"):
+            raise ValueError(f"device must be 'cpu' or 'gpu', got {device!r}")
+        return self.replace(skip=device == "cpu") if self.skip == "auto" else self
+
+    def to_native(self, device: str = "cpu") -> "_core.RenderSettings":
+        """The native renderer's settings; 'auto' values decided for `device` (see resolved())."""
         self.check_constraints()
+        s = self.resolved(device)
         native = _core.RenderSettings()
         for name in _NATIVE_FIELDS:
-            setattr(native, name, getattr(self, name))
+            setattr(native, name, getattr(s, name))
         native.validate()
         return native
 
@@ -373,7 +384,7 @@ class Settings:
                 lines.append(f"\n[{group}]")
             rng = ""
             if m["choices"]:
-                rng = " | ".join(m["choices"])
+                rng = " | ".join(("True", "False", *m["choices"]) if f.type == "bool | str" else m["choices"])
             elif m["lo"] is not None:
                 rng = f"[{m['lo']}, {m['hi']}]" + (f" or {m['off']} (off)" if m["off"] is not None else "")
             unit = f" {m['unit']}" if m["unit"] else ""
@@ -401,6 +412,15 @@ def _check_names(names) -> None:
 
 def _check(f: dataclasses.Field, value: Any) -> Any:
     m, name, typ = f.metadata, f"Settings.{f.name}", f.type
+    if typ == "bool | str":  # True, False, or one of the named choices ('auto')
+        if isinstance(value, str) and value in m["choices"]:
+            return value
+        if isinstance(value, np.bool_):
+            value = bool(value)
+        if not isinstance(value, bool):
+            raise ValueError(f"{name} must be True, False or one of {', '.join(map(repr, m['choices']))}, "
+                             f"got {value!r}")
+        return value
     if typ in ("bool", bool):
         if isinstance(value, np.bool_):
             value = bool(value)
