@@ -42,6 +42,7 @@ BENCHMARKS = {
     "memory": ([], ["--renders", "50"]),
     "thesis_findings": (["--scale", "full"], ["--scale", "small"]),
     "roofline": ([], ["--quick"]),
+    "frame_breakdown": ([], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
 }
 
 

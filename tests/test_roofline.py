@@ -134,3 +134,13 @@ def test_device_agreement_of_one_device_with_itself_is_exact(tmp_path, capsys):
     assert agreement.main(["compare", str(tmp_path / "a.npz"), str(tmp_path / "b.npz")]) == 0
     rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| mirror_test.")]
     assert len(rows) == 6 and all("| 0.00000 | 0.00000 | 0.000 | 0.00 % |" in r for r in rows)
+
+
+def test_frame_breakdown_prints_every_case_with_its_sub_passes(capsys):
+    breakdown = _load_benchmark("frame_breakdown")
+    assert breakdown.main(["--width", "64", "--height", "48", "--repeats", "1", "--scenes", "mirror_test",
+                           "--device", "cpu"]) == 0
+    out = capsys.readouterr().out
+    for case in breakdown.CASES:
+        assert f"mirror_test {case} (skip=" in out
+    assert "classify.clear" in out and "depth_peel.layer0" in out and "depth fetches per ray" in out
