@@ -156,13 +156,7 @@ def run_config(renderer, scene, settings, repeats):
         peaks["copy"] += renderer.microbenchmark("copy", settings.width, settings.height, 1, 1)
         peaks["dependent"] += renderer.microbenchmark("dependent", settings.width, settings.height, 64, 1)
     keys = [k for k in runs[0] if "." not in k]
-    stats = dict(frame.stats)
-    if "depth_fetches" not in stats and any(k.startswith("trace_") for k in keys):
-        # Skip off (Settings.skip='auto' on a GPU): no ray list, so no counters; the trace's rays
-        # and their depth fetches from rays.sample (weight, pdf, fetches, traced flag) instead.
-        sample = frame.read("rays.sample")
-        stats["rays_traced"] = int((sample[..., 0] > 0).sum())
-        stats["depth_fetches"] = int(sample[..., 2].astype(np.float64).sum())
+    stats = dict(frame.stats)  # rays_traced, depth_fetches: summed from rays.sample, skip on or off
     return ({k: spread([r[k] for r in runs]) for k in keys}, stats,
             dict(wall=spread(walls), readback=spread(reads), copy=spread(peaks["copy"]),
                  dependent=spread(peaks["dependent"])))

@@ -43,6 +43,7 @@ BENCHMARKS = {
     "thesis_findings": (["--scale", "full"], ["--scale", "small"]),
     "roofline": ([], ["--quick"]),
     "frame_breakdown": ([], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
+    "readback": ([], ["--sizes", "96x64", "--repeats", "3"]),
 }
 
 

@@ -144,3 +144,13 @@ def test_frame_breakdown_prints_every_case_with_its_sub_passes(capsys):
     for case in breakdown.CASES:
         assert f"mirror_test {case} (skip=" in out
     assert "classify.clear" in out and "depth_peel.layer0" in out and "depth fetches per ray" in out
+
+
+def test_readback_benchmark_times_both_paths(capsys):
+    readback = _load_benchmark("readback")
+    assert readback.main(["--sizes", "48x32", "--repeats", "2", "--device", "cpu"]) == 0
+    out = capsys.readouterr().out
+    rows = [line for line in out.splitlines() if line.startswith("| 48x32 |")]
+    assert len(rows) == len(readback.TEXTURES)
+    assert {r.split(" | ")[2] for r in rows} == {"direct", "copy pass"}
+    assert "48x32: time per byte, direct / copy pass" in out

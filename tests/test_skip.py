@@ -184,7 +184,10 @@ def test_facing_threshold_drops_grazing_pixels(renderer):
 
 def test_stats_count_passes_without_skip(renderer):
     f = renderer.render(ssrlab.scenes.load("mirror_test"), settings=small(width=W, height=H, skip=False))
-    assert f.stats == {"passes_run": len(f.passes), "layers_used": 1, "layers_lit": 1}
+    sample = f.read("rays.sample")
+    assert f.stats == {"passes_run": len(f.passes), "layers_used": 1, "layers_lit": 1,
+                       "rays_traced": int((sample[..., 0] > 0).sum()), "depth_fetches": int(sample[..., 2].sum())}
+    assert f.stats["rays_traced"] > 0 and f.stats["depth_fetches"] > 0
 
 
 def test_layers_used_is_the_depth_complexity_of_the_view(renderer):
@@ -350,6 +353,34 @@ def test_nothing_is_read_back_that_nobody_asked_for(renderer):
     after = renderer.stats
     assert after["readbacks"] == before["readbacks"] + 1
     assert after["readback_bytes"] - before["readback_bytes"] == W * H * 4 * 4
+    # The trace keeps no counters (issue 13): its rays and fetches are summed from rays.sample
+    # when one of them is first read, once.
+    stats = f.stats
+    assert "depth_fetches" in stats and "rays_traced" in stats
+    assert renderer.stats["readbacks"] == after["readbacks"]
+    assert stats["depth_fetches"] > 0 and f.stats["rays_traced"] > 0
+    assert renderer.stats["readbacks"] == after["readbacks"] + 1
+
+
+@pytest.mark.parametrize("skip", [True, False])
+def test_trace_sums_are_read_before_release_or_refused_with_a_reason(renderer, skip):
+    s = ssrlab.scenes.load("mirror_test")
+    f = renderer.render(s, settings=small(width=W, height=H, skip=skip))
+    kept = f.stats
+    fetches = kept["depth_fetches"]
+    sample = f.read("rays.sample")
+    assert fetches == int(sample[..., 2].sum()) > 0
+    assert kept["rays_traced"] == int((sample[..., 0] > 0).sum()) > 0
+    f.release()
+    assert f.stats["depth_fetches"] == fetches and kept["depth_fetches"] == fetches  # summed before
+    g = renderer.render(s, settings=small(width=W, height=H, skip=skip))
+    early = g.stats
+    g.release()
+    assert early["passes_run"] == len(g.passes)  # the GPU's own counters stay
+    with pytest.raises(KeyError, match="before releasing the frame"):
+        early["depth_fetches"]
+    with pytest.raises(KeyError, match="before releasing the frame"):
+        g.stats["rays_traced"]
 
 
 @pytest.mark.parametrize("method", ["linear", "hiz"])

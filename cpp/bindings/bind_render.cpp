@@ -9,8 +9,8 @@ namespace {
 
 // A readback as a float32 numpy array (layers, height, width, 4) that owns its memory.
 py::array to_numpy(Readback&& r) {
-    auto* data = new std::vector<float>(std::move(r.data));
-    py::capsule owner(data, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+    auto* data = new ReadbackData(std::move(r.data));
+    py::capsule owner(data, [](void* p) { delete static_cast<ReadbackData*>(p); });
     const std::vector<py::ssize_t> shape = {r.layers, r.height, r.width, r.channels};
     return py::array_t<float>(shape, data->data(), owner);
 }
@@ -140,7 +140,8 @@ void bind_render(py::module_& m) {
         .def_readonly("layer_samples", &Frame::layer_samples, "samples each G-buffer layer wrote (0: an empty layer)")
         .def_readonly("stats", &Frame::stats,
                       "exact work counts read back from the GPU (issue 11): passes_run; with skip on, "
-                      "pixels_classified, pixels_traced (in the ray list), rays_traced, depth_fetches, trace_groups")
+                      "pixels_classified, pixels_traced (in the ray list), trace_groups (ssrlab.Frame.stats adds rays_traced "
+                      "and depth_fetches, summed from rays.sample)")
         .def_readonly("camera", &Frame::camera, "the camera the frame was rendered from")
         .def_property_readonly("view_matrix", [](const Frame& f) { return f.uniforms.view; }, "world -> view matrix (4x4)")
         .def_property_readonly("projection_matrix", [](const Frame& f) { return f.uniforms.proj; },
@@ -203,7 +204,8 @@ void bind_render(py::module_& m) {
             [](Renderer& r, const std::string& sampling, float alpha, glm::vec3 view, int count, uint32_t seed,
                bool stratified) {
                 Readback rb;
-                rb.data = r.sample_reflections(sampling, alpha, view, count, seed, stratified);
+                const std::vector<float> samples = r.sample_reflections(sampling, alpha, view, count, seed, stratified);
+                rb.data.assign(samples.begin(), samples.end());
                 rb.layers = 1;
                 rb.height = 1;
                 rb.width = count * 2;

@@ -14,10 +14,10 @@ constexpr int kBlock = 4;  // pixels per invocation along x and y (classify.comp
 
 void ClassifyPass::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinding, list_.id());
-    // The trace dispatches over the list and adds its counters (rays_traced, fetches) to the
-    // same header. NVIDIA's driver (580, H100) dropped a dispatch's writes to the buffer it read
-    // its indirect arguments from, from that buffer's second frame on (Frame.stats read 0, the
-    // images were right), so the arguments come from a copy of the header's first three words.
+    // The trace dispatches over the list. NVIDIA's driver (580, H100) dropped a dispatch's writes
+    // to the buffer it read its indirect arguments from, from that buffer's second frame on (the
+    // trace then added its counters to this header: Frame.stats read 0, the images were right),
+    // so the arguments come from a copy of the header's first three words.
     constexpr size_t kArgs = 3 * sizeof(uint32_t);
     if (!dispatch_args_) dispatch_args_ = Buffer::create(kArgs);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the classify pass's atomics, before the copy
@@ -130,9 +130,9 @@ std::map<std::string, double> ClassifyPass::counters() const {
     glGetNamedBufferSubData(list_.id(), 0, sizeof(header), header);
     std::map<std::string, double> c = {{"pixels_classified", double(header[6])},
                                        {"pixels_traced", double(per_ray_ ? header[7] : header[3])},
-                                       {"trace_groups", double(header[0]) * header[1] * header[2]},
-                                       {"rays_traced", double(header[4])},
-                                       {"depth_fetches", double(header[5])}};
+                                       {"trace_groups", double(header[0]) * header[1] * header[2]}};
+    // rays_traced and depth_fetches: Frame.stats sums them from rays.sample when asked (the trace
+    // keeps no counters: issue 13, shaders/passes/trace_hiz.comp).
     if (regions_) {
         uint32_t regions = 0;
         glGetNamedBufferSubData(regions_->id(), GLintptr(regions_offset_), sizeof(regions), &regions);

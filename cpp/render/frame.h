@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/egl_context.h"
@@ -22,9 +23,32 @@ namespace ssr {
 
 class Renderer;
 
+// An allocator whose resize leaves new floats uninitialised: a readback overwrites every one,
+// and zeroing them first cost as much as a third of a large readback (issue 13).
+template <typename T>
+struct UninitialisedAllocator : std::allocator<T> {
+    template <typename U>
+    struct rebind {
+        using other = UninitialisedAllocator<U>;
+    };
+    UninitialisedAllocator() = default;
+    template <typename U>
+    UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+    template <typename U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+using ReadbackData = std::vector<float, UninitialisedAllocator<float>>;
+
 struct Readback {
     int layers = 1, height = 0, width = 0, channels = 4;
-    std::vector<float> data;  // (layers, height, width, 4), row 0 = top of the image
+    ReadbackData data;  // (layers, height, width, 4), row 0 = top of the image
 };
 
 class Frame {

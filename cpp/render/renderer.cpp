@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
 #if defined(__GLIBC__)
@@ -210,7 +211,7 @@ Readback Renderer::specular_albedo_table() {
     }
     Readback r = read_texture(specular_albedo_, 0);
     // Keep the two channels.
-    std::vector<float> ab;
+    ReadbackData ab;
     ab.reserve(size_t(r.width) * size_t(r.height) * 2);
     // Readback puts the texture's last row first (row 0 = top of an image); the table keeps
     // its own order: row i is roughness i / (size - 1).
@@ -698,6 +699,30 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     out.height = std::max(tex.height() >> level, 1);
     out.layers = tex.target() == GL_TEXTURE_2D_ARRAY ? tex.layers() : 1;
     const size_t bytes = size_t(out.width) * size_t(out.height) * size_t(out.layers) * 4 * sizeof(float);
+    const GLenum f = tex.format();
+    if (f == GL_RGBA32F || f == GL_RGBA16F || f == GL_RG32F || f == GL_RG16F || f == GL_R32F || f == GL_R16F) {
+        // Float formats, whose GL_RGBA/GL_FLOAT download is exactly what a texelFetch returns
+        // (halves widen exactly; absent channels read 0, 0, 1): downloaded as stored, rows
+        // flipped on the CPU, no copy pass (issue 13: on llvmpipe the copy pass was most of a
+        // readback). Normalised, sRGB and depth formats are decoded by readback.comp's fetch.
+        const size_t row = size_t(out.width) * 4;
+        out.data.resize(row * size_t(out.height) * size_t(out.layers));
+        // Shader image stores reach glGetTextureSubImage only after this barrier (GL 4.5, 7.13.2).
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        glGetTextureSubImage(tex.id(), level, 0, 0, 0, out.width, out.height, out.layers, GL_RGBA, GL_FLOAT,
+                             GLsizei(bytes), out.data.data());
+        check_gl(*ctx_, "readback");
+        for (int l = 0; l < out.layers; ++l) {
+            float* layer = out.data.data() + size_t(l) * out.height * row;
+            for (int y = 0; y < out.height / 2; ++y)
+                std::swap_ranges(layer + size_t(y) * row, layer + size_t(y + 1) * row,
+                                 layer + size_t(out.height - 1 - y) * row);
+        }
+        ++readbacks_;
+        readback_bytes_ += bytes;
+        return out;
+    }
     if (readback_ssbo_.size() < bytes) readback_ssbo_ = Buffer::create(bytes);
     Defines d;
     d["READ_ARRAY"] = tex.target() == GL_TEXTURE_2D_ARRAY ? "1" : "0";

@@ -1144,7 +1144,7 @@ class Frame:
     @property
     def stats(self) -> dict[str, float]:
         """
-        exact work counts read back from the GPU (issue 11): passes_run; with skip on, pixels_classified, pixels_traced (in the ray list), rays_traced, depth_fetches, trace_groups
+        exact work counts read back from the GPU (issue 11): passes_run; with skip on, pixels_classified, pixels_traced (in the ray list), trace_groups (ssrlab.Frame.stats adds rays_traced and depth_fetches, summed from rays.sample)
         """
     @property
     def texture_names(self) -> list[str]:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 import warnings
 import weakref
+from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
 
@@ -188,6 +189,56 @@ class Renderer:
         return f"Renderer(device={i['device']!r}, renderer={i['renderer']!r}, gl={i['gl_version']!r})"
 
 
+class FrameStats(Mapping):
+    """Frame.stats: exact work counts, read like a dict. The counts the trace passes keep no
+    counter for (TRACE_SUMS) are summed from the frame's rays.sample the first time one of them
+    is read, not before: reading the others reads nothing back from the GPU."""
+
+    def __init__(self, counts: dict[str, int], frame: "Frame | None" = None):
+        self._counts = counts
+        # A weak reference: a kept stats object does not keep the frame's textures alive.
+        self._frame = weakref.ref(frame) if frame is not None else None
+
+    def _sums(self) -> dict[str, int]:
+        frame = self._frame() if self._frame is not None else None
+        if frame is not None and frame._trace_sum_cache is not None:
+            return frame._trace_sum_cache
+        if frame is None or frame.released:
+            raise KeyError("rays_traced and depth_fetches are summed from the frame's rays.sample when first read, "
+                           "and this frame was released (or dropped) before that: read them from frame.stats "
+                           "before releasing the frame")
+        return frame._trace_sums(self._counts)
+
+    def __getitem__(self, key: str) -> int:
+        if key in self._counts:
+            return self._counts[key]
+        if self._frame is not None and key in TRACE_SUMS:
+            return self._sums()[key]
+        raise KeyError(key)
+
+    def __contains__(self, key: object) -> bool:
+        return key in self._counts or (self._frame is not None and key in TRACE_SUMS)
+
+    def __iter__(self):
+        yield from self._counts
+        if self._frame is not None:
+            yield from TRACE_SUMS
+
+    def __len__(self) -> int:
+        return len(self._counts) + (len(TRACE_SUMS) if self._frame is not None else 0)
+
+    def __repr__(self) -> str:
+        try:
+            return repr(dict(self))
+        except KeyError:
+            return repr(self._counts)[:-1] + ", (rays_traced, depth_fetches: not read before the release)}"
+
+
+# Counts the trace passes keep no counter for (issue 13: their atomics were 4-13 % of the Hi-Z
+# trace on llvmpipe): Frame.stats sums them from the rays the trace wrote, when first read.
+TRACE_SUMS = ("rays_traced", "depth_fetches")
+
+
 class Frame:
     """One rendered frame. Image properties read from the GPU on first access."""
 
@@ -197,6 +248,7 @@ class Frame:
         self._renderer = renderer
         self._scene = scene
         self._cache: dict[str, np.ndarray] = {}
+        self._trace_sum_cache: dict[str, int] | None = None
 
     # -- lifetime -------------------------------------------------------------------------------
     def release(self) -> None:
@@ -251,12 +303,12 @@ class Frame:
         return list(self._native.passes)
 
     @property
-    def stats(self) -> dict[str, int]:
-        """Exact work counts read back from the GPU (issue 11): passes_run, and with
-        Settings.skip the classify pass's classify_regions (the 32x32 regions holding a reflective
-        surface, where it runs) and pixels_classified (trace pixels examined there),
-        pixels_traced (trace pixels in the ray list), rays_traced (rays generated),
-        depth_fetches (the trace's fetches, summed) and trace_groups (indirect groups);
+    def stats(self) -> FrameStats:
+        """Exact work counts read back from the GPU (issue 11): passes_run; where a trace ran,
+        rays_traced (rays generated, weight > 0) and depth_fetches (the trace's fetches, summed);
+        with Settings.skip the classify pass's classify_regions (the 32x32 regions holding a
+        reflective surface, where it runs) and pixels_classified (trace pixels examined there),
+        pixels_traced (trace pixels in the ray list) and trace_groups (indirect groups);
         layers_used (layers holding a surface somewhere: with skip, the Hi-Z build, the trace's
         layer walk, pre-convolution and pre-integration work on these only), layers_lit,
         with skip tiles_lit (the 8x8 covered tiles the lighting shaded, issue 13; -1: whole layers),
@@ -265,8 +317,24 @@ class Frame:
         stochastic resolve, the resolve's list: resolve_pixels (receiving pixels, own-rays
         resolve) or resolve_tiles (16x16 tiles holding a receiver), resolve_groups (its indirect
         groups) and environment_pixels (reflective pixels rougher than the cutoff, given the
-        environment by the classify pass)."""
-        return {k: int(v) for k, v in self._native.stats.items()}
+        environment by the classify pass). rays_traced and depth_fetches are summed from
+        rays.sample (its weight and fetch channels, less the second trace's extra_*) when one of
+        them is first read (a read-back; the trace keeps no counter, issue 13): read them before
+        Frame.release()."""
+        counts = {k: int(v) for k, v in self._native.stats.items()}
+        traced = any(p.startswith("trace_") for p in self.passes)
+        return FrameStats(counts, self if traced else None)
+
+    def _trace_sums(self, counts: dict[str, int]) -> dict[str, int]:
+        """rays_traced and depth_fetches of the frame's (first) trace, from rays.sample: rays of
+        weight > 0 and their fetch counts, as the trace wrote them, less the second trace's."""
+        if self._trace_sum_cache is None:
+            sample = self.read("rays.sample")
+            self._trace_sum_cache = {
+                "rays_traced": int(np.count_nonzero(sample[..., 0] > 0.0)) - counts.get("extra_rays", 0),
+                "depth_fetches": int(sample[..., 2].astype(np.float64).sum()) - counts.get("extra_depth_fetches", 0),
+            }
+        return self._trace_sum_cache
 
     @property
     def layer_samples(self) -> list[int]:

@@ -1,15 +1,17 @@
 // The ray list of the classify pass (issue 11; FidelityFX SSSR's tile classification, seed 000
 // 4.1): the trace pixels that need rays, compacted by an atomic counter, with the indirect
 // dispatch arguments of the trace pass in the same buffer so that an empty list costs no
-// trace work at all (a dispatch of 0 groups). The counters are read back for Frame.stats.
+// trace work at all (a dispatch of 0 groups). The counters are read back for Frame.stats; the
+// trace's own two (rays_traced, fetches) are kept by the variance-guided second trace only
+// (extra_rays, extra_depth_fetches): the first trace's are summed from rays.sample on demand.
 // Layout (std430): the header is 8 uints, then one packed pixel (x | y << 16) per entry.
 layout(std430, binding = 12) coherent buffer RayList {
     uint groups_x;      // glDispatchComputeIndirect: groups of 8x8 invocations, 64 entries each, in
     uint groups_y;      // rows of RAY_LIST_ROW groups (the dispatch's x count has a limit, 65535)
     uint groups_z;      // the rays each pixel traces (Settings.traced_rays)
     uint count;         // trace pixels in the list
-    uint rays_traced;   // rays the trace pass generated (weight > 0), counted by the trace pass
-    uint fetches;       // depth fetches the trace pass spent, summed
+    uint rays_traced;   // EXTRA_RAYS: rays the second trace generated (weight > 0)
+    uint fetches;       // EXTRA_RAYS: depth fetches the second trace spent, summed
     uint classified;    // trace pixels the classify pass examined
     uint listed_pixels; // RAY_LIST_PER_RAY: trace pixels in the list (count is then rays)
     uint pixels[];      // one packed pixel per entry; RAY_LIST_PER_RAY: (packed pixel, ray) pairs
@@ -49,7 +51,7 @@ bool ray_list_entry(out ivec3 id) {
     return true;
 }
 
-// Frame.stats: rays the trace pass generated and the depth fetches they spent.
+// Frame.stats of the variance-guided second trace: rays it generated and the depth fetches they spent.
 void ray_list_add(uint rays, uint fetches) {
     if (rays == 0u) return;
     atomicAdd(ray_list.rays_traced, rays);

@@ -297,8 +297,11 @@ void main() {
     }
     if (keep0) slot_store(id0, ray0, g0, w0);
     if (keep1) slot_store(id1, ray1, g1, w1);
-#if RAY_LIST
-    // Frame.stats: one counter update for both rays (llvmpipe runs an atomic lane by lane).
+#if RAY_LIST && defined(EXTRA_RAYS) && EXTRA_RAYS
+    // Frame.stats of the variance-guided second trace (extra_rays, extra_depth_fetches): one
+    // counter update for both rays. The first trace counts nothing: Frame.stats sums its rays
+    // and fetches from rays.sample when asked (the atomic pair, which llvmpipe runs lane by
+    // lane, was 4-13 % of this pass: issue 13).
     bool c0 = keep0 && ray0.weight > 0.0, c1 = keep1 && ray1.weight > 0.0;
     ray_list_add(uint(c0) + uint(c1), (c0 ? uint(walk_fetches(w0)) : 0u) + (c1 ? uint(walk_fetches(w1)) : 0u));
 #endif

@@ -209,7 +209,7 @@ void main() {
         }
     }
     store_ray(id, ray, is_reflective(g), hit, g_fetches);
-#if RAY_LIST
-    ray_list_count(ray.weight, g_fetches);
+#if RAY_LIST && defined(EXTRA_RAYS) && EXTRA_RAYS
+    ray_list_count(ray.weight, g_fetches);  // the second trace's counters (trace_hiz.comp says why only it)
 #endif
 }
