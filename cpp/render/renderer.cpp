@@ -4,6 +4,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
 #if defined(__GLIBC__)
@@ -700,25 +701,29 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     out.layers = tex.target() == GL_TEXTURE_2D_ARRAY ? tex.layers() : 1;
     const size_t bytes = size_t(out.width) * size_t(out.height) * size_t(out.layers) * 4 * sizeof(float);
     const GLenum f = tex.format();
-    if (f == GL_RGBA32F || f == GL_RGBA16F || f == GL_RG32F || f == GL_RG16F || f == GL_R32F || f == GL_R16F) {
+    const size_t row = size_t(out.width) * 4;  // floats
+    const size_t layer_floats = row * size_t(out.height);
+    const bool float_format =
+        f == GL_RGBA32F || f == GL_RGBA16F || f == GL_RG32F || f == GL_RG16F || f == GL_R32F || f == GL_R16F;
+    if (float_format && layer_floats * sizeof(float) <= size_t(std::numeric_limits<GLsizei>::max())) {
         // Float formats, whose GL_RGBA/GL_FLOAT download is exactly what a texelFetch returns
-        // (halves widen exactly; absent channels read 0, 0, 1): downloaded as stored, rows
-        // flipped on the CPU, no copy pass (issue 13: on llvmpipe the copy pass was most of a
-        // readback). Normalised, sRGB and depth formats are decoded by readback.comp's fetch.
-        const size_t row = size_t(out.width) * 4;
-        out.data.resize(row * size_t(out.height) * size_t(out.layers));
+        // (halves widen exactly; absent channels read 0, 0, 1): downloaded as stored, a layer
+        // at a time (GL sizes are 32-bit), rows flipped on the CPU, no copy pass (issue 13: on
+        // llvmpipe the copy pass was most of a readback). Normalised, sRGB and depth formats
+        // are decoded by readback.comp's fetch.
+        out.data.resize(layer_floats * size_t(out.layers));
         // Shader image stores reach glGetTextureSubImage only after this barrier (GL 4.5, 7.13.2).
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
-        glGetTextureSubImage(tex.id(), level, 0, 0, 0, out.width, out.height, out.layers, GL_RGBA, GL_FLOAT,
-                             GLsizei(bytes), out.data.data());
-        check_gl(*ctx_, "readback");
         for (int l = 0; l < out.layers; ++l) {
-            float* layer = out.data.data() + size_t(l) * out.height * row;
+            float* layer = out.data.data() + size_t(l) * layer_floats;
+            glGetTextureSubImage(tex.id(), level, 0, 0, l, out.width, out.height, 1, GL_RGBA, GL_FLOAT,
+                                 GLsizei(layer_floats * sizeof(float)), layer);
             for (int y = 0; y < out.height / 2; ++y)
                 std::swap_ranges(layer + size_t(y) * row, layer + size_t(y + 1) * row,
                                  layer + size_t(out.height - 1 - y) * row);
         }
+        check_gl(*ctx_, "readback");
         ++readbacks_;
         readback_bytes_ += bytes;
         return out;
