@@ -24,7 +24,7 @@ namespace ssr {
 class Renderer;
 
 // An allocator whose resize leaves new floats uninitialised: a readback overwrites every one,
-// and zeroing them first cost as much as a third of a large readback (issue 13).
+// so zeroing them first would be one more pass over up to hundreds of MB (issue 13).
 template <typename T>
 struct UninitialisedAllocator : std::allocator<T> {
     template <typename U>

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
-#include <cstring>
 #include <limits>
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
