@@ -25,7 +25,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
-# name: readback path (RGBA32F downloaded directly, else the copy pass)
+# name: readback path (float formats downloaded directly, the others through the copy pass)
 TEXTURES = {"color": "direct", "lit": "direct", "gbuffer.albedo": "copy pass", "gbuffer.material": "copy pass"}
 
 

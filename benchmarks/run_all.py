@@ -44,6 +44,7 @@ BENCHMARKS = {
     "roofline": ([], ["--quick"]),
     "frame_breakdown": ([], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
     "readback": ([], ["--sizes", "96x64", "--repeats", "3"]),
+    "trace_parts": ([], ["--width", "96", "--height", "64", "--repeats", "2"]),
 }
 
 

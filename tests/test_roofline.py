@@ -154,3 +154,10 @@ def test_readback_benchmark_times_both_paths(capsys):
     assert len(rows) == len(readback.TEXTURES)
     assert {r.split(" | ")[2] for r in rows} == {"direct", "copy pass"}
     assert "48x32: time per byte, direct / copy pass" in out
+
+
+def test_trace_parts_builds_every_part_of_the_pass(capsys):
+    parts = _load_benchmark("trace_parts")
+    assert parts.main(["--width", "48", "--height", "32", "--repeats", "1", "--scenes", "hall", "--device", "cpu"]) == 0
+    rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("| hall |")]
+    assert len(rows) == 1 and rows[0].count(" ms") == 0 and rows[0].count("(") == len(parts.PARTS)
