@@ -49,6 +49,14 @@ from .settings import Settings
 # ray by ray from Python, far too slowly to be worth it.
 VARIANTS = ("llvm_ad_rgb",)
 
+# Dr.Jit's worker pool (nanothread) runs the harness's kernels with no worker threads: on this
+# project's 2-core machines its lock-free task queue aborts the whole process ("Assertion failed
+# in .../nanothread/src/queue.cpp: remain == 1", mitsuba-renderer/mitsuba3#849, open) in 10 of
+# 12 runs of a 30-scene load-and-render loop, CI's test run among them; with no workers, in 0 of
+# 16. The harness's images are small (the tests' 64x48), so running serially costs little.
+# load_mitsuba() sets it; None leaves Dr.Jit's own default.
+JIT_THREADS: int | None = 0
+
 _mi = None  # the mitsuba module once a variant is set
 
 
@@ -62,8 +70,8 @@ def _find_libllvm() -> str | None:
 
 
 def load_mitsuba(variant: str | None = None):
-    """Imports mitsuba and sets a variant: `variant`, else the first of VARIANTS that loads.
-    Raises ImportError naming what failed."""
+    """Imports mitsuba and sets a variant: `variant`, else the first of VARIANTS that loads,
+    and Dr.Jit's worker-thread count to JIT_THREADS. Raises ImportError naming what failed."""
     global _mi
     try:
         import mitsuba as mi
@@ -73,6 +81,7 @@ def load_mitsuba(variant: str | None = None):
         _mi = mi
         if _BSDF_VARIANT != mi.variant():
             _register()
+        _set_jit_threads()
         return mi
     if "DRJIT_LIBLLVM_PATH" not in os.environ:
         lib = _find_libllvm()
@@ -84,10 +93,18 @@ def load_mitsuba(variant: str | None = None):
             mi.set_variant(v)
             _mi = mi
             _register()
+            _set_jit_threads()
             return mi
         except Exception as e:
             errors.append(f"{v}: {e}")
     raise ImportError("no usable mitsuba variant: " + "; ".join(errors))
+
+
+def _set_jit_threads() -> None:
+    if JIT_THREADS is not None:
+        import drjit as dr
+
+        dr.set_thread_count(int(JIT_THREADS))
 
 
 def mitsuba_version() -> str:
