@@ -23,6 +23,10 @@
    (--baseline-shaders DIR, e.g. `git archive main shaders | tar -x -C /tmp/main`: the frames of
    both renderers interleaved, at both configurations, with every pass's time before and now and
    the thesis error between their images).
+   Each ratio is taken once per repeat, from the pair of timings measured at the same moments,
+   and printed as the median with the middle half of the repeats (25th-75th percentile); the
+   verdict against the issue's target is "met" or "not met" only when that middle half lies on
+   one side of it, else "too small to judge" (ssrlab.experiments.target_verdict).
 4. A render call's CPU overhead: wall time of render() plus reading frame.color against the GPU
    total, and the readback alone.
 
@@ -159,10 +163,13 @@ def run_config(renderer, scene, settings, repeats):
     stats = dict(frame.stats)  # rays_traced, depth_fetches: summed from rays.sample, skip on or off
     return ({k: spread([r[k] for r in runs]) for k in keys}, stats,
             dict(wall=spread(walls), readback=spread(reads), copy=spread(peaks["copy"]),
-                 dependent=spread(peaks["dependent"])))
+                 dependent=spread(peaks["dependent"]),
+                 # every repeat's timings, for ratios taken pair by pair
+                 each=dict(runs=runs, copy=peaks["copy"], dependent=peaks["dependent"])))
 
 
 def ab_shaders(before, now, scene, settings, key, repeats, ratios):
+    # ratios: key -> every repeat's value (the caller takes medians and verdicts)
     """Frames of two renderers (two shader trees) interleaved: every pass's median before and now
     and the error between their images; the frame and resolve ratios go into `ratios`."""
     from ssrlab import metrics
@@ -185,12 +192,15 @@ def ab_shaders(before, now, scene, settings, key, repeats, ratios):
         print(f"  {k}: before {statistics.median(b):.2f} ms ({min(b):.2f}-{max(b):.2f}), now "
               f"{statistics.median(n):.2f} ms ({min(n):.2f}-{max(n):.2f}), now / before "
               f"{statistics.median(n) / statistics.median(b):.3f}")
-    total_b, total_n = (statistics.median(x) for x in per_pass["total"])
     # Not the issue's speed-up target, which is against 069e706 (benchmarks/ab_frame.py).
-    ratios[f"{key}: frame before / now, same run"] = total_b / total_n
+    ratios[f"{key}: frame before / now, same run"] = paired(*per_pass["total"])
     if "resolve" in per_pass:
-        ratios[f"{key}: resolve before / now, same run"] = (
-            statistics.median(per_pass["resolve"][0]) / statistics.median(per_pass["resolve"][1]))
+        ratios[f"{key}: resolve before / now, same run"] = paired(*per_pass["resolve"])
+
+
+def paired(numerators, denominators):
+    """The ratio of each repeat's pair of timings."""
+    return [a / b for a, b in zip(numerators, denominators)]
 
 
 def fmt_rate(x):
@@ -216,6 +226,7 @@ def main(argv=None) -> int:
         args.scenes = args.scenes[:1]
 
     import ssrlab
+    from ssrlab.experiments import target_verdict
 
     renderer = open_renderer(args)
     print(f"frame {args.width}x{args.height}, peaks at {args.micro_width}x{args.micro_height}, "
@@ -227,7 +238,8 @@ def main(argv=None) -> int:
         print(f"| {name} | {p['ms']:.2f} ({p['lo']:.2f}-{p['hi']:.2f}) | {fmt_rate(p['rate'])} | "
               f"{fmt_rate(p['bytes_rate'])}B |")
 
-    result = {"device": renderer.info["renderer"], "peaks": peaks, "configs": {}, "ratios": {}}
+    result = {"device": renderer.info["renderer"], "peaks": peaks, "configs": {}, "ratios": {}, "ratio_repeats": {}}
+    each = {}  # config -> every repeat's timings
     configs = {"thesis": THESIS, "hiz_mirror": HIZ_MIRROR}
     for scene_name in args.scenes:
         scene = getattr(ssrlab.scenes, scene_name)()
@@ -261,25 +273,31 @@ def main(argv=None) -> int:
             result["configs"][f"{scene_name}/{cname}"] = dict(
                 passes=rows, stats=stats, wall_ms=cpu["wall"][0], readback_ms=cpu["readback"][0],
                 copy_ms=cpu["copy"][0], dependent_rate=dep_rate)
+            each[f"{scene_name}/{cname}"] = dict(cpu["each"], px=px)
 
-    ratios = result["ratios"]
+    ratios = {}  # key -> every repeat's value
     for key, cfg in result["configs"].items():
-        p = cfg["passes"]
+        p, e = cfg["passes"], each[key]
+        ms = {name: [r[name] for r in e["runs"]] for name in ("composite", "trace_hiz", "resolve", "total")
+              if name in p}
         if "composite" in p:
-            ratios[f"{key}: composite / copy"] = p["composite"]["ms"] / cfg["copy_ms"]
+            ratios[f"{key}: composite / copy"] = paired(ms["composite"], e["copy"])
         if "trace_hiz" in p and "rate" in p["trace_hiz"]:
-            ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = p["trace_hiz"]["rate"] / cfg["dependent_rate"]
+            # (fetches / trace time) / (the dependent kernel's fetches / its time), repeat by repeat
+            ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = [
+                p["trace_hiz"]["fetches"] / (e["px"] * 64) * dep / t for t, dep in zip(ms["trace_hiz"], e["dependent"])]
     for key, cfg in result["configs"].items():
         p = cfg["passes"]
         if "trace_hiz" in p and "resolve" in p:
-            ratios[f"{key}: resolve / trace_hiz"] = p["resolve"]["ms"] / p["trace_hiz"]["ms"]
+            runs = each[key]["runs"]
+            ratios[f"{key}: resolve / trace_hiz"] = paired([r["resolve"] for r in runs], [r["trace_hiz"] for r in runs])
     if args.baseline:
         base = json.loads(Path(args.baseline).read_text())
         for scene_name in args.scenes:
             b = base.get(scene_name)
-            cur = result["configs"].get(f"{scene_name}/thesis")
+            cur = each.get(f"{scene_name}/thesis")
             if b and cur:
-                ratios[f"{scene_name}/thesis: baseline / now (frame speed-up)"] = b / cur["passes"]["total"]["ms"]
+                ratios[f"{scene_name}/thesis: baseline / now (frame speed-up)"] = [b / r["total"] for r in cur["runs"]]
     if args.baseline_shaders:
         print(f"\nagainst the shaders in {args.baseline_shaders} (frames interleaved, this run)")
         before = ssrlab.Renderer(args.device, shader_dir=args.baseline_shaders)
@@ -290,12 +308,16 @@ def main(argv=None) -> int:
                 ab_shaders(before, renderer, scene, s, f"{scene_name}/{cname}", args.repeats, ratios)
     targets = {"composite / copy": ("<=", 2.0), "resolve / trace_hiz": ("<=", 0.6),
                "share of dependent-fetch rate": (">=", 0.25), "speed-up": (">=", 2.0)}
-    print("\nratios (issue 13's targets)")
-    for k, v in ratios.items():
+    print("\nratios (issue 13's targets; median of the repeats' paired ratios [middle half])")
+    for k, values in ratios.items():
+        v = float(np.median(values))
+        q1, q3 = np.percentile(values, [25, 75])
+        result["ratios"][k] = v
+        result["ratio_repeats"][k] = [float(x) for x in values]
         op, goal = next((t for name, t in targets.items() if name in k), ("", None))
-        met = "" if goal is None else ("met" if (v <= goal if op == "<=" else v >= goal) else "not met")
-        print(f"  {k}: {v:.3g}" + ("" if goal is None else f"  (target {op} {goal}: {met})"))
-    bad = [k for k, v in ratios.items() if not math.isfinite(v)]
+        verdict = "" if goal is None else f"  (target {op} {goal}: {target_verdict(values, op, goal)})"
+        print(f"  {k}: {v:.3g} [{q1:.3g}-{q3:.3g}]{verdict}")
+    bad = [k for k, v in result["ratios"].items() if not math.isfinite(v)]
     if args.json:
         Path(args.json).write_text(json.dumps(result, indent=1, default=float))
     return 1 if bad else 0

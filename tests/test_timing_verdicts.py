@@ -1,8 +1,10 @@
 """Timing verdicts of the paper reproductions: judged only when the measured difference stands
 out of the repeats' spread and the times are long enough (ssrlab.experiments.timing_doubt)."""
 
+import pytest
+
 from ssrlab import experiments
-from ssrlab.experiments import MIN_JUDGED_MS, TOO_SMALL, timing_doubt
+from ssrlab.experiments import MIN_JUDGED_MS, TOO_SMALL, target_verdict, timing_doubt
 
 
 def row(ms, iqr, repeats=5, key="time_frame_ms"):
@@ -45,3 +47,19 @@ def test_judged_verdict_states_the_reason():
     ours, verdict = experiments._judged("x 2.0", "agree", [None, "1 timed run(s)"])
     assert verdict == TOO_SMALL and TOO_SMALL in ours and "1 timed run" in ours
     assert experiments._judged("x", "agree", [None]) == ("x", "agree")
+
+
+def test_a_target_is_met_or_missed_only_by_the_middle_half_of_the_repeats():
+    assert target_verdict([1.7, 1.8, 1.9, 1.85, 1.75], "<=", 2.0) == "met"
+    assert target_verdict([2.1, 2.2, 2.15, 2.3, 2.05], "<=", 2.0) == "not met"
+    assert target_verdict([0.27, 0.26, 0.3, 0.28], ">=", 0.25) == "met"
+    assert target_verdict([0.2, 0.22, 0.21, 0.23], ">=", 0.25) == "not met"
+    # One outlier on the good side does not make a target met, nor one on the bad side missed.
+    assert target_verdict([2.1, 2.2, 1.5, 2.15, 2.05], "<=", 2.0) == "not met"
+    assert target_verdict([1.7, 1.8, 2.9, 1.85, 1.75], "<=", 2.0) == "met"
+    why = target_verdict([1.9, 2.1, 1.95, 2.05, 2.0], "<=", 2.0)
+    assert why.startswith(TOO_SMALL) and "straddles" in why
+    assert target_verdict([1.0, 1.1], "<=", 2.0).startswith(TOO_SMALL)
+    assert target_verdict([1.0, float("nan"), 1.1], "<=", 2.0).startswith(TOO_SMALL)
+    with pytest.raises(ValueError, match="op"):
+        target_verdict([1.0, 1.0, 1.0], "<", 2.0)

@@ -138,6 +138,28 @@ def timing_doubt(rows: list[dict], keys, *, pairwise: bool = False) -> str | Non
     return None
 
 
+def target_verdict(values, op: str, goal: float) -> str:
+    """"met", "not met", or why the repeats cannot tell, for a ratio measured once per repeat
+    (each from one pair of timings taken at the same moments) against a target `op goal`
+    (op "<=" or ">="): met when the middle half of the values (25th to 75th percentile) meets
+    it, not met when the middle half misses it, else too small to judge."""
+    if op not in ("<=", ">="):
+        raise ValueError(f"target_verdict: op must be '<=' or '>=', got {op!r}")
+    v = np.asarray([float(x) for x in values], np.float64)
+    if v.size < MIN_JUDGED_REPEATS:
+        return f"{TOO_SMALL}: {v.size} value(s), at least {MIN_JUDGED_REPEATS} needed"
+    if not np.all(np.isfinite(v)):
+        return f"{TOO_SMALL}: a repeat gave no finite value"
+    q1, q3 = (float(q) for q in np.percentile(v, [25, 75]))
+    best, worst = (q1, q3) if op == "<=" else (q3, q1)
+    meets = (lambda x: x <= goal) if op == "<=" else (lambda x: x >= goal)
+    if meets(worst):
+        return "met"
+    if not meets(best):
+        return "not met"
+    return f"{TOO_SMALL}: the middle half of the repeats, {q1:.3g}-{q3:.3g}, straddles the target"
+
+
 def _judged(ours: str, verdict: str, doubts: list[str | None]) -> tuple[str, str]:
     """(ours, verdict), or (ours with the reason, TOO_SMALL) when a timing cannot be judged."""
     doubt = next((d for d in doubts if d), None)
