@@ -161,7 +161,14 @@ void bind_render(py::module_& m) {
         .def("begin_sequence", &Renderer::begin_sequence,
              "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
              "its history is dropped with it.")
-        .def("info", [](const Renderer& r) { return r.info().as_dict(); }, "Vendor, renderer, GL version and the device chosen.")
+        .def(
+            "info",
+            [](const Renderer& r) {
+                auto d = r.info().as_dict();
+                d["readback_rows"] = r.pack_invert() ? "GL_MESA_pack_invert" : "flipped on the CPU";
+                return d;
+            },
+            "Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first.")
         .def(
             "reference",
             [](Renderer& r, const Scene& scene, Frame& frame, const std::string& mode, int rays, uint32_t seed,

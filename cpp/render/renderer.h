@@ -61,6 +61,8 @@ public:
     std::map<std::string, double> reference(const Scene& scene, Frame& frame, bool per_ray, int rays, uint32_t seed,
                                             Sampling sampling, bool viewer_is_ray, bool traced_shadows);
     DeviceInfo info() const { return ctx_->info(); }
+    // Float textures are downloaded with rows top first by the driver (GL_MESA_pack_invert).
+    bool pack_invert() const { return pack_invert_; }
     // Programs compiled so far (every program is compiled once per renderer and variant).
     size_t compiled_programs() const { return shaders_->cached_programs(); }
     void check_errors();
@@ -126,6 +128,7 @@ private:
     GpuTimer timer_;
     Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_;
     GLuint readback_sampler_ = 0;
+    bool pack_invert_ = false;  // GL_MESA_pack_invert: downloads come with rows top first
     Texture specular_albedo_;
 
     struct CachedScene {
