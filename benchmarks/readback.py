@@ -3,10 +3,10 @@
     python benchmarks/readback.py [--sizes 640x360 1920x1080] [--repeats 15] [--device auto|gpu|cpu]
 
 A texture reaches numpy by one of two paths (Renderer::read_texture): a float texture (the final
-colour and the rays RGBA32F, lit and the normals RGBA16F, depths R32F) is downloaded as stored, its
-rows put top first by the driver (GL_MESA_pack_invert, Mesa; `Renderer.info["readback_rows"]`) or
-swapped on the CPU; a normalised, sRGB or depth texture (the G-buffer's albedo and material,
-the depth buffer) is first decoded to float RGBA by the readback copy pass
+colour and the rays RGBA32F, lit and the normals RGBA16F, depths R32F) is downloaded as stored
+(RGBA16F as halves, widened with F16C where the CPU has it), its rows put top first by the driver
+(GL_MESA_pack_invert, Mesa; `Renderer.info["readback_rows"]`) or swapped on the CPU; a normalised,
+sRGB or depth texture (the G-buffer's albedo and material, the depth buffer) is first decoded to float RGBA by the readback copy pass
 (shaders/passes/readback.comp) into a buffer, which is then downloaded. Every texture took the
 second path before. For one frame of `hall` per size, the script times the native
 read of each texture below (the Python-side cache is bypassed: every read goes to the GPU), medians
