@@ -171,3 +171,17 @@ def test_describe_lists_the_constraints():
         assert c.rule in text
     assert "hiz_stop_level <= hiz_max_level" in text
     assert "fade_camera_end <= fade_camera_start" in text
+
+
+def test_an_image_beyond_the_device_texture_limit_names_the_texture_and_settings(renderer):
+    # The Hi-Z tracer's atlas is 1.5x the image's width: an image wider than 2/3 of the device's
+    # largest texture, which Settings accepts (up to 16384), cannot be traced with method="hiz".
+    limit = int(renderer.info["max_texture_size"])
+    width = limit * 2 // 3 + 2
+    if width > 16384:
+        pytest.skip(f"this device takes textures of {limit} texels: Settings' width limit comes first")
+    s = ssrlab.Settings(width=width, height=8, method="hiz", layers=1, shadow_map_size=0)
+    with pytest.raises(ValueError, match=r"Settings.width x Settings.height = .* 'hiz_trace' .*GL_MAX_TEXTURE_SIZE"):
+        renderer.render(ssrlab.scenes.hall(), settings=s)
+    # The renderer is still usable afterwards.
+    assert renderer.render(ssrlab.scenes.hall(), settings=ssrlab.Settings(width=32, height=16)).color.shape == (16, 32, 3)

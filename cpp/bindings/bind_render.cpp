@@ -166,9 +166,11 @@ void bind_render(py::module_& m) {
             [](const Renderer& r) {
                 auto d = r.info().as_dict();
                 d["readback_rows"] = r.pack_invert() ? "GL_MESA_pack_invert" : "flipped on the CPU";
+                d["max_texture_size"] = std::to_string(r.max_texture_size());
                 return d;
             },
-            "Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first.")
+            "Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first; "
+            "the largest texture side the device takes.")
         .def(
             "reference",
             [](Renderer& r, const Scene& scene, Frame& frame, const std::string& mode, int rays, uint32_t seed,

@@ -78,6 +78,8 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir)
     glSamplerParameteri(readback_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glSamplerParameteri(readback_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glSamplerParameteri(readback_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_array_layers_);
     GLint extensions = 0;
     glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
     for (GLint i = 0; i < extensions; ++i) {
@@ -372,6 +374,24 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
             descs.push_back(d);
             written.insert(d.name);
         }
+    }
+    // Every texture within the device's limits before any is allocated (GL would only answer
+    // GL_INVALID_VALUE): the message names the texture and the settings that size it.
+    for (const auto& d : descs) {
+        if (d.width > max_texture_size_ || d.height > max_texture_size_) {
+            const std::string limit = "this device's GL_MAX_TEXTURE_SIZE (" + std::to_string(max_texture_size_) + ")";
+            if (d.name == "shadow_map")
+                throw std::invalid_argument("Settings.shadow_map_size = " + std::to_string(d.width) + " is beyond " +
+                                            limit);
+            throw std::invalid_argument(
+                "Settings.width x Settings.height = " + std::to_string(s.width) + " x " + std::to_string(s.height) +
+                " needs the texture '" + d.name + "' of " + std::to_string(d.width) + " x " + std::to_string(d.height) +
+                " texels, beyond " + limit + ": render a smaller image");
+        }
+        if (d.layers > max_array_layers_)
+            throw std::invalid_argument("the texture '" + d.name + "' needs " + std::to_string(d.layers) +
+                                        " layers, beyond this device's GL_MAX_ARRAY_TEXTURE_LAYERS (" +
+                                        std::to_string(max_array_layers_) + "): lower Settings.layers or rays_per_pixel");
     }
     // Scratch textures (shadow map, Hi-Z) live once per renderer; the frame gets the rest.
     std::vector<ResourceDesc> own, scratch;

@@ -63,6 +63,7 @@ public:
     DeviceInfo info() const { return ctx_->info(); }
     // Float textures are downloaded with rows top first by the driver (GL_MESA_pack_invert).
     bool pack_invert() const { return pack_invert_; }
+    int max_texture_size() const { return max_texture_size_; }
     // Programs compiled so far (every program is compiled once per renderer and variant).
     size_t compiled_programs() const { return shaders_->cached_programs(); }
     void check_errors();
@@ -129,6 +130,7 @@ private:
     Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_;
     GLuint readback_sampler_ = 0;
     bool pack_invert_ = false;  // GL_MESA_pack_invert: downloads come with rows top first
+    GLint max_texture_size_ = 0, max_array_layers_ = 0;  // the device's limits, checked per frame
     Texture specular_albedo_;
 
     struct CachedScene {
