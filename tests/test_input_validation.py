@@ -185,3 +185,22 @@ def test_an_image_beyond_the_device_texture_limit_names_the_texture_and_settings
         renderer.render(ssrlab.scenes.hall(), settings=s)
     # The renderer is still usable afterwards.
     assert renderer.render(ssrlab.scenes.hall(), settings=ssrlab.Settings(width=32, height=16)).color.shape == (16, 32, 3)
+
+
+def test_a_frame_beyond_the_cpu_device_memory_is_refused_before_allocation(renderer):
+    # On llvmpipe textures take system memory; an allocation beyond it would succeed (overcommit)
+    # and the process be killed mid-frame. 16384 x 16384 with 16 layers needs hundreds of GiB.
+    if renderer.info["device"] != "cpu":
+        pytest.skip("the check is for the CPU device, whose textures live in system memory")
+    try:
+        with open("/proc/meminfo") as f:
+            available = next(int(line.split()[1]) * 1024 for line in f if line.startswith("MemAvailable:"))
+    except (OSError, StopIteration):
+        pytest.skip("no /proc/meminfo here")
+    if available > 2**40:
+        pytest.skip("this machine has more than 1 TiB available")
+    s = ssrlab.Settings(width=16384, height=16384, layers=16, rays_per_pixel=4)
+    with pytest.raises(ValueError, match=r"Settings \(16384 x 16384, layers 16, rays_per_pixel 4\) need .* GiB of "
+                                         r"textures, more than the .* GiB of memory available"):
+        renderer.render(ssrlab.scenes.hall(), settings=s)
+    assert renderer.render(ssrlab.scenes.hall(), settings=ssrlab.Settings(width=32, height=16)).color.shape == (16, 32, 3)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -50,6 +51,26 @@ bool cpu_has_f16c() {
 void widen_halves_f16c(const uint16_t*, float*, size_t) {}
 bool cpu_has_f16c() { return false; }
 #endif
+
+// Bytes of memory the system can still give (Linux's MemAvailable), 0 where unknown. On
+// llvmpipe textures live in this memory, and an allocation beyond it succeeds (overcommit)
+// only for the process to be killed when the first pass writes the pages.
+size_t system_memory_available() {
+    std::FILE* f = std::fopen("/proc/meminfo", "r");
+    if (!f) return 0;
+    char line[256];
+    unsigned long long kib = 0;
+    while (std::fgets(line, sizeof line, f))
+        if (std::sscanf(line, "MemAvailable: %llu kB", &kib) == 1) break;
+    std::fclose(f);
+    return size_t(kib) * 1024;
+}
+
+std::string gib(size_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f GiB", double(bytes) / double(size_t(1) << 30));
+    return text;
+}
 
 constexpr size_t kSceneCacheSize = 8;
 constexpr size_t kPoolSize = 4;  // idle texture sets kept for reuse
@@ -393,6 +414,24 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
                                         " layers, beyond this device's GL_MAX_ARRAY_TEXTURE_LAYERS (" +
                                         std::to_string(max_array_layers_) + "): lower Settings.layers or rays_per_pixel");
     }
+    // On the CPU device the textures take system memory: a frame that cannot fit is refused
+    // here rather than killed by the OS mid-frame (idle texture sets and scratch can be reused).
+    size_t needed = 0;
+    for (const auto& d : descs) needed += texture_bytes(d);
+    const std::string sized_by = "Settings (" + std::to_string(s.width) + " x " + std::to_string(s.height) +
+                                 ", layers " + std::to_string(s.layers) + ", rays_per_pixel " +
+                                 std::to_string(s.rays_per_pixel) + ")";
+    if (ctx_->info().chosen == "cpu") {
+        size_t reusable = scratch_.bytes();
+        for (const auto& r : pool_)
+            if (r.use_count() == 1) reusable += r->bytes();
+        const size_t available = system_memory_available();
+        if (available > 0 && needed > available + reusable)
+            throw std::invalid_argument(sized_by + " need " + gib(needed) + " of textures, more than the " +
+                                        gib(available + reusable) +
+                                        " of memory available to the CPU device: render a smaller image or "
+                                        "fewer layers or rays");
+    }
     // Scratch textures (shadow map, Hi-Z) live once per renderer; the frame gets the rest.
     std::vector<ResourceDesc> own, scratch;
     for (const auto& d : descs) (is_scratch(d.name) ? scratch : own).push_back(d);
@@ -405,7 +444,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         FrameResources& r;
         ~Detach() { r.attach_scratch(nullptr); }
     } detach{*resources};
-    check_gl(*ctx_, "frame allocation");
+    check_gl(*ctx_, ("frame allocation (" + sized_by + ": " + gib(needed) + " of textures)").c_str());
 
     Defines defines;
     depth.add_defines(defines);
