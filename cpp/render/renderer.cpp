@@ -33,8 +33,9 @@ namespace {
 
 #if SSR_HAVE_F16C_PATH
 // Half floats to floats with the CPU's F16C conversion (exact, NaN and infinity kept): an
-// RGBA16F texture downloaded as stored and widened here took 0.59-0.67x the time of asking
-// llvmpipe for GL_FLOAT at 640x360, 0.82x at 1920x1080 (issue 13, benchmarks/readback.py).
+// RGBA16F texture downloaded as stored (into memory not zeroed first) and widened here took
+// 0.52-0.53x the time of asking llvmpipe for GL_FLOAT at 640x360, 0.65-0.69x at 1920x1080
+// (issue 13, benchmarks/readback.py).
 // Compiled for F16C alone and called only where the CPU has it.
 __attribute__((target("avx,f16c"))) void widen_halves_f16c(const uint16_t* in, float* out, size_t n) {
     size_t i = 0;
@@ -416,6 +417,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     }
     // On the CPU device the textures take system memory: a frame that cannot fit is refused
     // here rather than killed by the OS mid-frame (idle texture sets and scratch can be reused).
+    // Asked of the system only beyond 256 MiB of new textures, not on every ordinary frame.
     size_t needed = 0;
     for (const auto& d : descs) needed += texture_bytes(d);
     const std::string sized_by = "Settings (" + std::to_string(s.width) + " x " + std::to_string(s.height) +
@@ -425,7 +427,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         size_t reusable = scratch_.bytes();
         for (const auto& r : pool_)
             if (r.use_count() == 1) reusable += r->bytes();
-        const size_t available = system_memory_available();
+        const size_t available = needed > reusable + (size_t(256) << 20) ? system_memory_available() : 0;
         if (available > 0 && needed > available + reusable)
             throw std::invalid_argument(sized_by + " need " + gib(needed) + " of textures, more than the " +
                                         gib(available + reusable) +
@@ -820,7 +822,7 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
         if (pack_invert_) glPixelStorei(GL_PACK_INVERT_MESA, GL_TRUE);
         // RGBA16F: downloaded as halves and widened on the CPU where it has F16C.
         const bool halves = f == GL_RGBA16F && cpu_has_f16c();
-        std::vector<uint16_t> half_layer(halves ? layer_floats : 0);
+        std::vector<uint16_t, UninitialisedAllocator<uint16_t>> half_layer(halves ? layer_floats : 0);
         for (int l = 0; l < out.layers; ++l) {
             float* layer = out.data.data() + size_t(l) * layer_floats;
             if (halves) {
