@@ -5,7 +5,9 @@
 
 1. The device's peaks, through ssrlab's own EGL context and the frame's texture formats
    (Renderer.microbenchmark, shaders/tools/microbench.comp): coherent texelFetch rate,
-   dependent (pointer-chasing) texelFetch rate, imageStore rate, streaming read bandwidth, and
+   dependent (pointer-chasing) texelFetch rate, the same chain by imageLoad (the path the passes
+   read float inputs by on the CPU device, Renderer.info["input_fetch"]: llvmpipe runs it about
+   twice as fast), imageStore rate, streaming read bandwidth, and
    a trivial copy pass of one RGBA texture of the frame's size (the floor of a full-screen pass).
 2. The frame at two configurations per scene: the thesis's (4 layers, 4 GGX rays, half
    resolution, stride 4, 250 steps, linear tracing) and one layer of Hi-Z mirror rays, one ray
@@ -14,10 +16,13 @@
    include compilation or first use), its counted work (fetches, bytes read and written: the
    tracers' depth fetches are counted by the shaders, the rest derived from the dispatch sizes,
    the formats and the ray-list counters; the model is `work_of` below), the achieved rate and
-   its share of the matching peak (coherent fetches; dependent fetches for the tracers).
+   its share of the matching peak (coherent fetches; dependent fetches for the tracers, with their
+   share of the imageLoad chain's rate beside it).
 3. The issue's ratios: composite / copy pass, resolve / Hi-Z trace (hall, 1 ray, radius 1),
-   the Hi-Z trace's share of the dependent-fetch rate (copy and dependent kernels at the frame's
-   size, run between the frames so that both sides of a ratio see the same load), and the thesis-configuration frame
+   the Hi-Z trace's share of the dependent-fetch rate (the issue's peak, the texelFetch chain; its
+   share of the imageLoad chain's rate is printed too, without a target; copy and dependent
+   kernels at the frame's size, run between the frames so that both sides of a ratio see the same
+   load), and the thesis-configuration frame
    against a recorded baseline (--baseline: a JSON {"<scene>": total_ms} or the output of an
    earlier run's --json), or, better, measured in the same run against another shader tree
    (--baseline-shaders DIR, e.g. `git archive main shaders | tar -x -C /tmp/main`: the frames of
@@ -56,6 +61,7 @@ HIZ_MIRROR = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, r
 PEAKS = {
     "coherent": ("coherent", 64, 8, 0),     # RG32F texelFetch, addresses known up front
     "dependent": ("dependent", 64, 8, 0),   # RG32F texelFetch, address from the previous one
+    "dependent_image": ("dependent_image", 64, 8, 0),  # the same chain by imageLoad
     "store": ("store", 8, 0, 8),            # RGBA16F imageStore
     "bandwidth": ("bandwidth", 8, 16, 0),   # RGBA32F texelFetch, each texel once
 }
@@ -144,7 +150,7 @@ def run_config(renderer, scene, settings, repeats):
     last frame's stats, and the CPU side of a render call."""
     for _ in range(2):
         renderer.render(scene, settings=settings).color
-    runs, walls, reads, peaks = [], [], [], {"copy": [], "dependent": []}
+    runs, walls, reads, peaks = [], [], [], {"copy": [], "dependent": [], "dependent_image": []}
     frame = None
     for _ in range(repeats):
         t0 = time.perf_counter()
@@ -159,13 +165,15 @@ def run_config(renderer, scene, settings, repeats):
         # cores) the load changes within seconds, so a ratio takes both sides at the same moments.
         peaks["copy"] += renderer.microbenchmark("copy", settings.width, settings.height, 1, 1)
         peaks["dependent"] += renderer.microbenchmark("dependent", settings.width, settings.height, 64, 1)
+        peaks["dependent_image"] += renderer.microbenchmark("dependent_image", settings.width, settings.height, 64, 1)
     keys = [k for k in runs[0] if "." not in k]
     stats = dict(frame.stats)  # rays_traced, depth_fetches: summed from rays.sample, skip on or off
     return ({k: spread([r[k] for r in runs]) for k in keys}, stats,
             dict(wall=spread(walls), readback=spread(reads), copy=spread(peaks["copy"]),
-                 dependent=spread(peaks["dependent"]),
+                 dependent=spread(peaks["dependent"]), dependent_image=spread(peaks["dependent_image"]),
                  # every repeat's timings, for ratios taken pair by pair
-                 each=dict(runs=runs, copy=peaks["copy"], dependent=peaks["dependent"])))
+                 each=dict(runs=runs, copy=peaks["copy"], dependent=peaks["dependent"],
+                           dependent_image=peaks["dependent_image"])))
 
 
 def ab_shaders(before, now, scene, settings, key, repeats, ratios):
@@ -260,19 +268,24 @@ def main(argv=None) -> int:
                     rate = f / (med * 1e-3)
                     share = rate / peaks[bound]["rate"]
                     row.update(fetches=f, bytes_read=rd, bytes_written=wr, rate=rate, share=share, bound=bound)
+                    also = ""
+                    if bound == "dependent":
+                        row["share_image"] = rate / peaks["dependent_image"]["rate"]
+                        also = f" ({100 * row['share_image']:.1f} % of dependent_image)"
                     print(f"| {name} | {med:.2f} ({lo:.2f}-{hi:.2f}) | {f:,} | {rd:,} | {wr:,} | "
-                          f"{fmt_rate(rate)} | {100 * share:.1f} % of {bound} |")
+                          f"{fmt_rate(rate)} | {100 * share:.1f} % of {bound}{also} |")
                 rows[name] = row
             print(f"render() + frame.color wall {cpu['wall'][0]:.1f} ms against GPU total "
                   f"{times['total'][0]:.1f} ms (CPU-side overhead {cpu['wall'][0] - times['total'][0]:.1f} ms), "
                   f"color readback {cpu['readback'][0]:.1f} ms")
             px = s.width * s.height
             dep_rate = px * 64 / (cpu["dependent"][0] * 1e-3)
+            dep_image_rate = px * 64 / (cpu["dependent_image"][0] * 1e-3)
             print(f"interleaved peaks: copy pass {cpu['copy'][0]:.2f} ms ({cpu['copy'][1]:.2f}-{cpu['copy'][2]:.2f}), "
-                  f"dependent fetches {fmt_rate(dep_rate)}/s")
+                  f"dependent fetches {fmt_rate(dep_rate)}/s, by imageLoad {fmt_rate(dep_image_rate)}/s")
             result["configs"][f"{scene_name}/{cname}"] = dict(
                 passes=rows, stats=stats, wall_ms=cpu["wall"][0], readback_ms=cpu["readback"][0],
-                copy_ms=cpu["copy"][0], dependent_rate=dep_rate)
+                copy_ms=cpu["copy"][0], dependent_rate=dep_rate, dependent_image_rate=dep_image_rate)
             each[f"{scene_name}/{cname}"] = dict(cpu["each"], px=px)
 
     ratios = {}  # key -> every repeat's value
@@ -286,6 +299,11 @@ def main(argv=None) -> int:
             # (fetches / trace time) / (the dependent kernel's fetches / its time), repeat by repeat
             ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = [
                 p["trace_hiz"]["fetches"] / (e["px"] * 64) * dep / t for t, dep in zip(ms["trace_hiz"], e["dependent"])]
+            # The same against the imageLoad chain, the faster of the two on llvmpipe and the path
+            # the trace reads its pyramid by there: no target (the issue's peak is texelFetch's).
+            ratios[f"{key}: trace_hiz share of the dependent imageLoad rate"] = [
+                p["trace_hiz"]["fetches"] / (e["px"] * 64) * dep / t
+                for t, dep in zip(ms["trace_hiz"], e["dependent_image"])]
     for key, cfg in result["configs"].items():
         p = cfg["passes"]
         if "trace_hiz" in p and "resolve" in p:

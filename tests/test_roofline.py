@@ -14,7 +14,7 @@ import ssrlab
 from conftest import REPO, small
 
 
-@pytest.mark.parametrize("kernel", ["coherent", "dependent", "store", "bandwidth", "copy"])
+@pytest.mark.parametrize("kernel", ["coherent", "dependent", "dependent_image", "store", "bandwidth", "copy"])
 def test_microbenchmark_kernels_time_every_repeat(renderer, kernel):
     ms = renderer.microbenchmark(kernel, 64, 48, 1 if kernel == "copy" else 4, repeats=3)
     assert len(ms) == 3
@@ -84,8 +84,9 @@ def test_lane_use_is_one_for_equal_walks_and_the_share_of_the_longest_otherwise(
 
 def _general_resolve_shaders(tmp_path):
     """A copy of the shader tree whose resolve takes the general path everywhere: no group vote,
-    the shared tile even where only a pixel's own rays count, one ray per chunk (two barriers per
-    ray, as before issue 13)."""
+    the shared tile even where only a pixel's own rays count or where resolve_fetch's textures
+    serve it (imageLoad, issue 13's sixth round), one ray per chunk (two barriers per ray, as
+    before issue 13)."""
     import shutil
 
     root = tmp_path / "shaders"
@@ -93,6 +94,8 @@ def _general_resolve_shaders(tmp_path):
     path = root / "passes" / "resolve.comp"
     text = path.read_text()
     patches = [("#ifndef OWN_RAYS_ONLY\n#define OWN_RAYS_ONLY 0\n#endif", "#undef OWN_RAYS_ONLY\n#define OWN_RAYS_ONLY 0"),
+               ("#ifndef RESOLVE_SHARED_TILE\n#define RESOLVE_SHARED_TILE 1\n#endif",
+                "#undef RESOLVE_SHARED_TILE\n#define RESOLVE_SHARED_TILE 1"),
                ("if (s_any_receiver == 0u) {", "if (false) {"),
                ("int chunk = max(1, TILE_CAPACITY / entries);", "int chunk = 1;")]
     for old, new in patches:

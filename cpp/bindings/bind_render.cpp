@@ -151,7 +151,7 @@ void bind_render(py::module_& m) {
 
     py::class_<Renderer, std::shared_ptr<Renderer>>(m, "Renderer",
                                                     "A headless EGL/OpenGL 4.5 renderer; use ssrlab.Renderer, which wraps it.")
-        .def(py::init(&Renderer::create), py::arg("device") = "auto", py::arg("shader_dir"))
+        .def(py::init(&Renderer::create), py::arg("device") = "auto", py::arg("shader_dir"), py::arg("input_fetch") = "auto")
         .def(
             "render",
             [](Renderer& r, const Scene& scene, const Camera& camera, const RenderSettings& s,
@@ -167,10 +167,11 @@ void bind_render(py::module_& m) {
                 auto d = r.info().as_dict();
                 d["readback_rows"] = r.pack_invert() ? "GL_MESA_pack_invert" : "flipped on the CPU";
                 d["max_texture_size"] = std::to_string(r.max_texture_size());
+                d["input_fetch"] = r.fetch_by_image() ? "imageLoad" : "texelFetch";
                 return d;
             },
             "Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first; "
-            "the largest texture side the device takes.")
+            "the largest texture side the device takes; how the passes read their float inputs.")
         .def(
             "reference",
             [](Renderer& r, const Scene& scene, Frame& frame, const std::string& mode, int rays, uint32_t seed,
@@ -227,7 +228,7 @@ void bind_render(py::module_& m) {
         .def("microbenchmark", &Renderer::microbenchmark, py::arg("kernel"), py::arg("width"), py::arg("height"),
              py::arg("iterations"), py::arg("repeats") = 5,
              "Device peak kernels for the roofline (shaders/tools/microbench.comp): 'coherent', 'dependent',\n"
-             "'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,\n"
+             "'dependent_image', 'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,\n"
              "run once untimed then `repeats` times; returns each repeat's GPU milliseconds.")
         .def(
             "compile",

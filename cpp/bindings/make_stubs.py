@@ -24,8 +24,8 @@ TARGET = REPO / "python" / "ssrlab" / "_core.pyi"
 
 FIXES = [
     # pybind11 accepts a required argument after a defaulted one; Python does not.
-    ("def __init__(self, device: str = 'auto', shader_dir: str)",
-     "def __init__(self, device: str = 'auto', *, shader_dir: str)"),
+    ("def __init__(self, device: str = 'auto', shader_dir: str, input_fetch: str = 'auto')",
+     "def __init__(self, device: str = 'auto', *, shader_dir: str, input_fetch: str = 'auto')"),
 ]
 
 

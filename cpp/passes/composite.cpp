@@ -13,12 +13,19 @@ Defines CompositePass::program_defines(const FrameContext& ctx) const {
     // Issue 13: the lighting pass's lit colour carries coverage and r in its alpha (lighting.h),
     // which saves the material fetch; another direct light (the reference's) does not.
     d["LIT_CARRIES_R"] = direct_ == "lit" ? "1" : "0";
+    // Issue 13 (FETCH_BY_IMAGE, lib/input_fetch.glsl): the direct light and the reflection are read
+    // by imageLoad, whose format qualifier depends on the chain (lit RGBA16F, the reference's and
+    // the temporal passes' RGBA32F).
+    if (ctx.fetch_by_image()) {
+        d["DIRECT_FORMAT"] = image_format_qualifier(ctx.resources.get(direct_).format());
+        if (reflections_) d["REFLECTION_FORMAT"] = image_format_qualifier(ctx.resources.get(reflection_).format());
+    }
     return d;
 }
 
 void CompositePass::execute(FrameContext& ctx) {
-    glUseProgram(ctx.shaders.program({"passes/composite.comp"}, program_defines(ctx)));
     auto& r = ctx.resources;
+    glUseProgram(ctx.shaders.program({"passes/composite.comp"}, program_defines(ctx)));
     glBindTextureUnit(0, r.get(direct_).id());
     glBindTextureUnit(1, r.get("gbuffer.material").id());
     if (reflections_) {
@@ -28,6 +35,10 @@ void CompositePass::execute(FrameContext& ctx) {
         glBindTextureUnit(5, r.get("linear_depth").id());
     }
     bind_image_layered(0, ctx.resources.get(output_), GL_WRITE_ONLY);
+    if (ctx.fetch_by_image()) {  // image units 1-4 (lib/input_fetch.glsl)
+        bind_input_images(r, 1, {direct_});
+        if (reflections_) bind_input_images(r, 2, {reflection_, "gbuffer.normal", "linear_depth"});
+    }
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
 

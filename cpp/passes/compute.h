@@ -14,6 +14,27 @@ inline void bind_image_layered(GLuint unit, const Texture& tex, GLenum access, i
                        tex.format());
 }
 
+// Issue 13 (FETCH_BY_IMAGE, lib/input_fetch.glsl): binds the inputs `names` as read-only images of
+// their own format, every layer of level 0, to image units first, first + 1, ... (after the pass's
+// outputs), where the device reads float textures faster by imageLoad than by texelFetch.
+inline void bind_input_images(const FrameResources& r, GLuint first, const std::vector<std::string>& names) {
+    for (GLuint i = 0; i < GLuint(names.size()); ++i) bind_image_layered(first + i, r.get(names[i]), GL_READ_ONLY);
+}
+
+// The GLSL image format qualifier of a float texture format (a FETCH_BY_IMAGE input whose format
+// depends on the chain, e.g. the composite's direct light: lit RGBA16F, the reference's RGBA32F).
+inline const char* image_format_qualifier(GLenum format) {
+    switch (format) {
+        case GL_RGBA32F: return "rgba32f";
+        case GL_RGBA16F: return "rgba16f";
+        case GL_RG32F: return "rg32f";
+        case GL_RG16F: return "rg16f";
+        case GL_R32F: return "r32f";
+        case GL_R16F: return "r16f";
+        default: return "";
+    }
+}
+
 // Dispatches ceil(width/gx) x ceil(height/gy) x depth work groups and makes the writes
 // visible to every later fetch, image load and readback.
 inline void dispatch_2d(int width, int height, int depth, int gx, int gy) {

@@ -53,6 +53,9 @@ void LightingPass::execute(FrameContext& ctx) {
     if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
     bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
+    // Issue 13: the normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
+    // depth format, which no image can bind.
+    if (ctx.fetch_by_image()) bind_input_images(r, 2, {"gbuffer.normal"});
     // Issue 11: layers behind the first empty one hold nothing anywhere (peeling skipped their
     // draws), so they get exactly what the shader writes for an uncovered pixel, by a clear.
     // Reading the query results waits for the peeling (a sync point before this pass).

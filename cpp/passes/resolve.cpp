@@ -5,24 +5,74 @@
 #include "core/errors.h"
 #include "passes/classify.h"
 #include "passes/compute.h"
+#include "passes/resolve_fetch.h"
 
 namespace ssr {
 
+namespace {
+
+// Rays traced by the BVH (method "bvh", fallback "bvh", issue 12) or the probes bring their
+// radiance in rays.radiance.
+bool ray_radiance_of(const RenderSettings& s) {
+    return s.method == TraceMethod::Bvh || s.fallback == Fallback::Bvh || s.fallback == Fallback::Probes;
+}
+
+// What lib/resolve_ray.glsl is compiled with, for the resolve and resolve_fetch alike.
+Defines ray_defines(const FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    Defines d = ctx.defines;
+    // bounces="history" (seed 002, 4.6.4): hits fetch the previous frame's final colour.
+    d["BOUNCES_HISTORY"] = s.bounces == Bounces::History ? "1" : "0";
+    d["RAY_RADIANCE"] = ray_radiance_of(s) ? "1" : "0";
+    // fallback "none" lets unresolved rays bring nothing instead of the environment.
+    d["FALLBACK_NONE"] = s.method != TraceMethod::Bvh && s.fallback == Fallback::None ? "1" : "0";
+    return d;
+}
+
+// The inputs lib/resolve_ray.glsl declares: texture units 0-7 (+ 16, 8, 9), or with FETCH_BY_IMAGE
+// the float ones as image units 1-7.
+void bind_ray_inputs(FrameContext& ctx, GLuint prog) {
+    auto& r = ctx.resources;
+    const char* inputs[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
+                            "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+    for (GLuint unit = 0; unit < 8; ++unit) glBindTextureUnit(unit, r.get(inputs[unit]).id());
+    const bool ray_radiance = ray_radiance_of(ctx.settings);
+    if (ray_radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
+    if (ctx.settings.bounces == Bounces::History) {
+        const bool history = ctx.history && ctx.history->has("color");
+        glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
+        glBindTextureUnit(8, r.get("reprojection").id());
+        glBindTextureUnit(9, history ? ctx.history->get("color").id() : r.get("reprojection").id());
+    }
+    // Issue 13: the float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), image units 1-7.
+    if (ctx.fetch_by_image()) {
+        bind_input_images(r, 1, {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"});
+        if (ray_radiance) bind_input_images(r, 7, {"rays.radiance"});
+    }
+}
+
+}  // namespace
+
+bool ResolvePass::shared_tile(const RenderSettings& s, bool fetch_by_image) {
+    return !own_rays_only(s) && !fetch_by_image;
+}
+
+void ResolveFetchPass::execute(FrameContext& ctx) {
+    const GLuint prog = ctx.shaders.program({"passes/resolve_fetch.comp"}, ray_defines(ctx));
+    glUseProgram(prog);
+    bind_ray_inputs(ctx, prog);
+    bind_image_layered(8, ctx.resources.get("resolve.ray_color"), GL_WRITE_ONLY);
+    bind_image_layered(9, ctx.resources.get("resolve.ray_target"), GL_WRITE_ONLY);
+    const RenderSettings& s = ctx.settings;
+    dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
+}
+
 void ResolvePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
-    // bounces="history" (seed 002, 4.6.4): hits fetch the previous frame's final colour.
-    const bool bounce_history = ctx.settings.bounces == Bounces::History;
-    Defines d = ctx.defines;
-    d["BOUNCES_HISTORY"] = bounce_history ? "1" : "0";
+    Defines d = ray_defines(ctx);
     // Ray-result reuse over time (seed 000, 4.4): the previous frame's rays of the same trace grid.
     const bool ray_reuse = ctx.settings.temporal_ray_reuse;
     d["TEMPORAL_RAY_REUSE"] = ray_reuse ? "1" : "0";
-    // Issue 12: rays traced by the BVH (method "bvh", fallback "bvh") bring their radiance in
-    // rays.radiance; fallback "none" lets unresolved rays bring nothing instead of the environment.
-    const bool ray_radiance = ctx.settings.method == TraceMethod::Bvh || ctx.settings.fallback == Fallback::Bvh ||
-                              ctx.settings.fallback == Fallback::Probes;  // the probes' radiance, likewise
-    d["RAY_RADIANCE"] = ray_radiance ? "1" : "0";
-    d["FALLBACK_NONE"] = ctx.settings.method != TraceMethod::Bvh && ctx.settings.fallback == Fallback::None ? "1" : "0";
     // Issue 13: own rays only (own_rays_only in resolve.h): no shared tile, no barriers.
     const RenderSettings& s = ctx.settings;
     const bool own_rays_only = ResolvePass::own_rays_only(s);
@@ -32,6 +82,10 @@ void ResolvePass::execute(FrameContext& ctx) {
     if (list && !lists_) throw GLError(name() + ": Settings.skip needs the classify pass's resolve list");
     d["RESOLVE_LIST"] = list ? "1" : "0";
     d["RESOLVE_LIST_PIXELS"] = list && own_rays_only ? "1" : "0";
+    // Issue 13: neighbours' rays from the shared tile, or from resolve_fetch's textures where the
+    // passes read by imageLoad (llvmpipe's shared-memory loads are slow; resolve_fetch.h).
+    const bool shared = shared_tile(s, ctx.fetch_by_image());
+    d["RESOLVE_SHARED_TILE"] = shared ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/resolve.comp"}, d);
     glUseProgram(prog);
     if (ray_reuse) {
@@ -59,17 +113,9 @@ void ResolvePass::execute(FrameContext& ctx) {
         for (GLuint i = 0; i < 6; ++i) glBindTextureUnit(17 + i, src.get(prev[i]).id());
         glBindTextureUnit(8, r.get("reprojection").id());
     }
-    if (bounce_history) {
-        const bool history = ctx.history && ctx.history->has("color");
-        glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
-        glBindTextureUnit(8, r.get("reprojection").id());
-        glBindTextureUnit(9, history ? ctx.history->get("color").id() : r.get("reprojection").id());
-    }
-    const char* inputs[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
-                            "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
-    for (GLuint unit = 0; unit < 8; ++unit) glBindTextureUnit(unit, r.get(inputs[unit]).id());
-    if (ray_radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
+    bind_ray_inputs(ctx, prog);
     bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
+    if (!shared && !own_rays_only) bind_input_images(r, 8, {"resolve.ray_color", "resolve.ray_target"});
     if (list) {
         // The classify pass (run before, build_chain) wrote the list and its dispatch arguments;
         // an empty list is a dispatch of 0 groups.

@@ -26,6 +26,10 @@ public:
         return s.downscale == 1 &&
                (s.reuse_radius == 0 || (s.sampling == Sampling::Mirror && s.reuse_weighting == ReuseWeighting::Brdf));
     }
+    // Issue 13: whether the neighbours' rays come from the shared tile the resolve fills itself (the
+    // thesis's design, GPUs) or, where the passes read by imageLoad (llvmpipe, whose shared-memory
+    // loads are slow), from resolve_fetch's textures, which then runs before it in the chain.
+    static bool shared_tile(const RenderSettings& s, bool fetch_by_image);
     std::string name() const override { return "resolve"; }
     std::vector<std::string> inputs() const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",

@@ -4,6 +4,7 @@
 //   outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h)
 #pragma once
 
+#include "passes/compute.h"
 #include "passes/trace_pass.h"
 
 namespace ssr {
@@ -17,6 +18,7 @@ public:
     }
     void execute(FrameContext& ctx) override {
         glBindTextureUnit(4, ctx.resources.get("hiz_trace").id());
+        if (ctx.fetch_by_image()) bind_input_images(ctx.resources, 5, {"hiz_trace"});
         run(ctx, "passes/trace_hiz.comp");
     }
 };

@@ -32,6 +32,9 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     // Issue 11: the layer walk stops at the layers in use (a uniform: no recompile per count).
     glUniform1i(glGetUniformLocation(prog, "u_layers_used"), ctx.layers_in_use());
     bind_ray_generation_io(r);
+    // Issue 13: the float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), after the
+    // three ray outputs; a tracer binds its own after these (trace_hiz: its atlas, unit 5).
+    if (ctx.fetch_by_image()) bind_input_images(r, 3, {"linear_depth", "gbuffer.normal"});
     if (skip) {
         // The classify pass (run before, build_chain) wrote the list and its dispatch
         // arguments: groups of 64 list entries, a group layer per ray.

@@ -89,7 +89,18 @@ struct FrameContext {
     // peeling): every allocated layer. The per-layer passes work on these layers only.
     int layers_used = -1;
     int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }
+    // Issue 13: the passes read their float inputs as read-only images (FETCH_BY_IMAGE, the CPU
+    // device; lib/input_fetch.glsl), bound by bind_input_images (passes/compute.h).
+    bool fetch_by_image() const {
+        const auto it = defines.find("FETCH_BY_IMAGE");
+        return it != defines.end() && it->second == "1";
+    }
 };
+
+// Image units a pass binds at most, outputs and inputs read by imageLoad (FETCH_BY_IMAGE) together:
+// the device must offer this many to compute shaders for FETCH_BY_IMAGE (GL's minimum is 8; the
+// resolve binds 10: its output, 7 inputs and resolve_fetch's two textures).
+constexpr int kImageUnitsPerPass = 10;
 
 class RenderPass {
 public:

@@ -26,6 +26,7 @@
 #include "passes/reference.h"
 #include "passes/reproject.h"
 #include "passes/resolve.h"
+#include "passes/resolve_fetch.h"
 #include "passes/shadow_map.h"
 #include "passes/svgf_atrous.h"
 #include "passes/svgf_temporal.h"
@@ -44,7 +45,10 @@ namespace ssr {
 
 class Renderer : public std::enable_shared_from_this<Renderer> {
 public:
-    static std::shared_ptr<Renderer> create(const std::string& device, const std::string& shader_dir);
+    // input_fetch: how the passes read float inputs (lib/input_fetch.glsl): "auto" (imageLoad on the
+    // CPU device, texelFetch on a GPU), "imageLoad" or "texelFetch".
+    static std::shared_ptr<Renderer> create(const std::string& device, const std::string& shader_dir,
+                                            const std::string& input_fetch = "auto");
     ~Renderer();
 
     // `sequence` (optional): the frame is the next of that sequence; temporal passes read the
@@ -63,6 +67,8 @@ public:
     DeviceInfo info() const { return ctx_->info(); }
     // Float textures are downloaded with rows top first by the driver (GL_MESA_pack_invert).
     bool pack_invert() const { return pack_invert_; }
+    // Issue 13: whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
+    bool fetch_by_image() const { return fetch_by_image_; }
     int max_texture_size() const { return max_texture_size_; }
     // Programs compiled so far (every program is compiled once per renderer and variant).
     size_t compiled_programs() const { return shaders_->cached_programs(); }
@@ -113,7 +119,7 @@ public:
     }
 
 private:
-    Renderer(const std::string& device, const std::string& shader_dir);
+    Renderer(const std::string& device, const std::string& shader_dir, const std::string& input_fetch);
     const GpuScene& gpu_scene(const Scene& scene);
     std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
     std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows, bool reflections);
@@ -130,6 +136,7 @@ private:
     Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_;
     GLuint readback_sampler_ = 0;
     bool pack_invert_ = false;  // GL_MESA_pack_invert: downloads come with rows top first
+    bool fetch_by_image_ = false;  // FETCH_BY_IMAGE: the CPU device (llvmpipe), see lib/input_fetch.glsl
     GLint max_texture_size_ = 0, max_array_layers_ = 0;  // the device's limits, checked per frame
     Texture specular_albedo_;
 
@@ -162,6 +169,7 @@ private:
     TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};
     // Reflection probes (issue 12, seed 004): captured once per scene and probe set.
     FallbackProbesPass fallback_probes_shadowed_{true}, fallback_probes_unshadowed_{false};
+    ResolveFetchPass resolve_fetch_;  // issue 13: the resolve's tile fill where shared memory is slow
     ResolvePass resolve_{&classify_};
     ReprojectPass reproject_;
     TemporalPass temporal_;

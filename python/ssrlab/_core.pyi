@@ -927,7 +927,7 @@ class RenderSettings:
     @property
     def skip(self) -> bool:
         """
-        ssrlab.Settings.skip: the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty and clears the others as uncovered. False: every trace pixel and ray, every allocated layer, for comparison. The images agree either way
+        ssrlab.Settings.skip: True: the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty and clears the others as uncovered. False: every trace pixel and ray, every allocated layer. 'auto': True on llvmpipe, False on a GPU, the faster of the two on each (an H100 ran skip off faster at every reflective share, 0-100 %: README, GPU). The images agree either way; Frame.settings holds the value the frame ran with
         """
     @skip.setter
     def skip(self, arg0: bool) -> None:
@@ -1175,7 +1175,7 @@ class Renderer:
     """
     A headless EGL/OpenGL 4.5 renderer; use ssrlab.Renderer, which wraps it.
     """
-    def __init__(self, device: str = 'auto', *, shader_dir: str) -> None:
+    def __init__(self, device: str = 'auto', *, shader_dir: str, input_fetch: str = 'auto') -> None:
         ...
     def begin_sequence(self) -> typing.Sequence:
         """
@@ -1191,12 +1191,12 @@ class Renderer:
         """
     def info(self) -> dict[str, str]:
         """
-        Vendor, renderer, GL version and the device chosen.
+        Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first; the largest texture side the device takes; how the passes read their float inputs.
         """
     def microbenchmark(self, kernel: str, width: typing.SupportsInt | typing.SupportsIndex, height: typing.SupportsInt | typing.SupportsIndex, iterations: typing.SupportsInt | typing.SupportsIndex, repeats: typing.SupportsInt | typing.SupportsIndex = 5) -> list[float]:
         """
         Device peak kernels for the roofline (shaders/tools/microbench.comp): 'coherent', 'dependent',
-        'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,
+        'dependent_image', 'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,
         run once untimed then `repeats` times; returns each repeat's GPU milliseconds.
         """
     def recycle(self, force: bool = True) -> None:

@@ -35,15 +35,22 @@ class Renderer:
 
     device: "auto" (the GPU's EGL device when there is one, else llvmpipe), "gpu" (raise
     DeviceError when there is no GPU) or "cpu" (Mesa's llvmpipe).
+    input_fetch: how the passes read their float inputs (issue 13, shaders/lib/input_fetch.glsl):
+    "auto" (imageLoad on the CPU device, where llvmpipe's texelFetch of a float format is a call to
+    a generic sampling function; texelFetch on a GPU, the path measured there), "imageLoad" or
+    "texelFetch". The images are the same either way (tests/test_input_fetch.py); info["input_fetch"]
+    says which is used.
     It renders any number of scenes, cameras and settings, and may be used from any thread, one
     call at a time (its GL context is current only during a call).
     """
 
-    def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None):
+    def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None, input_fetch: str = "auto"):
         if device not in ("auto", "gpu", "cpu"):
             raise ValueError(f"Renderer.device must be 'auto', 'gpu' or 'cpu', got {device!r}")
+        if input_fetch not in ("auto", "imageLoad", "texelFetch"):
+            raise ValueError(f"Renderer.input_fetch must be 'auto', 'imageLoad' or 'texelFetch', got {input_fetch!r}")
         folder = Path(shader_dir) if shader_dir is not None else globals()["shader_dir"]()
-        self._native = _core.Renderer(device=device, shader_dir=str(folder))
+        self._native = _core.Renderer(device=device, shader_dir=str(folder), input_fetch=input_fetch)
         self.device = device
         self._frames: "weakref.WeakSet[Frame]" = weakref.WeakSet()
 
@@ -174,7 +181,9 @@ class Renderer:
         """GPU milliseconds of each of `repeats` runs of a device-peak kernel (issue 13's roofline,
         shaders/tools/microbench.comp, benchmarks/roofline.py), after one untimed run: 'coherent'
         (RG32F texelFetch, neighbours fetching neighbours), 'dependent' (each fetch's address is
-        the previous fetch's result), 'store' (RGBA16F imageStore), 'bandwidth' (RGBA32F texels each
+        the previous fetch's result), 'dependent_image' (the same chain by imageLoad, the path the
+        passes read float inputs by on the CPU device: info["input_fetch"]), 'store' (RGBA16F
+        imageStore), 'bandwidth' (RGBA32F texels each
         read once) or 'copy' (one RGBA16F fetch and one RGBA32F store per texel), one invocation per
         texel of width x height and `iterations` operations each (1 for 'copy'; at most 16 for
         'store' and 'bandwidth')."""

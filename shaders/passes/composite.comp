@@ -13,6 +13,7 @@
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/environment.glsl"
+#include "../lib/input_fetch.glsl"
 #if REFLECTIONS
 #include "../lib/ssr_settings.glsl"
 #include "../lib/gbuffer.glsl"
@@ -30,13 +31,21 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = 0) uniform sampler2DArray u_lit;
+// Texture units 0-5; with FETCH_BY_IMAGE the float inputs are image units 1-4 (passes/composite.cpp,
+// which gives the formats that depend on the chain).
+#ifndef DIRECT_FORMAT
+#define DIRECT_FORMAT rgba16f
+#endif
+#ifndef REFLECTION_FORMAT
+#define REFLECTION_FORMAT rgba16f
+#endif
+INPUT_ARRAY(u_lit, 0, 1, DIRECT_FORMAT);
 layout(binding = 1) uniform sampler2DArray u_material;
 #if REFLECTIONS
-layout(binding = 2) uniform sampler2D u_reflection;
+INPUT_2D(u_reflection, 2, 2, REFLECTION_FORMAT);
 layout(binding = 3) uniform sampler2DArray u_albedo;
-layout(binding = 4) uniform sampler2DArray u_normal;
-layout(binding = 5) uniform sampler2DArray u_linear_depth;
+INPUT_ARRAY(u_normal, 4, 3, rgba16f);
+INPUT_ARRAY(u_linear_depth, 5, 4, r32f);
 layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;
 #endif
 
@@ -45,7 +54,7 @@ layout(binding = 0, rgba32f) writeonly uniform image2D o_color;
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (p.x >= int(frame.viewport.x) || p.y >= int(frame.viewport.y)) return;
-    vec4 lit = texelFetch(u_lit, ivec3(p, 0), 0);
+    vec4 lit = FETCH(u_lit, ivec3(p, 0));
 #if LIT_CARRIES_R
     // Issue 13: coverage and r come with the lit colour (lit.a = 0.5 + r / 2 where covered, 0
     // where not; passes/lighting.comp), one fetch instead of two. r is the G-buffer's RGBA8
@@ -62,14 +71,14 @@ void main() {
         c = lit.rgb;
 #if REFLECTIONS
         if (r > 0.0) {
-            vec3 reflection = texelFetch(u_reflection, p, 0).rgb;
+            vec3 reflection = FETCH(u_reflection, p).rgb;
 #if !PBR_COMPOSITE
             c = r * reflection + (1.0 - r) * c;
 #else
             {
-                GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), FETCH(u_normal, ivec3(p, 0)),
                                            texelFetch(u_material, ivec3(p, 0), 0));
-                vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+                vec3 pos = view_position(vec2(p) + 0.5, FETCH(u_linear_depth, ivec3(p, 0)).r);
                 float NoV = max(dot(g.normal, normalize(-pos)), 0.0);
                 vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
                 bool auto_r = g.object_id >= 0 && materials[objects[g.object_id].material.x].params.z < 0.0;

@@ -10,6 +10,7 @@
 #include "../lib/shading.glsl"
 
 #include "../lib/covered_tiles.glsl"
+#include "../lib/input_fetch.glsl"
 
 #ifndef TILE_LIST
 #define TILE_LIST 0  // 1: the compaction of the covered tiles into the list (passes/lighting.cpp)
@@ -22,7 +23,7 @@ uniform int u_tiles;  // layers x tiles per layer: where covered_tile[] holds th
 
 layout(binding = 0) uniform sampler2DArray u_depth;
 layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
+INPUT_ARRAY(u_normal, 2, 2, rgba16f);  // FETCH_BY_IMAGE: image unit 2 (passes/lighting.cpp)
 layout(binding = 3) uniform sampler2DArray u_material;
 layout(binding = 4) uniform sampler2DShadow u_shadow_map;
 
@@ -55,7 +56,7 @@ void main() {
 #endif
     if (p.x >= int(frame.viewport.x) || p.y >= int(frame.viewport.y)) return;
 
-    GSample g = gbuffer_decode(texelFetch(u_albedo, p, 0), texelFetch(u_normal, p, 0), texelFetch(u_material, p, 0));
+    GSample g = gbuffer_decode(texelFetch(u_albedo, p, 0), FETCH(u_normal, p), texelFetch(u_material, p, 0));
     if (!g.covered) {
         imageStore(o_linear_depth, p, vec4(frame.clip.y));  // nothing here: exactly the far plane
         imageStore(o_lit, p, vec4(0.0));

@@ -22,9 +22,21 @@
 #include "../lib/ray_generation.glsl"
 #include "../lib/environment.glsl"
 #include "../lib/non_receiver.glsl"
+#include "../lib/input_fetch.glsl"
+#include "../lib/resolve_ray.glsl"
 
 #ifndef OWN_RAYS_ONLY
 #define OWN_RAYS_ONLY 0
+#endif
+// Issue 13: 1: the group fills a shared tile with its neighbours' rays (the thesis's design);
+// 0: they come from resolve_fetch's textures by imageLoad (FETCH_BY_IMAGE: llvmpipe, whose
+// shared-memory loads go one lane and one component at a time through the stack; passes/resolve.cpp).
+#ifndef RESOLVE_SHARED_TILE
+#define RESOLVE_SHARED_TILE 1
+#endif
+#if !OWN_RAYS_ONLY && !RESOLVE_SHARED_TILE
+layout(binding = 8, rgba32f) readonly uniform image2DArray u_ray_color;   // resolve_fetch.comp
+layout(binding = 9, rgba32f) readonly uniform image2DArray u_ray_target;
 #endif
 // Issue 11 (Settings.skip): the dispatch runs over the classify pass's resolve list
 // (resolve_list.glsl): one invocation per receiving pixel for the own-rays resolve, one group
@@ -43,42 +55,13 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 layout(local_size_x = 16, local_size_y = 16, local_size_z = 1) in;
 #endif
 
-layout(binding = 0) uniform sampler2DArray u_hit;
-layout(binding = 1) uniform sampler2DArray u_sample;
-layout(binding = 2) uniform sampler2DArray u_direction;
-layout(binding = 3) uniform sampler2DArray u_lit;
-layout(binding = 4) uniform sampler2DArray u_linear_depth;
-layout(binding = 5) uniform sampler2DArray u_albedo;
-layout(binding = 6) uniform sampler2DArray u_normal;
-layout(binding = 7) uniform sampler2DArray u_material;
+// Settings the per-ray and per-neighbour loops read, read once at the start of main (issue 13):
+// llvmpipe (Mesa 22.3) reads a uniform-block value lane by lane, with a bounds check per lane,
+// wherever lane 0 may be masked off (in a loop, an if, or after a return).
+int g_rays_per_pixel, g_edge_aware, g_reuse_weighting;
+float g_edge_depth_sigma, g_edge_normal_power;
 
 layout(binding = 0, rgba16f) writeonly uniform image2D o_reflection;
-
-#if (defined(BOUNCES_HISTORY) && BOUNCES_HISTORY) || (defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE)
-layout(binding = 8) uniform sampler2D u_reprojection;  // reproject pass: xy previous pixel, z valid
-#endif
-
-#if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
-// Multiple bounces over frames (seed 002, 4.6.4): a ray that hits layer 0 brings the previous
-// frame's final colour at the hit's reprojected position, which already holds that surface's
-// own reflection, instead of this frame's lit colour; each frame adds one bounce.
-layout(binding = 9) uniform sampler2D u_previous_color;
-uniform int u_has_history;
-
-vec3 previous_final(ivec2 hp, vec3 lit) {
-    vec4 r = texelFetch(u_reprojection, hp, 0);
-    if (u_has_history == 0 || r.z < 0.5) return lit;
-    ivec2 size = textureSize(u_previous_color, 0);
-    vec2 t = r.xy - 0.5;
-    ivec2 b = ivec2(floor(t));
-    vec2 f = t - vec2(b);
-    vec3 c00 = texelFetch(u_previous_color, clamp(b, ivec2(0), size - 1), 0).rgb;
-    vec3 c10 = texelFetch(u_previous_color, clamp(b + ivec2(1, 0), ivec2(0), size - 1), 0).rgb;
-    vec3 c01 = texelFetch(u_previous_color, clamp(b + ivec2(0, 1), ivec2(0), size - 1), 0).rgb;
-    vec3 c11 = texelFetch(u_previous_color, clamp(b + ivec2(1, 1), ivec2(0), size - 1), 0).rgb;
-    return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
-}
-#endif
 
 #if defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE
 // Ray-result reuse over time (seed 000, 4.4): the previous frame traced rays from (nearly) the
@@ -103,13 +86,6 @@ vec3 previous_view_position(vec2 pix, float z) {
 }
 #endif
 
-#if defined(RAY_RADIANCE) && RAY_RADIANCE
-// Issue 12: rays the BVH traced (trace_bvh.comp) bring its radiance (rgb) and hit distance
-// (a >= 0; -1: the BVH found nothing; -2: not traced by the BVH). It stands where the
-// environment stood: a screen-space miss brings it, a faded hit fades toward it.
-layout(binding = 16) uniform sampler2DArray u_ray_radiance;
-#endif
-
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
 const int TILE_ENTRIES = MAX_TILE * MAX_TILE;
@@ -118,7 +94,7 @@ const int TILE_ENTRIES = MAX_TILE * MAX_TILE;
 // chunks instead of four (each chunk pays two barriers, the origins and every neighbour's edge weight).
 const int TILE_CAPACITY = 2 * TILE_ENTRIES;
 
-#if !OWN_RAYS_ONLY
+#if !OWN_RAYS_ONLY && RESOLVE_SHARED_TILE
 // Ray data of a chunk of rays of every trace pixel in the tile, entry (ray - chunk start) *
 // entries + tile entry: as many rays as fit in TILE_CAPACITY entries per chunk (issue 13: each
 // chunk costs two barriers, which llvmpipe pays dearly; up to 8 rays at half resolution fit in one).
@@ -135,82 +111,19 @@ shared vec4 s_surface[TILE_ENTRIES];   // xyz: the origin's view normal; w: its 
 #endif
 shared uint s_any_receiver;
 
-GSample gsample(ivec2 p) {
-    return gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
-                          texelFetch(u_material, ivec3(p, 0), 0));
-}
-
-vec3 view_pos(ivec2 p) {
-    return view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
-}
-
-vec3 environment_view(vec3 dir_view) {
-    return environment_radiance(normalize(mat3(frame.inv_view) * dir_view));
-}
-
-// What a ray screen space did not resolve brings: the environment along it, or nothing
-// (fallback "none", to measure what screen space alone finds).
-vec3 unresolved_radiance(vec3 dir_view) {
-#if defined(FALLBACK_NONE) && FALLBACK_NONE
-    return vec3(0.0);
-#else
-    return environment_view(dir_view);
-#endif
-}
-
 // Similarity of a neighbour's surface to this pixel's: relative depth difference and normal
 // cosine (a cross-bilateral weight, Kopf et al. 2007; seed 002, 4.7.4).
 float edge_weight(vec3 p, vec3 n, vec3 pq, vec3 nq) {
     float dz = abs(p.z - pq.z) / max(-p.z, 1e-4);
-    return exp(-dz / ssr.edge_depth_sigma) * pow(max(dot(n, nq), 0.0), ssr.edge_normal_power);
-}
-
-// One ray's contribution: the radiance it brings (rgb) and its weight (a); its view direction
-// and the distance from `origin` to its hit (w; -1: a miss) and its pdf.
-struct RayResult {
-    vec4 color;
-    vec4 direction;
-    float pdf;
-};
-
-RayResult fetch_ray(ivec2 q, int r, vec3 origin, ivec2 size) {
-    vec4 hit = texelFetch(u_hit, ivec3(q, r), 0);
-    vec4 smp = texelFetch(u_sample, ivec3(q, r), 0);
-    vec3 dir = texelFetch(u_direction, ivec3(q, r), 0).xyz;
-    // What the ray brings where screen space did not resolve it; a hit at full fade weight
-    // (hit.w = 1, most hits) never needs it (issue 13: the environment costs more than the
-    // hit's own fetch).
-    bool opaque_hit = hit.z > 0.5 && hit.w >= 1.0;
-    vec3 c = vec3(0.0);
-    float dist = -1.0;
-#if defined(RAY_RADIANCE) && RAY_RADIANCE
-    vec4 traced = texelFetch(u_ray_radiance, ivec3(q, r), 0);
-    if (traced.a > -1.5) {
-        c = traced.rgb;
-        dist = traced.a;
-    } else if (!opaque_hit) {
-        c = unresolved_radiance(dir);
-    }
-#else
-    if (!opaque_hit) c = unresolved_radiance(dir);
-#endif
-    if (hit.z > 0.5) {
-        ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
-        vec3 lit = texelFetch(u_lit, hp, 0).rgb;
-#if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
-        if (hp.z == 0) lit = previous_final(hp.xy, lit);
-#endif
-        c = opaque_hit ? lit : mix(c, lit, hit.w);
-        dist = distance(view_position(hit.xy, texelFetch(u_linear_depth, hp, 0).r), origin);
-    }
-    RayResult res;
-    res.color = vec4(c, smp.x);
-    res.direction = vec4(dir, dist);
-    res.pdf = smp.y;
-    return res;
+    return exp(-dz / g_edge_depth_sigma) * pow(max(dot(n, nq), 0.0), g_edge_normal_power);
 }
 
 void main() {
+    g_rays_per_pixel = ssr.rays_per_pixel;
+    g_edge_aware = ssr.edge_aware;
+    g_reuse_weighting = ssr.reuse_weighting;
+    g_edge_depth_sigma = ssr.edge_depth_sigma;
+    g_edge_normal_power = ssr.edge_normal_power;
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 trace_size = ivec2(ssr.trace_width, ssr.trace_height);
     int s = ssr.downscale, radius = ssr.reuse_radius;
@@ -246,7 +159,7 @@ void main() {
     vec3 sum_c = vec3(0.0);
     float sum_w = 0.0;
 
-#if !OWN_RAYS_ONLY && !RESOLVE_LIST
+#if !OWN_RAYS_ONLY && !RESOLVE_LIST && RESOLVE_SHARED_TILE
     // Issue 13: a group none of whose pixels receives rays (most of a frame: sky, rough or
     // non-reflective surfaces) needs no ray data at all; it writes what a non-receiving pixel
     // writes below and leaves, skipping the tile fetches. One group vote costs two barriers.
@@ -265,8 +178,8 @@ void main() {
     // with BRDF weights: a mirror ray serves only its own pixel): each pixel fetches its own
     // rays directly, with no tile, shared memory, group vote or barrier (issue 13). The same sums as the
     // tiled path below, term for term.
-    if (receives && texelFetch(u_sample, ivec3(base, 0), 0).w > 0.5) {
-        for (int r = 0; r < ssr.rays_per_pixel; ++r) {
+    if (receives && FETCH(u_sample, ivec3(base, 0)).w > 0.5) {
+        for (int r = 0; r < g_rays_per_pixel; ++r) {
             RayResult ray = fetch_ray(base, r, p, size);
             if (ray.color.a <= 0.0) continue;
             // The edge weight of a pixel's own rays (edge_weight(p, n, p, n)) is one factor
@@ -283,8 +196,9 @@ void main() {
     float receiver = brdf_cosine_receiver(nv, alpha);
     // Chunks of rays: as many rays per chunk as the shared tile holds.
     int chunk = max(1, TILE_CAPACITY / entries);
-    for (int r0 = 0; r0 < ssr.rays_per_pixel; r0 += chunk) {
-        int rays = min(chunk, ssr.rays_per_pixel - r0);
+    for (int r0 = 0; r0 < g_rays_per_pixel; r0 += chunk) {
+        int rays = min(chunk, g_rays_per_pixel - r0);
+#if RESOLVE_SHARED_TILE
         if (r0 > 0) barrier();  // every pixel has summed the previous chunk
         // Fetch rays r0 .. r0 + rays - 1 of every trace pixel in the tile once: hit colour,
         // weight, hit point or direction, pdf (what every pixel reusing them needs, precomputed
@@ -298,25 +212,20 @@ void main() {
             vec3 normal = vec3(0.0, 0.0, 1.0);
             if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, trace_size))) {
                 ivec2 op = min(q * s + s / 2, size - 1);
-                traced = texelFetch(u_sample, ivec3(q, 0), 0).w > 0.5;
+                traced = FETCH(u_sample, ivec3(q, 0)).w > 0.5;
                 origin = view_pos(op);
                 if (r0 == 0) normal = gsample(op).normal;
             }
             if (r0 == 0) s_surface[e] = vec4(normal, origin.z);
             for (int k = 0; k < rays; ++k) {
-                vec4 color = vec4(0.0);
-                vec4 target = vec4(0.0, 0.0, 1.0, 0.0);
-                if (traced) {
-                    RayResult ray = fetch_ray(q, r0 + k, origin, size);
-                    vec4 d = ray.direction;
-                    color = ray.color;
-                    target = d.w >= 0.0 ? vec4(origin + d.xyz * d.w, ray.pdf) : vec4(d.xyz, -ray.pdf);
-                }
+                vec4 color, target;
+                reusable_ray(q, r0 + k, origin, traced, size, color, target);
                 s_color[k * entries + e] = color;
                 s_target[k * entries + e] = target;
             }
         }
         barrier();
+#endif
         if (!receives) continue;
         // Neighbours outer, rays inner: a neighbour's edge weight depends on it alone, so it is
         // computed once for all its rays, and a neighbour it zeroes adds nothing (issue 13; the
@@ -327,22 +236,37 @@ void main() {
             for (int dx = -radius; dx <= radius; ++dx) {
                 ivec2 q = base + ivec2(dx, dy);
                 if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, trace_size))) continue;
+#if RESOLVE_SHARED_TILE
                 ivec2 t = q - tile_lo;
                 int e = t.y * tile_dim.x + t.x;
-                bool own = s == 1 && dx == 0 && dy == 0;
                 vec4 surface = s_surface[e];
-                float edge = ssr.edge_aware != 0 ? edge_weight(p, g.normal, vec3(0.0, 0.0, surface.w), surface.xyz) : 1.0;
+#else
+                // A neighbour that traced nothing has rays of weight 0, which add nothing.
+                if (FETCH(u_sample, ivec3(q, 0)).w <= 0.5) continue;
+                ivec2 op = min(q * s + s / 2, size - 1);
+                vec4 surface = vec4(gsample(op).normal, view_pos(op).z);
+#endif
+                bool own = s == 1 && dx == 0 && dy == 0;
+                float edge = g_edge_aware != 0 ? edge_weight(p, g.normal, vec3(0.0, 0.0, surface.w), surface.xyz) : 1.0;
                 if (edge == 0.0) continue;
                 // BRDF weights: a neighbour's ray by this pixel's BRDF toward the ray's hit point
                 // (along its direction if it missed) over its pdf; mirror rays (pdf 0) keep their
                 // weight at reduced resolution and only serve their own pixel at full resolution.
-                bool reweigh = ssr.reuse_weighting == REUSE_BRDF && !own;
+                bool reweigh = g_reuse_weighting == REUSE_BRDF && !own;
                 for (int k = 0; k < rays; ++k) {
+#if RESOLVE_SHARED_TILE
                     int slot = k * entries + e;
                     vec4 rc = s_color[slot];
+#else
+                    vec4 rc = imageLoad(u_ray_color, ivec3(q, r0 + k));
+#endif
                     float w = rc.a;
                     if (reweigh) {
+#if RESOLVE_SHARED_TILE
                         vec4 target = s_target[slot];
+#else
+                        vec4 target = imageLoad(u_ray_target, ivec3(q, r0 + k));
+#endif
                         float pdf = abs(target.w);
                         vec3 l = target.w > 0.0 ? target.xyz - p : target.xyz;
                         l *= inversesqrt(dot(l, l));
@@ -388,7 +312,7 @@ void main() {
                         hit_pos = (u_previous_view_to_view * vec4(h_prev, 1.0)).xyz;
                     }
                     float w = smp.x;
-                    if (ssr.reuse_weighting == REUSE_BRDF && !own) {
+                    if (g_reuse_weighting == REUSE_BRDF && !own) {
                         if (smp.y > 0.0 && !mirror_receiver) {
                             vec3 l = hits ? normalize(hit_pos - p) : dir;
                             w = brdf_cosine(v_local, transpose(tbn) * l, alpha) / smp.y;
@@ -396,7 +320,7 @@ void main() {
                             w = 0.0;
                         }
                     }
-                    if (ssr.edge_aware != 0) w *= edge_weight(p, g.normal, origin, nq);
+                    if (g_edge_aware != 0) w *= edge_weight(p, g.normal, origin, nq);
                     sum_c += w * c;
                     sum_w += w;
                 }

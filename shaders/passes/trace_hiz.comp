@@ -29,6 +29,7 @@
 #endif
 #include "../lib/hiz_cells.glsl"
 #include "../lib/hiz_atlas.glsl"
+#include "../lib/input_fetch.glsl"
 
 // Two rays per invocation, walked in lockstep (seed 002 4.7.2's point: more independent
 // dependent-fetch chains in flight; on llvmpipe, where an invocation is a SIMD lane, the CPU
@@ -40,17 +41,22 @@
 // paid for on hall (0.75 spheres_and_boxes), now 0.72 (0.80): 1.05-1.1x (issue 13).
 layout(local_size_x = 8, local_size_y = 4, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
+// Texture units 0-4; with FETCH_BY_IMAGE the float inputs are image units 3-5 (trace_pass.cpp).
+INPUT_ARRAY(u_linear_depth, 0, 3, r32f);
 layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
+INPUT_ARRAY(u_normal, 2, 4, rgba16f);
 layout(binding = 3) uniform sampler2DArray u_material;
 // RG32F (min s, slab back s) per layer, every level in one image (lib/hiz_atlas.glsl): lod 0
-layout(binding = 4) uniform sampler2DArray u_hiz_trace;
+INPUT_ARRAY(u_hiz_trace, 4, 5, rg32f);
 
 // Issue 11: the layers that hold a surface somewhere (frame.stats["layers_used"] with
 // Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
 // empty everywhere, where it would only find the empty layer that ends it.
 uniform int u_layers_used;
+// Settings the walk reads on every step, read once at the start of main (issue 13): llvmpipe
+// (Mesa 22.3) reads a uniform-block value inside a loop lane by lane, with a bounds check per
+// lane, since the loop's mask may have turned lane 0 off (0.91-0.94x of the pass without).
+int g_max_level, g_start_level, g_stop_level, g_max_steps, g_layers;
 // 1 when exactly one layer is in use (trace_pass.cpp): the layer walk is a single test.
 #ifndef TRACE_ONE_LAYER
 #define TRACE_ONE_LAYER 0
@@ -69,7 +75,7 @@ ivec2 hiz_level_size(int level) {
 
 // (min s, slab back s) of a cell: lod 0 whatever the level (issue 13, lib/hiz_atlas.glsl).
 vec2 hiz_fetch(ivec2 cell, int layer, int level) {
-    return texelFetch(u_hiz_trace, ivec3(hiz_atlas_origin(level) + cell, layer), 0).xy;
+    return FETCH(u_hiz_trace, ivec3(hiz_atlas_origin(level) + cell, layer)).xy;
 }
 
 // The first layer whose slab the ray segment's screen-depth range [lo, hi] overlaps in
@@ -89,7 +95,7 @@ int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, ino
 #else
     front = 0.0;
     int found = -1;
-    for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
+    for (int k = 0; k < g_layers; ++k) {
         vec2 mb = hiz_fetch(cell, k, level);
         fetches += 1.0;
         if (hi < mb.x) break;  // in front of this layer, so of every deeper one
@@ -115,8 +121,6 @@ struct HizWalk {
     bool walking;  // still walking
     bool valid;   // the segment was set up (a hit can be resolved)
 };
-
-int g_max_level, g_start_level, g_stop_level;
 
 HizWalk walk_start(ReflectionRay ray, bool traced) {
     HizWalk w;
@@ -194,7 +198,7 @@ void walk_step(inout HizWalk w) {
     w.t = miss ? t_out + w.eps_t : w.t;
     w.level = hit ? w.level : miss ? up : w.level - 1;
     w.steps += 1;
-    w.walking = !hit && w.steps < ssr.max_steps && w.t < 1.0;
+    w.walking = !hit && w.steps < g_max_steps && w.t < 1.0;
 }
 
 // Depth fetches the walk spent: one per step with one layer (not counted in the loop).
@@ -257,7 +261,7 @@ bool slot_entry(int slot, out ivec3 id) {
 // variance-guided second pass, a ray the first pass traced).
 ReflectionRay slot_ray(ivec3 id, bool has, out GSample g, out bool keep) {
     ivec2 p = origin_pixel(has ? id.xy : ivec2(0));
-    g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+    g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), FETCH(u_normal, ivec3(p, 0)),
                        texelFetch(u_material, ivec3(p, 0), 0));
     keep = has;
 #if defined(EXTRA_RAYS) && EXTRA_RAYS
@@ -265,7 +269,7 @@ ReflectionRay slot_ray(ivec3 id, bool has, out GSample g, out bool keep) {
     // rays adaptive_rays left out, drawn exactly as a full trace draws ray id.z.
     if (id.z < adaptive_ray_count(g.roughness)) keep = false;
 #endif
-    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    vec3 pos = view_position(vec2(p) + 0.5, FETCH(u_linear_depth, ivec3(p, 0)).r);
     return generate_ray(g, pos, id.xy, id.z);
 }
 
@@ -283,6 +287,8 @@ void main() {
     g_max_level = min(ssr.hiz_max_level, hiz_levels() - 1);
     g_start_level = clamp(ssr.hiz_start_level, 0, g_max_level);
     g_stop_level = clamp(ssr.hiz_stop_level, 0, g_max_level);
+    g_max_steps = ssr.max_steps;
+    g_layers = min(ssr.layers, u_layers_used);
     ivec3 id0, id1;
     bool has0 = slot_entry(0, id0), has1 = slot_entry(1, id1);
     GSample g0, g1;

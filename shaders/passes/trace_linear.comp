@@ -15,18 +15,25 @@
 #include "../lib/ray_generation.glsl"
 #include "../lib/screen_ray.glsl"
 #include "../lib/trace_common.glsl"
+#include "../lib/input_fetch.glsl"
 #if RAY_LIST
 #include "../lib/ray_list.glsl"
 #endif
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
+// Texture units 0-3; with FETCH_BY_IMAGE the float inputs are image units 3-4 (trace_pass.cpp).
+INPUT_ARRAY(u_linear_depth, 0, 3, r32f);
 layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
+INPUT_ARRAY(u_normal, 2, 4, rgba16f);
 layout(binding = 3) uniform sampler2DArray u_material;
 
 float g_fetches = 0.0;
+// Settings the march reads on every step, read once at the start of main, before its first
+// `return` (issue 13): llvmpipe (Mesa 22.3) reads a uniform-block value lane by lane, with a
+// bounds check per lane, wherever lane 0 may be masked off (inside a loop, an if, or after a return).
+int g_max_steps, g_thickness_mode, g_refine_steps, g_layers;
+float g_stride, g_thickness, g_thickness_scale, g_far;
 // Issue 11: the layers that hold a surface somewhere (frame.stats["layers_used"] with
 // Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
 // empty everywhere, where it would only find the empty layer that ends it.
@@ -38,7 +45,7 @@ uniform int u_layers_used;
 
 float layer_depth(ivec2 pixel, int layer) {
     g_fetches += 1.0;
-    return texelFetch(u_linear_depth, ivec3(pixel, layer), 0).r;
+    return FETCH(u_linear_depth, ivec3(pixel, layer)).r;
 }
 
 // The first layer, front to back, whose slab [d, d + thick] the ray's depth range [lo, hi]
@@ -52,13 +59,13 @@ int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
     float d = layer_depth(pixel, 0);
     surface = d;
     // an empty layer (d >= far) holds no surface here
-    return d >= frame.clip.y || hi < d || lo > d + thick ? -1 : 0;
+    return d >= g_far || hi < d || lo > d + thick ? -1 : 0;
 #else
     surface = 0.0;
     int found = -1;
-    for (int k = 0; k < min(ssr.layers, u_layers_used); ++k) {
+    for (int k = 0; k < g_layers; ++k) {
         float d = layer_depth(pixel, k);
-        if (d >= frame.clip.y) break;  // empty layer: no surface here or behind
+        if (d >= g_far) break;  // empty layer: no surface here or behind
         if (hi < d) break;
         if (lo <= d + thick) {
             surface = d;
@@ -104,18 +111,18 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
     }
     float step_dir = sign(delta.x);
     float inv_dx = step_dir / delta.x;
-    vec2 dp = vec2(step_dir, delta.y * inv_dx) * ssr.stride;
-    float dqz = (qz1 - qz0) * inv_dx * ssr.stride;
-    float dk = (k1 - k0) * inv_dx * ssr.stride;
+    vec2 dp = vec2(step_dir, delta.y * inv_dx) * g_stride;
+    float dqz = (qz1 - qz0) * inv_dx * g_stride;
+    float dk = (k1 - k0) * inv_dx * g_stride;
 
     // The ray's view depth at parameter s (in steps from p0): z(s) = -(qz0 + dqz s) / (k0 + dk s).
     // Each step's depth range runs on from where the previous one ended, starting where the
     // ray leaves the origin pixel, so no stretch of the ray goes untested; the jitter only
     // moves which pixels are sampled: a random shift of up to stride - 1 pixels (McGuire &
     // Mara's per-pixel jitter, which trades a long stride's banding for noise).
-    float s_prev = 0.5 / ssr.stride;
+    float s_prev = 0.5 / g_stride;
     float z_prev = -(qz0 + dqz * s_prev) / (k0 + dk * s_prev);
-    float start = ssr.jitter * jitter_u * (1.0 - 1.0 / ssr.stride);
+    float start = ssr.jitter * jitter_u * (1.0 - 1.0 / g_stride);
     vec2 p = p0 + dp * start;
     float qz = qz0 + dqz * start, k = k0 + dk * start;
     float end_x = p1.x * step_dir;
@@ -126,7 +133,7 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
     int layer = -1;
     float surface = 0.0, thick = 0.0;
     ivec2 pixel = ivec2(0);
-    for (int i = 0; i < ssr.max_steps; ++i) {
+    for (int i = 0; i < g_max_steps; ++i) {
         p += dp;
         qz += dqz;
         k += dk;
@@ -134,12 +141,11 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         // Half a step on, but not past the segment's end (issue 8): beyond it 1/w (k) of a ray
         // running toward its vanishing point can reach 0 or less, and the step's depth range
         // then spanned everything in front of the origin, a false hit far off the ray.
-        float half_step = clamp((end_x - p.x * step_dir) / ssr.stride, 0.0, 0.5);
+        float half_step = clamp((end_x - p.x * step_dir) / g_stride, 0.0, 0.5);
         float z_next = -(qz + half_step * dqz) / (k + half_step * dk);
         float lo = min(z_prev, z_next), hi = max(z_prev, z_next);
         z_prev = z_next;
-        thick = ssr.thickness_mode == THICKNESS_RAY_STEP ? max(ssr.thickness, ssr.thickness_scale * (hi - lo))
-                                                               : ssr.thickness;
+        thick = g_thickness_mode == THICKNESS_RAY_STEP ? max(g_thickness, g_thickness_scale * (hi - lo)) : g_thickness;
         pixel = clamp(ivec2(floor(permute ? p.yx : p)), ivec2(0), last_pixel);
         layer = layer_hit(pixel, lo, hi, thick, surface);
         if (layer >= 0) break;
@@ -148,7 +154,7 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         // Binary search between the previous step and this one (seed 001 3.4, seed 002
         // Fig. 4.5): keeps the hit on the near side of thin features a long stride skipped.
         float s_lo = -1.0, s_hi = 0.0;
-        for (int b = 0; b < ssr.refine_steps; ++b) {
+        for (int b = 0; b < g_refine_steps; ++b) {
             float mid = 0.5 * (s_lo + s_hi);
             vec2 pm = p + dp * mid;
             ivec2 pix_m = clamp(ivec2(floor(permute ? pm.yx : pm)), ivec2(0), last_pixel);
@@ -162,7 +168,7 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
                 s_lo = mid;
             }
         }
-        float s_base = ssr.refine_steps > 0 ? s_hi : 0.0;
+        float s_base = g_refine_steps > 0 ? s_hi : 0.0;
         // The exact crossing near this position: where the ray's depth equals the surface's,
         // z(s) = -(qz + dqz s) / (k + dk s) = surface.
         float denom = dqz + surface * dk;
@@ -181,6 +187,14 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
 }
 
 void main() {
+    g_max_steps = ssr.max_steps;
+    g_thickness_mode = ssr.thickness_mode;
+    g_refine_steps = ssr.refine_steps;
+    g_stride = ssr.stride;
+    g_thickness = ssr.thickness;
+    g_thickness_scale = ssr.thickness_scale;
+    g_far = frame.clip.y;
+    g_layers = min(ssr.layers, u_layers_used);
 #if RAY_LIST
     // Only the pixels the classify pass listed (issue 11); it wrote the others' outputs.
     ivec3 id;
@@ -190,14 +204,14 @@ void main() {
     if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
 #endif
     ivec2 p = origin_pixel(id.xy);
-    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), FETCH(u_normal, ivec3(p, 0)),
                                texelFetch(u_material, ivec3(p, 0), 0));
 #if defined(EXTRA_RAYS) && EXTRA_RAYS
     // Issue 11's variance-guided second pass (variance_rays.comp listed this pixel): only the
     // rays adaptive_rays left out, drawn exactly as a full trace draws ray id.z.
     if (id.z < adaptive_ray_count(g.roughness)) return;
 #endif
-    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    vec3 pos = view_position(vec2(p) + 0.5, FETCH(u_linear_depth, ivec3(p, 0)).r);
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     vec4 hit = vec4(0.0);
     if (ray.weight > 0.0) {

@@ -10,6 +10,10 @@
 //   KERNEL_DEPENDENT   texelFetch whose coordinate is the previous fetch's result (pointer
 //                      chasing within a few pixels, as a tracer's next cell depends on the depth
 //                      it just fetched: seed 002 4.7.2); latency-bound
+//   KERNEL_DEPENDENT_IMAGE  the same chain by imageLoad of the same texture (lib/input_fetch.glsl:
+//                      llvmpipe's texelFetch of a float format is a call to a generic sampling
+//                      function, imageLoad is inline; the passes read float inputs by imageLoad
+//                      on the CPU device)
 //   KERNEL_STORE       imageStore of RGBA16F texels (a G-buffer or ray output)
 //   KERNEL_BANDWIDTH   texelFetch of distinct RGBA32F texels, each read once (16 bytes each):
 //                      streaming read bandwidth
@@ -30,6 +34,9 @@ layout(binding = 2, rgba32f) writeonly uniform image2DArray o_wide;
 layout(binding = 0, rgba16f) writeonly uniform image2DArray o_store;  // u_layers layers
 #else
 layout(binding = 0, rgba32f) writeonly uniform image2D o_sink;
+#endif
+#if KERNEL_DEPENDENT_IMAGE
+layout(binding = 1, rg32f) readonly uniform image2D i_chain;  // u_chain as an image
 #endif
 
 uniform int u_iterations;
@@ -63,6 +70,10 @@ void main() {
 #elif KERNEL_DEPENDENT
     vec2 q = vec2(p);
     for (int i = 0; i < u_iterations; ++i) q = texelFetch(u_chain, ivec2(q), 0).xy;
+    imageStore(o_sink, p, vec4(q, 0.0, 1.0));
+#elif KERNEL_DEPENDENT_IMAGE
+    vec2 q = vec2(p);
+    for (int i = 0; i < u_iterations; ++i) q = imageLoad(i_chain, ivec2(q)).xy;
     imageStore(o_sink, p, vec4(q, 0.0, 1.0));
 #elif KERNEL_STORE
     for (int i = 0; i < u_iterations; ++i) imageStore(o_store, ivec3(p, i % u_layers), vec4(float(i), p, 1.0));
