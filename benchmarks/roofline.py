@@ -8,7 +8,8 @@
    dependent (pointer-chasing) texelFetch rate, the same chain by imageLoad (the path the passes
    read float inputs by on the CPU device, Renderer.info["input_fetch"]: llvmpipe runs it about
    twice as fast), imageStore rate, streaming read bandwidth, and
-   a trivial copy pass of one RGBA texture of the frame's size (the floor of a full-screen pass).
+   a trivial copy pass of one RGBA texture of the frame's size (the floor of a full-screen pass;
+   also reading by imageLoad, as the passes do on the CPU device).
 2. The frame at two configurations per scene: the thesis's (4 layers, 4 GGX rays, half
    resolution, stride 4, 250 steps, linear tracing) and one layer of Hi-Z mirror rays, one ray
    per pixel, reuse radius 1 (the issue's resolve-vs-trace pair).
@@ -79,18 +80,20 @@ def measure_peaks(renderer, width, height, frame_width, frame_height, repeats):
         med, lo, hi = spread(ms)
         ops = width * height * its
         out[name] = dict(ms=med, lo=lo, hi=hi, ops=ops, rate=ops / (med * 1e-3), bytes_rate=ops * (rd + wr) / (med * 1e-3))
-    ms = renderer.microbenchmark("copy", frame_width, frame_height, 1, repeats)
-    med, lo, hi = spread(ms)
     px = frame_width * frame_height
-    out["copy"] = dict(ms=med, lo=lo, hi=hi, ops=px, rate=px / (med * 1e-3), bytes_rate=px * 24 / (med * 1e-3))
+    for name in ("copy", "copy_image"):
+        ms = renderer.microbenchmark(name, frame_width, frame_height, 1, repeats)
+        med, lo, hi = spread(ms)
+        out[name] = dict(ms=med, lo=lo, hi=hi, ops=px, rate=px / (med * 1e-3), bytes_rate=px * 24 / (med * 1e-3))
     return out
 
 
-def work_of(pass_name, s, stats):
+def work_of(pass_name, s, stats, passes=()):
     """Counted work of one pass: (fetches, bytes read, bytes written, peak it is bound by), or None
     for the rasterising passes (shadow_map, depth_peel), which the compute roofline does not model.
     Derived from the dispatch sizes, the formats (RGBA16F 8 B, RGBA32F 16 B, R32F 4 B, RG32F 8 B,
-    RGBA8/SRGB8_A8 4 B) and the shaders' own counters in frame.stats."""
+    RGBA8/SRGB8_A8 4 B) and the shaders' own counters in frame.stats; `passes`: the frame's chain
+    (with resolve_fetch the resolve reads its neighbours' rays from its textures)."""
     px = s.width * s.height
     layers_lit = stats.get("layers_lit", s.layers)
     tw, th = (s.width + s.downscale - 1) // s.downscale, (s.height + s.downscale - 1) // s.downscale
@@ -123,6 +126,23 @@ def work_of(pass_name, s, stats):
         f = stats.get("depth_fetches", 0)
         texel = 8 if pass_name == "trace_hiz" else 4
         return f, f * texel + rays * 16, rays * 24, "dependent"
+    if pass_name == "resolve_fetch":
+        # Every (trace pixel, ray) slot: the pixel's sample flag and depth, the ray's hit, sample
+        # and direction, and for a hit its lit colour and depth (an upper bound: as if every ray
+        # hit); two RGBA32F stores.
+        slots = trace_px * s.rays_per_pixel
+        return slots * 7, slots * (16 + 4 + 3 * 16 + 8 + 4), slots * 32, "coherent"
+    if pass_name == "resolve" and "resolve_fetch" in passes:
+        # Every pixel its G-buffer (3); a receiving pixel (about the traced pixels' footprint at
+        # full resolution), per neighbour within reuse_radius, that neighbour's sample flag, normal
+        # and depth and two RGBA32F texels per ray (resolve_fetch's). With skip only the listed
+        # 16x16 tiles run.
+        group, n = 16, (2 * s.reuse_radius + 1) ** 2
+        run = stats.get("resolve_tiles", px / group ** 2) * group ** 2
+        receivers = min(run, stats.get("pixels_traced", trace_px) * s.downscale ** 2)
+        f = int(run * 3 + receivers * n * (3 + 2 * s.rays_per_pixel))
+        read = int(run * 16 + receivers * n * (16 + 8 + 4 + 32 * s.rays_per_pixel))
+        return f, read, int(run * 8), "coherent"
     if pass_name == "resolve":
         # Every pixel: its normal, material and depth (3). Own-rays-only path (full resolution,
         # radius 0 or mirror rays with BRDF weights): each traced pixel's sample flag and its rays'
@@ -150,7 +170,7 @@ def run_config(renderer, scene, settings, repeats):
     last frame's stats, and the CPU side of a render call."""
     for _ in range(2):
         renderer.render(scene, settings=settings).color
-    runs, walls, reads, peaks = [], [], [], {"copy": [], "dependent": [], "dependent_image": []}
+    runs, walls, reads, peaks = [], [], [], {"copy": [], "copy_image": [], "dependent": [], "dependent_image": []}
     frame = None
     for _ in range(repeats):
         t0 = time.perf_counter()
@@ -164,6 +184,7 @@ def run_config(renderer, scene, settings, repeats):
         # The peaks the ratios use, between the frames: on a shared machine (llvmpipe on busy
         # cores) the load changes within seconds, so a ratio takes both sides at the same moments.
         peaks["copy"] += renderer.microbenchmark("copy", settings.width, settings.height, 1, 1)
+        peaks["copy_image"] += renderer.microbenchmark("copy_image", settings.width, settings.height, 1, 1)
         peaks["dependent"] += renderer.microbenchmark("dependent", settings.width, settings.height, 64, 1)
         peaks["dependent_image"] += renderer.microbenchmark("dependent_image", settings.width, settings.height, 64, 1)
     keys = [k for k in runs[0] if "." not in k]
@@ -172,7 +193,7 @@ def run_config(renderer, scene, settings, repeats):
             dict(wall=spread(walls), readback=spread(reads), copy=spread(peaks["copy"]),
                  dependent=spread(peaks["dependent"]), dependent_image=spread(peaks["dependent_image"]),
                  # every repeat's timings, for ratios taken pair by pair
-                 each=dict(runs=runs, copy=peaks["copy"], dependent=peaks["dependent"],
+                 each=dict(runs=runs, copy=peaks["copy"], copy_image=peaks["copy_image"], dependent=peaks["dependent"],
                            dependent_image=peaks["dependent_image"])))
 
 
@@ -259,7 +280,7 @@ def main(argv=None) -> int:
             print("| pass | ms (min-max) | fetches | read B | written B | rate /s | share of peak |")
             print("|---|---|---|---|---|---|---|")
             for name, (med, lo, hi) in times.items():
-                w = work_of(name, s, stats)
+                w = work_of(name, s, stats, tuple(times))
                 row = dict(ms=med, lo=lo, hi=hi)
                 if w is None or name == "total" or med <= 0:
                     print(f"| {name} | {med:.2f} ({lo:.2f}-{hi:.2f}) | | | | | |")
@@ -295,6 +316,9 @@ def main(argv=None) -> int:
               if name in p}
         if "composite" in p:
             ratios[f"{key}: composite / copy"] = paired(ms["composite"], e["copy"])
+            # The same against a copy that reads by imageLoad, as the composite does on the CPU
+            # device (input_fetch): no target (the issue's copy pass reads by texelFetch).
+            ratios[f"{key}: composite / copy by imageLoad"] = paired(ms["composite"], e["copy_image"])
         if "trace_hiz" in p and "rate" in p["trace_hiz"]:
             # (fetches / trace time) / (the dependent kernel's fetches / its time), repeat by repeat
             ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = [
@@ -332,7 +356,8 @@ def main(argv=None) -> int:
         q1, q3 = np.percentile(values, [25, 75])
         result["ratios"][k] = v
         result["ratio_repeats"][k] = [float(x) for x in values]
-        op, goal = next((t for name, t in targets.items() if name in k), ("", None))
+        # The issue's targets are set against its texelFetch kernels; the imageLoad ratios have none.
+        op, goal = next((t for name, t in targets.items() if name in k and "imageLoad" not in k), ("", None))
         verdict = "" if goal is None else f"  (target {op} {goal}: {target_verdict(values, op, goal)})"
         print(f"  {k}: {v:.3g} [{q1:.3g}-{q3:.3g}]{verdict}")
     bad = [k for k, v in result["ratios"].items() if not math.isfinite(v)]

@@ -14,9 +14,10 @@ import ssrlab
 from conftest import REPO, small
 
 
-@pytest.mark.parametrize("kernel", ["coherent", "dependent", "dependent_image", "store", "bandwidth", "copy"])
+@pytest.mark.parametrize("kernel", ["coherent", "dependent", "dependent_image", "store", "bandwidth", "copy",
+                                    "copy_image"])
 def test_microbenchmark_kernels_time_every_repeat(renderer, kernel):
-    ms = renderer.microbenchmark(kernel, 64, 48, 1 if kernel == "copy" else 4, repeats=3)
+    ms = renderer.microbenchmark(kernel, 64, 48, 1 if kernel.startswith("copy") else 4, repeats=3)
     assert len(ms) == 3
     assert all(math.isfinite(t) and t > 0.0 for t in ms), ms
 

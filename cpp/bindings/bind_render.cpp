@@ -228,7 +228,7 @@ void bind_render(py::module_& m) {
         .def("microbenchmark", &Renderer::microbenchmark, py::arg("kernel"), py::arg("width"), py::arg("height"),
              py::arg("iterations"), py::arg("repeats") = 5,
              "Device peak kernels for the roofline (shaders/tools/microbench.comp): 'coherent', 'dependent',\n"
-             "'dependent_image', 'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,\n"
+             "'dependent_image', 'store', 'bandwidth', 'copy' or 'copy_image' over a width x height grid, `iterations` operations per texel,\n"
              "run once untimed then `repeats` times; returns each repeat's GPU milliseconds.")
         .def(
             "compile",

@@ -744,11 +744,12 @@ std::vector<float> Renderer::sample_reflections(const std::string& sampling, flo
 
 std::vector<double> Renderer::microbenchmark(const std::string& kernel, int width, int height, int iterations,
                                              int repeats) {
-    static const char* kernels[] = {"coherent", "dependent", "dependent_image", "store", "bandwidth", "copy"};
+    static const char* kernels[] = {"coherent", "dependent", "dependent_image", "store", "bandwidth", "copy",
+                                    "copy_image"};
     if (std::find_if(std::begin(kernels), std::end(kernels), [&](const char* k) { return kernel == k; }) ==
         std::end(kernels))
         throw std::invalid_argument("microbenchmark kernel '" + kernel +
-                                    "' unknown (coherent, dependent, dependent_image, store, bandwidth, copy)");
+                                    "' unknown (coherent, dependent, dependent_image, store, bandwidth, copy, copy_image)");
     if (width < 1 || height < 1 || width > 16384 || height > 16384)
         throw std::invalid_argument("microbenchmark width and height must be in [1, 16384]");
     // Store and bandwidth kernels touch one layer per iteration: bounded to keep memory small.
@@ -790,6 +791,7 @@ std::vector<double> Renderer::microbenchmark(const std::string& kernel, int widt
     else
         glBindImageTexture(0, sink.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     if (kernel == "dependent_image") glBindImageTexture(1, chain.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32F);
+    if (kernel == "copy_image") glBindImageTexture(1, source.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA16F);
     std::vector<double> ms;
     GpuTimer timer;
     for (int i = -1; i < repeats; ++i) {  // i = -1: untimed (llvmpipe compiles at first dispatch)

@@ -1196,7 +1196,7 @@ class Renderer:
     def microbenchmark(self, kernel: str, width: typing.SupportsInt | typing.SupportsIndex, height: typing.SupportsInt | typing.SupportsIndex, iterations: typing.SupportsInt | typing.SupportsIndex, repeats: typing.SupportsInt | typing.SupportsIndex = 5) -> list[float]:
         """
         Device peak kernels for the roofline (shaders/tools/microbench.comp): 'coherent', 'dependent',
-        'dependent_image', 'store', 'bandwidth' or 'copy' over a width x height grid, `iterations` operations per texel,
+        'dependent_image', 'store', 'bandwidth', 'copy' or 'copy_image' over a width x height grid, `iterations` operations per texel,
         run once untimed then `repeats` times; returns each repeat's GPU milliseconds.
         """
     def recycle(self, force: bool = True) -> None:

@@ -184,7 +184,8 @@ class Renderer:
         the previous fetch's result), 'dependent_image' (the same chain by imageLoad, the path the
         passes read float inputs by on the CPU device: info["input_fetch"]), 'store' (RGBA16F
         imageStore), 'bandwidth' (RGBA32F texels each
-        read once) or 'copy' (one RGBA16F fetch and one RGBA32F store per texel), one invocation per
+        read once), 'copy' (one RGBA16F fetch and one RGBA32F store per texel) or 'copy_image' (the
+        same by imageLoad), one invocation per
         texel of width x height and `iterations` operations each (1 for 'copy'; at most 16 for
         'store' and 'bandwidth')."""
         return list(self._native.microbenchmark(kernel, int(width), int(height), int(iterations), int(repeats)))

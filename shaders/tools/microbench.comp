@@ -19,6 +19,7 @@
 //                      streaming read bandwidth
 //   KERNEL_COPY        one RGBA16F texelFetch and one RGBA32F imageStore per texel: a trivial
 //                      full-frame pass, the floor any full-screen pass pays (composite's formats)
+//   KERNEL_COPY_IMAGE  the same copy reading by imageLoad (the composite's path on the CPU device)
 // Every kernel's result reaches memory (o_sink), so no fetch can be optimised away.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -37,6 +38,8 @@ layout(binding = 0, rgba32f) writeonly uniform image2D o_sink;
 #endif
 #if KERNEL_DEPENDENT_IMAGE
 layout(binding = 1, rg32f) readonly uniform image2D i_chain;  // u_chain as an image
+#elif KERNEL_COPY_IMAGE
+layout(binding = 1, rgba16f) readonly uniform image2DArray i_source;  // u_source as an image
 #endif
 
 uniform int u_iterations;
@@ -83,5 +86,7 @@ void main() {
     imageStore(o_sink, p, sum);
 #elif KERNEL_COPY
     imageStore(o_sink, p, texelFetch(u_source, ivec3(p, 0), 0));
+#elif KERNEL_COPY_IMAGE
+    imageStore(o_sink, p, imageLoad(i_source, ivec3(p, 0)));
 #endif
 }
