@@ -20,9 +20,9 @@ vec3 shade_surface(GSample g, vec3 p, vec3 v) {
     vec3 diffuse_color = g.albedo * (1.0 - g.metallic);
     vec3 radiance = frame.ambient.rgb * g.albedo;
 
-    int count = int(frame.clip.w);
+    int count = LIGHTS_IN_FRAME;
     for (int i = 0; i < count; ++i) {
-        LightData light = lights[i];
+        LightData light = LIGHT_AT(i);
         vec3 l;
         vec3 irradiance = light.radiance.rgb;
         float light_distance = 3.4e38;  // a directional light: no end

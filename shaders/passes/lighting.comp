@@ -44,6 +44,7 @@ void main() {
 layout(local_size_x = COVERED_TILE_SIZE, local_size_y = COVERED_TILE_SIZE, local_size_z = 1) in;
 
 void main() {
+    lights_load();  // before any control flow (lib/lights.glsl)
 #if TILED
     // Issue 13: only covered tiles are dispatched; the rest of every layer was cleared to what an
     // uncovered texel gets below.
