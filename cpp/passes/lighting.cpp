@@ -20,9 +20,6 @@ std::vector<ResourceDesc> LightingPass::outputs(const RenderSettings& s) const {
 void LightingPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["SHADOWS"] = shadows_ ? "1" : "0";
-    // Issue 13: the light count compiled in, every light read once per invocation (lib/lights.glsl):
-    // up to 8, beyond which the shader reads the storage buffer in its loop as before.
-    if (ctx.scene.lights.size() <= 8) d["LIGHT_COUNT"] = std::to_string(ctx.scene.lights.size());
     // Issue 13: the PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
     // weights instead of two nested loops over a uniform bound.
     if (shadows_) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);

@@ -87,6 +87,13 @@ constexpr unsigned kSpecularAlbedoSamples = 4096;
 constexpr size_t kTrimBytes = size_t(8) << 20;
 }  // namespace
 
+// Issue 13: the scene's light count compiled into every pass (up to 8; lib/lights.glsl), whose
+// shading then reads every light once before any control flow: llvmpipe loads a storage-buffer
+// value inside a loop one lane and one component at a time. Beyond 8 the loop reads the buffer.
+static void add_light_count(Defines& defines, const Scene& scene) {
+    if (scene.lights.size() <= 8) defines["LIGHT_COUNT"] = std::to_string(scene.lights.size());
+}
+
 std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std::string& shader_dir,
                                            const std::string& input_fetch) {
     if (input_fetch != "auto" && input_fetch != "imageLoad" && input_fetch != "texelFetch")
@@ -476,6 +483,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind.
     defines["ENVIRONMENT_TYPE"] = std::to_string(int(scene.environment.type));
     defines["FETCH_BY_IMAGE"] = fetch_by_image_ ? "1" : "0";
+    add_light_count(defines, scene);
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
     if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
         fc.history = sequence->previous.get();
@@ -694,6 +702,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind.
     defines["ENVIRONMENT_TYPE"] = std::to_string(int(scene.environment.type));
     defines["FETCH_BY_IMAGE"] = fetch_by_image_ ? "1" : "0";
+    add_light_count(defines, scene);
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
                     defines};
     gs.bind_geometry();

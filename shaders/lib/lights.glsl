@@ -9,12 +9,12 @@ struct LightData {
 
 layout(std430, binding = 3) readonly buffer Lights { LightData lights[]; };
 
-// Issue 13: a pass may compile the scene's light count in (LIGHT_COUNT; the lighting pass does, for
-// up to 8 lights) and read every light once, at the start of main, before any control flow
-// (lights_load()): llvmpipe (Mesa 22.3) loads a storage-buffer value inside a loop, an if or after
-// a return one lane and one component at a time through the stack, which was ~30 % of the lighting
-// pass (a perf profile, `hall` at the thesis configuration). The shading reads LIGHT_AT(i) for
-// i < LIGHTS_IN_FRAME either way.
+// Issue 13: the renderer compiles the scene's light count into every pass (LIGHT_COUNT, for up to 8
+// lights), and every pass that shades calls lights_load() first in main, before any control flow,
+// to read every light once: llvmpipe (Mesa 22.3) loads a storage-buffer value inside a loop, an if
+// or after a return one lane and one component at a time through the stack, which was ~30 % of the
+// lighting pass (a perf profile, `hall` at the thesis configuration). The shading reads LIGHT_AT(i)
+// for i < LIGHTS_IN_FRAME either way.
 #ifdef LIGHT_COUNT
 LightData g_lights[LIGHT_COUNT > 0 ? LIGHT_COUNT : 1];
 void lights_load() {

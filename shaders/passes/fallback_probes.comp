@@ -51,6 +51,7 @@ vec3 cube_direction(int face, vec2 st) {
 layout(binding = 0, rgba16f) writeonly uniform imageCubeArray o_probes;
 
 void main() {
+    lights_load();  // before any control flow (lib/lights.glsl)
     ivec3 id = ivec3(gl_GlobalInvocationID);
     if (id.x >= u_probe_size || id.y >= u_probe_size) return;
     vec2 st = (vec2(id.xy) + 0.5) / float(u_probe_size) * 2.0 - 1.0;
@@ -102,6 +103,7 @@ vec3 box_projected_point(vec3 p, vec3 d) {
 }
 
 void main() {
+    lights_load();  // before any control flow (lib/lights.glsl)
     ivec3 id = ivec3(gl_GlobalInvocationID);  // (trace pixel, ray index)
     if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
     vec4 radiance = vec4(0.0, 0.0, 0.0, -2.0);

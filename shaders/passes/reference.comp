@@ -70,6 +70,7 @@ GSample pixel_sample(ivec2 p) {
 }
 
 void main() {
+    lights_load();  // before any control flow (lib/lights.glsl)
 #if MODE == 0
     ivec3 id = ivec3(gl_GlobalInvocationID.xy, int(gl_GlobalInvocationID.z) + u_first_ray);
     if (id.x >= ssr.trace_width || id.y >= ssr.trace_height || id.z >= u_first_ray + u_ray_count) return;

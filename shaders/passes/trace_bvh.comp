@@ -107,6 +107,7 @@ bool screen_resolved(vec4 hit) {
 }
 
 void main() {
+    lights_load();  // before any control flow (lib/lights.glsl)
 #if LISTED && STAGE == 1
     groups[0] = (retrace_count + 63u) / 64u;
     groups[1] = 1u;
