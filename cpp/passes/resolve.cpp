@@ -5,39 +5,31 @@
 #include "core/errors.h"
 #include "passes/classify.h"
 #include "passes/compute.h"
-#include "passes/resolve_fetch.h"
 
 namespace ssr {
 
-namespace {
-
-// Rays traced by the BVH (method "bvh", fallback "bvh", issue 12) or the probes bring their
-// radiance in rays.radiance.
-bool ray_radiance_of(const RenderSettings& s) {
+bool ResolvePass::ray_radiance(const RenderSettings& s) {
     return s.method == TraceMethod::Bvh || s.fallback == Fallback::Bvh || s.fallback == Fallback::Probes;
 }
 
-// What lib/resolve_ray.glsl is compiled with, for the resolve and resolve_fetch alike.
-Defines ray_defines(const FrameContext& ctx) {
+Defines ResolvePass::ray_defines(const FrameContext& ctx) {
     const RenderSettings& s = ctx.settings;
     Defines d = ctx.defines;
     // bounces="history" (seed 002, 4.6.4): hits fetch the previous frame's final colour.
     d["BOUNCES_HISTORY"] = s.bounces == Bounces::History ? "1" : "0";
-    d["RAY_RADIANCE"] = ray_radiance_of(s) ? "1" : "0";
+    d["RAY_RADIANCE"] = ray_radiance(s) ? "1" : "0";
     // fallback "none" lets unresolved rays bring nothing instead of the environment.
     d["FALLBACK_NONE"] = s.method != TraceMethod::Bvh && s.fallback == Fallback::None ? "1" : "0";
     return d;
 }
 
-// The inputs lib/resolve_ray.glsl declares: texture units 0-7 (+ 16, 8, 9), or with FETCH_BY_IMAGE
-// the float ones as image units 1-7.
-void bind_ray_inputs(FrameContext& ctx, GLuint prog) {
+void ResolvePass::bind_ray_inputs(FrameContext& ctx, GLuint prog) {
     auto& r = ctx.resources;
     const char* inputs[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                             "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     for (GLuint unit = 0; unit < 8; ++unit) glBindTextureUnit(unit, r.get(inputs[unit]).id());
-    const bool ray_radiance = ray_radiance_of(ctx.settings);
-    if (ray_radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
+    const bool radiance = ray_radiance(ctx.settings);
+    if (radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
     if (ctx.settings.bounces == Bounces::History) {
         const bool history = ctx.history && ctx.history->has("color");
         glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
@@ -47,24 +39,12 @@ void bind_ray_inputs(FrameContext& ctx, GLuint prog) {
     // Issue 13: the float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), image units 1-7.
     if (ctx.fetch_by_image()) {
         bind_input_images(r, 1, {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"});
-        if (ray_radiance) bind_input_images(r, 7, {"rays.radiance"});
+        if (radiance) bind_input_images(r, 7, {"rays.radiance"});
     }
 }
 
-}  // namespace
-
 bool ResolvePass::shared_tile(const RenderSettings& s, bool fetch_by_image) {
     return !own_rays_only(s) && !fetch_by_image;
-}
-
-void ResolveFetchPass::execute(FrameContext& ctx) {
-    const GLuint prog = ctx.shaders.program({"passes/resolve_fetch.comp"}, ray_defines(ctx));
-    glUseProgram(prog);
-    bind_ray_inputs(ctx, prog);
-    bind_image_layered(8, ctx.resources.get("resolve.ray_color"), GL_WRITE_ONLY);
-    bind_image_layered(9, ctx.resources.get("resolve.ray_target"), GL_WRITE_ONLY);
-    const RenderSettings& s = ctx.settings;
-    dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
 }
 
 void ResolvePass::execute(FrameContext& ctx) {

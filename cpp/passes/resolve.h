@@ -30,6 +30,13 @@ public:
     // thesis's design, GPUs) or, where the passes read by imageLoad (llvmpipe, whose shared-memory
     // loads are slow), from resolve_fetch's textures, which then runs before it in the chain.
     static bool shared_tile(const RenderSettings& s, bool fetch_by_image);
+    // What lib/resolve_ray.glsl is compiled with and binds, for the resolve and resolve_fetch alike:
+    // rays traced by the BVH (method or fallback "bvh", issue 12) or the probes bring their radiance
+    // in rays.radiance; the inputs at texture units 0-7 (+ 16, 8, 9), or with FETCH_BY_IMAGE the
+    // float ones as image units 1-7.
+    static bool ray_radiance(const RenderSettings& s);
+    static Defines ray_defines(const FrameContext& ctx);
+    static void bind_ray_inputs(FrameContext& ctx, GLuint prog);
     std::string name() const override { return "resolve"; }
     std::vector<std::string> inputs() const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
