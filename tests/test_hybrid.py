@@ -9,9 +9,10 @@ from conftest import assert_finite, small
 
 
 def _traced(frame):
-    """Rays the BVH traced (rays.radiance.a > -1.5) and their radiance."""
+    """Rays the BVH traced (rays.radiance.a > -1.5 on a ray screen space did not keep: the
+    fallback also shades the screen-space hits it keeps there) and their radiance."""
     rad = frame.read("rays.radiance")
-    return rad[..., 3] > -1.5, rad
+    return (rad[..., 3] > -1.5) & ~frame.rays.hit, rad
 
 
 @pytest.mark.parametrize("scene_name, kw", [
@@ -25,8 +26,8 @@ def test_bvh_method_equals_the_per_ray_reference(renderer, scene_name, kw):
     traced, rad = _traced(f)
     assert traced.sum() > 100
     assert (rad[..., 3][traced] >= 0).sum() > 50  # some rays hit triangles
-    # The pass shades as the lit G-buffer does: the camera views the hit, the shadow map shadows it.
-    ref = f.reference("per_ray", viewer="camera", shadows="map")
+    # The pass shades the physical reflection: the ray's origin views the hit, the shadow map shadows it.
+    ref = f.reference("per_ray", viewer="ray", shadows="map")
     assert np.abs(ref.radiance[traced] - rad[..., :3][traced]).max() <= 1e-5
     # Where the BVH hit, the reference hit at the same distance.
     hit = traced & (rad[..., 3] >= 0)
@@ -43,7 +44,7 @@ def test_bvh_rays_leave_the_exact_surface_point_whatever_the_origin_bias(rendere
     st = small(width=160, height=120, method="bvh")
     f = renderer.render(scene, settings=st)
     floor = f.gbuffer.object_id[0] == 0
-    truth = f.reference("converged", rays=1, viewer="camera", shadows="map").reflection[..., :3]
+    truth = f.reference("converged", rays=1, viewer="ray", shadows="map").reflection[..., :3]
     assert psnr(f.reflection[..., :3], truth, mask=floor) > 40.0
     g = renderer.render(scene, settings=st.replace(origin_bias=0.05))
     np.testing.assert_array_equal(g.read("rays.radiance"), f.read("rays.radiance"))
@@ -60,7 +61,7 @@ def test_fallback_bvh_beats_screen_space_alone_on_the_mirror_floor(renderer):
     st = small(width=128, height=96, origin_bias=0.0005)
     f = renderer.render(scene, settings=st)
     floor = f.gbuffer.object_id[0] == 0
-    truth = f.reference("converged", rays=1, viewer="camera", shadows="map").reflection[..., :3]
+    truth = f.reference("converged", rays=1, viewer="ray", shadows="map").reflection[..., :3]
     score = {}
     stats = {}
     for name, kw in {"none": dict(fallback="none"), "environment": dict(fallback="environment"),

@@ -18,6 +18,9 @@ Defines ResolvePass::ray_defines(const FrameContext& ctx) {
     // bounces="history" (seed 002, 4.6.4): hits fetch the previous frame's final colour.
     d["BOUNCES_HISTORY"] = s.bounces == Bounces::History ? "1" : "0";
     d["RAY_RADIANCE"] = ray_radiance(s) ? "1" : "0";
+    // The BVH's radiance is exact: a faded hit it retraced takes it whole (a probe's is an
+    // approximation, blended with the faded hit as the environment is).
+    d["RAY_RADIANCE_EXACT"] = s.method == TraceMethod::Bvh || s.fallback == Fallback::Bvh ? "1" : "0";
     // fallback "none" lets unresolved rays bring nothing instead of the environment.
     d["FALLBACK_NONE"] = s.method != TraceMethod::Bvh && s.fallback == Fallback::None ? "1" : "0";
     return d;

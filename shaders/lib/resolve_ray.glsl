@@ -100,9 +100,20 @@ RayResult fetch_ray(ivec2 q, int r, vec3 origin, ivec2 size) {
 #else
     if (!opaque_hit) c = unresolved_radiance(dir);
 #endif
-    if (hit.z > 0.5) {
+    bool screen_hit = hit.z > 0.5;
+#if defined(RAY_RADIANCE_EXACT) && RAY_RADIANCE_EXACT
+    // A faded hit the BVH retraced brings the BVH's radiance alone: the exact answer for the
+    // whole ray, not a blend with the doubtful screen-space hit it replaces.
+    if (!opaque_hit && traced.a > -1.5) screen_hit = false;
+#endif
+    if (screen_hit) {
         ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
         vec3 lit = FETCH(u_lit, hp).rgb;
+#if defined(RAY_RADIANCE) && RAY_RADIANCE
+        // The fallback shades the hits it keeps from the ray's origin (trace_bvh.comp: a >= 0
+        // on a full-strength screen hit): that radiance replaces the camera's view of the hit.
+        if (opaque_hit && traced.a > -1.5) lit = traced.rgb;
+#endif
 #if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
         if (hp.z == 0) lit = previous_final(hp.xy, lit);
 #endif

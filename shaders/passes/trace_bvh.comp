@@ -2,8 +2,8 @@
 // trace_bvh: reflection rays traced against the scene's triangles (issue 12), with the
 // trace-and-shade code of the reference pass (lib/trace_shade.glsl): the BVH hit shaded by the
 // G-buffer's own material and lighting code and the frame's shadow map (SHADOWS) or a traced
-// shadow ray (TRACED_SHADOWS, Settings.bvh_shadows "traced"), seen from the camera
-// as the lit G-buffer has it. One invocation per (trace pixel, ray). Two modes:
+// shadow ray (TRACED_SHADOWS, Settings.bvh_shadows "traced"), seen from the ray's origin: the
+// physical reflection, as the converged reference's default viewer "ray" sees it. One invocation per (trace pixel, ray). Two modes:
 //   FALLBACK 0 (method "bvh", seed 003's ray-traced reflections): every ray of the frame,
 //              generated exactly as the screen-space tracers generate it
 //              (lib/ray_generation.glsl), no screen space at all. Writes the rays.* outputs
@@ -26,7 +26,9 @@
 //              marked (0, 0, 0, -1), so the resolve takes the BVH's radiance.
 // rays.radiance (RGBA32F): rgb the BVH radiance (the environment's where the BVH found
 // nothing), a the hit's distance along the ray (world units); a = -1: the BVH found nothing,
-// a = -2: not traced by the BVH (no ray, or resolved in screen space).
+// a = -2: not traced by the BVH (no ray, or method "bvh"'s slot without one). With FALLBACK, a
+// screen-space hit kept at full strength holds the hit's surface shaded from the ray's origin
+// (shade_screen_hit) and its distance: the resolve uses it instead of the lit G-buffer's.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"
@@ -100,6 +102,26 @@ layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint grou
 #include "../lib/screen_confidence.glsl"
 #endif
 
+#if FALLBACK
+// The radiance a screen-space hit (hit.xy pixel, hit.z 1-based layer) sends back along `dir`:
+// the G-buffer's surface at the hit, shaded by lib/shading.glsl with the ray's origin as the
+// viewer. Shadows as the BVH's hits get them (the shadow map, or a ray from the surface).
+vec4 shade_screen_hit(vec4 hit, vec3 origin, vec3 dir) {
+    ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), ivec2(frame.viewport.xy) - 1), int(hit.z) - 1);
+    GSample h = gbuffer_decode(texelFetch(u_albedo, hp, 0), texelFetch(u_normal, hp, 0), texelFetch(u_material, hp, 0));
+    vec3 p = view_position(vec2(hp.xy) + 0.5, texelFetch(u_linear_depth, hp, 0).r);
+    // Shaded where the ray crosses the plane of the pixel's surface, not at the pixel's centre:
+    // a shadow edge or a highlight inside one pixel of a small image is resolved as the ray meets it.
+    float facing = dot(dir, h.normal);
+    float t = facing < 0.0 ? dot(p - origin, h.normal) / facing : -1.0;
+    if (t > 0.0 && distance(origin + t * dir, p) < 2.0 * 2.0 * -p.z / (frame.proj[1][1] * frame.viewport.y))
+        p = origin + t * dir;
+    surface_normal_w = normalize(mat3(frame.inv_view) * h.normal);
+    surface_point_w = (frame.inv_view * vec4(p + h.normal * (ssr.origin_bias * -p.z), 1.0)).xyz;
+    return vec4(shade_surface(h, p, -dir), distance(origin, p));
+}
+#endif
+
 // Whether screen space resolved a ray fully: a hit at full strength. A miss or a faded hit
 // (screen border, toward the camera, distance) is what the BVH continues (issue 12).
 bool screen_resolved(vec4 hit) {
@@ -130,12 +152,12 @@ void main() {
     // Retraced from the surface point itself (lib/trace_shade.glsl: surface_origin_w), as the
     // per-ray and converged references place their origins, not from SSR's biased one.
     vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
-    ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), false);
+    ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), true);
     radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
 #elif COMPACT && STAGE == 2
     // The ray stage 0 drew and stored, traced as the full-screen dispatch traces it.
     vec3 dir = normalize(imageLoad(o_direction, id).xyz);
-    ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), false);
+    ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), true);
     radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
 #elif FALLBACK
     vec4 smp = texelFetch(u_ray_sample, id, 0);
@@ -151,6 +173,11 @@ void main() {
     }
 #endif
     if (smp.w > 0.5 && smp.x > 0.0 && !resolved) retrace[atomicAdd(retrace_count, 1u)] = ivec4(id, 0);
+    // A kept screen-space hit is shaded here as the BVH shades its own hits: viewed from the
+    // ray's origin. The lit G-buffer holds the surface as the camera sees it, which differs from
+    // what the ray sees wherever the surface's specular lobe is lit (a highlight in a mirror:
+    // 0.5 in the lit G-buffer against 1.7 along the ray on hall's floor seen at 60 degrees).
+    if (smp.w > 0.5 && smp.x > 0.0 && resolved) radiance = shade_screen_hit(hit, origin, dir);
 #elif COMPACT
     // Stage 0 of method "bvh" with the list: one invocation per trace pixel (id.z = 0) draws
     // all its ray slots from one G-buffer decode, writes what the full-screen dispatch writes
@@ -183,7 +210,7 @@ void main() {
     if (ray.weight > 0.0) {
         vec3 dir = normalize(imageLoad(o_direction, id).xyz);
         // From the surface point itself, not ray.origin (SSR's origin_bias): see surface_origin_w.
-        ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), false);
+        ShadedHit s = trace_and_shade_w(surface_origin_w(p, g, pos), normalize(mat3(frame.inv_view) * dir), true);
         radiance = vec4(s.radiance, s.hit ? s.t : -1.0);
     }
 #endif
