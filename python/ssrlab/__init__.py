@@ -11,7 +11,7 @@
 
 from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
 from . import bench, display, experiments, io, metrics, models, reference, scenes, transforms
-from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, shader_dir
+from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir
 from .sequence import CameraPath
 from .scene import Scene, SceneWarning, directional_light, point_light
 from .settings import Settings
@@ -33,5 +33,5 @@ __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
     "NoReflectionWarning", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
     "ShaderError", "directional_light", "models", "point_light", "scenes",
-    "shader_dir", "transforms", "display", "__version__",
+    "shader_dir", "transforms", "display", "devices", "__version__",
 ]
