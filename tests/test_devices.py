@@ -71,3 +71,17 @@ def test_cli_info_lists_every_device_with_its_index():
         name = f"gpu:{d['index']}" if d["index"] is not None else "software"
         assert name in r.stdout and (d["renderer"] or d["error"]) in r.stdout
     assert "renderer" in r.stdout
+
+
+def test_a_sweep_warns_when_two_workers_shared_one_gpu():
+    from ssrlab import bench
+
+    rows = [{"worker": "node1:10", "device_index": "0"}, {"worker": "node1:11", "device_index": "0"},
+            {"worker": "node1:12", "device_index": "1"}, {"worker": "node2:10", "device_index": "1"}]
+    with pytest.warns(UserWarning, match=r"gpu:0 on node1: node1:10, node1:11"):
+        bench._warn_shared_gpus(rows)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        bench._warn_shared_gpus(rows[2:] + [{"worker": "node1:13", "device_index": None}])

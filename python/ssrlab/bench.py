@@ -805,7 +805,25 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     finally:
         if bar is not None:
             bar.close()
+    _warn_shared_gpus(rows)  # type: ignore[arg-type]
     return rows  # type: ignore[return-value]
+
+
+def _warn_shared_gpus(rows: list[dict]) -> None:
+    """Warns where two worker processes of one host rendered on one GPU (the same device_index):
+    their timings include each other's work (docs/cluster.md: one SSRLAB_DEVICE per worker)."""
+    import warnings
+
+    users: dict[tuple, set] = {}
+    for r in rows:
+        if r.get("device_index") is not None and r.get("worker"):
+            host = str(r["worker"]).rsplit(":", 1)[0]
+            users.setdefault((host, r["device_index"]), set()).add(r["worker"])
+    shared = {k: v for k, v in users.items() if len(v) > 1}
+    if shared:
+        what = "; ".join(f"gpu:{gpu} on {host}: {', '.join(sorted(w))}" for (host, gpu), w in shared.items())
+        warnings.warn(f"sweep: several workers timed on one GPU ({what}); pin one worker per GPU with "
+                      f"SSRLAB_DEVICE=gpu:N", stacklevel=3)
 
 
 # -- Pareto front --------------------------------------------------------------------------------------
