@@ -10,6 +10,9 @@
 """
 
 from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
+from . import image_codec as _image_codec
+
+_image_codec.register()  # image files through Python packages where the extension has no OpenImageIO
 from . import bench, display, experiments, io, metrics, models, reference, scenes, transforms
 from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir
 from .sequence import CameraPath
