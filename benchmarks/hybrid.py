@@ -3,6 +3,14 @@ fallback and pure BVH, and how often SSR's accepted hits are wrong.
 
     python benchmarks/hybrid.py [--width 640 --height 360 --scenes hall hall_floor60 spheres_and_boxes
                                  --repeats 5]
+    python benchmarks/hybrid.py --sizes 160x90,320x180,640x360,1280x720
+
+--sizes: for each size and both hall views (mirror floor), the floor pixels' reflection PSNR of
+SSR alone, SSR + BVH fallback (shadow map, and bvh_shadows="traced") and pure BVH against two
+named references: "frame's shadows" (the converged reference with shadows="map": the frame's
+own shadow map, viewed from the ray) and "physical" (shadows="traced", viewed from the ray),
+with the median GPU time of each frame. The goal for SSR + fallback against the frame's
+shadows is 40 dB at every size; the verdict is printed.
 
 Views: `hall` (mirror floor, floor_roughness=0) from its default camera, whose floor reflections
 leave the top of the screen; `hall_floor60`, the same hall from a camera looking down at the floor
@@ -63,12 +71,56 @@ def load(name: str) -> ssrlab.Scene:
     return ssrlab.scenes.load(name)
 
 
+SIZE_CONFIGS = {
+    "SSR only": dict(),
+    "SSR + BVH fallback": dict(fallback="bvh"),
+    "SSR + BVH fallback, traced shadows": dict(fallback="bvh", bvh_shadows="traced"),
+    "pure BVH": dict(method="bvh"),
+    "pure BVH, traced shadows": dict(method="bvh", bvh_shadows="traced"),
+}
+GOAL_DB = 40.0
+
+
+def sizes_table(r, sizes: list[tuple[int, int]], repeats: int) -> None:
+    """The hybrid's floor accuracy at every size against both named references."""
+    print(f"floor pixels' reflection PSNR (dB); GPU ms: median of {repeats} renders after 2 warm-ups\n")
+    verdicts = []
+    for name in ("hall", "hall_floor60"):
+        scene = load(name)
+        for w, h in sizes:
+            base = ssrlab.Settings(width=w, height=h, origin_bias=0.0005)
+            f = r.render(scene, settings=base)
+            floor = f.gbuffer.object_id[0] == 0
+            refs = {"frame's shadows": f.reference("converged", rays=1, shadows="map").reflection.copy(),
+                    "physical": f.reference("converged", rays=1, shadows="traced").reflection.copy()}
+            print(f"{name} {w}x{h}: {int(floor.sum())} floor pixels")
+            print("  {:<36}".format("method") + "".join(f"{'vs ' + k:>20}" for k in refs) + f"{'frame ms':>10}")
+            for label, kw in SIZE_CONFIGS.items():
+                st = base.replace(**kw)
+                g = r.render(scene, settings=st)
+                scores = {k: psnr(g.reflection, t, mask=floor) for k, t in refs.items()}
+                ms = median_timings(r, scene, st, repeats=repeats)["total"]
+                print("  {:<36}".format(label) + "".join(f"{v:>20.2f}" for v in scores.values()) + f"{ms:>10.1f}")
+                if label == "SSR + BVH fallback":
+                    verdicts.append((name, w, h, scores["frame's shadows"]))
+            print()
+    worst = min(verdicts, key=lambda v: v[3])
+    met = all(v[3] >= GOAL_DB for v in verdicts)
+    print(f"SSR + BVH fallback against the frame's shadows: lowest {worst[3]:.2f} dB ({worst[0]} {worst[1]}x{worst[2]}); "
+          f"goal >= {GOAL_DB:.0f} dB at every size and view: {'met' if met else 'NOT met'}")
+
+
 def main() -> None:
     ap = benchmark_arguments(__doc__, repeats=5)
+    ap.add_argument("--sizes", help="comma-separated WxH list: the accuracy-at-every-size table (hall views)")
     ap.set_defaults(scenes=["hall", "hall_floor60", "spheres_and_boxes"])
     ap.add_argument("--reference-rays", type=int, default=64, help="converged reference rays per glossy pixel")
     args = ap.parse_args()
     r = open_renderer(args)
+    if args.sizes:
+        sizes = [tuple(int(x) for x in s.lower().split("x")) for s in args.sizes.split(",")]
+        sizes_table(r, sizes, args.repeats)
+        return
     print(f"{args.width}x{args.height}, median of {args.repeats} renders after 2 warm-up renders\n")
     for name in args.scenes:
         scene = load(name)

@@ -1,5 +1,6 @@
 """Rich display in Jupyter: every ssrlab object a notebook shows has a picture or a table."""
 
+import importlib.util
 import struct
 import zlib
 
@@ -90,7 +91,10 @@ def test_reference_displays(frame):
     w, h = png_size(conv._repr_png_())
     assert w > 2 * h, "truth, frame and error side by side"
     html = conv._repr_html_()
-    assert "PSNR" in html and html.count("data:image/png") == 3
+    # truth, frame, error and, with flip-evaluator installed, the FLIP error map
+    flip = importlib.util.find_spec("flip_evaluator") is not None
+    assert "PSNR" in html and html.count("data:image/png") == 3 + flip
+    assert ("LDR-FLIP error map" in html) == flip
     per_ray = frame.reference("per_ray")
     html = per_ray._repr_html_()
     assert "rays traced" in html and "coverage" in html

@@ -1,4 +1,5 @@
 #include "bindings/bindings.h"
+#include "core/egl_context.h"
 #include "render/renderer.h"
 
 namespace py = pybind11;
@@ -29,6 +30,29 @@ auto enum_setter(const char* name, E RenderSettings::*field) {
 }  // namespace
 
 void bind_render(py::module_& m) {
+    m.def(
+        "devices",
+        [](bool probe) {
+            py::list out;
+            for (const DeviceEntry& d : list_devices(probe)) {
+                py::dict e;
+                e["index"] = d.index >= 0 ? py::object(py::int_(d.index)) : py::object(py::none());
+                e["device"] = d.software ? std::string("cpu") : "gpu:" + std::to_string(d.index);
+                e["software"] = d.software;
+                e["egl_device_extensions"] = d.extensions;
+                e["drm_device"] = d.drm_device;
+                e["cuda_device"] = d.cuda_device >= 0 ? py::object(py::int_(d.cuda_device)) : py::object(py::none());
+                e["vendor"] = d.gl_vendor;
+                e["renderer"] = d.gl_renderer;
+                e["gl_version"] = d.gl_version;
+                e["error"] = d.error;
+                out.append(e);
+            }
+            return out;
+        },
+        py::arg("probe") = true,
+        "Every EGL device: hardware ones numbered in enumeration order (device='gpu:N'), then software ones; "
+        "with probe, each one's OpenGL vendor and renderer from a context made and destroyed at once.");
     py::class_<RenderSettings>(m, "RenderSettings", "Native settings; build them with ssrlab.Settings.")
         .def(py::init<>())
         .def_readwrite("width", &RenderSettings::width)

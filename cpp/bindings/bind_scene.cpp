@@ -667,8 +667,14 @@ void bind_io(py::module_& m) {
         },
         py::arg("path"), py::arg("pixels"), py::arg("channel_names") = std::vector<std::string>{},
         py::arg("half") = false,
-        "Writes float pixels with OpenImageIO; the extension picks the format (EXR keeps floats, "
+        "Writes float pixels with OpenImageIO (or ssrlab.io's Python codec); the extension picks the format (EXR keeps floats, "
         "PNG/JPEG get values clamped to [0, 1] and quantised to 8 bits).");
+    m.def("image_io_backend", &image_io_backend,
+          "Which library reads and writes image files: 'OpenImageIO', or 'python' in an extension built without "
+          "it (ssrlab.io then reads and writes PNG and JPEG with Pillow, EXR with the OpenEXR package).");
+    m.def(
+        "_set_image_codec", [](py::object codec) { set_image_codec(codec.ptr()); }, py::arg("codec"),
+        "Registers the Python image codec of an extension built without OpenImageIO (ssrlab.io does).");
     m.def(
         "read_image",
         [](const std::string& path) {

@@ -10,17 +10,30 @@
 
 namespace ssr {
 
+int parse_device_index(const std::string& name) {
+    if (name.rfind("gpu:", 0) != 0) return -1;
+    const std::string digits = name.substr(4);
+    if (digits.empty() || digits.size() > 6 ||
+        !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        throw std::invalid_argument("device: expected 'auto', 'gpu', 'gpu:N' (N = 0, 1, ...) or 'cpu', got '" +
+                                    name + "'");
+    return std::stoi(digits);
+}
+
 DeviceKind parse_device_kind(const std::string& name) {
     if (name == "auto") return DeviceKind::Auto;
     if (name == "gpu") return DeviceKind::Gpu;
     if (name == "cpu") return DeviceKind::Cpu;
-    throw std::invalid_argument("device: expected 'auto', 'gpu' or 'cpu', got '" + name + "'");
+    if (parse_device_index(name) >= 0) return DeviceKind::Gpu;
+    throw std::invalid_argument("device: expected 'auto', 'gpu', 'gpu:N' (N = 0, 1, ...) or 'cpu', got '" + name +
+                                "'");
 }
 
 std::map<std::string, std::string> DeviceInfo::as_dict() const {
     std::string rejected_all;
     for (const auto& r : rejected) rejected_all += (rejected_all.empty() ? "" : "; ") + r;
     return {{"requested", requested},        {"device", chosen},
+            {"device_index", device_index},
             {"egl_platform", egl_platform},  {"egl_vendor", egl_vendor},
             {"egl_version", egl_version},    {"egl_device_extensions", egl_device_extensions},
             {"vendor", gl_vendor},           {"renderer", gl_renderer},
@@ -63,6 +76,115 @@ std::string egl_error_name(EGLint e) {
     return os.str();
 }
 
+struct Enumeration {
+    bool can_enumerate = false;
+    const char* client_ext = nullptr;
+    std::vector<EGLDeviceEXT> hardware, software;  // hardware in eglQueryDevicesEXT order
+};
+
+Enumeration enumerate_devices() {
+    Enumeration e;
+    e.client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    auto get_platform_display = egl_proc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+    auto query_devices = egl_proc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
+    auto query_device_string = egl_proc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+    // NVIDIA's libEGL offers enumeration through EGL_EXT_device_base (device_enumeration and
+    // device_query in one older extension) and does not list EGL_EXT_device_enumeration itself.
+    e.can_enumerate = (has_extension(e.client_ext, "EGL_EXT_device_enumeration") ||
+                       has_extension(e.client_ext, "EGL_EXT_device_base")) &&
+                      has_extension(e.client_ext, "EGL_EXT_platform_device") && query_devices &&
+                      query_device_string && get_platform_display;
+    if (!e.can_enumerate) return e;
+    EGLint count = 0;
+    query_devices(0, nullptr, &count);
+    std::vector<EGLDeviceEXT> devices(size_t(std::max(count, 0)));
+    if (count > 0) query_devices(count, devices.data(), &count);
+    devices.resize(size_t(std::max(count, 0)));
+    for (EGLDeviceEXT d : devices) {
+        const char* ext = query_device_string(d, EGL_EXTENSIONS);
+        (has_extension(ext, "EGL_MESA_device_software") ? e.software : e.hardware).push_back(d);
+    }
+    return e;
+}
+
+std::string device_extensions(EGLDeviceEXT d) {
+    auto query_device_string = egl_proc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+    const char* ext = query_device_string ? query_device_string(d, EGL_EXTENSIONS) : nullptr;
+    return ext ? ext : "";
+}
+
+}  // namespace
+
+std::vector<DeviceEntry> list_devices(bool probe) {
+    Enumeration e = enumerate_devices();
+    auto query_device_string = egl_proc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
+    auto query_device_attrib = egl_proc<PFNEGLQUERYDEVICEATTRIBEXTPROC>("eglQueryDeviceAttribEXT");
+    auto get_platform_display = egl_proc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
+    std::vector<DeviceEntry> out;
+    auto describe = [&](EGLDeviceEXT d, int index) {
+        DeviceEntry entry;
+        entry.index = index;
+        entry.software = index < 0;
+        entry.extensions = device_extensions(d);
+        if (has_extension(entry.extensions.c_str(), "EGL_EXT_device_drm") && query_device_string) {
+            const char* file = query_device_string(d, EGL_DRM_DEVICE_FILE_EXT);
+            entry.drm_device = file ? file : "";
+        }
+#ifdef EGL_CUDA_DEVICE_NV
+        EGLAttrib cuda = -1;
+        if (has_extension(entry.extensions.c_str(), "EGL_NV_device_cuda") && query_device_attrib &&
+            query_device_attrib(d, EGL_CUDA_DEVICE_NV, &cuda))
+            entry.cuda_device = int(cuda);
+#else
+        (void)query_device_attrib;
+#endif
+        if (probe) {
+            // A context made and destroyed at once: what a Renderer on this device would report.
+            EGLDisplay dpy = get_platform_display(EGL_PLATFORM_DEVICE_EXT, d, nullptr);
+            EGLint major = 0, minor = 0;
+            const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                      EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+            EGLContext ctx = EGL_NO_CONTEXT;
+            if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, &major, &minor) || !eglBindAPI(EGL_OPENGL_API) ||
+                (ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs)) == EGL_NO_CONTEXT) {
+                entry.error = "no OpenGL 4.5 core context (" + egl_error_name(eglGetError()) + ")";
+            } else {
+                EGLDisplay prev_display = eglGetCurrentDisplay();
+                EGLContext prev_context = eglGetCurrentContext();
+                EGLSurface prev_draw = eglGetCurrentSurface(EGL_DRAW), prev_read = eglGetCurrentSurface(EGL_READ);
+                if (eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
+                    entry.gl_vendor = gl_string(GL_VENDOR);
+                    entry.gl_renderer = gl_string(GL_RENDERER);
+                    entry.gl_version = gl_string(GL_VERSION);
+                    eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+                } else {
+                    entry.error = "eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")";
+                }
+                eglDestroyContext(dpy, ctx);
+                if (prev_context != EGL_NO_CONTEXT) eglMakeCurrent(prev_display, prev_draw, prev_read, prev_context);
+            }
+        }
+        out.push_back(entry);
+    };
+    for (size_t i = 0; i < e.hardware.size(); ++i) describe(e.hardware[i], int(i));
+    for (EGLDeviceEXT d : e.software) describe(d, -1);
+    return out;
+}
+
+namespace {
+// The devices found, each named by its renderer where a context could be made on it (else by
+// its EGL device extensions), for an error message.
+std::string devices_found(const Enumeration& e) {
+    if (!e.can_enumerate) return "none: this libEGL offers no device enumeration";
+    std::ostringstream os;
+    bool first = true;
+    for (const DeviceEntry& d : list_devices(true)) {
+        os << (first ? "" : ", ") << (d.software ? std::string("software") : "gpu:" + std::to_string(d.index)) << " "
+           << (d.gl_renderer.empty() ? "(" + d.extensions + ")" : d.gl_renderer);
+        first = false;
+    }
+    return first ? "none" : os.str();
+}
 }  // namespace
 
 void debug_callback_trampoline(EglContext* ctx, const std::string& msg) {
@@ -79,36 +201,40 @@ void GLAPIENTRY on_gl_debug(GLenum source, GLenum type, GLuint id, GLenum severi
 }
 }  // namespace
 
-EglContext::EglContext(DeviceKind kind) {
+EglContext::EglContext(DeviceKind kind, int index) {
     static const char* kind_names[] = {"auto", "gpu", "cpu"};
-    info_.requested = kind_names[int(kind)];
+    info_.requested = index >= 0 ? "gpu:" + std::to_string(index) : kind_names[int(kind)];
 
-    const char* client_ext = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    const Enumeration devices = enumerate_devices();
+    const char* client_ext = devices.client_ext;
+    const bool can_enumerate = devices.can_enumerate;
     auto get_platform_display = egl_proc<PFNEGLGETPLATFORMDISPLAYEXTPROC>("eglGetPlatformDisplayEXT");
-
-    // Enumerate EGL devices: hardware ones (no EGL_MESA_device_software) and Mesa's software one.
-    std::vector<EGLDeviceEXT> hardware, software;
-    auto query_devices = egl_proc<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
     auto query_device_string = egl_proc<PFNEGLQUERYDEVICESTRINGEXTPROC>("eglQueryDeviceStringEXT");
-    // NVIDIA's libEGL offers enumeration through EGL_EXT_device_base (device_enumeration and
-    // device_query in one older extension) and does not list EGL_EXT_device_enumeration itself.
-    const bool can_enumerate = (has_extension(client_ext, "EGL_EXT_device_enumeration") ||
-                                has_extension(client_ext, "EGL_EXT_device_base")) &&
-                               has_extension(client_ext, "EGL_EXT_platform_device") &&
-                               query_devices && query_device_string && get_platform_display;
-    if (can_enumerate) {
-        EGLint count = 0;
-        query_devices(0, nullptr, &count);
-        std::vector<EGLDeviceEXT> devices(size_t(std::max(count, 0)));
-        if (count > 0) query_devices(count, devices.data(), &count);
-        for (EGLDeviceEXT d : devices) {
-            const char* ext = query_device_string(d, EGL_EXTENSIONS);
-            (has_extension(ext, "EGL_MESA_device_software") ? software : hardware).push_back(d);
+    // Hardware ones (no EGL_MESA_device_software) and Mesa's software one.
+    std::vector<EGLDeviceEXT> hardware = devices.hardware, software = devices.software;
+    std::vector<int> hardware_index(hardware.size());
+    for (size_t i = 0; i < hardware.size(); ++i) hardware_index[i] = int(i);
+    if (index >= 0) {
+        if (size_t(index) >= hardware.size()) {
+            std::ostringstream os;
+            os << "device='gpu:" << index << "': there is no hardware EGL device " << index << " ("
+               << hardware.size() << " hardware device(s); EGL devices found: " << devices_found(devices)
+               << "). `ssrlab info` lists the devices; device='cpu' renders with Mesa's llvmpipe.";
+            throw DeviceError(os.str());
         }
+        hardware = {devices.hardware[size_t(index)]};
+        hardware_index = {index};
+    } else {
         // NVIDIA devices first (EGL_NV_device_cuda), so "auto" on a CUDA machine takes the GPU.
-        std::stable_partition(hardware.begin(), hardware.end(), [&](EGLDeviceEXT d) {
-            return has_extension(query_device_string(d, EGL_EXTENSIONS), "EGL_NV_device_cuda");
+        std::vector<size_t> order(hardware.size());
+        for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::stable_partition(order.begin(), order.end(), [&](size_t i) {
+            return has_extension(query_device_string(devices.hardware[i], EGL_EXTENSIONS), "EGL_NV_device_cuda");
         });
+        for (size_t i = 0; i < order.size(); ++i) {
+            hardware[i] = devices.hardware[order[i]];
+            hardware_index[i] = int(order[i]);
+        }
     }
 
     auto try_device = [&](EGLDeviceEXT d, DeviceKind want) {
@@ -129,12 +255,15 @@ EglContext::EglContext(DeviceKind kind) {
 
     bool ok = false;
     if (kind != DeviceKind::Cpu)
-        for (EGLDeviceEXT d : hardware)
-            if ((ok = try_device(d, DeviceKind::Gpu))) break;
+        for (size_t i = 0; i < hardware.size(); ++i)
+            if ((ok = try_device(hardware[i], DeviceKind::Gpu))) {
+                info_.device_index = std::to_string(hardware_index[i]);
+                break;
+            }
 
     if (!ok && kind == DeviceKind::Gpu) {
         std::ostringstream os;
-        os << "device='gpu' was requested but no hardware EGL device offers an OpenGL 4.5 core "
+        os << "device='" << info_.requested << "' was requested but no hardware EGL device offers an OpenGL 4.5 core "
               "context (hardware EGL devices found: "
            << hardware.size() << ", software: " << software.size() << ")";
         if (!can_enumerate)

@@ -3,7 +3,9 @@
 // Device choice: "gpu" takes a hardware EGL device (EGL_EXT_platform_device, e.g. the
 // NVIDIA driver's), "cpu" takes Mesa's software device (llvmpipe), and "auto" tries the
 // hardware devices first and falls back to the software one. Without any EGL device
-// enumeration, Mesa's surfaceless platform is the last resort.
+// enumeration, Mesa's surfaceless platform is the last resort. "gpu:N" takes the N-th hardware
+// EGL device (in eglQueryDevicesEXT order, software devices not counted), so that processes on
+// a node with several GPUs can each be pinned to their own.
 #pragma once
 
 #include <EGL/egl.h>
@@ -18,10 +20,28 @@ namespace ssr {
 enum class DeviceKind { Auto, Gpu, Cpu };
 
 DeviceKind parse_device_kind(const std::string& name);
+// The N of "gpu:N", -1 for "auto", "gpu" and "cpu" (which parse_device_kind accepts).
+int parse_device_index(const std::string& name);
+
+// One EGL device as enumerated (EGL_EXT_device_enumeration), probed without keeping a context.
+struct DeviceEntry {
+    int index = -1;             // position among the hardware devices ("gpu:N"); -1 for a software one
+    bool software = false;      // EGL_MESA_device_software (llvmpipe)
+    std::string extensions;     // the device's EGL extension string
+    std::string drm_device;     // EGL_EXT_device_drm's device file, if offered
+    int cuda_device = -1;       // EGL_NV_device_cuda's CUDA device number, if offered
+    std::string gl_vendor, gl_renderer, gl_version;  // from a context made and destroyed (probe)
+    std::string error;          // why no OpenGL 4.5 context could be made on it (probe)
+};
+
+// Every EGL device of this process's libEGL, hardware ones numbered in enumeration order;
+// with probe, each one's OpenGL vendor and renderer from a short-lived 4.5 core context.
+std::vector<DeviceEntry> list_devices(bool probe);
 
 struct DeviceInfo {
-    std::string requested;      // "auto" | "gpu" | "cpu"
+    std::string requested;      // "auto" | "gpu" | "gpu:N" | "cpu"
     std::string chosen;         // "gpu" | "cpu"
+    std::string device_index;   // N of the hardware EGL device taken ("gpu:N"), "" for a software one
     std::string egl_platform;   // "device" | "surfaceless"
     std::string egl_vendor;
     std::string egl_version;
@@ -37,7 +57,8 @@ struct DeviceInfo {
 
 class EglContext {
 public:
-    explicit EglContext(DeviceKind kind);
+    // index >= 0 (with kind Gpu): that hardware EGL device ("gpu:N") or DeviceError naming those found.
+    explicit EglContext(DeviceKind kind, int index = -1);
     ~EglContext();
     EglContext(const EglContext&) = delete;
     EglContext& operator=(const EglContext&) = delete;

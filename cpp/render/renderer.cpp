@@ -103,7 +103,7 @@ std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std:
 }
 
 Renderer::Renderer(const std::string& device, const std::string& shader_dir, const std::string& input_fetch)
-    : ctx_(std::make_shared<EglContext>(parse_device_kind(device))),
+    : ctx_(std::make_shared<EglContext>(parse_device_kind(device), parse_device_index(device))),
       shaders_(std::make_unique<ShaderLibrary>(shader_dir)) {
     CurrentContext current(*ctx_);
     frame_ubo_ = Buffer::create(sizeof(FrameUniforms));

@@ -73,6 +73,9 @@ std::string extension_for(const std::string& hint) {
 
 }  // namespace
 
+const char* image_io_backend() { return "OpenImageIO"; }
+void set_image_codec(void*) {}
+
 Image decode_image_file(const std::string& path) {
     check_regular_file(path);
     auto in = OIIO::ImageInput::open(path);

@@ -1,6 +1,9 @@
 // Image files through OpenImageIO: texture decoding (any format OIIO reads, from a file or
 // from memory), PNG encoding for glTF export, and float images for G-buffer EXR output and
-// environment maps.
+// environment maps. An extension built without OpenImageIO (CMake SSRLAB_WITH_OIIO=OFF, or
+// where it is not found) does the same through a Python callable that ssrlab.io registers
+// (image_io_python.cpp: Pillow for PNG and JPEG, the OpenEXR package for EXR), so that a
+// wheel needs no OpenImageIO on the machine it is installed on.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +13,12 @@
 #include "scene/scene.h"
 
 namespace ssr {
+
+// "OpenImageIO", or "python" where the extension was built without it.
+const char* image_io_backend();
+// The Python callable that reads and writes images in a "python" build (a PyObject*, kept for
+// the life of the process); ignored by an OpenImageIO build.
+void set_image_codec(void* callable);
 
 // Decodes a file to RGBA8. Throws FileNotFound / SceneError naming the file.
 Image decode_image_file(const std::string& path);

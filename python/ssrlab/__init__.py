@@ -11,8 +11,11 @@
 
 from ._core import (Camera, DeviceError, Environment, GLError, Light, Material, OutputError, SceneError,
                     ShaderError)
+from . import image_codec as _image_codec
+
+_image_codec.register()  # image files through Python packages where the extension has no OpenImageIO
 from . import bench, display, experiments, io, metrics, models, reference, scenes, transforms
-from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, shader_dir
+from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir
 from .sequence import CameraPath
 from .scene import Scene, SceneWarning, directional_light, point_light
 from .settings import Settings
@@ -34,5 +37,5 @@ __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
     "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
     "ShaderError", "directional_light", "models", "point_light", "scenes",
-    "shader_dir", "transforms", "display", "__version__",
+    "shader_dir", "transforms", "display", "devices", "__version__",
 ]

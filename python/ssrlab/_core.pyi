@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'embree_intersect', 'read_image', 'write_image']
+__all__: list[str] = ['Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -1240,9 +1240,21 @@ class Renderer:
         """
         Work outside the frame chain: scene_uploads, bvh_builds, readbacks, readback_bytes.
         """
+def _set_image_codec(codec: typing.Any) -> None:
+    """
+    Registers the Python image codec of an extension built without OpenImageIO (ssrlab.io does).
+    """
+def devices(probe: bool = True) -> list:
+    """
+    Every EGL device: hardware ones numbered in enumeration order (device='gpu:N'), then software ones; with probe, each one's OpenGL vendor and renderer from a context made and destroyed at once.
+    """
 def embree_intersect(scene: Scene, origins: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t_min: typing.SupportsFloat | typing.SupportsIndex = 0.0, t_max: typing.SupportsFloat | typing.SupportsIndex = 1.0000000150474662e+30) -> dict:
     """
     Closest hits of world-space rays with Intel Embree (robust mode), on the CPU: t (inf for a miss), object (-1 for a miss), primitive and Embree's barycentric uv. A production kernel to check the GPU reference tracer against.
+    """
+def image_io_backend() -> str:
+    """
+    Which library reads and writes image files: 'OpenImageIO', or 'python' in an extension built without it (ssrlab.io then reads and writes PNG and JPEG with Pillow, EXR with the OpenEXR package).
     """
 def read_image(path: str) -> tuple[numpy.typing.NDArray[numpy.float32], list[str]]:
     """
@@ -1250,5 +1262,5 @@ def read_image(path: str) -> tuple[numpy.typing.NDArray[numpy.float32], list[str
     """
 def write_image(path: str, pixels: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], channel_names: collections.abc.Sequence[str] = [], half: bool = False) -> None:
     """
-    Writes float pixels with OpenImageIO; the extension picks the format (EXR keeps floats, PNG/JPEG get values clamped to [0, 1] and quantised to 8 bits).
+    Writes float pixels with OpenImageIO (or ssrlab.io's Python codec); the extension picks the format (EXR keeps floats, PNG/JPEG get values clamped to [0, 1] and quantised to 8 bits).
     """

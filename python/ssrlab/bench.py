@@ -44,14 +44,19 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
                         fastest and slowest of the repeats and their interquartile range
                         (numpy's linear percentiles; None with a single repeat, whose spread is
                         unknown), so that a difference can be told from noise (see spread)
-  thesis_error, rmse, psnr, thesis_error_reflective, rmse_reflective, psnr_reflective
+  thesis_error, rmse, psnr, flip_ldr, flip_hdr, ssim and each with _reflective
                         ssrlab.metrics.image_metrics of Frame.color against the reference's
                         colour, over all pixels and over the reference's reflective pixels
-                        (the *_reflective ones None when no pixel reflects)
+                        (the *_reflective ones None when no pixel reflects; FLIP and SSIM None
+                        without their packages, pip install 'ssrlab[metrics]')
   reflective_pixels     how many pixels reflect in the reference
   mean_fetches          depth fetches per traced ray of the last repeat (None when no ray was traced)
   s_<field>             every ssrlab.Settings field of the configuration
   device, gl_renderer, gl_version   the worker's renderer (Renderer.info)
+  device_index          N of the hardware EGL device ("gpu:N") the worker rendered on; None on llvmpipe
+  reference_rendered    True when this configuration's task rendered its reference itself (none in
+                        the store yet); False when a reference task or an earlier sweep had stored it
+  config_key            a digest of the configuration (ssrlab.journal.config_key): its name in the journal
   worker                host:pid of the process that rendered the configuration
   ssrlab_version, git_revision      of the code that ran the sweep ("unknown" outside a git checkout)
   timestamp             UTC time the configuration finished, ISO 8601
@@ -64,6 +69,15 @@ never GL objects); each worker process opens its own EGL context on its first ta
 ``worker_renderer``). Parallel workers share the machine's cores, so their timings are
 slower and noisier than a sequential sweep's: compare times within one sweep, and measure
 times that you report with one worker.
+
+An existing cluster: ``sweep(..., executor=distributed.Client("tcp://head:8786"))`` (or
+``ssrlab bench --scheduler tcp://head:8786``) runs on any dask.distributed cluster. Each
+distinct reference is one task (prepare_reference) that the configurations needing it depend
+on, so every reference is rendered once per cluster into the store (cache_folder, a shared
+path; content-addressed, written atomically) and read from there. With ``journal=FOLDER``
+every row reaches the disk as its configuration finishes, and a rerun does only what is left
+(ssrlab.journal). Rows record the worker (host:pid) and device (gl_renderer, device_index)
+that produced them; Pareto fronts are per device (pareto_fronts). docs/cluster.md has more.
 """
 
 from __future__ import annotations
@@ -86,6 +100,7 @@ from typing import Any, Iterable
 
 import numpy as np
 
+from .journal import Journal, config_key
 from .metrics import METRIC_KEYS, image_metrics
 from .settings import Settings
 
@@ -103,7 +118,7 @@ TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
 
 # Columns that differ between two runs of the same sweep even though the images do not
 # (with every gpu_<pass>_ms column, see is_volatile).
-VOLATILE_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms", "timestamp", "worker")
+VOLATILE_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms", "timestamp", "worker", "reference_rendered")
 
 
 # Suffixes of the spread columns beside every time column (see spread).
@@ -120,7 +135,7 @@ def _time_column(column: str) -> str:
 
 def is_volatile(column: str) -> bool:
     """True for the columns that change from run to run of the same configuration: times and
-    their spread, the timestamp and the worker. Everything else, the metrics included, is
+    their spread, the timestamp, the worker and whether the reference was in the store. Everything else, the metrics included, is
     deterministic."""
     column = _time_column(column)
     return column in VOLATILE_KEYS or (column.startswith("gpu_") and column.endswith("_ms"))
@@ -358,6 +373,52 @@ def _timing_column(key: str) -> str:
     return "gpu_" + key.replace(".", "_") + "_ms"
 
 
+def _reference_settings(s: Settings, frames: int, sequence: bool) -> Settings:
+    # frames > 1: every render is a sequence of `frames` frames of the static camera (what TAA
+    # and temporal accumulation need, issue 10); the last frame is timed and scored. The
+    # reference is that of the unjittered camera (TAA averages the jitter out).
+    return s.replace(taa="off") if frames > 1 or sequence else s
+
+
+def reference_group(task: tuple) -> str:
+    """What a configuration's reference depends on (scene spec, view, the reference's kind, rays
+    and the settings that change it), as text: configurations with the same group share one
+    reference, which a sweep renders once (prepare_reference) before them."""
+    from .reference import reference_fields
+
+    scene_spec, view, _, settings, _, _, reference, reference_rays, _, _, frames, sequence = task
+    s = _reference_settings(Settings.from_dict(settings), frames, sequence)
+    return json.dumps([scene_spec, view, reference, reference_rays, reference_fields(reference, s)], sort_keys=True,
+                      default=str)
+
+
+def prepare_reference(scene_spec, view, settings: dict, reference: str, reference_rays: int | None, device: str,
+                      cache_folder: str | None, frames: int = 1, sequence: bool = False) -> dict:
+    """Puts a configuration's reference into the store (`cache_folder`, shared by the workers
+    of a cluster) unless it is there: the sweep's reference task, one per reference_group, run
+    before the configurations that need it. Returns {"key", "computed" (True: rendered now),
+    "worker"}."""
+    from .reference import reference_image, reference_path
+
+    renderer = worker_renderer(device)
+    scene = _scene(scene_spec)
+    camera = view_camera(view, scene)
+    s = _reference_settings(Settings.from_dict(settings), frames, sequence)
+    path = reference_path(scene, camera, s, kind=reference, rays=reference_rays, folder=cache_folder)
+    computed = not path.is_file()
+    if computed:
+        reference_image(renderer, scene, camera, s, kind=reference, rays=reference_rays, cache=True,
+                        folder=cache_folder)
+    return {"key": path.stem, "computed": computed, "worker": f"{socket.gethostname()}:{os.getpid()}",
+            "timestamp": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+
+
+def _run_after_reference(_reference: dict, *args) -> dict:
+    """run_configuration once its reference task has finished (a dask dependency: the
+    reference's future is the first argument)."""
+    return run_configuration(*args)
+
+
 def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats: int, warmup: int,
                       reference: str, reference_rays: int | None, device: str,
                       cache_folder: str | None, frames: int = 1, sequence: bool = False) -> dict:
@@ -367,16 +428,17 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     Returns the row's measured columns (see the module documentation); the caller adds the
     sweep's own columns (index, provenance of the sweep).
     """
-    from .reference import reference_image
+    from .reference import reference_image, reference_path
 
     renderer = worker_renderer(device)
     scene = _scene(scene_spec)
     camera = view_camera(view, scene)
     s = Settings.from_dict(settings)
-    # frames > 1: every render is a sequence of `frames` frames of the static camera (what TAA
-    # and temporal accumulation need, issue 10); the last frame is timed and scored. The
-    # reference is that of the unjittered camera (TAA averages the jitter out).
-    ref_settings = s.replace(taa="off") if frames > 1 or sequence else s
+    ref_settings = _reference_settings(s, frames, sequence)
+    # False where the sweep's reference task (prepare_reference) or an earlier sweep put the
+    # reference in the store: a cluster renders each reference once.
+    rendered_here = not reference_path(scene, camera, ref_settings, kind=reference, rays=reference_rays,
+                                       folder=cache_folder).is_file()
     ref = reference_image(renderer, scene, camera, ref_settings, kind=reference, rays=reference_rays, cache=True,
                           folder=cache_folder)
 
@@ -422,6 +484,7 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
         "reference": reference,
         "reference_rays": reference_rays,
         "reference_rays_per_pixel": int(ref.rays_per_pixel),
+        "reference_rendered": rendered_here,
         "repeats": repeats,
         "warmup": warmup,
         "frames": warmup + repeats if sequence else frames,
@@ -444,7 +507,8 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
         _with_spread(row, _timing_column(k), [t[k] for t in frames_timings if k in t])
     row.update({SETTINGS_PREFIX + k: v for k, v in s.to_dict().items()})
     info = renderer.info
-    row.update(device=info.get("device", "unknown"), gl_renderer=info.get("renderer", "unknown"),
+    row.update(device=info.get("device", "unknown"), device_index=info.get("device_index") or None,
+               gl_renderer=info.get("renderer", "unknown"),
                gl_version=info.get("gl_version", "unknown"), worker=f"{socket.gethostname()}:{os.getpid()}",
                timestamp=datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"))
     return row
@@ -577,7 +641,7 @@ def plan_sweep(grid: dict[str, list], scenes: list, views: list | None = None,
 def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: dict | Settings | None = None,
           repeats: int = 5, warmup: int = 2, reference: str = "converged", reference_rays: int | None = None,
           executor=None, device: str = "auto", progress: bool = True, cache_folder=None,
-          frames: int = 1, sequence: bool = False) -> list[dict]:
+          frames: int = 1, sequence: bool = False, journal=None, force_mix: bool = False) -> list[dict]:
     """Measures every (scene, view, grid point) configuration; returns one row per
     configuration, in that order (scenes outermost, grid points innermost), whatever order
     the executor completes them in.
@@ -594,9 +658,16 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
                its rays per pixel (None: the reference's default)
     executor   None (this process, sequentially) or an object with submit(fn, *args) returning
                futures (concurrent.futures executors, dask.distributed.Client)
-    device     the Renderer device of every worker ("auto", "gpu", "cpu")
-    progress   show a progress bar (tqdm, on stderr)
-    cache_folder  the reference cache (None: $SSRLAB_CACHE or ~/.cache/ssrlab)
+    device     the Renderer device of every worker ("auto", "gpu", "gpu:N", "cpu"); "auto" takes
+               each worker's $SSRLAB_DEVICE where set (workers pinned one per GPU, docs/cluster.md)
+    progress   show progress on stderr (a tqdm bar on a terminal or in Jupyter, else a line per step)
+    cache_folder  the reference store (None: $SSRLAB_CACHE or ~/.cache/ssrlab on each worker); on a
+               cluster, a path every worker sees (a shared file system), so that each reference is
+               rendered once for the whole cluster
+    journal    a results folder: every configuration's row is appended to its journal.jsonl as soon
+               as it finishes (ssrlab.journal), and a configuration that already has a row there is
+               not run again (resume). A journal of another definition or code version raises
+               ssrlab.journal.SweepMismatchError unless force_mix=True.
     frames     1: every render is a single frame; N > 1: a sequence of N frames of the static
                camera (Renderer.render_sequence: TAA and temporal settings need frames), whose
                last frame is timed and scored, against the reference with taa="off"
@@ -610,6 +681,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     """
     from . import __version__
     from .reference import KINDS
+    from .renderer import check_device
 
     configurations = plan_sweep(grid, scenes, views, base)
     repeats = _check_count(repeats, "repeats", 1)
@@ -629,8 +701,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
         if reference != "converged":
             raise ValueError(f"reference_rays applies to the converged reference only; the {reference!r} "
                              f"reference has its own rays per pixel")
-    if device not in ("auto", "gpu", "cpu"):
-        raise ValueError(f"device must be 'auto', 'gpu' or 'cpu', got {device!r}")
+    check_device(device, "device")
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise ValueError(f"executor must have a submit(fn, *args) method, got {type(executor).__name__}")
     cache = None if cache_folder is None else str(Path(cache_folder).expanduser().resolve())
@@ -638,40 +709,121 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
               device, cache, frames, sequence) for c in configurations]
 
     provenance = {"ssrlab_version": __version__, "git_revision": git_revision()}
+    keys = [config_key(t[:9] + t[10:]) for t in tasks]  # the store's path is no part of a configuration
+    book = None
+    if journal is not None:
+        from .reference import shader_sources_hash
+
+        definition = dict(grid=grid, scenes=scenes, views=views,
+                          base=base.to_dict() if isinstance(base, Settings) else base, repeats=repeats, warmup=warmup,
+                          reference=reference, reference_rays=reference_rays, device=device, frames=frames,
+                          sequence=sequence)
+        try:
+            definition = json.loads(json.dumps(definition))
+        except TypeError as e:
+            raise ValueError(f"journal: the sweep's arguments must be JSON (scene specs, view dicts, settings "
+                             f"dicts) to be run again from the journal: {e}") from None
+        code = {**provenance, "shaders": shader_sources_hash()}
+        book = Journal(journal, definition, keys, code, force_mix=force_mix)
     rows: list[dict | None] = [None] * len(tasks)
+    pending = []
+    for i, key in enumerate(keys):
+        if book is not None and key in book.rows:
+            rows[i] = {**book.rows[key], "index": i}  # done by an earlier run of this sweep
+        else:
+            pending.append(i)
     bar = None
     if progress:
-        from tqdm.auto import tqdm  # a widget in Jupyter, a text bar in a terminal
+        from .progress import progress_bar
 
-        bar = tqdm(total=len(tasks), desc="ssrlab bench", unit="config", file=sys.stderr)
+        bar = progress_bar(total=len(tasks), initial=len(tasks) - len(pending), desc="ssrlab bench", unit="config")
 
     def finish(i: int, measured: dict) -> None:
-        rows[i] = {"index": i, **measured, **provenance}
+        rows[i] = {"index": i, "config_key": keys[i], **measured, **provenance}
+        if book is not None:
+            book.add(keys[i], rows[i])
         if bar is not None:
             bar.update(1)
 
+    def noted(info: dict) -> dict:
+        if book is not None:
+            book.note({"type": "reference", **info})
+        return info
+
+    # One reference task per distinct reference among the configurations still to run, each
+    # before the configurations that need it: every reference is rendered once (by whichever
+    # worker takes its task) into the store, and the configurations find it there.
+    groups: dict[str, list[int]] = {}
+    for i in pending:
+        groups.setdefault(reference_group(tasks[i]), []).append(i)
+
+    def reference_args(i: int) -> tuple:
+        t = tasks[i]
+        return (t[0], t[1], t[3], t[6], t[7], t[8], t[9], t[10], t[11])
+
     try:
         if executor is None:
-            for i, args in enumerate(tasks):
-                finish(i, run_configuration(*args))
-        else:
-            dask = _is_dask_client(executor)
+            for i in pending:
+                finish(i, run_configuration(*tasks[i]))
+        elif _is_dask_client(executor):
             # dask caches "pure" tasks by their arguments: a second sweep on the same client
-            # would return the first one's timings without rendering. pure=False renders.
-            futures = [executor.submit(run_configuration, *args, pure=False) if dask
-                       else executor.submit(run_configuration, *args) for args in tasks]
-            index = {id(f): i for i, f in enumerate(futures)}
+            # would return the first one's timings without rendering. pure=False renders. A
+            # configuration's task takes its reference's future as an argument: dask runs it
+            # once that reference is in the store, wherever the two run.
+            ref_futures = {g: executor.submit(prepare_reference, *reference_args(members[0]), pure=False, priority=10)
+                           for g, members in groups.items()}
+            futures = [executor.submit(_run_after_reference, ref_futures[reference_group(tasks[i])], *tasks[i],
+                                       pure=False) for i in pending]
+            index = {f.key: i for f, i in zip(futures, pending)}
+            references = {f.key for f in ref_futures.values()}
             try:
+                from distributed import as_completed
+
+                for f in as_completed([*ref_futures.values(), *futures]):
+                    if f.key in references:
+                        noted(f.result())
+                    else:
+                        finish(index[f.key], f.result())
+            except BaseException:
+                for f in [*futures, *ref_futures.values()]:
+                    f.cancel()
+                raise
+        else:
+            ref_futures = [executor.submit(prepare_reference, *reference_args(m[0])) for m in groups.values()]
+            futures = []
+            try:
+                for f in _completed(ref_futures):
+                    noted(f.result())
+                futures = [executor.submit(run_configuration, *tasks[i]) for i in pending]
+                index = {id(f): i for f, i in zip(futures, pending)}
                 for f in _completed(futures):
                     finish(index[id(f)], f.result())
             except BaseException:
-                for f in futures:
+                for f in [*ref_futures, *futures]:
                     f.cancel()
                 raise
     finally:
         if bar is not None:
             bar.close()
+    _warn_shared_gpus(rows)  # type: ignore[arg-type]
     return rows  # type: ignore[return-value]
+
+
+def _warn_shared_gpus(rows: list[dict]) -> None:
+    """Warns where two worker processes of one host rendered on one GPU (the same device_index):
+    their timings include each other's work (docs/cluster.md: one SSRLAB_DEVICE per worker)."""
+    import warnings
+
+    users: dict[tuple, set] = {}
+    for r in rows:
+        if r.get("device_index") is not None and r.get("worker"):
+            host = str(r["worker"]).rsplit(":", 1)[0]
+            users.setdefault((host, r["device_index"]), set()).add(r["worker"])
+    shared = {k: v for k, v in users.items() if len(v) > 1}
+    if shared:
+        what = "; ".join(f"gpu:{gpu} on {host}: {', '.join(sorted(w))}" for (host, gpu), w in shared.items())
+        warnings.warn(f"sweep: several workers timed on one GPU ({what}); pin one worker per GPU with "
+                      f"SSRLAB_DEVICE=gpu:N", stacklevel=3)
 
 
 # -- Pareto front --------------------------------------------------------------------------------------
@@ -683,8 +835,11 @@ def _number(row: dict, key: str) -> float | None:
 
 
 # Columns whose rows never share a Pareto front: a time budget only means something within
-# one scene seen from one view.
+# one scene seen from one view, timed on one device.
 FRONT_GROUP_KEYS = ("scene", "view")
+# The device a row was timed on: its OpenGL renderer string (the hardware model; several GPUs
+# of one model count as one device, their times being comparable).
+DEVICE_KEY = "gl_renderer"
 
 
 def front_group(row: dict) -> tuple:
@@ -692,23 +847,49 @@ def front_group(row: dict) -> tuple:
     return tuple(row.get(k) for k in FRONT_GROUP_KEYS)
 
 
-def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: str = "thesis_error") -> list[dict]:
-    """The rows no other row beats in both time and error, sorted by time: the best error
-    reachable within each time budget. Lower is better under both keys (so error_key is an
-    error such as thesis_error or rmse, not psnr).
+def _better_direction(error_key: str) -> float:
+    """+1 where lower is better (errors), -1 for similarities (psnr, ssim)."""
+    from .metrics import HIGHER_IS_BETTER
 
-    A row is on the front when every faster-or-equal row has a larger error. Of rows with
-    equal time and error the first (in `rows` order) is kept. Rows without a finite number
-    under either key are left out; ValueError if no row has both. All rows must be of one
-    scene and view (ValueError otherwise: a front across scenes compares unlike images; see
-    pareto_fronts).
+    return -1.0 if error_key in HIGHER_IS_BETTER else 1.0
+
+
+def _error_argument(error_key: str, error: str | None) -> str:
+    if error is not None:
+        if error_key != "thesis_error" and error_key != error:
+            raise ValueError(f"pass the metric as error= or error_key=, not both (got error={error!r} and "
+                             f"error_key={error_key!r})")
+        return error
+    return error_key
+
+
+def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: str = "thesis_error", *,
+                 error: str | None = None) -> list[dict]:
+    """The rows no other row beats in both time and error, sorted by time: the best error
+    reachable within each time budget.
+
+    `error` (or error_key) is any metric column: errors (thesis_error, rmse, flip_ldr,
+    flip_hdr, their _reflective ones, ...) where lower is better, or the similarities of
+    ssrlab.metrics.HIGHER_IS_BETTER (psnr, ssim, ...) where higher is better.
+
+    A row is on the front when every faster-or-equal row is worse. Of rows with equal time
+    and error the first (in `rows` order) is kept. Rows without a finite number under either
+    key are left out; ValueError if no row has both. All rows must be of one scene and view,
+    timed on one device (ValueError otherwise: a front across scenes compares unlike images,
+    across devices unlike clocks; see pareto_fronts).
     """
+    error_key = _error_argument(error_key, error)
     groups = {front_group(r) for r in rows}
     if len(groups) > 1:
         raise ValueError(f"pareto_front: the rows mix {len(groups)} (scene, view) pairs "
                          f"({', '.join(map(str, sorted(groups, key=str)))}); a front is per scene and view: "
                          f"use pareto_fronts(rows)")
-    scored = [(t, e, i) for i, r in enumerate(rows)
+    devices = {r.get(DEVICE_KEY) for r in rows}
+    if len(devices) > 1:
+        raise ValueError(f"pareto_front: the rows were timed on {len(devices)} devices "
+                         f"({', '.join(sorted(map(str, devices)))}); a front is per device: use pareto_fronts(rows)")
+    sign = _better_direction(error_key)
+    scored = [(t, sign * e, i) for i, r in enumerate(rows)
               if (t := _number(r, time_key)) is not None and (e := _number(r, error_key)) is not None]
     if not scored:
         raise ValueError(f"pareto_front: no row has finite numbers under time_key={time_key!r} and "
@@ -722,13 +903,18 @@ def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: s
 
 
 def pareto_fronts(rows: list[dict], time_key: str = "time_frame_ms",
-                  error_key: str = "thesis_error") -> dict[tuple, list[dict]]:
+                  error_key: str = "thesis_error", *, error: str | None = None) -> dict[tuple, list[dict]]:
     """One Pareto front (pareto_front) per (scene, view), in the rows' order of first
-    appearance: {(scene, view): front}. Groups whose rows have no finite time and error are
-    left out; ValueError if no group has any."""
+    appearance: {(scene, view): front}. Where the rows were timed on several devices
+    (gl_renderer) the fronts are per (scene, view, device) and so are the keys: times of two
+    devices never share a front. Groups whose rows have no finite time and error are left
+    out; ValueError if no group has any."""
+    error_key = _error_argument(error_key, error)
+    by_device = len({r.get(DEVICE_KEY) for r in rows}) > 1
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
-        groups.setdefault(front_group(r), []).append(r)
+        key = front_group(r) + ((r.get(DEVICE_KEY),) if by_device else ())
+        groups.setdefault(key, []).append(r)
     fronts = {}
     for key, rs in groups.items():
         if any(_number(r, time_key) is not None and _number(r, error_key) is not None for r in rs):
@@ -809,12 +995,15 @@ def _plot_error_vs_time(path: Path, rows: list[dict], fronts: dict[tuple, list[d
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=FIGURE_SIZE, dpi=FIGURE_DPI)
+    by_device = len({r.get(DEVICE_KEY) for r in rows}) > 1
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
-        groups.setdefault(front_group(r), []).append(r)
+        groups.setdefault(front_group(r) + ((r.get(DEVICE_KEY),) if by_device else ()), []).append(r)
     for k, (key, rs) in enumerate(groups.items()):
-        scene, view = key
+        scene, view = key[:2]
         label = str(scene) if view in (None, "default") else f"{scene} / {view}"
+        if by_device:
+            label += f" on {key[2]}"
         pts = [(t, e) for r in rs if (t := _number(r, time_key)) is not None and (e := _number(r, error_key))
                is not None]
         if pts:

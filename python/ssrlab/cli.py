@@ -5,7 +5,7 @@
     ssrlab settings                     every render setting: default, unit, range, meaning
     ssrlab render [--scene NAME|FILE]   render a scene, write its image, G-buffer and timings
          [--repeats N]                  time N renders after a warm-up: median (min-max) per pass
-         [--reference converged|thesis] score the image: thesis error, RMSE, PSNR; write
+         [--reference converged|thesis] score the image: thesis error, RMSE, PSNR, FLIP, SSIM; write
                                         reference.exr and error.png
     ssrlab bench SWEEP_FILE             sweep settings, measure run time against error (ssrlab.bench)
 """
@@ -43,10 +43,34 @@ def _settings_from_args(args) -> "Settings":
         raise SystemExit(f"ssrlab: {e}") from None
 
 
-def cmd_info(args) -> int:
-    from .renderer import Renderer
+def _device_arg(text: str) -> str:
+    from .renderer import check_device
 
-    info = Renderer(args.device).info
+    try:
+        return check_device(text, "--device")
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def cmd_info(args) -> int:
+    from . import DeviceError
+    from .renderer import Renderer, devices
+
+    found = devices(probe=True)
+    print(f"EGL devices ({len(found)}; device='gpu:N' takes the hardware device N, $SSRLAB_DEVICE pins a process):")
+    for d in found:
+        name = f"gpu:{d['index']}" if d["index"] is not None else "software"
+        what = f"{d['vendor']}, {d['renderer']}, {d['gl_version']}" if d["renderer"] else f"no context: {d['error']}"
+        extra = "".join(f", {k} {d[k]}" for k in ("drm_device", "cuda_device") if d[k] not in (None, ""))
+        print(f"  {name:<9} {what}{extra}")
+        print(f"  {'':<9} EGL device extensions: {d['egl_device_extensions'] or '-'}")
+    print()
+    try:
+        info = Renderer(args.device).info
+    except DeviceError as e:
+        print(f"ssrlab: DeviceError: {e}", file=sys.stderr)
+        return 1
+    print(f"device={args.device!r} opens:")
     width = max(len(k) for k in info)
     for k, v in info.items():
         if v:
@@ -148,7 +172,7 @@ def _render_names(settings, reference: str | None) -> list[str]:
 
 
 def cmd_render(args) -> int:
-    from tqdm.auto import tqdm
+    from .progress import progress_bar
 
     if args.frames != 1 or args.path:
         return cmd_render_sequence(args)
@@ -177,8 +201,8 @@ def cmd_render(args) -> int:
     renders = warmup + args.repeats
     steps = 4 + renders + (1 if args.reference else 0)
     timings, ref = [], None
-    with tqdm(total=steps, desc="ssrlab render", unit="step", file=sys.stderr,
-              bar_format="{desc}: {n}/{total} {postfix}") as bar:
+    with progress_bar(total=steps, desc="ssrlab render", unit="step", file=sys.stderr,
+                      bar_format="{desc}: {n}/{total} {postfix}") as bar:
         bar.set_postfix_str("opening the GL device")
         renderer = Renderer(args.device)
         bar.update(1)
@@ -243,11 +267,14 @@ def cmd_render(args) -> int:
 
         print(f"against the {ref.kind} reference ({ref.rays_per_pixel} ray(s) per pixel), "
               f"{int(ref.reflective.sum())} reflective pixel(s):")
-        print(f"  {'':<14} {'thesis error':>12} {'RMSE':>10} {'PSNR dB':>8}")
-        print(f"  {'all pixels':<14} {fmt(scores['thesis_error'], '12.5f')} {fmt(scores['rmse'], '10.5f')} "
-              f"{fmt(scores['psnr'], '8.2f')}")
-        print(f"  {'reflective':<14} {fmt(scores['thesis_error_reflective'], '12.5f')} "
-              f"{fmt(scores['rmse_reflective'], '10.5f')} {fmt(scores['psnr_reflective'], '8.2f')}")
+        print(f"  {'':<14} {'thesis error':>12} {'RMSE':>10} {'PSNR dB':>8} {'LDR-FLIP':>9} {'HDR-FLIP':>9} "
+              f"{'SSIM':>7}")
+        for label, sfx in (("all pixels", ""), ("reflective", "_reflective")):
+            print(f"  {label:<14} {fmt(scores['thesis_error' + sfx], '12.5f')} {fmt(scores['rmse' + sfx], '10.5f')} "
+                  f"{fmt(scores['psnr' + sfx], '8.2f')} {fmt(scores['flip_ldr' + sfx], '9.5f')} "
+                  f"{fmt(scores['flip_hdr' + sfx], '9.5f')} {fmt(scores['ssim' + sfx], '7.4f')}")
+        if scores["flip_ldr"] is None:
+            print("  (FLIP and SSIM: pip install 'ssrlab[metrics]')")
         print(f"  error.png: per-pixel thesis error, black 0 to bright yellow {error_top:.4g} (inferno colour map; "
               f"its top is the 99th percentile)")
     for f in files:
@@ -268,19 +295,54 @@ def _table(rows: list[dict], columns: list[str]) -> str:
     return "\n".join("  ".join(c.rjust(w) for c, w in zip(line, widths)) for line in cells)
 
 
+def _bench_config(args):
+    """(config, out folder) of `ssrlab bench`: from the sweep file, or with --resume from the
+    folder's journal (the sweep file, when given too, must match it unless --force-mix)."""
+    from . import bench, journal
+
+    config = None
+    if args.sweep_file is not None:
+        config = bench.load_sweep(args.sweep_file)
+    if args.resume is not None:
+        out = Path(args.resume)
+        if args.out is not None and Path(args.out).resolve() != out.resolve():
+            raise SystemExit("ssrlab: --resume FOLDER continues the sweep in FOLDER; do not give another --out")
+        stored = journal.definition_of(out)
+        if config is None:
+            config = dict(stored)
+        return config, out
+    if config is None:
+        raise SystemExit("ssrlab: bench needs SWEEP_FILE, or --resume FOLDER to finish an interrupted sweep")
+    out = Path(args.out) if args.out else Path("results") / Path(args.sweep_file).stem
+    old = out / journal.JOURNAL_NAME
+    if old.is_file():
+        # A new run starts a new journal; the earlier one is kept beside it, never deleted (it may
+        # hold hours of rows: --resume FOLDER would have continued it).
+        import datetime
+
+        stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y%m%dT%H%M%S%f")
+        kept = old.with_name(f"journal.{stamp}.jsonl")
+        old.rename(kept)
+        print(f"ssrlab: {out} held the journal of an earlier run, kept as {kept.name} (--resume {out} continues "
+              f"a sweep instead of starting again)", file=sys.stderr)
+    return config, out
+
+
 def cmd_bench(args) -> int:
     from . import bench
 
     try:
-        config = bench.load_sweep(args.sweep_file)
-    except (ValueError, FileNotFoundError) as e:
+        config, out = _bench_config(args)
+    except (ValueError, FileNotFoundError, FileExistsError) as e:
         print(f"ssrlab: {e}", file=sys.stderr)
         return 1
-    out = Path(args.out) if args.out else Path("results") / Path(args.sweep_file).stem
     if args.workers is not None and args.executor != "dask":
         raise SystemExit("ssrlab: --workers applies to --executor dask")
     if args.workers is not None and args.workers < 1:
         raise SystemExit(f"ssrlab: --workers must be >= 1, got {args.workers}")
+    if args.scheduler is not None and (args.executor == "dask" or args.workers is not None):
+        raise SystemExit("ssrlab: --scheduler runs on an existing cluster; --executor dask and --workers start a "
+                         "local one")
     if args.device != "auto" or "device" not in config:  # --device given on the command line wins
         config["device"] = args.device
     if not (args.time_key in bench.TIME_KEYS or (args.time_key.startswith("gpu_") and args.time_key.endswith("_ms"))):
@@ -297,10 +359,11 @@ def cmd_bench(args) -> int:
         print(f"ssrlab: {e}", file=sys.stderr)
         return 1
 
+    where = args.sweep_file if args.sweep_file is not None else f"{out}/journal.jsonl"
     try:  # every scene file, view and setting checked before a cluster starts
         bench.plan_sweep(config.get("grid") or {}, config.get("scenes"), config.get("views"), config.get("base"))
     except (ValueError, FileNotFoundError) as e:
-        print(f"ssrlab: {args.sweep_file}: {e}", file=sys.stderr)
+        print(f"ssrlab: {where}: {e}", file=sys.stderr)
         return 1
     if args.executor == "dask":
         workers = args.workers or bench.max_timing_workers(config["device"])
@@ -313,21 +376,41 @@ def cmd_bench(args) -> int:
             print(f"ssrlab: warning: --timing-workers: {e.args[0].split('. Use at most')[0]}", file=sys.stderr)
 
     cluster = client = None
+    store = str(Path(args.reference_store).expanduser().resolve()) if args.reference_store else None
     try:
-        if args.executor == "dask":
+        if args.executor == "dask" or args.scheduler is not None:
             try:
                 from distributed import Client, LocalCluster
             except ImportError:
-                raise SystemExit("ssrlab: --executor dask needs dask.distributed: pip install 'ssrlab[dask]'")
+                raise SystemExit("ssrlab: --executor dask and --scheduler need dask.distributed: "
+                                 "pip install 'ssrlab[dask]'")
+        if args.scheduler is not None:
+            try:
+                client = Client(args.scheduler, timeout=args.connect_timeout)
+            except (OSError, TimeoutError) as e:
+                print(f"ssrlab: --scheduler {args.scheduler}: no dask scheduler answered ({e})", file=sys.stderr)
+                return 1
+            n = len(client.scheduler_info().get("workers", {}))
+            print(f"dask: the cluster at {args.scheduler}, {n} worker(s) now", file=sys.stderr)
+        elif args.executor == "dask":
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
             client = Client(cluster)
             print(f"dask: {workers} worker process(es), one thread each", file=sys.stderr)
-        rows = bench.sweep(**config, executor=client, progress=True)
+        rows = bench.sweep(**config, executor=client, progress=True, cache_folder=store, journal=out,
+                           force_mix=args.force_mix)
+    except KeyboardInterrupt:
+        print(f"ssrlab: interrupted; every finished configuration is in {out}/journal.jsonl: "
+              f"ssrlab bench --resume {out} runs the rest", file=sys.stderr)
+        return 130
     finally:
         if client is not None:
             client.close()
         if cluster is not None:
             cluster.close()
+    if client is not None and any(r.get("reference_rendered") for r in rows):
+        print(f"ssrlab: warning: {sum(bool(r.get('reference_rendered')) for r in rows)} configuration(s) rendered "
+              f"their reference again: their workers do not see the reference store the reference tasks wrote; "
+              f"give every worker one shared path (--reference-store)", file=sys.stderr)
 
     try:
         files = bench.write_results(rows, out, time_key=args.time_key, error_key=args.error_key,
@@ -337,14 +420,16 @@ def cmd_bench(args) -> int:
         return 1
     fronts = bench.pareto_fronts(rows, args.time_key, args.error_key)
     first = rows[0]
-    print(f"{len(rows)} configuration(s) on {first['gl_renderer']} ({first['device']}), reference "
+    devices = sorted({str(r.get("gl_renderer")) for r in rows})
+    print(f"{len(rows)} configuration(s) on {', '.join(devices)} ({first['device']}), reference "
           f"{first['reference']}, ssrlab {first['ssrlab_version']} ({first['git_revision']})")
     spread_cols = [c for c in (args.time_key + "_min", args.time_key + "_max", args.time_key + "_iqr")
                    if any(r.get(c) is not None for r in rows)]
     columns = [*[bench.SETTINGS_PREFIX + k for k in bench.varying_settings(rows)], args.time_key, *spread_cols,
                args.error_key]
-    for (scene, view), front in fronts.items():
-        print(f"Pareto front of {scene}, view {view} ({args.error_key} against {args.time_key}):")
+    for key, front in fronts.items():
+        on = f" on {key[2]}" if len(key) > 2 else ""  # rows of several devices: a front per device
+        print(f"Pareto front of {key[0]}, view {key[1]}{on} ({args.error_key} against {args.time_key}):")
         print(_table(front, list(dict.fromkeys(columns))))
     for f in files:
         print(f"wrote {f}")
@@ -356,8 +441,9 @@ def main(argv=None) -> int:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"ssrlab {_version()}",
                         help="print ssrlab's version and exit")
-    parser.add_argument("--device", default="auto", choices=("auto", "gpu", "cpu"),
-                        help="EGL device: the GPU when there is one (auto), the GPU or fail (gpu), llvmpipe (cpu)")
+    parser.add_argument("--device", default="auto", type=_device_arg, metavar="{auto,gpu,gpu:N,cpu}",
+                        help="EGL device: the GPU when there is one, or $SSRLAB_DEVICE where set (auto), the GPU "
+                             "or fail (gpu), the N-th GPU as `ssrlab info` lists them (gpu:N), llvmpipe (cpu)")
     sub = parser.add_subparsers(dest="command", required=True)
 
     sub.add_parser("info", help="show the device and OpenGL implementation").set_defaults(func=cmd_info)
@@ -393,21 +479,38 @@ def main(argv=None) -> int:
                    help="untimed renders before the timed ones (default: 1 with --repeats > 1, else 0)")
     r.add_argument("--reference", choices=("converged", "thesis"),
                    help="score the image against this reference (ssrlab.reference.reference_image, cached in "
-                        "$SSRLAB_CACHE): print thesis error, RMSE and PSNR, write reference.exr and error.png")
+                        "$SSRLAB_CACHE): print thesis error, RMSE, PSNR, FLIP and SSIM, write reference.exr and "
+                        "error.png")
     r.add_argument("--rays", type=int, metavar="N",
                    help="rays per reflective pixel of the converged reference (default: 256; mirrors use one)")
     r.set_defaults(func=cmd_render)
 
-    bench_error_keys = ("thesis_error", "rmse", "thesis_error_reflective", "rmse_reflective")
+    bench_error_keys = ("thesis_error", "rmse", "thesis_error_reflective", "rmse_reflective", "flip_ldr", "flip_hdr",
+                        "flip_ldr_reflective", "flip_hdr_reflective", "ssim", "ssim_reflective", "psnr",
+                        "psnr_reflective")
     b = sub.add_parser("bench", help="sweep settings from a sweep file; write run time against error",
                        description="Runs the sweep of SWEEP_FILE (TOML or JSON, see ssrlab.bench.load_sweep), "
                                    "then writes rows.csv, rows.json, pareto.csv and plots into --out and prints "
-                                   "the Pareto front.")
-    b.add_argument("sweep_file", metavar="SWEEP_FILE", help="a sweep file, e.g. benchmarks/sweeps/layers.toml")
+                                   "the Pareto front. Each configuration's row is appended to --out's journal.jsonl "
+                                   "as it finishes; --resume FOLDER runs only what is missing.")
+    b.add_argument("sweep_file", metavar="SWEEP_FILE", nargs="?",
+                   help="a sweep file, e.g. benchmarks/sweeps/layers.toml (optional with --resume)")
     b.add_argument("--out", help="output folder (default: results/<sweep file name>)")
     b.add_argument("--executor", choices=("local", "dask"), default="local",
                    help="local: this process, one configuration after another; dask: a local dask.distributed "
                         "cluster of worker processes, each with its own EGL context")
+    b.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on an existing dask.distributed cluster, e.g. tcp://head:8786 (docs/cluster.md)")
+    b.add_argument("--connect-timeout", type=float, default=30.0, metavar="S",
+                   help="seconds to wait for the --scheduler to answer (default: %(default)s)")
+    b.add_argument("--reference-store", metavar="PATH",
+                   help="folder of the reference store (default: $SSRLAB_CACHE/references on each worker); on a "
+                        "cluster a path every worker sees, so that each reference is rendered once")
+    b.add_argument("--resume", metavar="FOLDER",
+                   help="finish the sweep whose journal is in FOLDER: run only the configurations without a row")
+    b.add_argument("--force-mix", action="store_true",
+                   help="with a journal of another sweep definition or code version: keep its rows and add this "
+                        "run's (otherwise refused)")
     b.add_argument("--workers", type=int,
                    help="dask worker processes (default: as many as can be timed side by side, "
                         "ssrlab.bench.max_timing_workers: one on llvmpipe unless LP_NUM_THREADS is lowered)")
@@ -419,7 +522,8 @@ def main(argv=None) -> int:
     b.add_argument("--time-key", default="time_frame_ms",
                    help="row column of the time axis, e.g. time_reflections_ms (default: %(default)s)")
     b.add_argument("--error-key", default="thesis_error", choices=bench_error_keys,
-                   help="row column of the error axis, lower is better (default: %(default)s)")
+                   help="row column of the error axis (default: %(default)s); psnr and ssim are similarities, "
+                        "higher is better, every other an error, lower is better")
     b.set_defaults(func=cmd_bench)
 
     args = parser.parse_args(argv)

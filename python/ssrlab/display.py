@@ -213,10 +213,26 @@ def error_tile(image: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, float]
     return colormap(e, 0.0, top, "inferno"), top
 
 
+def flip_tile(image: np.ndarray, truth: np.ndarray, dynamic_range: str = "ldr") -> tuple[np.ndarray, float] | None:
+    """The FLIP error map (ssrlab.metrics.flip_map) through the magma colour map over FLIP's
+    own range [0, 1], as FLIP's authors show it, and its mean; None without flip-evaluator."""
+    from .metrics import flip_map
+
+    try:
+        e = flip_map(image, truth, dynamic_range)
+    except ImportError:
+        return None
+    return colormap(e, 0.0, 1.0, "magma"), float(e.mean(dtype=np.float64))
+
+
 def reference_tiles(truth_color, frame_color) -> list[tuple[np.ndarray, str]]:
     err, top = error_tile(frame_color, truth_color)
-    return [(srgb(truth_color), "reference"), (srgb(frame_color), "frame"),
-            (err, f"error |frame − reference| summed over RGB: 0 … {top:.3g}")]
+    tiles = [(srgb(truth_color), "reference"), (srgb(frame_color), "frame"),
+             (err, f"error |frame − reference| summed over RGB: 0 … {top:.3g}")]
+    flip = flip_tile(frame_color, truth_color)
+    if flip is not None:
+        tiles.append((flip[0], f"LDR-FLIP error map, 0 … 1 (mean {flip[1]:.4f})"))
+    return tiles
 
 
 def converged_png(ref) -> bytes:
@@ -227,9 +243,9 @@ def converged_html(ref) -> str:
     from .metrics import image_metrics
 
     m = image_metrics(ref._frame.color, ref.color, ref.reflective)
-    stats = table(["", "thesis error", "RMSE", "PSNR dB"],
-                  [["all pixels", m["thesis_error"], m["rmse"], m["psnr"]],
-                   ["reflective", m["thesis_error_reflective"], m["rmse_reflective"], m["psnr_reflective"]]])
+    stats = table(["", "thesis error", "RMSE", "PSNR dB", "LDR-FLIP", "HDR-FLIP", "SSIM"],
+                  [[label] + [m[k + sfx] for k in ("thesis_error", "rmse", "psnr", "flip_ldr", "flip_hdr", "ssim")]
+                   for label, sfx in (("all pixels", ""), ("reflective", "_reflective"))])
     return (f"<div><b>Converged reference, {ref.rays_per_pixel} ray(s) per reflective pixel</b>"
             f"{figure(reference_tiles(ref.color, ref._frame.color))}{stats}</div>")
 

@@ -96,14 +96,22 @@ def shader_sources_hash() -> str:
     return h.hexdigest()[:16]
 
 
+def reference_fields(kind: str, settings: Settings) -> dict:
+    """The settings a reference of `kind` depends on (the rest of `settings` does not change it)."""
+    if kind == "converged":
+        return {k: getattr(settings, k) for k in _CONVERGED_KEY_FIELDS}
+    return thesis_ground_truth_settings(settings).to_dict()
+
+
 def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, seed: int,
               shadows: str = "traced", viewer: str = "ray") -> str:
+    """The reference's content address: a digest of the scene's content, the camera, the
+    settings that change it, its rays and seed, and the code (version and shader sources).
+    Two machines asked for the same reference compute the same key, so a store on a shared
+    path serves a whole cluster."""
     from . import __version__
 
-    if kind == "converged":
-        fields = {k: getattr(settings, k) for k in _CONVERGED_KEY_FIELDS}
-    else:
-        fields = thesis_ground_truth_settings(settings).to_dict()
+    fields = reference_fields(kind, settings)
     payload = {"kind": kind, "scene": scene.content_hash(), "camera": _camera_key(camera), "settings": fields,
                "rays": rays, "seed": seed, "version": __version__, "shaders": shader_sources_hash()}
     if kind == "converged":
@@ -354,6 +362,15 @@ def wrong_hits(frame, truth: PerRayReference | None = None, *, tolerance_px: flo
     n_acc, n_wrong, n = int(accepted.sum()), int(wrong.sum()), int(traced.sum())
     return {"accepted": n_acc, "wrong": n_wrong, "wrong_share": n_wrong / n_acc if n_acc else 0.0,
             "wrong_of_rays": n_wrong / n if n else 0.0}
+
+
+def reference_path(scene, camera=None, settings: Settings | None = None, *, kind: str = "converged",
+                   rays: int | None = None, seed: int = 0, folder=None, shadows: str = "traced",
+                   viewer: str = "ray") -> Path:
+    """Where reference_image keeps (or would keep) this reference in the store `folder`."""
+    settings = settings if settings is not None else Settings()
+    camera = camera if camera is not None else scene.camera
+    return cache_dir(folder) / f"{cache_key(kind, scene, camera, settings, rays, seed, shadows, viewer)}.npz"
 
 
 def reference_image(renderer, scene, camera=None, settings: Settings | None = None, *, kind: str = "converged",

@@ -9,6 +9,7 @@ are cached as float32 numpy arrays, row 0 at the top of the image).
 from __future__ import annotations
 
 import functools
+import os
 import warnings
 import weakref
 from collections.abc import Mapping
@@ -30,11 +31,44 @@ def shader_dir() -> Path:
     return Path(str(resources.files("ssrlab") / "shaders"))
 
 
+DEVICE_ENV = "SSRLAB_DEVICE"
+
+
+def check_device(device, name: str = "Renderer.device") -> str:
+    """`device` if it is "auto", "gpu", "gpu:N" or "cpu"; ValueError naming `name` otherwise."""
+    if isinstance(device, str) and (device in ("auto", "gpu", "cpu") or
+                                    (device.startswith("gpu:") and device[4:].isdigit() and device[4:].isascii())):
+        return device
+    raise ValueError(f"{name} must be 'auto', 'gpu', 'gpu:N' (N = 0, 1, ...) or 'cpu', got {device!r}")
+
+
+def resolve_device(device) -> str:
+    """The device a Renderer opens: `device`, or for "auto" the one $SSRLAB_DEVICE pins this
+    process to (where set and not empty)."""
+    device = check_device(device)
+    pinned = os.environ.get(DEVICE_ENV, "").strip()
+    if device == "auto" and pinned:
+        return check_device(pinned, f"${DEVICE_ENV}")
+    return device
+
+
+def devices(probe: bool = True) -> list[dict]:
+    """Every EGL device: index (N of device="gpu:N"; None for a software device), device
+    ("gpu:N" or "cpu"), vendor, renderer and gl_version (from an OpenGL 4.5 context made and
+    closed on it, with probe; error says why none could be made), egl_device_extensions,
+    drm_device (the /dev/dri file, EGL_EXT_device_drm) and cuda_device (EGL_NV_device_cuda:
+    the CUDA device number, which may differ from the EGL order)."""
+    return list(_core.devices(probe))
+
+
 class Renderer:
     """A headless renderer.
 
     device: "auto" (the GPU's EGL device when there is one, else llvmpipe), "gpu" (raise
-    DeviceError when there is no GPU) or "cpu" (Mesa's llvmpipe).
+    DeviceError when there is no GPU), "gpu:N" (the N-th hardware EGL device, as ssrlab.devices()
+    and `ssrlab info` number them; DeviceError naming the devices found where there is none) or
+    "cpu" (Mesa's llvmpipe). "auto" takes $SSRLAB_DEVICE where that is set, which is how a
+    process (a sweep worker) is pinned to one GPU of several: SSRLAB_DEVICE=gpu:3.
     input_fetch: how the passes read their float inputs (issue 13, shaders/lib/input_fetch.glsl):
     "auto" (imageLoad on the CPU device, where llvmpipe's texelFetch of a float format is a call to
     a generic sampling function; texelFetch on a GPU, the path measured there), "imageLoad" or
@@ -45,8 +79,7 @@ class Renderer:
     """
 
     def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None, input_fetch: str = "auto"):
-        if device not in ("auto", "gpu", "cpu"):
-            raise ValueError(f"Renderer.device must be 'auto', 'gpu' or 'cpu', got {device!r}")
+        device = resolve_device(device)
         if input_fetch not in ("auto", "imageLoad", "texelFetch"):
             raise ValueError(f"Renderer.input_fetch must be 'auto', 'imageLoad' or 'texelFetch', got {input_fetch!r}")
         folder = Path(shader_dir) if shader_dir is not None else globals()["shader_dir"]()

@@ -1,0 +1,126 @@
+"""The wheel: build it, bundle its libraries, install it into a fresh virtual environment and render.
+
+    python benchmarks/wheel_check.py [--out build/wheelhouse] [--keep]
+
+Minutes on two cores (a full build of the extension), so it is not part of the test suite.
+Steps, each printed with what it found:
+
+1. ``pip wheel .`` with CMake's SSRLAB_WITH_OIIO=OFF: the extension reads and writes image
+   files through Python packages (ssrlab.image_codec), so the wheel carries no OpenImageIO and
+   none of its hundreds of dependencies (OpenCV, FFmpeg, GDAL on Debian).
+2. ``auditwheel repair``: copies the libraries the extension links that are not part of the
+   manylinux policy (Embree, TBB, tinygltf, stb) into the wheel, and leaves out libEGL,
+   libOpenGL and libGLdispatch: those must be the machine's own (glvnd dispatches to the GPU's
+   driver or to Mesa), never a copy.
+3. A fresh virtual environment without the system's site packages; ``pip install
+   'WHEEL[images]'`` (numpy, matplotlib, OpenEXR, Pillow from the package index).
+4. In that environment, from a folder outside the source tree: ``ssrlab info`` and
+   ``ssrlab render`` of the default scene (color.png, color.exr and the G-buffer EXRs through
+   Pillow and OpenEXR), then a check that the extension loads no OpenImageIO and that the files
+   read back.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+# Loaded from the machine, never bundled: glvnd's dispatch libraries find the GL driver.
+SYSTEM_GL = ("libEGL.so.1", "libOpenGL.so.0", "libGLdispatch.so.0", "libGLX.so.0", "libGL.so.1")
+
+
+def run(cmd, **kw) -> subprocess.CompletedProcess:
+    print("$", " ".join(str(c) for c in cmd), flush=True)
+    t = time.monotonic()
+    r = subprocess.run([str(c) for c in cmd], text=True, capture_output=True, **kw)
+    print(f"  ({time.monotonic() - t:.0f} s, exit {r.returncode})", flush=True)
+    if r.returncode != 0:
+        print(r.stdout[-4000:], r.stderr[-4000:], sep="\n")
+        raise SystemExit(f"failed: {cmd[0]} {cmd[1] if len(cmd) > 1 else ''}")
+    return r
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", default=str(REPO / "build" / "wheelhouse"), help="where the wheels go")
+    p.add_argument("--keep", action="store_true", help="keep the fresh virtual environment")
+    p.add_argument("--jobs", type=int, default=2, help="parallel compile jobs (CMAKE_BUILD_PARALLEL_LEVEL)")
+    args = p.parse_args()
+    out = Path(args.out).resolve()
+    raw, fixed = out / "raw", out / "repaired"
+    for d in (raw, fixed):
+        shutil.rmtree(d, ignore_errors=True)
+        d.mkdir(parents=True)
+    env = {**os.environ, "CMAKE_BUILD_PARALLEL_LEVEL": str(args.jobs)}
+
+    # 1. The wheel, without OpenImageIO, in a build folder of its own.
+    run([sys.executable, "-m", "pip", "wheel", str(REPO), "--no-deps", "--no-build-isolation", "-w", raw,
+         "--config-settings=cmake.define.SSRLAB_WITH_OIIO=OFF",
+         "--config-settings=build-dir=build/wheel-{wheel_tag}"], env=env, cwd=REPO)
+    wheel = next(raw.glob("ssrlab-*.whl"))
+    print(f"built {wheel.name}: {wheel.stat().st_size / 1e6:.1f} MB")
+
+    # 2. Bundled libraries.
+    excludes = [a for lib in SYSTEM_GL for a in ("--exclude", lib)]
+    run([sys.executable, "-m", "auditwheel", "repair", wheel, "-w", fixed, *excludes], env=env)
+    repaired = next(fixed.glob("ssrlab-*.whl"))
+    listing = run([sys.executable, "-m", "zipfile", "-l", repaired]).stdout
+    bundled = sorted({Path(line.split()[0]).name for line in listing.splitlines() if ".libs/" in line.split()[0]}
+                     if listing else [])
+    print(f"repaired {repaired.name}: {repaired.stat().st_size / 1e6:.1f} MB; bundled: {', '.join(bundled)}")
+    if any("OpenImageIO" in b for b in bundled):
+        raise SystemExit("the wheel bundles OpenImageIO")
+    if any(b.startswith(tuple(lib.split(".so")[0] for lib in SYSTEM_GL)) for b in bundled):
+        raise SystemExit("the wheel bundles a GL dispatch library")
+
+    # 3. A fresh environment, nothing from the system's site packages.
+    venv = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-venv-"))
+    try:
+        run([sys.executable, "-m", "venv", venv])
+        py = venv / "bin" / "python"
+        run([py, "-m", "pip", "install", "-q", f"{repaired}[images]"])
+        # 4. Render the default scene from a folder that is not the source tree.
+        work = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-run-"))
+        info = run([venv / "bin" / "ssrlab", "info"], cwd=work).stdout
+        print("\n".join("  " + line for line in info.splitlines()[:8]))
+        render = run([venv / "bin" / "ssrlab", "render", "--width", "160", "--height", "90", "--out", work / "r"],
+                     cwd=work, env={**os.environ, "SSRLAB_CACHE": str(work / "cache")})
+        print("\n".join("  " + line for line in render.stdout.splitlines()[:4]))
+        check = run([py, "-c", _CHECK, str(work / "r")], cwd=work)
+        print("\n".join("  " + line for line in check.stdout.splitlines()))
+        print("wheel check: OK")
+    finally:
+        if not args.keep:
+            shutil.rmtree(venv, ignore_errors=True)
+        else:
+            print(f"kept {venv}")
+    return 0
+
+
+_CHECK = """
+import sys
+import numpy as np
+import ssrlab
+from ssrlab import _core
+assert _core.image_io_backend() == "python", _core.image_io_backend()
+maps = open("/proc/self/maps").read()
+assert "OpenImageIO" not in maps, "OpenImageIO is loaded"
+folder = sys.argv[1]
+png, _ = ssrlab.io.read_image(folder + "/color.png")
+exr, names = ssrlab.io.read_image(folder + "/color.exr")
+g, g_names = ssrlab.io.read_image(folder + "/gbuffer_layer0.exr")
+assert png.shape == (90, 160, 3) and exr.shape == (90, 160, 3) and png.std() > 0.01, (png.shape, exr.shape)
+assert np.abs(ssrlab.io.linear_to_srgb(exr) - png).max() <= 0.5 / 255 + 1e-6, "color.png is color.exr in sRGB"
+print("read back: color.png", png.shape, "| color.exr", names, "| gbuffer_layer0.exr", len(g_names), "channels")
+print("ssrlab imported from", ssrlab.__file__)
+"""
+
+if __name__ == "__main__":
+    sys.exit(main())
