@@ -332,6 +332,76 @@ def test_random_triangle_soups_render_finite(renderer, seed, count, spread):
         check(renderer.render(s, cam, small(method=method, layers=3)))
 
 
+@st.composite
+def extreme_transform(draw):
+    """An object transform with extreme but finite parts: scale 1e-30..1e30 (per axis or uniform),
+    a translation up to 1e12, any rotation, sometimes a projective bottom row."""
+    uniform = draw(st.booleans())
+    exps = [draw(st.floats(-30, 30))] * 3 if uniform else [draw(st.floats(-30, 30)) for _ in range(3)]
+    scale = [draw(st.sampled_from((-1.0, 1.0))) * 10 ** e for e in exps]
+    offset = [draw(st.sampled_from((-1.0, 1.0))) * 10 ** draw(st.floats(-3, 12)) for _ in range(3)]
+    angle = draw(st.floats(0, 360))
+    m = ssrlab.transforms.translate(offset) @ ssrlab.transforms.rotate((0.0, 1.0, 0.0), angle) @ np.diag([*scale, 1.0])
+    if draw(st.integers(0, 5)) == 0:  # a projective bottom row: never a glTF TRS matrix
+        m = m.copy()
+        m[3, draw(st.integers(0, 3))] = 10 ** draw(st.floats(-3, 20))
+    return np.asarray(m, np.float32)
+
+
+@examples(20)
+@given(m=extreme_transform(), method=st.sampled_from(("linear", "hiz")))
+def test_extreme_transforms_are_refused_or_render_finite(renderer, m, method):
+    """Finite in, finite out: a transform whose products overflow float32 anywhere downstream is
+    refused where the object is made (a ValueError naming it); any other renders finite."""
+    s = ssrlab.Scene()
+    s.add_plane((0, 0, 0), 20, material=MIRROR, name="floor")
+    s.add_light(ssrlab.directional_light((0.2, -1, -0.4)))
+    try:
+        s.add_box((0.5, 0.6, -1.0), (1, 1.2, 1), material=ssrlab.Material(base_color=(0.8, 0.3, 0.1)),
+                  transform=m, name="extreme")
+    except ValueError as e:
+        assert "object 'extreme'" in str(e) and ("transform" in str(e) or "world space" in str(e)), str(e)
+        return
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a far/near ratio beyond the standard convention's is drawn on purpose
+        f = renderer.render(s, ssrlab.scenes.frame_camera(s), small(method=method, layers=2))
+    check(f, surface=False)
+    f.release()
+
+
+@st.composite
+def extreme_camera(draw):
+    """A camera anywhere up to 1e20 from the origin, looking anywhere, with any near plane."""
+    def far_point():
+        return tuple(draw(st.sampled_from((-1.0, 1.0))) * 10 ** draw(st.floats(-3, 20)) for _ in range(3))
+
+    pos = far_point()
+    target = draw(st.one_of(st.just((0.0, 0.5, 0.0)), st.builds(far_point)))
+    near = 10 ** draw(st.floats(-6, 3))
+    return dict(position=pos, target=target, fov_y=draw(st.floats(1, 178)), near=near,
+                far=near * 10 ** draw(st.floats(0.5, 9)))
+
+
+@examples(20)
+@given(kw=extreme_camera(), depth_mode=st.sampled_from(("standard", "reversed_z")))
+def test_extreme_camera_placements_are_refused_or_render_finite(renderer, kw, depth_mode):
+    try:
+        cam = ssrlab.Camera(**kw)
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            f = renderer.render(procedural("spheres_and_boxes"), cam,
+                                small(depth_mode=depth_mode, layers=2, rays_per_pixel=2, sampling="vndf"))
+    except ValueError as e:
+        assert "Camera." in str(e), str(e)
+        return
+    check(f, surface=False)
+    f.release()
+
+
 # -- named edge cases ------------------------------------------------------------------------------
 
 METHODS = pytest.mark.parametrize("method", ["linear", "hiz"])
