@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import os
 import struct
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +18,19 @@ REPO = Path(__file__).resolve().parents[1]
 MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
 # ssrlab.models looks here too (scene builders that use a sample model, e.g. Suzanne).
 os.environ.setdefault("SSRLAB_MODELS", os.pathsep.join(str(p) for p in MODELS))
+
+# Every subprocess a test starts ends: subprocess.run without a timeout gets this one, so that a
+# CLI that hangs fails its test instead of the whole suite.
+SUBPROCESS_TIMEOUT_S = 600
+_subprocess_run = subprocess.run
+
+
+def _run_with_timeout(*args, **kwargs):
+    kwargs.setdefault("timeout", SUBPROCESS_TIMEOUT_S)
+    return _subprocess_run(*args, **kwargs)
+
+
+subprocess.run = _run_with_timeout
 
 
 @pytest.fixture(scope="session")

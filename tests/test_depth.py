@@ -41,8 +41,9 @@ def test_reversed_z_gives_the_same_view_depth(renderer, distance):
     rev = renderer.render(scene, cam, small(depth_mode="reversed_z")).gbuffer
     np.testing.assert_allclose(rev.depth[0], distance, rtol=1e-5)
     np.testing.assert_allclose(rev.depth[0], std.depth[0], rtol=1e-4)
-    # Reversed-Z stores near -> 1, far -> 0.
-    assert np.all(rev.window_depth[0] < 0.5) if distance > 1 else True
+    # Reversed-Z stores near -> 1, far -> 0: the mirror image of the standard convention
+    # (d_rev = n (f - z) / (z (f - n)) = 1 - d_std), at every distance.
+    np.testing.assert_allclose(rev.window_depth[0] + std.window_depth[0], 1.0, atol=1e-5)
     expected = NEAR / (FAR - NEAR) * (FAR / distance - 1.0)
     np.testing.assert_allclose(rev.window_depth[0], expected, rtol=1e-4)
 

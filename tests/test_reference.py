@@ -42,10 +42,9 @@ def test_converged_reference_is_the_analytic_mirror_image(renderer, viewer):
     np.testing.assert_allclose(ref.color[floor], ref.reflection[floor], atol=1e-6)
 
 
-def test_gpu_reference_hits_agree_with_embree(renderer):
-    scene = ssrlab.scenes.spheres_and_boxes(seed=3)
-    f = renderer.render(scene, settings=small(width=96, height=64, rays_per_pixel=4, sampling="vndf"))
-    truth = f.reference("per_ray")
+def _embree_truth(scene, f, truth):
+    """The frame's reflection rays, from the per-ray reference's origins, traced on the CPU by
+    Embree: (traced mask, the GPU reference's hits, Embree's hits, Embree's result)."""
     rays = f.rays
     traced = np.broadcast_to(rays.traced, rays.hit.shape) & (rays.weight > 0)
     # The same world-space rays on the CPU with Embree.
@@ -71,16 +70,35 @@ def test_gpu_reference_hits_agree_with_embree(renderer):
     t_cam = np.where(np.isfinite(primary["t"]), primary["t"], 0.0).reshape(h, w)
     o_world = np.where(exact[..., None], cam + pix * t_cam[..., None], o_world)
     d_world = rays.direction.astype(np.float64) @ inv_view[:3, :3].T
-    d_world /= np.linalg.norm(d_world, axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore"):  # untraced slots hold a zero direction
+        d_world /= np.linalg.norm(d_world, axis=-1, keepdims=True)
     o = np.broadcast_to(o_world, d_world.shape)[traced]
-    cpu = ssrlab._core.embree_intersect(scene, o.astype(np.float32), d_world[traced].astype(np.float32), 1e-4,
+    # The ulp offset the GPU uses grows with the coordinates: t_min follows the scene's size
+    # (1e-4 for a scene ten units across).
+    lo, hi = (np.asarray(b, np.float64) for b in scene.bounds)
+    t_min = 1e-4 * max(1.0, float(np.linalg.norm(hi - lo)) / 10.0)
+    cpu = ssrlab._core.embree_intersect(scene, o.astype(np.float32), d_world[traced].astype(np.float32), t_min,
                                         s.max_distance)
     gpu_hit, cpu_hit = truth.hit[traced], np.isfinite(cpu["t"])
-    assert traced.sum() > 3000 and cpu_hit.mean() > 0.2
-    assert (gpu_hit == cpu_hit).mean() > 0.999
+    return traced, gpu_hit, cpu_hit, cpu
+
+
+def _assert_agrees_with_embree(truth, traced, gpu_hit, cpu_hit, cpu, *, share=0.999, t_rtol=1e-3, t_share=1.0):
+    assert (gpu_hit == cpu_hit).mean() > share
     both = gpu_hit & cpu_hit
-    assert (truth.object[traced][both] == cpu["object"][both]).mean() > 0.999
-    np.testing.assert_allclose(truth.t[traced][both], cpu["t"][both], rtol=1e-3, atol=1e-4)
+    assert (truth.object[traced][both] == cpu["object"][both]).mean() > share
+    t_gpu, t_cpu = truth.t[traced][both], cpu["t"][both]
+    close = np.abs(t_gpu - t_cpu) <= 1e-4 + t_rtol * np.abs(t_cpu)
+    assert close.mean() >= t_share, f"{100 * (1 - close.mean()):.2f} % of the hit distances differ"
+
+
+def test_gpu_reference_hits_agree_with_embree(renderer):
+    scene = ssrlab.scenes.spheres_and_boxes(seed=3)
+    f = renderer.render(scene, settings=small(width=96, height=64, rays_per_pixel=4, sampling="vndf"))
+    truth = f.reference("per_ray")
+    traced, gpu_hit, cpu_hit, cpu = _embree_truth(scene, f, truth)
+    assert traced.sum() > 3000 and cpu_hit.mean() > 0.2
+    _assert_agrees_with_embree(truth, traced, gpu_hit, cpu_hit, cpu)
 
 
 def test_gpu_reference_on_a_complex_model_agrees_with_embree(renderer):
@@ -89,12 +107,18 @@ def test_gpu_reference_on_a_complex_model_agrees_with_embree(renderer):
         m = scene.material(i)
         m.reflectivity, m.roughness, m.metallic = 0.8, 0.4, 1.0
         scene.set_material(i, m)
-    f = renderer.render(scene, settings=small(width=96, height=72, rays_per_pixel=2, layers=2))
+    # Reversed-Z: the model's camera spans near 0.05 to far 1e6, where the standard convention's
+    # depths (from which the test rebuilds the rays' origins) are too coarse to start on the surface.
+    f = renderer.render(scene, settings=small(width=96, height=72, rays_per_pixel=2, layers=2,
+                                              depth_mode="reversed_z"))
     truth = f.reference("per_ray")
-    rays = f.rays
-    traced = np.broadcast_to(rays.traced, rays.hit.shape) & (rays.weight > 0)
+    traced, gpu_hit, cpu_hit, cpu = _embree_truth(scene, f, truth)
     assert traced.sum() > 2000 and truth.hit[traced].mean() > 0.3
     assert_finite(truth.radiance[traced], "radiance")
+    # Thousands of thin, curved triangles: the GLSL BVH and Embree agree on what each ray hits;
+    # the distances agree to 1 % (the test rebuilds the origins from depths of a model hundreds
+    # of units across, a millimetre off).
+    _assert_agrees_with_embree(truth, traced, gpu_hit, cpu_hit, cpu, share=0.995, t_rtol=1e-2, t_share=0.99)
 
 
 @pytest.mark.parametrize("method", ["linear", "hiz"])

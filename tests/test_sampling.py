@@ -85,10 +85,12 @@ def test_pdf_integrates_to_one_and_directions_are_unit(renderer, sampling):
     valid = s["weight"] > 0
     np.testing.assert_allclose(np.linalg.norm(s["l"][valid], axis=1), 1, atol=1e-5)
     assert np.all(s["l"][valid, 2] > 0)
-    # E[1/pdf] over valid samples = solid angle they cover; with all hemisphere directions
-    # reachable it approaches 2 pi times the valid share (importance sampling identity).
+    # E[1{valid} / pdf] = the solid angle of the valid directions the pdf reaches (importance
+    # sampling identity): GGX's pdf is positive over the whole upper hemisphere, so 2 pi, whatever
+    # share of the samples falls below the surface.
     coverage = np.mean(np.where(valid, 1 / np.maximum(s["pdf"], 1e-12), 0))
-    assert coverage == pytest.approx(2 * np.pi, rel=0.05) or coverage < 2 * np.pi
+    assert coverage == pytest.approx(2 * np.pi, rel=0.05)
+    assert 0.5 < valid.mean() < 1.0  # some samples do leave below the surface at 30 degrees
 
 
 def test_vndf_wastes_fewer_rays(renderer):
