@@ -163,7 +163,7 @@ void bind_render(py::module_& m) {
         .def_readonly("passes", &Frame::passes, "the passes that ran, in order")
         .def_readonly("layer_samples", &Frame::layer_samples, "samples each G-buffer layer wrote (0: an empty layer)")
         .def_readonly("stats", &Frame::stats,
-                      "exact work counts read back from the GPU (issue 11): passes_run; with skip on, "
+                      "exact work counts read back from the GPU: passes_run; with skip on, "
                       "pixels_classified, pixels_traced (in the ray list), trace_groups (ssrlab.Frame.stats adds rays_traced "
                       "and depth_fetches, summed from rays.sample)")
         .def_readonly("camera", &Frame::camera, "the camera the frame was rendered from")

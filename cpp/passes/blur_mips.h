@@ -1,4 +1,4 @@
-// blur_mips: the engines' glossy baseline (seed 004 "Glossy", "Mipmap Generation"; issue 9;
+// blur_mips: the engines' glossy baseline (seed 004 "Glossy", "Mipmap Generation";
 // shaders/passes/blur_mips.comp): one mirror ray per pixel, and the pre-convolved colour at
 // its hit, at the mip level of the GGX cone's footprint there (roughness and hit distance).
 //   inputs : rays.hit, rays.sample, rays.direction, lit, linear_depth, gbuffer.albedo,

@@ -68,7 +68,7 @@ void ClassifyPass::execute(FrameContext& ctx) {
     // pass's timing holds it (llvmpipe clears on the calling thread, between this pass's
     // timestamps), and the shader writes the listed pixels only. Only rays.sample is cleared:
     // every reader of rays.hit and rays.direction tests the slot's weight or traced flag first
-    // (a third of the bytes: the clear was most of this pass at 0 % reflective, issue 11);
+    // (a third of the bytes: the clear was most of this pass at 0 % reflective);
     // Frame.read zeroes the other two where the flag is 0, so they read as with skip off.
     {
         GpuScope t(ctx.timer, "classify.clear");  // a part of this pass's interval, shown apart
@@ -90,7 +90,7 @@ void ClassifyPass::execute(FrameContext& ctx) {
     d["RESOLVE_LIST_PIXELS"] = resolve_lists_ && resolve_pixels_ ? "1" : "0";
     d["CLASSIFY_BLOCK"] = std::to_string(kBlock);
     // The peeling's list of the 32x32 regions where layer 0 holds a reflective surface (the
-    // group's footprint): the groups run over those only (issue 11: at 0 % reflective the
+    // group's footprint): the groups run over those only (at 0 % reflective the
     // invocations over the whole image were most of the pass).
     regions_ = peel_ ? peel_->covered_tiles(s) : nullptr;
     regions_offset_ = DepthPeelPass::classify_regions_offset(s);
@@ -132,7 +132,7 @@ std::map<std::string, double> ClassifyPass::counters() const {
                                        {"pixels_traced", double(per_ray_ ? header[7] : header[3])},
                                        {"trace_groups", double(header[0]) * header[1] * header[2]}};
     // rays_traced and depth_fetches: Frame.stats sums them from rays.sample when asked (the trace
-    // keeps no counters: issue 13, shaders/passes/trace_hiz.comp).
+    // keeps no counters: shaders/passes/trace_hiz.comp).
     if (regions_) {
         uint32_t regions = 0;
         glGetNamedBufferSubData(regions_->id(), GLintptr(regions_offset_), sizeof(regions), &regions);

@@ -1,4 +1,4 @@
-// classify (issue 11; seed 000 4.1, seed 003's roughness threshold, seed 004's early out by
+// classify (seed 000 4.1, seed 003's roughness threshold, seed 004's early out by
 // roughness and angle; FidelityFX SSSR's classification): marks the trace pixels that need
 // rays and compacts them into a ray list with an atomic counter, in a buffer that also holds
 // the trace pass's indirect dispatch arguments: the trace pass then runs over the list only,

@@ -7,13 +7,13 @@ namespace ssr {
 Defines CompositePass::program_defines(const FrameContext& ctx) const {
     Defines d = ctx.defines;
     d["REFLECTIONS"] = reflections_ ? "1" : "0";
-    // Issue 13: the formula is compiled in, not chosen per pixel from the settings block: on
+    // The formula is compiled in, not chosen per pixel from the settings block: on
     // llvmpipe the unused pbr branch (its table fetch and material lookups) cost 2.5x the pass.
     d["PBR_COMPOSITE"] = ctx.settings.composite == CompositeMode::Pbr ? "1" : "0";
-    // Issue 13: the lighting pass's lit colour carries coverage and r in its alpha (lighting.h),
+    // The lighting pass's lit colour carries coverage and r in its alpha (lighting.h),
     // which saves the material fetch; another direct light (the reference's) does not.
     d["LIT_CARRIES_R"] = direct_ == "lit" ? "1" : "0";
-    // Issue 13 (FETCH_BY_IMAGE, lib/input_fetch.glsl): the direct light and the reflection are read
+    // FETCH_BY_IMAGE (lib/input_fetch.glsl): the direct light and the reflection are read
     // by imageLoad, whose format qualifier depends on the chain (lit RGBA16F, the reference's and
     // the temporal passes' RGBA32F).
     if (ctx.fetch_by_image()) {

@@ -14,7 +14,7 @@ inline void bind_image_layered(GLuint unit, const Texture& tex, GLenum access, i
                        tex.format());
 }
 
-// Issue 13 (FETCH_BY_IMAGE, lib/input_fetch.glsl): binds the inputs `names` as read-only images of
+// FETCH_BY_IMAGE (lib/input_fetch.glsl): binds the inputs `names` as read-only images of
 // their own format, every layer of level 0, to image units first, first + 1, ... (after the pass's
 // outputs), where the device reads float textures faster by imageLoad than by texelFetch.
 inline void bind_input_images(const FrameResources& r, GLuint first, const std::vector<std::string>& names) {
@@ -43,7 +43,7 @@ inline void dispatch_2d(int width, int height, int depth, int gx, int gy) {
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-// Issue 11: gives layers [from, layers) of every level of the array `tex` the value a pass
+// Gives layers [from, layers) of every level of the array `tex` the value a pass
 // writes for an empty layer (`value`: as many floats as the format has channels), by a clear
 // instead of a dispatch, so a skipped layer reads exactly as if the pass had run on it.
 inline void clear_layers(Texture& tex, int from, const float* value) {

@@ -1,4 +1,4 @@
-// cone_trace: glossy reflections by Hi-Z cone tracing (seed 002, 4.4.5 and 4.5.5; issue 9;
+// cone_trace: glossy reflections by Hi-Z cone tracing (seed 002, 4.4.5 and 4.5.5;
 // shaders/passes/cone_trace.comp). One mirror ray per pixel (traced by trace_hiz or
 // trace_linear), then a screen-space cone marched through the pre-convolved colour and the
 // pre-integrated visibility, weighted by the cone sphere's overlap with the Hi-Z.

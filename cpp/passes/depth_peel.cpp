@@ -26,7 +26,7 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     Texture& material = ctx.resources.get("gbuffer.material");
     Texture& previous = ctx.resources.get("depth_peel.previous_depth");
 
-    // Issue 13: each layer is drawn twice. The depth pass rasterises the layer's depth with a
+    // Each layer is drawn twice. The depth pass rasterises the layer's depth with a
     // shader that only peels (one fetch; nothing for layer 0); the shading pass then evaluates the
     // material only where the depth test finds the depth the depth pass kept (GL_EQUAL, early
     // tests). One shader doing both ran the whole material for every fragment the peel discards

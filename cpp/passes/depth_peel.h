@@ -9,12 +9,12 @@
 // nearest surface behind layer i. Back-face culling is off by default, as in the thesis,
 // so back faces populate deeper layers. Each layer is timed as depth_peel.layer<i>.
 //
-// Issue 13: each layer is a depth pass (peel test only) and a shading pass at the kept depth
+// Each layer is a depth pass (peel test only) and a shading pass at the kept depth
 // (GL_EQUAL, early fragment tests), so the material runs once per covered pixel; the shading
 // pass also marks the layer's covered 8x8 tiles in a buffer (covered_tiles(),
 // shaders/lib/covered_tiles.glsl) that the lighting pass dispatches over; in layer 0 it also
 // lists the 32x32 regions holding a reflective surface, which the classify pass dispatches
-// over (issue 11: a frame with no reflective pixel runs no classify group).
+// over (a frame with no reflective pixel runs no classify group).
 //
 // Beyond the thesis: a layer that covers no pixel means every deeper layer is empty too, so
 // each layer's draws are conditionally rendered on the previous layer's sample count
@@ -42,7 +42,7 @@ public:
     // kCoveredTilesBinding, or nullptr where the last run had other settings' sizes.
     static constexpr GLuint kCoveredTilesBinding = 14;
     static int covered_tiles_per_layer(const RenderSettings& s) { return ((s.width + 7) / 8) * ((s.height + 7) / 8); }
-    // Layer 0's reflective 32x32 regions (issue 11), listed for the classify pass's indirect
+    // Layer 0's reflective 32x32 regions, listed for the classify pass's indirect
     // dispatch: their count and the byte offset of the dispatch arguments in the buffer.
     static int classify_regions(const RenderSettings& s) { return ((s.width + 31) / 32) * ((s.height + 31) / 32); }
     static size_t classify_regions_offset(const RenderSettings& s) {

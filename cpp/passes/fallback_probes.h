@@ -1,5 +1,5 @@
 // fallback_probes: reflection probes, the middle level of seed 004's hierarchy (screen space ->
-// local cube map -> global cube map; issue 12). shaders/passes/fallback_probes.comp.
+// local cube map -> global cube map). shaders/passes/fallback_probes.comp.
 //   capture (once per scene content + probe set, cached on the renderer, not per frame): at
 //     each probe, a cube map of lit colour (rgb) and hit distance (a), one BVH ray per texel
 //     shaded by the G-buffer's own shading code (lib/trace_shade.glsl), then a mip chain

@@ -6,7 +6,7 @@ namespace ssr {
 
 void HizBuildPass::execute(FrameContext& ctx) {
     Texture& hiz = ctx.resources.get("hiz");
-    // Issue 11: only the layers that hold a surface somewhere; the others read as empty
+    // Only the layers that hold a surface somewhere; the others read as empty
     // (+inf, -inf) cells at every level, what the shader writes for an uncovered pixel.
     const int layers = ctx.layers_in_use();
     const float empty[2] = {1e30f, -1e30f};  // EMPTY of hiz_build.comp
@@ -14,7 +14,7 @@ void HizBuildPass::execute(FrameContext& ctx) {
     layers_built_ = layers;
     if (layers == 0) return;
 
-    // The tracer's atlas (issue 13), written by the same dispatches, only where the Hi-Z
+    // The tracer's atlas, written by the same dispatches, only where the Hi-Z
     // tracer will read it (hiz_build also serves cone tracing).
     const bool atlas = ctx.settings.method == TraceMethod::Hiz;
     if (atlas) bind_image_layered(2, ctx.resources.get("hiz_trace"), GL_WRITE_ONLY, 0);

@@ -5,7 +5,7 @@
 // One compute dispatch per level; odd-sized levels fold their last row/column into the
 // last cell. Runs only for method="hiz".
 //   hiz_trace (RG32F array, one level): the Hi-Z tracer's copy, every level in one image,
-//            texels (min s, slab back s) (shaders/lib/hiz_atlas.glsl, issue 13); written
+//            texels (min s, slab back s) (shaders/lib/hiz_atlas.glsl); written
 //            only for method="hiz" (cone tracing reads "hiz"), and only the layers in use.
 #pragma once
 
@@ -30,7 +30,7 @@ public:
         while ((std::max(s.width, s.height) >> n) > 0) ++n;
         return n;
     }
-    // Layers the last run built (frame.stats["hiz_layers_built"], issue 11).
+    // Layers the last run built (frame.stats["hiz_layers_built"]).
     int layers_built() const { return layers_built_; }
 
 private:

@@ -20,10 +20,10 @@ std::vector<ResourceDesc> LightingPass::outputs(const RenderSettings& s) const {
 void LightingPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["SHADOWS"] = shadows_ ? "1" : "0";
-    // Issue 13: the PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
+    // The PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
     // weights instead of two nested loops over a uniform bound.
     if (shadows_) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
-    // Issue 13: with the peeling's covered tiles, one indirect dispatch over the covered 8x8 tiles
+    // With the peeling's covered tiles, one indirect dispatch over the covered 8x8 tiles
     // of every layer; the rest is cleared. llvmpipe runs each SIMD vector through every branch,
     // so an uncovered texel cost as much as a covered one (4 layers of spheres_and_boxes, 59 %
     // to 2 % covered, cost as much as hall's, 94 % to 37 %).
@@ -53,10 +53,10 @@ void LightingPass::execute(FrameContext& ctx) {
     if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
     bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
-    // Issue 13: the normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
+    // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
     // depth format, which no image can bind.
     if (ctx.fetch_by_image()) bind_input_images(r, 2, {"gbuffer.normal"});
-    // Issue 11: layers behind the first empty one hold nothing anywhere (peeling skipped their
+    // Layers behind the first empty one hold nothing anywhere (peeling skipped their
     // draws), so they get exactly what the shader writes for an uncovered pixel, by a clear.
     // Reading the query results waits for the peeling (a sync point before this pass).
     const int allocated = ctx.settings.layers;

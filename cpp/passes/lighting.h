@@ -5,7 +5,7 @@
 //   outputs: lit (RGBA16F array: radiance per layer; alpha 0.5 + r / 2 where a surface
 //            covers the texel, r its reflectivity, and 0 where none does), linear_depth (R32F array: positive
 //            view-space depth per layer; the far-plane distance where nothing is covered)
-// With Settings.skip (issue 11) the layers that are empty everywhere (from the peeling's
+// With Settings.skip the layers that are empty everywhere (from the peeling's
 // occlusion queries) are cleared to those "nothing here" values instead of shaded.
 #pragma once
 
@@ -16,7 +16,7 @@ namespace ssr {
 
 class LightingPass : public RenderPass {
 public:
-    // `peel`: with Settings.skip, only the layers it found non-empty are shaded (issue 11).
+    // `peel`: with Settings.skip, only the layers it found non-empty are shaded.
     explicit LightingPass(bool shadows, DepthPeelPass* peel = nullptr) : shadows_(shadows), peel_(peel) {}
     std::string name() const override { return "lighting"; }
     std::vector<std::string> inputs() const override;

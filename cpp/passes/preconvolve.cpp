@@ -11,7 +11,7 @@ void PreconvolvePass::execute(FrameContext& ctx) {
     Texture& scratch = ctx.resources.get("preconvolve.scratch");
     // The glossy passes read it trilinearly (seed 002, 4.4.5).
     pyramid.set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
-    // Issue 11: layers empty everywhere are 0 (no colour, no coverage) at every level.
+    // Layers empty everywhere are 0 (no colour, no coverage) at every level.
     const int layers = ctx.layers_in_use();
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     clear_layers(pyramid, layers, zero);

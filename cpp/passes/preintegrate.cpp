@@ -9,7 +9,7 @@ namespace ssr {
 void PreintegratePass::execute(FrameContext& ctx) {
     Texture& vis = ctx.resources.get("visibility");
     Texture& hiz = ctx.resources.get("hiz");
-    // Issue 11: layers empty everywhere have visibility 0 at every level (the shader's value).
+    // Layers empty everywhere have visibility 0 at every level (the shader's value).
     const int layers = ctx.layers_in_use();
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     clear_layers(vis, layers, zero);

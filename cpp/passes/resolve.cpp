@@ -39,7 +39,7 @@ void ResolvePass::bind_ray_inputs(FrameContext& ctx, GLuint prog) {
         glBindTextureUnit(8, r.get("reprojection").id());
         glBindTextureUnit(9, history ? ctx.history->get("color").id() : r.get("reprojection").id());
     }
-    // Issue 13: the float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), image units 1-7.
+    // The float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), image units 1-7.
     if (ctx.fetch_by_image()) {
         bind_input_images(r, 1, {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"});
         if (radiance) bind_input_images(r, 7, {"rays.radiance"});
@@ -56,16 +56,16 @@ void ResolvePass::execute(FrameContext& ctx) {
     // Ray-result reuse over time (seed 000, 4.4): the previous frame's rays of the same trace grid.
     const bool ray_reuse = ctx.settings.temporal_ray_reuse;
     d["TEMPORAL_RAY_REUSE"] = ray_reuse ? "1" : "0";
-    // Issue 13: own rays only (own_rays_only in resolve.h): no shared tile, no barriers.
+    // Own rays only (own_rays_only in resolve.h): no shared tile, no barriers.
     const RenderSettings& s = ctx.settings;
     const bool own_rays_only = ResolvePass::own_rays_only(s);
     d["OWN_RAYS_ONLY"] = own_rays_only ? "1" : "0";
-    // Issue 11: over the classify pass's resolve list (receiving pixels, or tiles holding one).
+    // Over the classify pass's resolve list (receiving pixels, or tiles holding one).
     const bool list = ClassifyPass::resolves_over_lists(s);
     if (list && !lists_) throw GLError(name() + ": Settings.skip needs the classify pass's resolve list");
     d["RESOLVE_LIST"] = list ? "1" : "0";
     d["RESOLVE_LIST_PIXELS"] = list && own_rays_only ? "1" : "0";
-    // Issue 13: neighbours' rays from the shared tile, or from resolve_fetch's textures where the
+    // Neighbours' rays from the shared tile, or from resolve_fetch's textures where the
     // passes read by imageLoad (llvmpipe's shared-memory loads are slow; resolve_fetch.h).
     const bool shared = shared_tile(s, ctx.fetch_by_image());
     d["RESOLVE_SHARED_TILE"] = shared ? "1" : "0";

@@ -2,9 +2,9 @@
 // edge-aware upsampling of downscaled rays (seed 000, 2.4 and 2.6; shaders/passes/resolve.comp).
 //   inputs : rays.hit, rays.sample, rays.direction, lit, linear_depth, gbuffer.albedo,
 //            gbuffer.normal, gbuffer.material
-//            (+ rays.radiance with method or fallback "bvh", issue 12)
+//            (+ rays.radiance with method or fallback "bvh")
 //   outputs: reflection (RGBA16F, full resolution; 0 where a pixel does not reflect)
-// With Settings.skip (issue 11) it runs by indirect dispatch over the classify pass's resolve
+// With Settings.skip it runs by indirect dispatch over the classify pass's resolve
 // list only: the receiving pixels (own rays) or the 16x16 tiles holding one; the classify pass
 // wrote the other pixels' reflection.
 #pragma once
@@ -19,19 +19,19 @@ class ResolvePass : public RenderPass {
 public:
     // `lists`: the classify pass whose resolve list the resolve runs over with Settings.skip.
     explicit ResolvePass(const ClassifyPass* lists = nullptr) : lists_(lists) {}
-    // Issue 13: where no neighbour's ray can weigh anything (full-resolution rays with reuse
+    // Where no neighbour's ray can weigh anything (full-resolution rays with reuse
     // radius 0, or mirror rays with BRDF weights, which serve only their own pixel), each pixel
     // reads its own rays directly: no shared tile and no barriers, the same sums.
     static bool own_rays_only(const RenderSettings& s) {
         return s.downscale == 1 &&
                (s.reuse_radius == 0 || (s.sampling == Sampling::Mirror && s.reuse_weighting == ReuseWeighting::Brdf));
     }
-    // Issue 13: whether the neighbours' rays come from the shared tile the resolve fills itself (the
+    // Whether the neighbours' rays come from the shared tile the resolve fills itself (the
     // thesis's design, GPUs) or, where the passes read by imageLoad (llvmpipe, whose shared-memory
     // loads are slow), from resolve_fetch's textures, which then runs before it in the chain.
     static bool shared_tile(const RenderSettings& s, bool fetch_by_image);
     // What lib/resolve_ray.glsl is compiled with and binds, for the resolve and resolve_fetch alike:
-    // rays traced by the BVH (method or fallback "bvh", issue 12) or the probes bring their radiance
+    // rays traced by the BVH (method or fallback "bvh") or the probes bring their radiance
     // in rays.radiance; the inputs at texture units 0-7 (+ 16, 8, 9), or with FETCH_BY_IMAGE the
     // float ones as image units 1-7.
     static bool ray_radiance(const RenderSettings& s);

@@ -1,5 +1,5 @@
-// resolve_fetch: the resolve's tile fill into textures, where shared memory is slow (issue 13;
-// shaders/passes/resolve_fetch.comp): every (trace pixel, ray) slot's radiance and weight, and its
+// resolve_fetch: the resolve's tile fill into textures, where shared memory is slow
+// (shaders/passes/resolve_fetch.comp): every (trace pixel, ray) slot's radiance and weight, and its
 // hit point or direction with its pdf, for the resolve to read its neighbours' rays by imageLoad.
 // In the chain before the resolve when the passes read by imageLoad (Renderer input_fetch, the CPU
 // device by default) and the resolve reuses neighbours' rays (not ResolvePass::own_rays_only).

@@ -29,17 +29,17 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["FALLBACK"] = fallback_ ? "1" : "0";
     d["STAGE"] = "0";
-    // bvh_shadows (issue 12): the frame's shadow map as the lit G-buffer has it, or the
+    // bvh_shadows: the frame's shadow map as the lit G-buffer has it, or the
     // reference's traced shadow ray (lib/trace_shade.glsl), exact where the map blurs.
     const bool traced = ctx.settings.bvh_shadows == BvhShadows::Traced;
     d["SHADOWS"] = shadows_ && !traced ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced ? "1" : "0";
     d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
-    // Issue 11: method "bvh" draws adaptive rays as the screen-space tracers do
+    // Method "bvh" draws adaptive rays as the screen-space tracers do
     // (lib/ray_generation.glsl's rays_for_roughness); the fallback retraces only the rays the
     // screen-space tracer drew, so it needs no count of its own.
     d["ADAPTIVE_RAYS"] = !fallback_ && ctx.settings.adaptive_rays ? "1" : "0";
-    // Issue 11, skip with method "bvh": the rays to trace (weight > 0) are compacted into the
+    //, skip with method "bvh": the rays to trace (weight > 0) are compacted into the
     // list the fallback uses, so the BVH's SIMD lanes follow the rays drawn. Without it, one
     // invocation per (pixel, ray slot): an adaptive pixel's unused slots and a matte pixel's
     // idle lanes ride along with their neighbours' traversals. The images are the same.

@@ -1,10 +1,10 @@
 // trace_bvh: reflection rays traced against the scene's triangles and shaded by the G-buffer's
-// own shading code (issue 12; shaders/passes/trace_bvh.comp, shaders/lib/trace_shade.glsl).
+// own shading code (shaders/passes/trace_bvh.comp, shaders/lib/trace_shade.glsl).
 // Two uses:
 //   method "bvh" (seed 003's ray-traced reflections): every ray, no screen space.
 //     inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material (+ shadow_map)
 //     outputs: rays.hit, rays.sample, rays.direction (see trace_pass.h), rays.radiance
-//     With Settings.skip (issue 11) the rays with a weight are compacted into the fallback's
+//     With Settings.skip the rays with a weight are compacted into the fallback's
 //     list first and traced by indirect dispatch over it; adaptive_rays as the other tracers.
 //   fallback "bvh" (thesis 4.3, seed 004): after a screen-space tracer, only the rays it could
 //     not resolve (a miss, a faded hit, a hit failing the confidence test) are retraced: a

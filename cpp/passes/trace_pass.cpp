@@ -15,7 +15,7 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays && !extra_ ? "1" : "0";
     d["EXTRA_RAYS"] = extra_ ? "1" : "0";
     d["RAY_LIST_PER_RAY"] = !extra_ && ClassifyPass::per_ray(ctx.settings) ? "1" : "0";
-    // Issue 13: a variant for one layer in use (the layer walk without its loop; at most two
+    // A variant for one layer in use (the layer walk without its loop; at most two
     // variants, so layers_used changing between frames recompiles nothing more than once).
     d["TRACE_ONE_LAYER"] = ctx.layers_in_use() == 1 ? "1" : "0";
     // trace_hiz's level-0 steps before the traversal (seed 002 4.7.1), compiled in only when asked.
@@ -29,10 +29,10 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     d["RAY_HAMMERSLEY"] = std::to_string(su.hammersley);
     const GLuint prog = ctx.shaders.program({stage}, d);
     glUseProgram(prog);
-    // Issue 11: the layer walk stops at the layers in use (a uniform: no recompile per count).
+    // The layer walk stops at the layers in use (a uniform: no recompile per count).
     glUniform1i(glGetUniformLocation(prog, "u_layers_used"), ctx.layers_in_use());
     bind_ray_generation_io(r);
-    // Issue 13: the float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), after the
+    // The float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), after the
     // three ray outputs; a tracer binds its own after these (trace_hiz: its atlas, unit 5).
     if (ctx.fetch_by_image()) bind_input_images(r, 3, {"linear_depth", "gbuffer.normal"});
     if (skip) {

@@ -30,7 +30,7 @@ public:
 protected:
     // Binds the G-buffer (units 0-3) and the ray textures (images 0-2), runs the shader
     // `stage` over every (trace pixel, ray), or with Settings.skip over the classify pass's
-    // ray list only (indirect dispatch, issue 11).
+    // ray list only (indirect dispatch).
     void run(FrameContext& ctx, const std::string& stage);
 
 private:

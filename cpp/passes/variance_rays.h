@@ -1,4 +1,4 @@
-// variance_rays (issue 11; seed 000 4.4's future work; FidelityFX SSSR's variance-guided extra
+// variance_rays (seed 000 4.4's future work; FidelityFX SSSR's variance-guided extra
 // rays): with Settings.adaptive_rays a pixel traces ceil(rays_per_pixel * roughness) rays. This
 // pass measures, per trace pixel, how much the first pass's rays disagree over its 3x3
 // neighbourhood (relative standard deviation of the luminance each ray brings) and lists the

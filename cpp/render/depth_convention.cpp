@@ -44,7 +44,7 @@ void DepthConvention::add_defines(Defines& d) const {
 float DepthConvention::linearize(float d, float n, float f) const {
     if (mode == DepthMode::Standard) {
         // The thesis's 2fn / (z_s (f - n) - (f + n)), z_s = 2d - 1, rearranged without its
-        // cancellation (as in shaders/lib/depth_convention.glsl; issue 8).
+        // cancellation (as in shaders/lib/depth_convention.glsl).
         return f * n / (f * (1.0f - d) + n * d);
     }
     return f * n / (d * (f - n) + n);

@@ -2,7 +2,7 @@
 // only when asked for (read()). A Frame keeps its textures (and the GL context) alive;
 // the renderer reuses a texture set once no Frame holds it any more. Scratch textures
 // (shadow map, Hi-Z pyramid) belong to the renderer and are shared by every frame: a frame
-// can read them only until the next render overwrites them (issue 8: a kept frame no
+// can read them only until the next render overwrites them (a kept frame no
 // longer holds a 16 MiB shadow map). release() gives the frame's own textures back early.
 #pragma once
 
@@ -24,7 +24,7 @@ namespace ssr {
 class Renderer;
 
 // An allocator whose resize leaves new floats uninitialised: a readback overwrites every one,
-// so zeroing them first would be one more pass over up to hundreds of MB (issue 13).
+// so zeroing them first would be one more pass over up to hundreds of MB.
 template <typename T>
 struct UninitialisedAllocator : std::allocator<T> {
     template <typename U>
@@ -77,7 +77,7 @@ public:
     uint64_t scene_id = 0, scene_revision = 0;  // the scene it showed, to match a later reference
     int shadow_light = -1;                       // the light whose shadow map this frame has
     std::vector<std::string> passes;        // the chain that ran, in order
-    std::map<std::string, double> stats;   // work counts from the GPU (issue 11)
+    std::map<std::string, double> stats;   // work counts from the GPU
     std::vector<uint64_t> layer_samples;    // depth-test-passing samples drawn into each layer
 
 private:

@@ -47,7 +47,7 @@ struct DrawItem {
 
 class GpuScene {
 public:
-    // `bvh_builds` (optional): a counter the BVH build increments (Renderer.stats, issue 11).
+    // `bvh_builds` (optional): a counter the BVH build increments (Renderer.stats).
     explicit GpuScene(const Scene& scene, uint64_t* bvh_builds = nullptr);
 
     void bind_geometry() const;  // VAO + storage buffers
@@ -60,7 +60,7 @@ public:
     void bind_material_textures(int material) const;
 
     const std::vector<DrawItem>& draws() const { return draws_; }
-    // What a material's G-buffer shading needs beyond its factors (issue 13: the peeling compiles
+    // What a material's G-buffer shading needs beyond its factors (the peeling compiles
     // a variant per combination): bit 0 (1) it has a texture, bit 1 (2) its reflectivity is "auto".
     int material_features(int material) const { return material_features_[size_t(material)]; }
     // True when some object's material has reflectivity > 0: without one, no ray is traced.

@@ -39,8 +39,8 @@ struct ResourceDesc {
 size_t texture_bytes(const ResourceDesc& d);
 
 // The textures of one frame, by name. While a chain runs, the renderer attaches its
-// per-renderer scratch set (shadow map, Hi-Z pyramid: textures no one reads after the frame,
-// issue 8): get() and has() fall back to it, descs() and bytes() list the frame's own only.
+// per-renderer scratch set (shadow map, Hi-Z pyramid: textures no one reads after the
+// frame): get() and has() fall back to it, descs() and bytes() list the frame's own only.
 class FrameResources {
 public:
     Texture& get(const std::string& name);
@@ -84,12 +84,12 @@ struct FrameContext {
     // projection without its jitter: reprojection works on unjittered positions.
     glm::vec2 jitter_px{0.0f};
     glm::mat4 history_unjittered_proj{1.0f};
-    // Issue 11: the G-buffer layers that hold a surface somewhere (frame.stats["layers_used"]),
+    // The G-buffer layers that hold a surface somewhere (frame.stats["layers_used"]),
     // set by the renderer after the peeling with Settings.skip; -1 (skip off, or before the
     // peeling): every allocated layer. The per-layer passes work on these layers only.
     int layers_used = -1;
     int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }
-    // Issue 13: the passes read their float inputs as read-only images (FETCH_BY_IMAGE, the CPU
+    // The passes read their float inputs as read-only images (FETCH_BY_IMAGE, the CPU
     // device; lib/input_fetch.glsl), bound by bind_input_images (passes/compute.h).
     bool fetch_by_image() const {
         const auto it = defines.find("FETCH_BY_IMAGE");

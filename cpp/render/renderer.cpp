@@ -35,7 +35,7 @@ namespace {
 // Half floats to floats with the CPU's F16C conversion (exact, NaN and infinity kept): an
 // RGBA16F texture downloaded as stored (into memory not zeroed first) and widened here took
 // 0.52-0.53x the time of asking llvmpipe for GL_FLOAT at 640x360, 0.65-0.69x at 1920x1080
-// (issue 13, benchmarks/readback.py).
+// (benchmarks/readback.py).
 // Compiled for F16C alone and called only where the CPU has it.
 __attribute__((target("avx,f16c"))) void widen_halves_f16c(const uint16_t* in, float* out, size_t n) {
     size_t i = 0;
@@ -83,11 +83,11 @@ constexpr int kSpecularAlbedoUnit = 13;
 constexpr unsigned kSpecularAlbedoSamples = 4096;
 // llvmpipe keeps textures in host memory from malloc; glibc keeps freed blocks in its heap,
 // so memory of dropped frames stayed with the process (6.9 GB after 400 kept-then-dropped
-// frames, issue 8) until malloc_trim returns it, once this much was freed since the last trim.
+// frames) until malloc_trim returns it, once this much was freed since the last trim.
 constexpr size_t kTrimBytes = size_t(8) << 20;
 }  // namespace
 
-// Issue 13: the scene's light count compiled into every pass (up to 8; lib/lights.glsl), whose
+// The scene's light count compiled into every pass (up to 8; lib/lights.glsl), whose
 // shading then reads every light once before any control flow: llvmpipe loads a storage-buffer
 // value inside a loop one lane and one component at a time. Beyond 8 the loop reads the buffer.
 static void add_light_count(Defines& defines, const Scene& scene) {
@@ -119,7 +119,7 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir, con
         const char* name = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
         if (name && std::strcmp(name, "GL_MESA_pack_invert") == 0) pack_invert_ = true;
     }
-    // Issue 13: on the CPU device the passes read float textures by imageLoad (lib/input_fetch.glsl:
+    // On the CPU device the passes read float textures by imageLoad (lib/input_fetch.glsl:
     // llvmpipe's texelFetch of a float format is a call to a generic sampling function; a chain of
     // dependent RG32F fetches ran 1.9x faster by imageLoad). GPUs keep texelFetch, the path measured
     // there. A pass binds up to kImageUnitsPerPass images, outputs and inputs together.
@@ -210,7 +210,7 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     if (shadows) chain.push_back(&shadow_map_);
     chain.push_back(&depth_peel_);
     chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
-    // Frames in time (issue 10): reprojection whenever a temporal technique that reprojects is
+    // Frames in time: reprojection whenever a temporal technique that reprojects is
     // on, before the resolve (bounces="history" and temporal_ray_reuse read it there). The
     // thesis's TAA blends at the same pixel and needs none.
     const bool svgf = reflections && s.denoise == Denoise::Svgf;
@@ -223,19 +223,19 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         if (s.glossy != Glossy::Stochastic) chain.push_back(&preconvolve_);  // seed 002, 4.4.4
         if (s.glossy == Glossy::Cone) chain.push_back(&preintegrate_);        // seed 002, 4.4.2
         if (s.method == TraceMethod::Bvh) {
-            // Seed 003's ray-traced reflections: every ray against the triangles (issue 12).
+            // Seed 003's ray-traced reflections: every ray against the triangles.
             chain.push_back(shadows ? &trace_bvh_shadowed_ : &trace_bvh_unshadowed_);
         } else {
-            // Issue 11: the trace runs over the classify pass's ray list (indirect dispatch).
+            // The trace runs over the classify pass's ray list (indirect dispatch).
             if (s.skip) chain.push_back(&classify_);
             chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
-            // Issue 11: rays where the first pass's neighbourhood disagrees (FidelityFX SSSR).
+            // Rays where the first pass's neighbourhood disagrees (FidelityFX SSSR).
             if (s.variance_rays && s.adaptive_rays) {
                 chain.push_back(&variance_rays_);
                 chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_extra_)
                                                              : &trace_linear_extra_);
             }
-            // What screen space could not resolve goes to the triangles (issue 12; thesis 4.3).
+            // What screen space could not resolve goes to the triangles (thesis 4.3).
             if (s.fallback == Fallback::Bvh) chain.push_back(shadows ? &fallback_bvh_shadowed_ : &fallback_bvh_unshadowed_);
             // Or seed 004's local cube maps, then the environment.
             if (s.fallback == Fallback::Probes)
@@ -246,7 +246,7 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
         } else if (s.glossy == Glossy::BlurMips) {
             chain.push_back(&blur_mips_);
         } else {
-            // Issue 13: where the passes read by imageLoad (llvmpipe), the neighbours' rays reach
+            // Where the passes read by imageLoad (llvmpipe), the neighbours' rays reach
             // the resolve through resolve_fetch's textures instead of its shared tile.
             if (!ResolvePass::own_rays_only(s) && !ResolvePass::shared_tile(s, fetch_by_image_))
                 chain.push_back(&resolve_fetch_);
@@ -256,7 +256,7 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
     // The reflection's temporal accumulation, when there is a reflection to accumulate.
     const bool temporal = reflections && s.temporal_reflections;
     if (temporal) chain.push_back(&temporal_);
-    // The SVGF denoiser (issue 12, seed 003): accumulation, variance, a-trous wavelet iterations.
+    // The SVGF denoiser (seed 003): accumulation, variance, a-trous wavelet iterations.
     if (svgf) {
         chain.push_back(&svgf_temporal_);
         chain.push_back(&svgf_variance_);
@@ -479,7 +479,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     Defines defines;
     depth.add_defines(defines);
     defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
-    // Issue 13: the scene's environment type compiled into every pass (lib/environment.glsl):
+    // The scene's environment type compiled into every pass (lib/environment.glsl):
     // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind.
     defines["ENVIRONMENT_TYPE"] = std::to_string(int(scene.environment.type));
     defines["FETCH_BY_IMAGE"] = fetch_by_image_ ? "1" : "0";
@@ -519,7 +519,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
             }
             check_gl(*ctx_, p->name().c_str());
             frame->passes.push_back(p->name());
-            // Issue 11: the later per-layer passes (Hi-Z build, traces, pre-convolution,
+            // The later per-layer passes (Hi-Z build, traces, pre-convolution,
             // pre-integration) work on the layers the peeling filled only. Reading the
             // occlusion queries waits for the peeling (the lighting pass does the same).
             if (p == &depth_peel_ && s.skip) {
@@ -558,7 +558,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     if (std::find(chain.begin(), chain.end(), &hiz_build_) != chain.end())
         frame->stats["hiz_layers_built"] = double(hiz_build_.layers_built());
     frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
-    // Issue 13: with skip's counters, the 8x8 tiles the lighting shaded (-1: every texel of its layers).
+    // With skip's counters, the 8x8 tiles the lighting shaded (-1: every texel of its layers).
     if (s.skip)
         frame->stats["tiles_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).tiles_shaded());
     double total = 0.0;
@@ -698,7 +698,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     Defines defines;
     depth.add_defines(defines);
     defines["ENVIRONMENT_MAP"] = gs.environment_map() ? "1" : "0";
-    // Issue 13: the scene's environment type compiled into every pass (lib/environment.glsl):
+    // The scene's environment type compiled into every pass (lib/environment.glsl):
     // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind.
     defines["ENVIRONMENT_TYPE"] = std::to_string(int(scene.environment.type));
     defines["FETCH_BY_IMAGE"] = fetch_by_image_ ? "1" : "0";
@@ -844,7 +844,7 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     if (float_format && layer_floats * sizeof(float) <= size_t(std::numeric_limits<GLsizei>::max())) {
         // Float formats, whose GL_RGBA/GL_FLOAT download is exactly what a texelFetch returns
         // (halves widen exactly; absent channels read 0, 0, 1): downloaded as stored, a layer
-        // at a time (GL sizes are 32-bit), no copy pass (issue 13: on llvmpipe the copy pass
+        // at a time (GL sizes are 32-bit), no copy pass (on llvmpipe the copy pass
         // was most of a readback). Rows come top first from the driver where it has
         // GL_MESA_pack_invert (llvmpipe: the colour's readback 0.54-0.55x at 1920x1080, 0.7-0.8x
         // at 640x360, benchmarks/readback.py), else they are swapped on the CPU. Normalised, sRGB

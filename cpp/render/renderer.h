@@ -67,7 +67,7 @@ public:
     DeviceInfo info() const { return ctx_->info(); }
     // Float textures are downloaded with rows top first by the driver (GL_MESA_pack_invert).
     bool pack_invert() const { return pack_invert_; }
-    // Issue 13: whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
+    // Whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
     bool fetch_by_image() const { return fetch_by_image_; }
     int max_texture_size() const { return max_texture_size_; }
     // Programs compiled so far (every program is compiled once per renderer and variant).
@@ -82,7 +82,7 @@ public:
     std::vector<float> sample_reflections(const std::string& sampling, float alpha, const glm::vec3& view, int count,
                                           uint32_t seed, bool stratified);
 
-    // Device peaks for the roofline (issue 13, shaders/tools/microbench.comp): runs kernel `kernel`
+    // Device peaks for the roofline (shaders/tools/microbench.comp): runs kernel `kernel`
     // ("coherent", "dependent", "store", "bandwidth", "copy") over a width x height grid with
     // `iterations` operations per invocation, once untimed (compilation, first use) and then
     // `repeats` times, each timed alone on the GPU; returns the milliseconds of each repeat.
@@ -95,7 +95,7 @@ public:
     // Used by Frame::read: copies a texture level into host memory through readback.comp.
     Readback read_texture(const Texture& tex, int level);
 
-    // Per-renderer scratch (issue 8): textures no one reads after the frame, shared by all
+    // Per-renderer scratch: textures no one reads after the frame, shared by all
     // frames instead of one copy per kept frame.
     static bool is_scratch(const std::string& name);
     // The scratch texture `name` if it still holds frame `serial`'s content, else null.
@@ -108,7 +108,7 @@ public:
     // GPU bytes held: every frame texture set (live or pooled) plus scratch.
     size_t gpu_bytes() const;
     size_t scratch_bytes() const { return scratch_.bytes(); }
-    // Work the renderer did outside the frame chain (issue 11, "passes only when used"): scene
+    // Work the renderer did outside the frame chain ("passes only when used"): scene
     // uploads (a GpuScene built: new scene or new content; a camera change is none), reference
     // BVH builds (once per scene content), texture read-backs and their bytes.
     std::map<std::string, double> stats() const {
@@ -160,16 +160,16 @@ private:
     ClassifyPass classify_{&depth_peel_};
     TraceLinearPass trace_linear_{&classify_};
     TraceHizPass trace_hiz_{&classify_};
-    // Settings.variance_rays: the extra-ray list and the second trace over it (issue 11).
+    // Settings.variance_rays: the extra-ray list and the second trace over it.
     VarianceRaysPass variance_rays_;
     TraceLinearPass trace_linear_extra_{&variance_rays_, true};
     TraceHizPass trace_hiz_extra_{&variance_rays_, true};
-    // Ray-traced reflections and the BVH fallback (issue 12), with and without the shadow map.
+    // Ray-traced reflections and the BVH fallback, with and without the shadow map.
     TraceBvhPass trace_bvh_shadowed_{false, true}, trace_bvh_unshadowed_{false, false};
     TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};
-    // Reflection probes (issue 12, seed 004): captured once per scene and probe set.
+    // Reflection probes (seed 004): captured once per scene and probe set.
     FallbackProbesPass fallback_probes_shadowed_{true}, fallback_probes_unshadowed_{false};
-    ResolveFetchPass resolve_fetch_;  // issue 13: the resolve's tile fill where shared memory is slow
+    ResolveFetchPass resolve_fetch_;  // The resolve's tile fill where shared memory is slow
     ResolvePass resolve_{&classify_};
     ReprojectPass reproject_;
     TemporalPass temporal_;
@@ -180,7 +180,7 @@ private:
     BlurMipsPass blur_mips_;
     CompositePass composite_plain_{false}, composite_reflections_{true};
     CompositePass composite_temporal_{true, "reflection.temporal"};
-    // The SVGF denoiser of the reflection (issue 12, seed 003).
+    // The SVGF denoiser of the reflection (seed 003).
     SvgfTemporalPass svgf_temporal_;
     SvgfVariancePass svgf_variance_;
     SvgfAtrousPass svgf_atrous_;

@@ -143,7 +143,7 @@ void RenderSettings::validate() const {
           "Settings.shadow_pcf_radius must be in [0, 4], got " + std::to_string(shadow_pcf_radius));
     // The fields are float32 while the documented bounds are decimal doubles: 1e-6 as a float
     // is 9.99999997e-7 < 1e-6, so comparing in double rejected the documented lower bounds
-    // themselves (issue 8). Bounds are rounded to float first, the precision of the field.
+    // themselves. Bounds are rounded to float first, the precision of the field.
     auto range = [](double v, double lo_d, double hi_d, const char* name) {
         const double lo = double(float(lo_d)), hi = double(float(hi_d));
         check(std::isfinite(v) && v >= lo && v <= hi,
@@ -201,7 +201,7 @@ void RenderSettings::validate() const {
           "Settings.denoise 'svgf' accumulates its own history: it needs Settings.temporal_reflections off");
     range(probe_size, 8, 1024, "probe_size");
     range(probe_grid, 1, 4, "probe_grid");
-    // The BVH tracer and the BVH fallback hand their radiance to the resolve (issue 12).
+    // The BVH tracer and the BVH fallback hand their radiance to the resolve.
     check(method != TraceMethod::Bvh || glossy == Glossy::Stochastic,
           "Settings.method 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
     check(!temporal_ray_reuse ||

@@ -11,7 +11,7 @@
 namespace ssr {
 
 enum class TraceMethod { Off, Linear, Hiz, Bvh };
-// Where rays screen space cannot resolve go (issue 12): nothing, the environment, the BVH,
+// Where rays screen space cannot resolve go: nothing, the environment, the BVH,
 // reflection probes (seed 004's local cube maps, then the environment).
 enum class Fallback { None, Environment, Bvh, Probes };
 // How the BVH passes (trace_bvh, fallback_bvh, the probes' capture) shadow what they shade.
@@ -25,7 +25,7 @@ enum class TaaMode { Off, Thesis, Clamped };
 enum class Bounces { Single, History };
 enum class Glossy { Stochastic, Cone, BlurMips };  // order = GLOSSY_* in ssr_settings.glsl
 enum class ConeRemainder { Hit, Environment };     // order = CONE_REMAINDER_*
-// Denoiser of the resolved reflection (issue 12, seed 003): none, or SVGF (Schied et al. 2017).
+// Denoiser of the resolved reflection (seed 003): none, or SVGF (Schied et al. 2017).
 enum class Denoise { None, Svgf };
 
 // Names <-> values, for Python and for error messages.
@@ -52,7 +52,7 @@ struct RenderSettings {
     TraceMethod method = TraceMethod::Linear;
     Fallback fallback = Fallback::Environment;
     bool fallback_confidence = true;  // fallback "bvh": retrace screen-space hits failing the confidence test
-    BvhShadows bvh_shadows = BvhShadows::Map;  // the frame's shadow map, or a traced shadow ray (issue 12)
+    BvhShadows bvh_shadows = BvhShadows::Map;  // the frame's shadow map, or a traced shadow ray
     int probe_size = 128;  // fallback "probes": cube-map face size, texels
     int probe_grid = 1;    // fallback "probes", scene without probes: g x g x g probes over the bounds (1: centre)
     int rays_per_pixel = 1;
@@ -99,13 +99,13 @@ struct RenderSettings {
     TaaMode taa = TaaMode::Off;          // sub-pixel jitter + the taa pass (seed 000, 2.5)
     float taa_history_weight = 0.9f;     // clamped TAA: weight of the clamped history
     Bounces bounces = Bounces::Single;   // history: hits fetch the previous final colour (seed 002, 4.6.4)
-    bool skip = true;             // classify + indirect trace over the ray list (issue 11)
+    bool skip = true;             // classify + indirect trace over the ray list
     float classify_facing = 0.0f;  // skip: minimum n.v of a pixel that gets rays
     bool adaptive_rays = false;    // rays per pixel follow roughness within rays_per_pixel
     bool variance_rays = false;    // adaptive_rays: a second trace adds rays where the neighbourhood disagrees
     float variance_threshold = 0.25f;  // relative std. dev. of the neighbourhood's ray luminance that adds rays
     bool temporal_ray_reuse = false;     // resolve also reuses the previous frame's reprojected rays (seed 000, 4.4)
-    // Glossy reflections (seed 002, 4.4.2-4.4.5; issue 9): stochastic GGX rays + resolve, or one
+    // Glossy reflections (seed 002, 4.4.2-4.4.5): stochastic GGX rays + resolve, or one
     // mirror ray per pixel with a cone through pre-convolved mips, or one ray and a blurred mip.
     Glossy glossy = Glossy::Stochastic;
     int cone_max_samples = 16;     // in-circles marched per cone
@@ -113,7 +113,7 @@ struct RenderSettings {
     ConeRemainder cone_remainder = ConeRemainder::Hit;  // what fills a cone whose weights stay below 1
     bool cone_stretch = false;  // seed 002 4.6.8: footprints stretched along the ray at grazing angles
 
-    // Denoiser of the resolved reflection (issue 12; seed 003: SVGF, Schied et al. 2017); units in
+    // Denoiser of the resolved reflection (seed 003: SVGF, Schied et al. 2017); units in
     // python/ssrlab/settings.py.
     Denoise denoise = Denoise::None;
     int svgf_max_history = 32;          // frames; colour and moments blend with weight 1 / min(n, this)

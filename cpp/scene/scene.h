@@ -121,7 +121,7 @@ public:
     glm::vec3 ambient{0.03f};  // constant ambient radiance, times albedo
     Environment environment;
     std::optional<CameraDesc> camera;  // a default view (from the file or the scene builder)
-    // Reflection probes placed by the user (world space; issue 12, seed 004's local cube maps):
+    // Reflection probes placed by the user (world space, seed 004's local cube maps):
     // where fallback "probes" captures its cube maps. Empty: placed by Settings.probe_grid.
     std::vector<glm::vec3> probes;
 

@@ -499,7 +499,7 @@ class RenderSettings:
     @property
     def adaptive_rays(self) -> bool:
         """
-        ssrlab.Settings.adaptive_rays: rays per pixel follow the perceptual roughness within rays_per_pixel: ceil(rays_per_pixel * roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work, issue 11); the resolve averages each pixel's rays with the weights they were drawn with
+        ssrlab.Settings.adaptive_rays: rays per pixel follow the perceptual roughness within rays_per_pixel: ceil(rays_per_pixel * roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work); the resolve averages each pixel's rays with the weights they were drawn with
         """
     @adaptive_rays.setter
     def adaptive_rays(self, arg0: bool) -> None:
@@ -787,7 +787,7 @@ class RenderSettings:
     @property
     def method(self) -> str:
         """
-        ssrlab.Settings.method: tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002), 'bvh' (every ray traced against the scene's triangles and shaded by the G-buffer's shading code with the frame's shadow map, seen from the camera: seed 003's ray-traced reflections, issue 12) or 'off' (no reflections)
+        ssrlab.Settings.method: tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002), 'bvh' (every ray traced against the scene's triangles and shaded by the G-buffer's shading code with the frame's shadow map, seen from the camera: seed 003's ray-traced reflections) or 'off' (no reflections)
         """
     @method.setter
     def method(self, arg1: str) -> None:
@@ -931,7 +931,7 @@ class RenderSettings:
     @property
     def skip(self) -> bool:
         """
-        ssrlab.Settings.skip: True: the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, facing the camera) and the trace pass runs by indirect dispatch over that list only (issue 11; FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty and clears the others as uncovered. False: every trace pixel and ray, every allocated layer. 'auto': True on llvmpipe, False on a GPU, the faster of the two on each (an H100 ran skip off faster at every reflective share, 0-100 %: README, GPU). The images agree either way; Frame.settings holds the value the frame ran with
+        ssrlab.Settings.skip: True: the classify pass lists the trace pixels that need rays (reflective, below roughness_cutoff, facing the camera) and the trace pass runs by indirect dispatch over that list only (FidelityFX SSSR's classification); lighting shades only the layers the peeling found non-empty and clears the others as uncovered. False: every trace pixel and ray, every allocated layer. 'auto': True on llvmpipe, False on a GPU, the faster of the two on each (an H100 ran skip off faster at every reflective share, 0-100 %: README, GPU). The images agree either way; Frame.settings holds the value the frame ran with
         """
     @skip.setter
     def skip(self, arg0: bool) -> None:
@@ -1059,7 +1059,7 @@ class RenderSettings:
     @property
     def variance_rays(self) -> bool:
         """
-        ssrlab.Settings.variance_rays: with adaptive_rays: a variance_rays pass measures how much the first pass's rays disagree over each trace pixel's 3x3 neighbourhood and a second trace adds the rays adaptive_rays left out (up to rays_per_pixel) where they disagree by variance_threshold or more (FidelityFX SSSR's variance-guided extra rays, issue 11); the resolve averages them with the weights they were drawn with
+        ssrlab.Settings.variance_rays: with adaptive_rays: a variance_rays pass measures how much the first pass's rays disagree over each trace pixel's 3x3 neighbourhood and a second trace adds the rays adaptive_rays left out (up to rays_per_pixel) where they disagree by variance_threshold or more (FidelityFX SSSR's variance-guided extra rays); the resolve averages them with the weights they were drawn with
         """
     @variance_rays.setter
     def variance_rays(self, arg0: bool) -> None:
@@ -1148,7 +1148,7 @@ class Frame:
     @property
     def stats(self) -> dict[str, float]:
         """
-        exact work counts read back from the GPU (issue 11): passes_run; with skip on, pixels_classified, pixels_traced (in the ray list), trace_groups (ssrlab.Frame.stats adds rays_traced and depth_fetches, summed from rays.sample)
+        exact work counts read back from the GPU: passes_run; with skip on, pixels_classified, pixels_traced (in the ray list), trace_groups (ssrlab.Frame.stats adds rays_traced and depth_fetches, summed from rays.sample)
         """
     @property
     def texture_names(self) -> list[str]:

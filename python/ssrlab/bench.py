@@ -108,7 +108,7 @@ SETTINGS_PREFIX = "s_"
 # Passes whose GPU time the thesis counted as the cost of reflections (trace and resolve),
 # with the Hi-Z pyramid build that Hi-Z tracing needs.
 REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve",
-                     "preconvolve", "preintegrate", "cone_trace", "blur_mips")  # issue 9's glossy passes
+                     "preconvolve", "preintegrate", "cone_trace", "blur_mips")  # the glossy methods' passes
 VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
 SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
                    "reference_rays", "device", "frames", "sequence")
@@ -375,7 +375,7 @@ def _timing_column(key: str) -> str:
 
 def _reference_settings(s: Settings, frames: int, sequence: bool) -> Settings:
     # frames > 1: every render is a sequence of `frames` frames of the static camera (what TAA
-    # and temporal accumulation need, issue 10); the last frame is timed and scored. The
+    # and temporal accumulation need); the last frame is timed and scored. The
     # reference is that of the unjittered camera (TAA averages the jitter out).
     return s.replace(taa="off") if frames > 1 or sequence else s
 

@@ -1,4 +1,4 @@
-"""An independent cross-check of the converged reference against Mitsuba 3 (issue 7).
+"""An independent cross-check of the converged reference against Mitsuba 3.
 
 The same scene is rendered by ssrlab's converged reference (``frame.reference("converged")``)
 and by Mitsuba 3's ``path`` integrator, and the two are compared on the floor's pixels.
@@ -598,7 +598,7 @@ def mean_ratio(ssr_a, ssr_b, mit_a, mit_b, mask) -> tuple[float, float]:
 
 def reference_ignores_origin_bias(renderer, width: int = 48, height: int = 32) -> bool:
     """Whether this ssrlab's converged reference offsets its ray origins independently of
-    `origin_bias` (issue 7's robust offset): two tiny references of the mirror scene with
+    `origin_bias` (the reference's robust offset): two tiny references of the mirror scene with
     origin_bias 0.002 and 0.05 come out identical."""
     scene = crosscheck_scene(0.0)
     s = Settings(width=width, height=height)

@@ -1,4 +1,4 @@
-"""Hybrid reflections, error against time (issue 12): screen space alone, screen space with the
+"""Hybrid reflections, error against time: screen space alone, screen space with the
 BVH fallback, pure BVH tracing (seed 003) and, where this build has it, screen space with
 reflection probes, each with and without the SVGF denoiser, on glossy floors of `hall`,
 `spheres_and_boxes` and `spheres_and_boxes` with the Suzanne glTF model.
@@ -39,7 +39,7 @@ ERROR, TIME = "thesis_error_reflective", "time_frame_ms"
 
 
 def probes_available() -> bool:
-    """Whether this build's Settings accepts fallback="probes" (reflection probes, issue 12):
+    """Whether this build's Settings accepts fallback="probes" (reflection probes):
     asked of the Settings validation itself, so the sweep follows what the build offers."""
     try:
         Settings(fallback="probes")

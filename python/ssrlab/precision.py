@@ -1,4 +1,4 @@
-"""Depth precision against the near/far ratio (issue 8; seed 000 2.3.4 depth linearisation,
+"""Depth precision against the near/far ratio (seed 000 2.3.4 depth linearisation,
 seed 002 4.6.3 reversed depth).
 
 A fixed scene (a mirror floor with boxes at 15 to 320 units, each 10 % of its distance tall,

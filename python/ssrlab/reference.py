@@ -338,7 +338,7 @@ def hit_position_error(frame, truth: PerRayReference | None = None) -> np.ndarra
 
 
 def wrong_hits(frame, truth: PerRayReference | None = None, *, tolerance_px: float = 2.0) -> dict:
-    """How often SSR's accepted hits are wrong (issue 12): of the rays this frame's screen-space
+    """How often SSR's accepted hits are wrong: of the rays this frame's screen-space
     tracer kept a hit for (rays.hit after any confidence test; a rejected hit is a miss there),
     the share whose true hit (the per-ray reference) is another surface or elsewhere: the true
     ray misses, or hits an object other than the one the G-buffer shows at SSR's hit pixel, or

@@ -69,7 +69,7 @@ class Renderer:
     and `ssrlab info` number them; DeviceError naming the devices found where there is none) or
     "cpu" (Mesa's llvmpipe). "auto" takes $SSRLAB_DEVICE where that is set, which is how a
     process (a sweep worker) is pinned to one GPU of several: SSRLAB_DEVICE=gpu:3.
-    input_fetch: how the passes read their float inputs (issue 13, shaders/lib/input_fetch.glsl):
+    input_fetch: how the passes read their float inputs (shaders/lib/input_fetch.glsl):
     "auto" (imageLoad on the CPU device, where llvmpipe's texelFetch of a float format is a call to
     a generic sampling function; texelFetch on a GPU, the path measured there), "imageLoad" or
     "texelFetch". The images are the same either way (tests/test_input_fetch.py); info["input_fetch"]
@@ -211,7 +211,7 @@ class Renderer:
         return {"l": a[:, :3], "weight": a[:, 3], "pdf": a[:, 4], "u": a[:, 5:7], "reuse": a[:, 7]}
 
     def microbenchmark(self, kernel: str, width: int, height: int, iterations: int, repeats: int = 5) -> list[float]:
-        """GPU milliseconds of each of `repeats` runs of a device-peak kernel (issue 13's roofline,
+        """GPU milliseconds of each of `repeats` runs of a device-peak kernel (the roofline,
         shaders/tools/microbench.comp, benchmarks/roofline.py), after one untimed run: 'coherent'
         (RG32F texelFetch, neighbours fetching neighbours), 'dependent' (each fetch's address is
         the previous fetch's result), 'dependent_image' (the same chain by imageLoad, the path the
@@ -277,7 +277,7 @@ class FrameStats(Mapping):
             return repr(self._counts)[:-1] + ", (rays_traced, depth_fetches: not read before the release)}"
 
 
-# Counts the trace passes keep no counter for (issue 13: their atomics were 4-13 % of the Hi-Z
+# Counts the trace passes keep no counter for (their atomics were 4-13 % of the Hi-Z
 # trace on llvmpipe): Frame.stats sums them from the rays the trace wrote, when first read.
 TRACE_SUMS = ("rays_traced", "depth_fetches")
 
@@ -349,14 +349,14 @@ class Frame:
 
     @property
     def stats(self) -> FrameStats:
-        """Exact work counts read back from the GPU (issue 11): passes_run; where a trace ran,
+        """Exact work counts read back from the GPU: passes_run; where a trace ran,
         rays_traced (rays generated, weight > 0) and depth_fetches (the trace's fetches, summed);
         with Settings.skip the classify pass's classify_regions (the 32x32 regions holding a
         reflective surface, where it runs) and pixels_classified (trace pixels examined there),
         pixels_traced (trace pixels in the ray list) and trace_groups (indirect groups);
         layers_used (layers holding a surface somewhere: with skip, the Hi-Z build, the trace's
         layer walk, pre-convolution and pre-integration work on these only), layers_lit,
-        with skip tiles_lit (the 8x8 covered tiles the lighting shaded, issue 13; -1: whole layers),
+        with skip tiles_lit (the 8x8 covered tiles the lighting shaded; -1: whole layers),
         hiz_layers_built; with Settings.variance_rays, variance_pixels (pixels given extra
         rays), extra_rays and extra_depth_fetches (the second trace's); with skip and the
         stochastic resolve, the resolve's list: resolve_pixels (receiving pixels, own-rays
@@ -364,7 +364,7 @@ class Frame:
         groups) and environment_pixels (reflective pixels rougher than the cutoff, given the
         environment by the classify pass). rays_traced and depth_fetches are summed from
         rays.sample (its weight and fetch channels, less the second trace's extra_*) when one of
-        them is first read (a read-back; the trace keeps no counter, issue 13): read them before
+        them is first read (a read-back; the trace keeps no counter): read them before
         Frame.release()."""
         counts = {k: int(v) for k, v in self._native.stats.items()}
         traced = any(p.startswith("trace_") for p in self.passes)
@@ -466,7 +466,7 @@ class Frame:
 
     @property
     def fallback_stats(self) -> dict:
-        """Where this frame's rays were resolved (issue 12), as shares of the rays traced:
+        """Where this frame's rays were resolved, as shares of the rays traced:
         'screen' (a screen-space hit at full strength), 'bvh' (traced against the triangles and
         hit one: method 'bvh', or fallback 'bvh' retracing a miss or a faded hit), 'probes'
         (fallback 'probes': a reflection probe's surface), 'environment' (a ray nothing resolved

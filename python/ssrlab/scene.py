@@ -167,8 +167,8 @@ class Scene(_core.Scene):
 
     @property
     def probes(self) -> list:
-        """Reflection-probe positions (world space) for Settings.fallback 'probes' (issue 12;
-        seed 004's local cube maps), as (x, y, z) tuples; empty (the default): placed by
+        """Reflection-probe positions (world space) for Settings.fallback 'probes'
+        (seed 004's local cube maps), as (x, y, z) tuples; empty (the default): placed by
         Settings.probe_grid. Each probe must lie strictly inside the scene bounds (its
         box-projection proxy), checked at render."""
         return list(_core.Scene.probes.fget(self))

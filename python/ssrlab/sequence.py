@@ -84,7 +84,7 @@ class CameraPath(Sequence):
         return f"CameraPath({len(self.positions)} keyframes, {self.frames} frames)"
 
 
-# -- moving-camera study (issue 10; notebooks/temporal.ipynb, tests/test_temporal.py) ------------------
+# -- moving-camera study (notebooks/temporal.ipynb, tests/test_temporal.py) ------------------
 # The documented path over scenes.hall(): the camera slides 3 m sideways (left to right) and 3 m
 # forward down the nave while dipping 0.2 m, always looking at the end wall; the polished floor
 # (roughness 0.15) reflects the columns and pews.
@@ -92,7 +92,7 @@ HALL_PATH_POSITIONS = [(-1.5, 1.8, 3.0), (1.5, 1.6, 0.0)]
 HALL_PATH_TARGETS = [(0.0, 2.0, -20.0)]
 
 # With rejection, the accumulated reflection's error may exceed that of the frame alone (no
-# history) by at most this much rmse on any frame: "no ghost trails" (issue 10).
+# history) by at most this much rmse on any frame: "no ghost trails".
 GHOST_MARGIN = 0.005
 
 

@@ -60,7 +60,7 @@ class Settings:
     method: str = _setting(
         "linear", "tracer: 'linear' (McGuire-Mara DDA, thesis 2.3.1), 'hiz' (min-max Hi-Z traversal, seed 002), "
         "'bvh' (every ray traced against the scene's triangles and shaded by the G-buffer's shading code with "
-        "the frame's shadow map, seen from the camera: seed 003's ray-traced reflections, issue 12) "
+        "the frame's shadow map, seen from the camera: seed 003's ray-traced reflections) "
         "or 'off' (no reflections)", choices=("linear", "hiz", "bvh", "off"), group="rays")
     fallback: str = _setting(
         "environment", "what a ray screen space cannot resolve (a miss: it left the screen, reached max_steps or "
@@ -109,7 +109,7 @@ class Settings:
     skip: bool | str = _setting(
         "auto", "True: the classify pass lists the trace pixels that need rays (reflective, below "
         "roughness_cutoff, facing the camera) and the trace pass runs by indirect dispatch over that list "
-        "only (issue 11; FidelityFX SSSR's classification); lighting shades only the layers the peeling "
+        "only (FidelityFX SSSR's classification); lighting shades only the layers the peeling "
         "found non-empty and clears the others as uncovered. False: every trace pixel and ray, every "
         "allocated layer. 'auto': True on llvmpipe, False on a GPU, the faster of the two on each (an H100 "
         "ran skip off faster at every reflective share, 0-100 %: README, GPU). The images agree either way; "
@@ -120,13 +120,13 @@ class Settings:
         "cosine", 0.0, 1.0, group="rays")
     adaptive_rays: bool = _setting(
         False, "rays per pixel follow the perceptual roughness within rays_per_pixel: ceil(rays_per_pixel * "
-        "roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work, issue 11); the resolve "
+        "roughness), at least 1, so a mirror traces one ray (seed 000 4.4's future work); the resolve "
         "averages each pixel's rays with the weights they were drawn with", group="rays")
     variance_rays: bool = _setting(
         False, "with adaptive_rays: a variance_rays pass measures how much the first pass's rays disagree over "
         "each trace pixel's 3x3 neighbourhood and a second trace adds the rays adaptive_rays left out (up to "
         "rays_per_pixel) where they disagree by variance_threshold or more (FidelityFX SSSR's variance-guided "
-        "extra rays, issue 11); the resolve averages them with the weights they were drawn with", group="rays")
+        "extra rays); the resolve averages them with the weights they were drawn with", group="rays")
     variance_threshold: float = _setting(
         0.25, "variance_rays: relative standard deviation (std / mean) of the neighbourhood's ray luminance "
         "from which a pixel gets the extra rays; 0: every pixel with fewer than rays_per_pixel rays",
@@ -250,7 +250,7 @@ class Settings:
         "frame's lit colour), doubling the rays each pixel averages; where the reprojection rejects the "
         "history (Settings.reject_*), only this frame's rays count", group="temporal")
 
-    # -- glossy reflections (seed 002, 4.4.2-4.4.5; seed 004; issue 9) ------------------------------
+    # -- glossy reflections (seed 002, 4.4.2-4.4.5; seed 004) ------------------------------
     glossy: str = _setting(
         "stochastic", "how rough surfaces blur the reflection: 'stochastic' (rays_per_pixel GGX rays drawn by "
         "`sampling`, then the resolve); 'cone' (one mirror ray per pixel traced by `method`, then a cone "
@@ -277,7 +277,7 @@ class Settings:
         "becomes r / sqrt(N.V) along the ray's screen direction and r sqrt(N.V) across it (at most 4:1), "
         "read as up to 4 samples along the ray at the narrow side's mip level", group="glossy")
 
-    # -- denoiser of the reflection (issue 12; seed 003: SVGF, Schied et al. 2017) -------------------
+    # -- denoiser of the reflection (seed 003: SVGF, Schied et al. 2017) -------------------
     denoise: str = _setting(
         "none", "denoiser of the resolved reflection, for every method and fallback: 'svgf' (Schied et al. "
         "2017 as seed 003 uses it: the svgf_temporal pass accumulates colour and the first and second "

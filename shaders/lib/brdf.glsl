@@ -43,14 +43,14 @@ float ggx_alpha(float perceptual_roughness) {
 // What brdf_cosine(v, l, alpha) (ggx_sampling.glsl) keeps per receiver: its factor that does not
 // depend on l, alpha^2 G1(v) / (4 n.v) (0 where v is below the surface). With
 // brdf_cosine_over_pdf below, the resolve weighs a reused ray (Stachowiak 2015) without a local
-// frame, a half vector or a second G1 per ray (issue 13).
+// frame, a half vector or a second G1 per ray.
 float brdf_cosine_receiver(float nv, float alpha) {
     return nv > 0.0 ? alpha * alpha * ggx_G1(nv, alpha) / (4.0 * nv) : 0.0;
 }
 
 // brdf_cosine(v, l, alpha) / pdf for unit view direction v, light direction l and normal n in
 // any one frame; `receiver` = brdf_cosine_receiver(n.v, alpha). The same terms, rearranged
-// (issue 13): with u = v + l, the half vector's cosine is n.u / |u|, so Walter et al.'s D (eq. 33)
+//: with u = v + l, the half vector's cosine is n.u / |u|, so Walter et al.'s D (eq. 33)
 // is alpha^2 |u|^4 / (pi k^2) with k = |u x n|^2 + alpha^2 (n.u)^2 (ggx_D's floor pi d^2 >= 1e-12
 // scaled by |u|^4), and G1(l) (eq. 34, multiplied by n.l / n.l) is
 // 2 c / (c + sqrt(alpha^2 + (1 - alpha^2) c^2)), c = max(n.l, 1e-4) (ggx_G1's floor c^2 >= 1e-8).

@@ -1,4 +1,4 @@
-// The covered tiles of the deep G-buffer (issue 13): which 8x8-pixel tiles of each layer hold a
+// The covered tiles of the deep G-buffer: which 8x8-pixel tiles of each layer hold a
 // surface, marked by the peeling's shading pass (passes/depth_peel.frag), then compacted into
 // a list that the lighting pass dispatches over indirectly (passes/lighting.comp), so that
 // empty tiles of the deeper layers cost no invocation: llvmpipe runs every lane of a SIMD
@@ -7,7 +7,7 @@
 //   covered_header  x: tiles in the list (the indirect dispatch's group count), y, z: 1
 //   covered_tile[i] for i < layers * tiles: 1 where tile i (layer-major, rows of tiles) is covered;
 //                   then the list: the covered tiles' indices, in no particular order;
-//   then the reflective regions of layer 0 (issue 11), from classify_regions_base():
+//   then the reflective regions of layer 0, from classify_regions_base():
 //                   4 uints of indirect dispatch arguments (regions listed, 1, 1, 0), a flag per
 //                   32x32-pixel region (1: layer 0 drew a surface with a reflectivity there), and
 //                   the list of flagged regions, which the classify pass dispatches over: a frame

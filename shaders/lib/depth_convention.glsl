@@ -16,7 +16,7 @@ float linear_depth(float d) {
 #else
     // Seed 000, 2.3.4: z = 2fn / (z_s (f - n) - (f + n)) with z_s = 2d - 1 in NDC; z < 0.
     // Written as fn / (f (1 - d) + n d), the same value: the seed's form subtracts two numbers
-    // near f (f+n and z_s (f-n)) and loses all digits for large f/n (issue 8: at f/n = 1e8 it
+    // near f (f+n and z_s (f-n)) and loses all digits for large f/n (at f/n = 1e8 it
     // doubled the depth error, and a covered-nothing d = 1 gave 0/0 once f - n rounded to f);
     // 1 - d is exact near 1 (Sterbenz), so only the stored depth's own precision is left.
     return f * n / (f * (1.0 - d) + n * d);

@@ -13,7 +13,7 @@ layout(binding = 15) uniform sampler2D u_environment_map;  // equirectangular, u
 #endif
 
 // The scene's type compiled in (0 constant, 1 sky, 2 map; the renderer defines it for every
-// pass, issue 13); -1: chosen at run time from frame.env_params.x.
+// pass); -1: chosen at run time from frame.env_params.x.
 #ifndef ENVIRONMENT_TYPE
 #define ENVIRONMENT_TYPE -1
 #endif
@@ -52,7 +52,7 @@ vec3 environment_radiance(vec3 dir) {
 
 // The same from a view-space direction of any length: the background a camera ray sees. With the
 // type compiled in, the constant needs no direction and the sky only the world-space height of
-// the unit direction (issue 13: on llvmpipe the composite's background, run for covered pixels
+// the unit direction (on llvmpipe the composite's background, run for covered pixels
 // too, was half the pass).
 vec3 environment_radiance_view(vec3 d_view) {
 #if ENVIRONMENT_TYPE == 0

@@ -1,4 +1,4 @@
-// The Hi-Z tracer's own copy of the min-max pyramid (issue 13; resource "hiz_trace", written by
+// The Hi-Z tracer's own copy of the min-max pyramid (resource "hiz_trace", written by
 // hiz_build next to the mip chain "hiz"). Two changes make each of the traversal's dependent
 // fetches cheaper (seed 002, 4.7.2: the trace is fetch/latency bound):
 //  - every level lies in ONE level-0 image (an atlas), so the tracer's texelFetch has lod 0 for

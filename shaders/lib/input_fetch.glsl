@@ -1,4 +1,4 @@
-// How a pass reads its float inputs texel by texel (issue 13): by texelFetch from a sampler, or,
+// How a pass reads its float inputs texel by texel: by texelFetch from a sampler, or,
 // with FETCH_BY_IMAGE (the renderer defines it for every pass: 1 on the CPU device, 0 on a GPU;
 // Renderer.info["input_fetch"]), by imageLoad from a read-only image of the same texture.
 // Why: llvmpipe (Mesa 22.3) samples any texture whose format is not 8-bit RGBA through a call to

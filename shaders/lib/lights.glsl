@@ -9,7 +9,7 @@ struct LightData {
 
 layout(std430, binding = 3) readonly buffer Lights { LightData lights[]; };
 
-// Issue 13: the renderer compiles the scene's light count into every pass (LIGHT_COUNT, for up to 8
+// The renderer compiles the scene's light count into every pass (LIGHT_COUNT, for up to 8
 // lights), and every pass that shades calls lights_load() first in main, before any control flow,
 // to read every light once: llvmpipe (Mesa 22.3) loads a storage-buffer value inside a loop, an if
 // or after a return one lane and one component at a time through the stack, which was ~30 % of the

@@ -11,7 +11,7 @@ struct ReflectionRay {
 };
 
 // A pass may compile the noise and the Hammersley switch in (the trace passes do: llvmpipe
-// computed both hashes for every ray, issue 13); the values must be the settings block's.
+// computed both hashes for every ray); the values must be the settings block's.
 #ifndef RAY_NOISE
 #define RAY_NOISE ssr.noise
 #endif
@@ -44,7 +44,7 @@ bool is_reflective(GSample g) {
 #define ADAPTIVE_RAYS 0
 #endif
 
-// The rays a pixel traces (Settings.adaptive_rays; seed 000 4.4's future work, issue 11): with
+// The rays a pixel traces (Settings.adaptive_rays; seed 000 4.4's future work): with
 // adaptive rays they follow the perceptual roughness within the user's maximum, one for a
 // mirror (every GGX sample of alpha 0 is the mirror direction), the maximum at roughness 1.
 // Rays past the count get weight 0, which the resolve's weighted mean leaves out: each pixel
@@ -61,7 +61,7 @@ int rays_for_roughness(float roughness) {
 #endif
 }
 
-// A pass may compile its sampling method in (the trace passes do: issue 13); the value must be
+// A pass may compile its sampling method in (the trace passes do:); the value must be
 // the settings block's.
 #ifndef RAY_SAMPLING
 #define RAY_SAMPLING ssr.sampling
@@ -70,7 +70,7 @@ int rays_for_roughness(float roughness) {
 ReflectionRay generate_ray(GSample g, vec3 p_view, ivec2 q, int r) {
     ReflectionRay ray;
     ray.origin = p_view;
-    // Direction 0: this surface traces no ray at all (issue 11's "no ray", stored as zeros).
+    // Direction 0: this surface traces no ray at all ("no ray", stored as zeros).
     ray.dir = vec3(0.0);
     ray.weight = 0.0;
     ray.pdf = 0.0;

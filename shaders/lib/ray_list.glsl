@@ -1,4 +1,4 @@
-// The ray list of the classify pass (issue 11; FidelityFX SSSR's tile classification, seed 000
+// The ray list of the classify pass (FidelityFX SSSR's tile classification, seed 000
 // 4.1): the trace pixels that need rays, compacted by an atomic counter, with the indirect
 // dispatch arguments of the trace pass in the same buffer so that an empty list costs no
 // trace work at all (a dispatch of 0 groups). The counters are read back for Frame.stats; the
@@ -17,7 +17,7 @@ layout(std430, binding = 12) coherent buffer RayList {
     uint pixels[];      // one packed pixel per entry; RAY_LIST_PER_RAY: (packed pixel, ray) pairs
 } ray_list;
 
-// Issue 11, adaptive rays over the list: one entry per (pixel, ray) the pixel traces, so the
+//, adaptive rays over the list: one entry per (pixel, ray) the pixel traces, so the
 // trace's invocations follow the rays traced, not rays_per_pixel slots per pixel (groups_z = 1).
 #ifndef RAY_LIST_PER_RAY
 #define RAY_LIST_PER_RAY 0

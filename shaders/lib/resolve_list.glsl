@@ -1,4 +1,4 @@
-// The resolve's work list (issue 11; FidelityFX SSSR's tile classification, seed 000 4.1),
+// The resolve's work list (FidelityFX SSSR's tile classification, seed 000 4.1),
 // written by the classify pass: the resolve then runs by indirect dispatch over what reflects
 // only, and an empty list costs it no work (a dispatch of 0 groups). Two forms:
 //   RESOLVE_LIST_PIXELS 1: one packed full-resolution pixel (x | y << 16) per receiving pixel
@@ -29,7 +29,7 @@ const uint RESOLVE_LIST_ROW = 1024u;
 uint resolve_list_pack(ivec2 v) { return uint(v.x) | (uint(v.y) << 16); }
 ivec2 resolve_list_unpack(uint e) { return ivec2(int(e & 0xffffu), int(e >> 16)); }
 
-// Reserves `n` consecutive entries (one atomic for several, issue 11) and returns the first;
+// Reserves `n` consecutive entries (one atomic for several) and returns the first;
 // entry i opens group i / per_group, and a group that starts a row adds the row.
 uint resolve_list_reserve(uint n, uint per_group) {
     uint first = atomicAdd(resolve_list.count, n);

@@ -1,7 +1,7 @@
 // What a resolve needs of one ray (seed 000, 2.4): the radiance it brings and its weight, and
 // where it went (its hit point, or its direction if it missed) with the pdf it was drawn with,
 // shared by the resolve's tile fill (passes/resolve.comp, shared memory) and by resolve_fetch
-// (passes/resolve_fetch.comp, the same data into textures where shared memory is slow: issue 13).
+// (passes/resolve_fetch.comp, the same data into textures where shared memory is slow:).
 // Declares the inputs both bind alike (passes/resolve.cpp, bind_ray_inputs); needs
 // frame_uniforms, depth_convention, ssr_settings, gbuffer, environment and input_fetch.
 
@@ -42,7 +42,7 @@ vec3 previous_final(ivec2 hp, vec3 lit) {
 #endif
 
 #if defined(RAY_RADIANCE) && RAY_RADIANCE
-// Issue 12: rays the BVH traced (trace_bvh.comp) bring its radiance (rgb) and hit distance
+// Rays the BVH traced (trace_bvh.comp) bring its radiance (rgb) and hit distance
 // (a >= 0; -1: the BVH found nothing; -2: not traced by the BVH). It stands where the
 // environment stood: a screen-space miss brings it, a faded hit fades toward it.
 INPUT_ARRAY(u_ray_radiance, 16, 7, rgba32f);
@@ -84,7 +84,7 @@ RayResult fetch_ray(ivec2 q, int r, vec3 origin, ivec2 size) {
     vec4 smp = FETCH(u_sample, ivec3(q, r));
     vec3 dir = FETCH(u_direction, ivec3(q, r)).xyz;
     // What the ray brings where screen space did not resolve it; a hit at full fade weight
-    // (hit.w = 1, most hits) never needs it (issue 13: the environment costs more than the
+    // (hit.w = 1, most hits) never needs it (the environment costs more than the
     // hit's own fetch).
     bool opaque_hit = hit.z > 0.5 && hit.w >= 1.0;
     vec3 c = vec3(0.0);

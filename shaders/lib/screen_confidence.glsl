@@ -1,4 +1,4 @@
-// The confidence test of a screen-space hit (issue 12), for a fallback exact enough to replace
+// The confidence test of a screen-space hit, for a fallback exact enough to replace
 // a doubtful hit (passes/trace_bvh.comp: fallback "bvh").
 // Needs frame_uniforms, depth_convention, gbuffer, and the including shader's samplers
 // u_linear_depth, u_albedo, u_normal, u_material (the G-buffer's layers).

@@ -8,7 +8,7 @@
 #if SHADOWS
 // The (2r+1)^2 taps of a PCF of radius r, each a 2x2 bilinearly filtered compare (hardware PCF),
 // weight the (2r+2)^2 texels around the point separably: per axis 1-f, 1, ..., 1, f, with f the
-// point's bilinear fraction. Issue 13: the same sum from (r+1)^2 taps, each covering a pair of
+// point's bilinear fraction. The same sum from (r+1)^2 taps, each covering a pair of
 // texels per axis at the position that gives the pair's two weights as its bilinear weights
 // (w0, w1 -> fraction w1 / (w0 + w1), tap weight w0 + w1): 4 taps instead of 9 for r = 1.
 float shadow_visibility(vec3 p_view, vec3 n_view) {

@@ -6,7 +6,7 @@
 //   rays.direction RGBA32F: view-space direction (full precision: a half-float direction moves
 //                  a BVH ray by up to ~0.2 px at 640x360, which bounded pure BVH near 46 dB)
 // A pixel that traces no ray at all (not reflective, seen edge-on: generate_ray's direction 0)
-// gets all zeros in every layer (issue 11): what the classify pass's clear leaves for the
+// gets all zeros in every layer: what the classify pass's clear leaves for the
 // pixels it does not list, so skip on and off write the same textures.
 // The including pass binds the G-buffer samplers named below.
 
@@ -22,7 +22,7 @@ ivec2 origin_pixel(ivec2 q) {
 
 void store_ray(ivec3 id, ReflectionRay ray, bool traced, vec4 hit, float fetches) {
     // One store per texture, the "no ray" zeros selected rather than stored in a branch of
-    // their own (llvmpipe runs the stores of both sides: 1.3x the trace's setup, issue 13).
+    // their own (llvmpipe runs the stores of both sides: 1.3x the trace's setup).
     bool none = !traced || ray.dir == vec3(0.0);
     imageStore(o_hit, id, none ? vec4(0.0) : hit);
     imageStore(o_sample, id, none ? vec4(0.0) : vec4(ray.weight, ray.pdf, fetches, 1.0));

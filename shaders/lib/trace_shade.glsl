@@ -1,4 +1,4 @@
-// Trace and shade (issue 12): a world-space ray traced against the scene's triangles
+// Trace and shade: a world-space ray traced against the scene's triangles
 // (lib/bvh.glsl) and the surface it hits shaded by the very material and lighting code the
 // G-buffer uses (lib/material.glsl, lib/shading.glsl), so that what the BVH finds matches
 // what the lit G-buffer would show. Shared by the reference pass and the ray-traced
@@ -55,7 +55,7 @@ vec3 hit_normal_w(TraceHit h, vec3 toward) {
 // meets the G-buffer's object, its hit point moved off the triangle by lib/ray_offset's ulp
 // offset along the geometric normal (Waechter and Binder 2019). Elsewhere (a silhouette the
 // rasteriser and the trace sample differently) SSR's origin: pos + origin_bias along the normal.
-// Why (issue 12): origin_bias lifts the origin by a fraction of its depth (2.5 mm at 5 m for
+// Why: origin_bias lifts the origin by a fraction of its depth (2.5 mm at 5 m for
 // 0.0005), which shifts every edge a reflection ray meets by a fraction of a pixel; on a mirror
 // floor a whole row of pixels along each such edge then sees past it (hall's 60-degree view:
 // 36.0 dB against the converged reference at 640x360, 45 dB with this origin).

@@ -1,5 +1,5 @@
 #version 450 core
-// blur_mips (seed 004 "Glossy" and "Mipmap Generation"; issue 9): the engines' glossy
+// blur_mips (seed 004 "Glossy" and "Mipmap Generation"): the engines' glossy
 // baseline. One mirror ray per pixel; where it hits, the reflection is the pre-convolved
 // colour of the hit layer at the hit, read trilinearly at the mip level whose blur matches
 // the cone's footprint there: the cone of lib/cone_angle.glsl (half of the GGX lobe) has

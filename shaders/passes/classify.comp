@@ -1,5 +1,5 @@
 #version 450 core
-// classify (issue 11): which pixels need rays and which receive a reflection. Seed 000 4.1
+// classify: which pixels need rays and which receive a reflection. Seed 000 4.1
 // and seed 003 skip surfaces above the roughness cutoff or without reflectivity
 // (is_reflective); seed 004's "early out by checking roughness and angle" adds the facing
 // test: a surface seen edge-on or from behind gets no ray (generate_ray's own test;
@@ -38,7 +38,7 @@
 layout(binding = 3, rgba16f) writeonly uniform image2D o_reflection;
 #endif
 
-// Issue 11: the groups run over the 32x32 regions where the peeling drew a reflective surface
+// The groups run over the 32x32 regions where the peeling drew a reflective surface
 // in layer 0 (lib/covered_tiles.glsl, indirect dispatch), not over the whole image.
 #ifndef REFLECTIVE_REGIONS
 #define REFLECTIVE_REGIONS 0
@@ -47,7 +47,7 @@ layout(binding = 3, rgba16f) writeonly uniform image2D o_reflection;
 #include "../lib/covered_tiles.glsl"
 #endif
 
-// Issue 11: llvmpipe pays a fixed cost per work group (~2 us, measured: an empty 8x8 classify
+// Llvmpipe pays a fixed cost per work group (~2 us, measured: an empty 8x8 classify
 // cost 2 ms at 320x180), so the groups are CLASSIFY_GROUP wide.
 #ifndef CLASSIFY_GROUP_X
 #define CLASSIFY_GROUP_X 8
@@ -104,7 +104,7 @@ void main() {
     uint receivers = 0u;  // bit i: pixel i of the block receives rays (is_reflective)
     uint environment = 0u;
     // The reflectivity (material.r; 0 where no surface is) of the block's pixels first, 2x2 per
-    // gather: most blocks of most frames hold no reflective pixel and stop here (issue 11: four
+    // gather: most blocks of most frames hold no reflective pixel and stop here (four
     // gathers cost llvmpipe half of sixteen texelFetch). A gather at the corner shared by texels
     // (x, y) .. (x + 1, y + 1) returns their r as (x, y+1), (x+1, y+1), (x+1, y), (x, y).
     float reflectivity[B * B];

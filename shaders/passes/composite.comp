@@ -56,7 +56,7 @@ void main() {
     if (p.x >= int(frame.viewport.x) || p.y >= int(frame.viewport.y)) return;
     vec4 lit = FETCH(u_lit, ivec3(p, 0));
 #if LIT_CARRIES_R
-    // Issue 13: coverage and r come with the lit colour (lit.a = 0.5 + r / 2 where covered, 0
+    // Coverage and r come with the lit colour (lit.a = 0.5 + r / 2 where covered, 0
     // where not; passes/lighting.comp), one fetch instead of two. r is the G-buffer's RGBA8
     // value k / 255, which the half float keeps to 2.5e-4, so rounding to k / 255 recovers it.
     bool covered = lit.a > 0.25;

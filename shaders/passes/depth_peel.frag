@@ -2,7 +2,7 @@
 // Geometry pass with depth peeling (seed 000, 1.5.1 and 2.2): fragment stage.
 // Layer 0 is the ordinary G-buffer; layer i > 0 keeps only fragments strictly behind
 // layer i-1 at the same pixel (Everitt 2001), and the depth test keeps the nearest of them.
-// Two variants (issue 13, passes/depth_peel.cpp): PEEL_DEPTH_ONLY 1 is the depth pass, which
+// Two variants (passes/depth_peel.cpp): PEEL_DEPTH_ONLY 1 is the depth pass, which
 // only peels (PEEL_TEST: layer i > 0) and writes the layer's depth; PEEL_DEPTH_ONLY 0 shades
 // the G-buffer afterwards with the depth test EQUAL and early fragment tests, so the material
 // is evaluated once per pixel instead of for every fragment the peel or the depth test rejects
@@ -13,7 +13,7 @@
 #ifndef PEEL_TEST
 #define PEEL_TEST 0
 #endif
-// Issue 13: the shading pass is compiled per material kind (GpuScene::material_features), as
+// The shading pass is compiled per material kind (GpuScene::material_features), as
 // llvmpipe runs the texture samples of a branch no lane takes: MATERIAL_TEXTURES 0 for a
 // material without textures, MATERIAL_AUTO_R 0 for one with an explicit reflectivity.
 #ifndef MATERIAL_TEXTURES

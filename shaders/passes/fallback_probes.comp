@@ -1,6 +1,6 @@
 #version 450 core
 // fallback_probes: reflection probes, seed 004's local cube maps between screen space and the
-// global environment (issue 12; cpp/passes/fallback_probes.h).
+// global environment (cpp/passes/fallback_probes.h).
 //   STAGE 0, capture: one invocation per cube-map texel (x, y, 6 * probe + face): the ray from
 //            the probe's centre through the texel, traced against the triangles and shaded by
 //            lib/trace_shade.glsl as seen from the probe (viewer = the ray's origin); rgb the

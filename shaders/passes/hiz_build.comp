@@ -4,7 +4,7 @@
 // coarser cell holds the min and max of its children: 2x2, or up to 3x3 for the last cell
 // of an odd-sized level, so that every level-0 pixel is covered at every level.
 // With HIZ_TRACE_ATLAS each cell is also written, as the tracer reads it, into the atlas
-// "hiz_trace" (lib/hiz_atlas.glsl; issue 13).
+// "hiz_trace" (lib/hiz_atlas.glsl).
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"

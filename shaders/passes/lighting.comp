@@ -46,7 +46,7 @@ layout(local_size_x = COVERED_TILE_SIZE, local_size_y = COVERED_TILE_SIZE, local
 void main() {
     lights_load();  // before any control flow (lib/lights.glsl)
 #if TILED
-    // Issue 13: only covered tiles are dispatched; the rest of every layer was cleared to what an
+    // Only covered tiles are dispatched; the rest of every layer was cleared to what an
     // uncovered texel gets below.
     ivec2 grid = covered_tile_grid();
     int entry = int(covered_tile[uint(u_tiles) + gl_WorkGroupID.x]);

@@ -12,7 +12,7 @@
 // ray its pixels can reuse into shared memory once, then every pixel sums from there; the
 // group is 16x16 pixels with an apron of `reuse_radius` trace pixels (the thesis used 32x32
 // groups whose edge pixels only fetch). Where the passes read by imageLoad (llvmpipe, whose
-// shared-memory loads are slow: issue 13) resolve_fetch.comp fetches every ray once into
+// shared-memory loads are slow:) resolve_fetch.comp fetches every ray once into
 // textures instead, and the pixels sum from those (RESOLVE_SHARED_TILE 0): the same sums.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
@@ -30,7 +30,7 @@
 #ifndef OWN_RAYS_ONLY
 #define OWN_RAYS_ONLY 0
 #endif
-// Issue 13: 1: the group fills a shared tile with its neighbours' rays (the thesis's design);
+// 1: the group fills a shared tile with its neighbours' rays (the thesis's design);
 // 0: they come from resolve_fetch's textures by imageLoad (FETCH_BY_IMAGE: llvmpipe, whose
 // shared-memory loads go one lane and one component at a time through the stack; passes/resolve.cpp).
 #ifndef RESOLVE_SHARED_TILE
@@ -40,7 +40,7 @@
 layout(binding = 8, rgba32f) readonly uniform image2DArray u_ray_color;   // resolve_fetch.comp
 layout(binding = 9, rgba32f) readonly uniform image2DArray u_ray_target;
 #endif
-// Issue 11 (Settings.skip): the dispatch runs over the classify pass's resolve list
+// Settings.skip: the dispatch runs over the classify pass's resolve list
 // (resolve_list.glsl): one invocation per receiving pixel for the own-rays resolve, one group
 // per 16x16 tile holding a receiver for the tiled one. The classify pass wrote every other
 // pixel's reflection (0, or the environment where the surface is rougher than the cutoff).
@@ -57,7 +57,7 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 layout(local_size_x = 16, local_size_y = 16, local_size_z = 1) in;
 #endif
 
-// Settings the per-ray and per-neighbour loops read, read once at the start of main (issue 13):
+// Settings the per-ray and per-neighbour loops read, read once at the start of main:
 // llvmpipe (Mesa 22.3) reads a uniform-block value lane by lane, with a bounds check per lane,
 // wherever lane 0 may be masked off (in a loop, an if, or after a return).
 int g_rays_per_pixel, g_edge_aware, g_reuse_weighting;
@@ -91,16 +91,16 @@ vec3 previous_view_position(vec2 pix, float z) {
 const int GROUP = 16;
 const int MAX_TILE = GROUP + 2 * 2;  // reuse radius <= 2, downscale 1 is the widest tile
 const int TILE_ENTRIES = MAX_TILE * MAX_TILE;
-// Ray slots: two rays of the widest tile. Issue 13: 32 004 bytes of shared memory in all, within
+// Ray slots: two rays of the widest tile. 32 004 bytes of shared memory in all, within
 // the 32 KiB every OpenGL 4.3 device offers; at full resolution and radius 1, 4 rays now take two
 // chunks instead of four (each chunk pays two barriers, the origins and every neighbour's edge weight).
 const int TILE_CAPACITY = 2 * TILE_ENTRIES;
 
 #if !OWN_RAYS_ONLY && RESOLVE_SHARED_TILE
 // Ray data of a chunk of rays of every trace pixel in the tile, entry (ray - chunk start) *
-// entries + tile entry: as many rays as fit in TILE_CAPACITY entries per chunk (issue 13: each
+// entries + tile entry: as many rays as fit in TILE_CAPACITY entries per chunk (each
 // chunk costs two barriers, which llvmpipe pays dearly; up to 8 rays at half resolution fit in one).
-// Issue 13: a pixel reads 8 floats per reused ray and 4 per neighbour (was 9 and 6): llvmpipe
+// A pixel reads 8 floats per reused ray and 4 per neighbour (was 9 and 6): llvmpipe
 // (Mesa 22.3) loads shared memory one lane and one component at a time, so these reads, 36 rays
 // per pixel at the thesis's configuration, cost more than the arithmetic on them.
 shared vec4 s_color[TILE_CAPACITY];     // rgb: radiance the ray brings; a: its weight
@@ -162,7 +162,7 @@ void main() {
     float sum_w = 0.0;
 
 #if !OWN_RAYS_ONLY && !RESOLVE_LIST && RESOLVE_SHARED_TILE
-    // Issue 13: a group none of whose pixels receives rays (most of a frame: sky, rough or
+    // A group none of whose pixels receives rays (most of a frame: sky, rough or
     // non-reflective surfaces) needs no ray data at all; it writes what a non-receiving pixel
     // writes below and leaves, skipping the tile fetches. One group vote costs two barriers.
     if (lid == 0) s_any_receiver = 0u;
@@ -178,14 +178,14 @@ void main() {
 #if OWN_RAYS_ONLY
     // Full-resolution rays whose neighbours weigh nothing here (reuse radius 0, or mirror rays
     // with BRDF weights: a mirror ray serves only its own pixel): each pixel fetches its own
-    // rays directly, with no tile, shared memory, group vote or barrier (issue 13). The same sums as the
+    // rays directly, with no tile, shared memory, group vote or barrier. The same sums as the
     // tiled path below, term for term.
     if (receives && FETCH(u_sample, ivec3(base, 0)).w > 0.5) {
         for (int r = 0; r < g_rays_per_pixel; ++r) {
             RayResult ray = fetch_ray(base, r, p, size);
             if (ray.color.a <= 0.0) continue;
             // The edge weight of a pixel's own rays (edge_weight(p, n, p, n)) is one factor
-            // common to every term: it cancels in the mean (issue 13: on llvmpipe its exp and
+            // common to every term: it cancels in the mean (on llvmpipe its exp and
             // pow ran per ray, taken or not).
             float w = ray.color.a;
             sum_c += w * ray.color.rgb;
@@ -204,7 +204,7 @@ void main() {
         if (r0 > 0) barrier();  // every pixel has summed the previous chunk
         // Fetch rays r0 .. r0 + rays - 1 of every trace pixel in the tile once: hit colour,
         // weight, hit point or direction, pdf (what every pixel reusing them needs, precomputed
-        // here), and with the first chunk the trace pixel's surface. Issue 13: every shared
+        // here), and with the first chunk the trace pixel's surface. Every shared
         // array is written once per entry (llvmpipe stores shared memory one lane at a time), and
         // the rays' origin is recomputed per chunk instead of passing through shared memory.
         for (int e = lid; e < entries; e += GROUP * GROUP) {
@@ -230,7 +230,7 @@ void main() {
 #endif
         if (!receives) continue;
         // Neighbours outer, rays inner: a neighbour's edge weight depends on it alone, so it is
-        // computed once for all its rays, and a neighbour it zeroes adds nothing (issue 13; the
+        // computed once for all its rays, and a neighbour it zeroes adds nothing (the
         // sums' order changes, by float rounding only). Every ray runs the same instructions, the
         // cases chosen by selects: llvmpipe runs 8 pixels in SIMD lanes and executes a branch
         // that any lane takes for all of them, masked.

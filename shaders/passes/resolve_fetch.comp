@@ -1,7 +1,7 @@
 #version 450 core
 // resolve_fetch: the resolve's tile fill (seed 000, 2.4: every ray's radiance and weight, and where
 // it went, fetched once and reused by every pixel within reuse_radius) written to two textures
-// instead of the resolve's shared memory. Issue 13: llvmpipe (Mesa 22.3) loads shared memory one
+// instead of the resolve's shared memory. Llvmpipe (Mesa 22.3) loads shared memory one
 // lane and one component at a time, each through the stack (a perf profile of the thesis
 // configuration's resolve: ~60 % of the pass in those loads), while an imageLoad is inline; so
 // where the passes read their inputs by imageLoad (FETCH_BY_IMAGE, the CPU device) the resolve

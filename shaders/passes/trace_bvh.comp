@@ -1,5 +1,5 @@
 #version 450 core
-// trace_bvh: reflection rays traced against the scene's triangles (issue 12), with the
+// trace_bvh: reflection rays traced against the scene's triangles, with the
 // trace-and-shade code of the reference pass (lib/trace_shade.glsl): the BVH hit shaded by the
 // G-buffer's own material and lighting code and the frame's shadow map (SHADOWS) or a traced
 // shadow ray (TRACED_SHADOWS, Settings.bvh_shadows "traced"), seen from the ray's origin: the
@@ -8,7 +8,7 @@
 //              generated exactly as the screen-space tracers generate it
 //              (lib/ray_generation.glsl), no screen space at all. Writes the rays.* outputs
 //              of the screen-space tracers (rays.hit always a screen miss: the radiance comes
-//              from rays.radiance) and rays.radiance. With COMPACT (Settings.skip, issue 11)
+//              from rays.radiance) and rays.radiance. With COMPACT (Settings.skip)
 //              in the same three stages as the fallback: 0 draws every ray (one invocation
 //              per trace pixel) and lists those with a weight, 2 traces the list, so that an
 //              adaptive pixel's
@@ -123,7 +123,7 @@ vec4 shade_screen_hit(vec4 hit, vec3 origin, vec3 dir) {
 #endif
 
 // Whether screen space resolved a ray fully: a hit at full strength. A miss or a faded hit
-// (screen border, toward the camera, distance) is what the BVH continues (issue 12).
+// (screen border, toward the camera, distance) is what the BVH continues.
 bool screen_resolved(vec4 hit) {
     return hit.z > 0.5 && hit.w >= 1.0;
 }

@@ -33,12 +33,12 @@
 
 // Two rays per invocation, walked in lockstep (seed 002 4.7.2's point: more independent
 // dependent-fetch chains in flight; on llvmpipe, where an invocation is a SIMD lane, the CPU
-// overlaps the two chains' latencies: 1.08-1.15x, issue 13). A group of 8x4 invocations serves the 64 trace
+// overlaps the two chains' latencies: 1.08-1.15x). A group of 8x4 invocations serves the 64 trace
 // pixels (or ray-list entries) an 8x8 group served. A row of 8 invocations (one SIMD vector on
 // llvmpipe, which steps it until its longest walk ends) serves neighbours, which walk alike: rows
 // 2y and 2y + 1 of the 8x8 pixels, or 16 consecutive list entries (a 4x4 block of classify's
 // list). With rows y, y + 4 and entries i, i + 32 the vector's lanes did 0.67 of the steps it
-// paid for on hall (0.75 spheres_and_boxes), now 0.72 (0.80): 1.05-1.1x (issue 13).
+// paid for on hall (0.75 spheres_and_boxes), now 0.72 (0.80): 1.05-1.1x.
 layout(local_size_x = 8, local_size_y = 4, local_size_z = 1) in;
 
 // Texture units 0-4; with FETCH_BY_IMAGE the float inputs are image units 3-5 (trace_pass.cpp).
@@ -49,11 +49,11 @@ layout(binding = 3) uniform sampler2DArray u_material;
 // RG32F (min s, slab back s) per layer, every level in one image (lib/hiz_atlas.glsl): lod 0
 INPUT_ARRAY(u_hiz_trace, 4, 5, rg32f);
 
-// Issue 11: the layers that hold a surface somewhere (frame.stats["layers_used"] with
+// The layers that hold a surface somewhere (frame.stats["layers_used"] with
 // Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
 // empty everywhere, where it would only find the empty layer that ends it.
 uniform int u_layers_used;
-// Settings the walk reads on every step, read once at the start of main (issue 13): llvmpipe
+// Settings the walk reads on every step, read once at the start of main: llvmpipe
 // (Mesa 22.3) reads a uniform-block value inside a loop lane by lane, with a bounds check per
 // lane, since the loop's mask may have turned lane 0 off (0.91-0.94x of the pass without).
 int g_max_level, g_start_level, g_stop_level, g_max_steps, g_layers;
@@ -62,7 +62,7 @@ int g_max_level, g_start_level, g_stop_level, g_max_steps, g_layers;
 #define TRACE_ONE_LAYER 0
 #endif
 // 1 when Settings.hiz_linear_steps > 0 (trace_pass.cpp): the level-0 steps' bookkeeping is
-// compiled in only then (each select it costs runs on every step: 1.04x, issue 13).
+// compiled in only then (each select it costs runs on every step: 1.04x).
 #ifndef HIZ_LINEAR_STEPS
 #define HIZ_LINEAR_STEPS 1
 #endif
@@ -73,7 +73,7 @@ ivec2 hiz_level_size(int level) {
     return max(ivec2(frame.viewport.xy) >> level, ivec2(1));
 }
 
-// (min s, slab back s) of a cell: lod 0 whatever the level (issue 13, lib/hiz_atlas.glsl).
+// (min s, slab back s) of a cell: lod 0 whatever the level (lib/hiz_atlas.glsl).
 vec2 hiz_fetch(ivec2 cell, int layer, int level) {
     return FETCH(u_hiz_trace, ivec3(hiz_atlas_origin(level) + cell, layer)).xy;
 }
@@ -134,7 +134,7 @@ HizWalk walk_start(ReflectionRay ray, bool traced) {
     vec3 o = vec3(a.xy, screen_depth_of_view(-ray.origin.z));
     vec3 e = vec3(b.xy, screen_depth_of_view(-end.z));
     e = mix(o, e, screen_exit(o.xy, e.xy, frame.viewport.xy));
-    // Issue 8: an origin pushed off its surface by a large origin_bias can project outside the
+    // An origin pushed off its surface by a large origin_bias can project outside the
     // image, where the pyramid has no cells (texelFetch outside a level is undefined and gave
     // hits off the screen): such a ray is not traced.
     if (any(lessThan(o.xy, vec2(0.0))) || any(greaterThanEqual(o.xy, frame.viewport.xy))) return w;
@@ -186,7 +186,7 @@ void walk_step(inout HizWalk w) {
     bool hit = layer >= 0 && w.level <= g_stop_level;
     // Nothing for this ray in the cell: cross it and go up (after the linear steps, the level
     // stays 0 while they last); else go down. Selects, no branches (llvmpipe runs every
-    // if-block, taken or not, even on a uniform condition: issue 13).
+    // if-block, taken or not, even on a uniform condition:).
     bool miss = layer < 0;
 #if HIZ_LINEAR_STEPS
     int up = w.linear_left > 1 ? w.level : w.linear_left == 1 ? g_start_level : min(w.level + 1, g_max_level);
@@ -230,7 +230,7 @@ HizHit walk_result(HizWalk w) {
         vec2 lo, hi;
         hiz_cell_bounds(cell, w.level, lo, hi);
         result.hit = true;
-        result.pixel = clamp(w.o.xy + w.v.xy * th, lo + 0.001, hi - 0.001);  // off the cell's edges (issue 8)
+        result.pixel = clamp(w.o.xy + w.v.xy * th, lo + 0.001, hi - 0.001);  // off the cell's edges
         result.layer = w.layer;
         result.s = w.front;
     }
@@ -265,7 +265,7 @@ ReflectionRay slot_ray(ivec3 id, bool has, out GSample g, out bool keep) {
                        texelFetch(u_material, ivec3(p, 0), 0));
     keep = has;
 #if defined(EXTRA_RAYS) && EXTRA_RAYS
-    // Issue 11's variance-guided second pass (variance_rays.comp listed this pixel): only the
+    // The variance-guided second pass (variance_rays.comp listed this pixel): only the
     // rays adaptive_rays left out, drawn exactly as a full trace draws ray id.z.
     if (id.z < adaptive_ray_count(g.roughness)) keep = false;
 #endif
@@ -307,7 +307,7 @@ void main() {
     // Frame.stats of the variance-guided second trace (extra_rays, extra_depth_fetches): one
     // counter update for both rays. The first trace counts nothing: Frame.stats sums its rays
     // and fetches from rays.sample when asked (the atomic pair, which llvmpipe runs lane by
-    // lane, was 4-13 % of this pass: issue 13).
+    // lane, was 4-13 % of this pass:).
     bool c0 = keep0 && ray0.weight > 0.0, c1 = keep1 && ray1.weight > 0.0;
     ray_list_add(uint(c0) + uint(c1), (c0 ? uint(walk_fetches(w0)) : 0u) + (c1 ? uint(walk_fetches(w1)) : 0u));
 #endif

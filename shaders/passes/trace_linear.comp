@@ -30,11 +30,11 @@ layout(binding = 3) uniform sampler2DArray u_material;
 
 float g_fetches = 0.0;
 // Settings the march reads on every step, read once at the start of main, before its first
-// `return` (issue 13): llvmpipe (Mesa 22.3) reads a uniform-block value lane by lane, with a
+// `return`: llvmpipe (Mesa 22.3) reads a uniform-block value lane by lane, with a
 // bounds check per lane, wherever lane 0 may be masked off (inside a loop, an if, or after a return).
 int g_max_steps, g_thickness_mode, g_refine_steps, g_layers;
 float g_stride, g_thickness, g_thickness_scale, g_far;
-// Issue 11: the layers that hold a surface somewhere (frame.stats["layers_used"] with
+// The layers that hold a surface somewhere (frame.stats["layers_used"] with
 // Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer
 // empty everywhere, where it would only find the empty layer that ends it.
 uniform int u_layers_used;
@@ -53,7 +53,7 @@ float layer_depth(ivec2 pixel, int layer) {
 // the first surface the ray is in front of, or at an empty layer: a ray in front of every
 // surface costs one fetch whatever the layer count (the thesis fetches every layer).
 // The loop is left by `break`, and for one layer in use (TRACE_ONE_LAYER, trace_pass.cpp) there
-// is no loop: `return`s inside a loop, and a loop of one iteration, cost llvmpipe (issue 13).
+// is no loop: `return`s inside a loop, and a loop of one iteration, cost llvmpipe.
 int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
 #if TRACE_ONE_LAYER
     float d = layer_depth(pixel, 0);
@@ -128,7 +128,7 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
     float end_x = p1.x * step_dir;
     ivec2 last_pixel = ivec2(frame.viewport.xy) - 1;
 
-    // The march leaves its loop by `break` and refines a hit after it (issue 13: a `return`
+    // The march leaves its loop by `break` and refines a hit after it (a `return`
     // inside the loop costs llvmpipe).
     int layer = -1;
     float surface = 0.0, thick = 0.0;
@@ -138,7 +138,7 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         qz += dqz;
         k += dk;
         if (p.x * step_dir > end_x) break;
-        // Half a step on, but not past the segment's end (issue 8): beyond it 1/w (k) of a ray
+        // Half a step on, but not past the segment's end: beyond it 1/w (k) of a ray
         // running toward its vanishing point can reach 0 or less, and the step's depth range
         // then spanned everything in front of the origin, a false hit far off the ray.
         float half_step = clamp((end_x - p.x * step_dir) / g_stride, 0.0, 0.5);
@@ -177,7 +177,7 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         vec2 hp = p + dp * s;
         hp = permute ? hp.yx : hp;
         result.hit = true;
-        // Stay inside the pixel whose surface was hit, off its edges too (issue 8): a hit exactly on
+        // Stay inside the pixel whose surface was hit, off its edges too: a hit exactly on
         // the lower edge read back as the neighbouring row in hit_uv's top-down convention.
         result.pixel = clamp(hp, vec2(pixel) + 0.001, vec2(pixel) + 0.999);
         result.layer = layer;
@@ -196,7 +196,7 @@ void main() {
     g_far = frame.clip.y;
     g_layers = min(ssr.layers, u_layers_used);
 #if RAY_LIST
-    // Only the pixels the classify pass listed (issue 11); it wrote the others' outputs.
+    // Only the pixels the classify pass listed; it wrote the others' outputs.
     ivec3 id;
     if (!ray_list_entry(id)) return;
 #else
@@ -207,7 +207,7 @@ void main() {
     GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), FETCH(u_normal, ivec3(p, 0)),
                                texelFetch(u_material, ivec3(p, 0), 0));
 #if defined(EXTRA_RAYS) && EXTRA_RAYS
-    // Issue 11's variance-guided second pass (variance_rays.comp listed this pixel): only the
+    // The variance-guided second pass (variance_rays.comp listed this pixel): only the
     // rays adaptive_rays left out, drawn exactly as a full trace draws ray id.z.
     if (id.z < adaptive_ray_count(g.roughness)) return;
 #endif

@@ -1,5 +1,5 @@
 #version 450 core
-// variance_rays (issue 11; FidelityFX SSSR's variance-guided extra rays; seed 000 4.4's future
+// variance_rays (FidelityFX SSSR's variance-guided extra rays; seed 000 4.4's future
 // work): where the adaptive first pass's rays disagree over a trace pixel's 3x3 neighbourhood,
 // list the pixel for a second trace of the rays adaptive_rays left out. The disagreement is the
 // relative standard deviation (std / mean) of the luminance the neighbourhood's rays bring: the

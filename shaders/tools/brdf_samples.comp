@@ -28,7 +28,7 @@ void main() {
     }
     vec3 v = normalize(u_view);
     BrdfSample s = sample_reflection(v, u_alpha, u_method, u);
-    // The resolve's BRDF reuse weight (brdf.glsl, issue 13) for this very direction and pdf: for
+    // The resolve's BRDF reuse weight (brdf.glsl) for this very direction and pdf: for
     // a pixel's own ray it must reproduce the sampler's weight.
     float reuse = s.pdf > 0.0 && s.weight > 0.0
         ? brdf_cosine_over_pdf(vec3(0.0, 0.0, 1.0), v, s.l, u_alpha, brdf_cosine_receiver(v.z, u_alpha), s.pdf)
