@@ -2,6 +2,9 @@
 
     python benchmarks/run_all.py [--device auto|gpu|cpu] [--out benchmarks/results] [--only NAME ...] [--quick]
 
+The docs' results pages (docs/gen_pages.py) are made from the run_all.json files under
+benchmarks/results/ and benchmarks/gpu-results/: commit a run's folder to publish it.
+
 Runs each benchmark script below as its own process on the chosen device, one after the other
 (never side by side: they would time each other), and writes
     <out>/<device>/run_all.json   the device, each benchmark's command, exit status, seconds and output
@@ -48,6 +51,18 @@ BENCHMARKS = {
 }
 
 
+def git_commit() -> str:
+    """The checkout's commit, "+dirty" when it has uncommitted changes (what the figures come from)."""
+    def git(*a):
+        return subprocess.run(["git", "-C", str(HERE), *a], capture_output=True, text=True, timeout=60)
+
+    head = git("rev-parse", "--short=10", "HEAD")
+    if head.returncode:
+        return "unknown (not a git checkout)"
+    dirty = git("status", "--porcelain", "--untracked-files=no").stdout.strip()
+    return head.stdout.strip() + ("+dirty" if dirty else "")
+
+
 def slug(text: str) -> str:
     return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")[:60]
 
@@ -67,6 +82,7 @@ def main() -> int:
     folder.mkdir(parents=True, exist_ok=True)
     print(f"device: {info['renderer']} ({info['device']}), {info['vendor']}, OpenGL {info['gl_version']}")
     results = {"device": info, "started": datetime.datetime.now(datetime.timezone.utc).isoformat(),
+               "commit": git_commit(), "command": "python benchmarks/run_all.py " + " ".join(sys.argv[1:]),
                "quick": args.quick, "python": sys.version, "ssrlab": ssrlab.__version__, "benchmarks": {}}
     names = args.only or list(BENCHMARKS)
     for name in names:
@@ -93,8 +109,7 @@ def main() -> int:
         (folder / "run_all.json").write_text(json.dumps(results, indent=1))
     md = [f"# Benchmarks on {info['renderer']}", "",
           f"{info['vendor']}, OpenGL {info['gl_version']}, device `{info['device']}`; "
-          f"{results['started'][:16]} UTC; `python benchmarks/run_all.py --device {args.device}"
-          f"{' --quick' if args.quick else ''}`", ""]
+          f"{results['started'][:16]} UTC; commit {results['commit']}; `{results['command']}`", ""]
     for name, r in results["benchmarks"].items():
         md += [f"## {name} ({r['seconds']:.0f} s, exit {r['exit']})", "", f"`{r['command']}`", "", "```",
                r["output"].rstrip(), "```", ""]

@@ -182,6 +182,16 @@ void bind_render(py::module_& m) {
                std::shared_ptr<Sequence> sequence) { return r.render(scene, camera, s, sequence.get()); },
             py::arg("scene"), py::arg("camera"), py::arg("settings"), py::arg("sequence") = nullptr,
             "Runs the chain of passes; returns the Frame (with a sequence: reads and becomes its history).")
+        .def(
+            "chain",
+            [](Renderer& r, const Scene& scene, const RenderSettings& s) {
+                py::list out;
+                for (const auto& e : r.chain(scene, s))
+                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs));
+                return out;
+            },
+            py::arg("scene"), py::arg("settings"),
+            "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs).")
         .def("begin_sequence", &Renderer::begin_sequence,
              "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
              "its history is dropped with it.")

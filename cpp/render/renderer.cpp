@@ -356,6 +356,21 @@ glm::vec2 Renderer::taa_jitter(TaaMode mode, int index) {
     return glm::vec2(float(radical_inverse(i, 2) - 0.5), float(radical_inverse(i, 3) - 0.5));
 }
 
+std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const RenderSettings& s) {
+    s.validate();
+    CurrentContext current(*ctx_);
+    const GpuScene& gs = gpu_scene(scene);
+    const ShadowSetup shadow = ShadowMapPass::fit(scene, gs.bounds(), s);
+    const bool reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
+    std::vector<ChainEntry> out;
+    for (RenderPass* p : build_chain(s, shadow.enabled, reflections)) {
+        ChainEntry e{p->name(), p->inputs(), {}};
+        for (const auto& d : p->outputs(s)) e.outputs.push_back(d.name);
+        out.push_back(std::move(e));
+    }
+    return out;
+}
+
 std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera, const RenderSettings& s,
                                         Sequence* sequence) {
     const auto wall_start = std::chrono::steady_clock::now();

@@ -55,6 +55,13 @@ public:
     // previous frame's textures from it, and the frame becomes its history (render/sequence.h).
     std::shared_ptr<Frame> render(const Scene& scene, const Camera& camera, const RenderSettings& settings,
                                   Sequence* sequence = nullptr);
+    // The passes a render of `scene` with `settings` runs, in order, each with the resources it
+    // reads and writes (what render() would run: the same build_chain, the same scene facts).
+    struct ChainEntry {
+        std::string pass;
+        std::vector<std::string> inputs, outputs;
+    };
+    std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings);
     // A new, empty sequence of frames (its history lives as long as it does).
     std::shared_ptr<Sequence> begin_sequence() { return std::make_shared<Sequence>(ctx_); }
     static glm::vec2 taa_jitter(TaaMode mode, int index);

@@ -1185,6 +1185,10 @@ class Renderer:
         """
         A new sequence: frames rendered with it read the previous frame's textures (temporal passes); its history is dropped with it.
         """
+    def chain(self, scene: Scene, settings: RenderSettings) -> list:
+        """
+        The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs).
+        """
     def check_gl(self) -> None:
         """
         Raises GLError if GL reported an error since the last check.

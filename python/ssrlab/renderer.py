@@ -8,6 +8,7 @@ are cached as float32 numpy arrays, row 0 at the top of the image).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import os
 import warnings
@@ -138,6 +139,22 @@ class Renderer:
         self._frames.add(frame)
         return frame
 
+    def chain(self, settings: Settings | None = None, scene: _core.Scene | None = None, **overrides) -> "Chain":
+        """The passes a render with `settings` runs, in order, each with the resources it reads and
+        writes: what ``render(scene, settings=settings).passes`` lists, without rendering. Which
+        passes run depends on the scene too (a shadow-casting light, surfaces that reflect); without
+        one, a small built-in scene with a shadowed sun and a mirror floor stands in."""
+        settings = settings if settings is not None else Settings()
+        if overrides:
+            settings = settings.replace(**overrides)
+        if scene is None:
+            from .scenes import mirror_test
+
+            scene = mirror_test()
+        settings = settings.resolved(self.info["device"])
+        return Chain([ChainPass(name, tuple(ins), tuple(outs))
+                      for name, ins, outs in self._native.chain(scene, settings.to_native())])
+
     def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, **overrides):
         """Renders the frames of a camera path as one sequence and yields their Frames in order.
 
@@ -230,6 +247,38 @@ class Renderer:
     def __repr__(self) -> str:
         i = self.info
         return f"Renderer(device={i['device']!r}, renderer={i['renderer']!r}, gl={i['gl_version']!r})"
+
+
+@dataclasses.dataclass(frozen=True)
+class ChainPass:
+    """One pass of a chain: its name and the resources (textures) it reads and writes."""
+
+    name: str
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+
+
+class Chain(list):
+    """Renderer.chain's result: the ordered passes (ChainPass), printable as a table."""
+
+    @property
+    def names(self) -> list[str]:
+        return [p.name for p in self]
+
+    def __str__(self) -> str:
+        lines = []
+        for i, p in enumerate(self):
+            lines.append(f"{i + 1:>2}. {p.name}")
+            lines.append(f"      reads:  {', '.join(p.inputs) or '-'}")
+            lines.append(f"      writes: {', '.join(p.outputs) or '-'}")
+        return "\n".join(lines)
+
+    def markdown(self) -> str:
+        """A Markdown table: pass, reads, writes."""
+        rows = ["| # | pass | reads | writes |", "|---|---|---|---|"]
+        rows += [f"| {i + 1} | `{p.name}` | {', '.join(f'`{x}`' for x in p.inputs) or '–'} | "
+                 f"{', '.join(f'`{x}`' for x in p.outputs) or '–'} |" for i, p in enumerate(self)]
+        return "\n".join(rows)
 
 
 class FrameStats(Mapping):

@@ -1,0 +1,68 @@
+"""Pages made when the docs are built (mkdocs-gen-files), so that none can go stale by hand:
+
+- notebooks/: every notebook under notebooks/, shown with its saved outputs (not executed);
+- results/: one page per device from the files a benchmark run wrote (run_all.json: the device,
+  the date, the commit and each benchmark's command and printed tables), never copied by hand.
+
+Building the docs opens no GL context and runs no benchmark.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import mkdocs_gen_files
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULT_FOLDERS = [ROOT / "benchmarks" / "results", ROOT / "benchmarks" / "gpu-results"]
+
+
+def notebooks() -> None:
+    names = sorted(p.stem for p in (ROOT / "notebooks").glob("*.ipynb"))
+    for name in names:
+        with mkdocs_gen_files.open(f"notebooks/{name}.ipynb", "w") as out:
+            out.write((ROOT / "notebooks" / f"{name}.ipynb").read_text())
+    with mkdocs_gen_files.open("notebooks/index.md", "w") as out:
+        out.write("# Notebooks\n\nThe notebooks under `notebooks/`, shown with the outputs they were saved with "
+                  "(the tests run each at a reduced size).\n\n")
+        for name in names:
+            out.write(f"- [{name}]({name}.ipynb)\n")
+
+
+def results() -> None:
+    pages = []
+    for folder in RESULT_FOLDERS:
+        for run in sorted(folder.glob("*/run_all.json")):
+            data = json.loads(run.read_text())
+            device = data.get("device", {})
+            slug = run.parent.name
+            commit = data.get("commit") or "not recorded (a run from before run_all.py recorded its commit)"
+            lines = [f"# {device.get('renderer', slug)}", "",
+                     "| | |", "|---|---|",
+                     f"| device | {device.get('renderer', '?')} ({device.get('vendor', '?')}, OpenGL "
+                     f"{device.get('gl_version', '?')}, `{device.get('device', '?')}`) |",
+                     f"| date | {data.get('started', '?')[:16].replace('T', ' ')} UTC |",
+                     f"| commit | {commit} |",
+                     f"| command | `{data.get('command', 'python benchmarks/run_all.py')}` |",
+                     f"| from | `{run.relative_to(ROOT)}` |", ""]
+            if data.get("quick"):
+                lines += ["!!! warning \"A --quick run\"", "    Reduced sizes: a smoke run, not figures to quote.", ""]
+            for name, b in data.get("benchmarks", {}).items():
+                lines += [f"## {name}", "", f"`{b.get('command', name)}` — exit {b.get('exit')}, "
+                          f"{b.get('seconds', 0):.0f} s", "", "```text", str(b.get("output", "")).rstrip(), "```", ""]
+            with mkdocs_gen_files.open(f"results/{slug}.md", "w") as out:
+                out.write("\n".join(lines))
+            pages.append((device.get("renderer", slug), slug, data.get("started", "?")[:10]))
+    with mkdocs_gen_files.open("results/index.md", "w") as out:
+        out.write("# Results\n\nEvery page here is made from the files `python benchmarks/run_all.py` wrote on one "
+                  "device (device, date, commit and command at its head). Run it to add a device; nothing on these "
+                  "pages is typed by hand.\n\n")
+        for name, slug, date in pages:
+            out.write(f"- [{name}]({slug}.md), {date}\n")
+        if not pages:
+            out.write("No benchmark run has been committed yet.\n")
+
+
+notebooks()
+results()
