@@ -11,27 +11,34 @@
 
 from ._core import (Camera, DeviceError, Environment, GLError, Light, Material, OutputError, SceneError,
                     ShaderError)
+from ._package import __version__
 from . import image_codec as _image_codec
 
 _image_codec.register()  # image files through Python packages where the extension has no OpenImageIO
-from . import bench, display, experiments, io, metrics, models, reference, scenes, transforms
-from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir
-from .sequence import CameraPath
-from .scene import Scene, SceneWarning, directional_light, point_light
-from .settings import Settings
+
+# The library (rendering) and the truth (references, metrics) are imported with the package; the
+# view (display) gives their results a Jupyter representation. The lab (sweeps, experiments, the
+# cross-check) is imported on first use: `ssrlab.bench` works, `import ssrlab` does not load it.
+from . import io, metrics, models, reference, scenes, transforms  # noqa: E402
+from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir  # noqa: E402
+from .sequence import CameraPath  # noqa: E402
+from .scene import Scene, SceneWarning, directional_light, point_light  # noqa: E402
+from .settings import Settings  # noqa: E402
+from . import display  # noqa: E402
+
+display.install()
+
+_LAB = ("analytic", "bench", "cli", "crosscheck", "experiments", "glossy", "hybrid", "journal", "precision",
+        "progress")
 
 
-def _package_version() -> str:
-    # pyproject.toml is the one place the version is written; the installed metadata carries it.
-    from importlib.metadata import PackageNotFoundError, version
+def __getattr__(name: str):
+    if name in _LAB:
+        import importlib
 
-    try:
-        return version("ssrlab")
-    except PackageNotFoundError:  # imported from a source tree that was never installed
-        return "0+unknown"
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module 'ssrlab' has no attribute {name!r}")
 
-
-__version__ = _package_version()
 
 __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",

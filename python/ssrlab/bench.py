@@ -679,7 +679,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
 
     Every argument is checked before anything renders: ValueError names the bad one.
     """
-    from . import __version__
+    from ._package import __version__
     from .reference import KINDS
     from .renderer import check_device
 

@@ -53,7 +53,7 @@ def _device_arg(text: str) -> str:
 
 
 def cmd_info(args) -> int:
-    from . import DeviceError
+    from ._core import DeviceError
     from .renderer import Renderer, devices
 
     found = devices(probe=True)

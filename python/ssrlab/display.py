@@ -19,6 +19,12 @@ import math
 
 import numpy as np
 
+from .io import linear_to_srgb
+from .metrics import error_image, flip_map, image_metrics
+from .reference import ConvergedReference, PerRayReference, ReferenceImage, coverage
+from .renderer import Frame, GBuffer, RayResults
+from .settings import Settings
+
 # Tiles narrower than this are enlarged (by pixel repetition) so a 64x48 test frame is visible.
 MIN_TILE_WIDTH = 192
 # Tiles wider than this are shrunk (by striding) so a grid of 640x360 layers stays a sane size.
@@ -29,7 +35,6 @@ GAP = 4  # pixels between tiles
 # -- images ---------------------------------------------------------------------------------------
 def srgb(linear: np.ndarray, exposure: float = 1.0) -> np.ndarray:
     """Linear radiance (h, w, 3) as display sRGB floats in [0, 1]."""
-    from .io import linear_to_srgb
 
     return linear_to_srgb(np.nan_to_num(np.asarray(linear, np.float32)), exposure)
 
@@ -205,7 +210,6 @@ def rays_html(rays, layers: int) -> str:
 
 def error_tile(image: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, float]:
     """The per-pixel thesis error as a colour image, and the error shown as white (its 99th percentile)."""
-    from .metrics import error_image
 
     e = error_image(image, truth)
     top = float(np.percentile(e, 99)) if e.size else 0.0
@@ -216,7 +220,6 @@ def error_tile(image: np.ndarray, truth: np.ndarray) -> tuple[np.ndarray, float]
 def flip_tile(image: np.ndarray, truth: np.ndarray, dynamic_range: str = "ldr") -> tuple[np.ndarray, float] | None:
     """The FLIP error map (ssrlab.metrics.flip_map) through the magma colour map over FLIP's
     own range [0, 1], as FLIP's authors show it, and its mean; None without flip-evaluator."""
-    from .metrics import flip_map
 
     try:
         e = flip_map(image, truth, dynamic_range)
@@ -240,7 +243,6 @@ def converged_png(ref) -> bytes:
 
 
 def converged_html(ref) -> str:
-    from .metrics import image_metrics
 
     m = image_metrics(ref._frame.color, ref.color, ref.reflective)
     stats = table(["", "thesis error", "RMSE", "PSNR dB", "LDR-FLIP", "HDR-FLIP", "SSIM"],
@@ -261,7 +263,6 @@ def per_ray_summary(ref) -> list[list]:
         rows += [["truly hit a surface", f"{100 * hit[traced].mean():.1f} %"],
                  ["true hit on screen", f"{100 * on_screen[traced].mean():.1f} %"],
                  ["true hit in a G-buffer layer", f"{100 * (ref.in_gbuffer >= 0)[traced].mean():.1f} %"]]
-        from .reference import coverage
 
         rows.append(["SSR found the true surface (coverage)", f"{100 * coverage(frame, ref):.1f} %"])
     rows.append(["GPU ms", sum(v for k, v in ref.timings.items() if "." not in k and k != "total")])
@@ -287,3 +288,22 @@ def settings_html(settings) -> str:
             for k, v in changed.items()]
     return ("<div>" + table(["field", "value", "default", "unit", "meaning"], rows,
                             caption=f"Settings: {len(rows)} field(s) differ from the defaults") + "</div>")
+
+
+# -- Jupyter ---------------------------------------------------------------------------------------
+# The result classes know nothing of how they are drawn: this module, the view, gives them their
+# rich representations, so that the renderer, the settings and the references never import it.
+
+def install() -> None:
+    """Gives the result classes their Jupyter representations (done when ssrlab is imported)."""
+    Frame._repr_png_ = lambda self: frame_png(self)  # the final image, sRGB
+    Frame._repr_html_ = lambda self: frame_html(self)  # the image beside a table of GPU time per pass
+    GBuffer._repr_png_ = lambda self: gbuffer_png(self)  # per layer: lit colour, normal, depth
+    GBuffer._repr_html_ = lambda self: gbuffer_html(self)
+    RayResults._repr_png_ = lambda self: rays_png(self, self._frame.settings.layers)
+    RayResults._repr_html_ = lambda self: rays_html(self, self._frame.settings.layers)
+    ReferenceImage._repr_png_ = lambda self: reference_image_png(self)
+    ConvergedReference._repr_png_ = lambda self: converged_png(self)  # reference, frame, error
+    ConvergedReference._repr_html_ = lambda self: converged_html(self)
+    PerRayReference._repr_html_ = lambda self: per_ray_html(self)
+    Settings._repr_html_ = lambda self: settings_html(self)  # the fields that differ from the defaults

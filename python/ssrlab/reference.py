@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._package import __version__, shader_dir
 from .settings import Settings
 
 KINDS = ("converged", "thesis")
@@ -66,10 +67,6 @@ class ReferenceImage:
         return (f"<ReferenceImage {self.kind} {w}x{h}, {self.rays_per_pixel} ray(s) per pixel, "
                 f"{int(self.reflective.sum())} reflective pixel(s)>")
 
-    def _repr_png_(self) -> bytes:
-        from .display import reference_image_png
-
-        return reference_image_png(self)
 
 
 def cache_dir(folder=None) -> Path:
@@ -86,8 +83,6 @@ def _camera_key(camera) -> list:
 def shader_sources_hash() -> str:
     """A digest of every GLSL file the package renders with: a reference computed by other
     shader code is another reference."""
-    from .renderer import shader_dir
-
     h = hashlib.sha256()
     root = shader_dir()
     for f in sorted(p for p in root.rglob("*") if p.is_file()):
@@ -109,8 +104,6 @@ def cache_key(kind: str, scene, camera, settings: Settings, rays: int | None, se
     settings that change it, its rays and seed, and the code (version and shader sources).
     Two machines asked for the same reference compute the same key, so a store on a shared
     path serves a whole cluster."""
-    from . import __version__
-
     fields = reference_fields(kind, settings)
     payload = {"kind": kind, "scene": scene.content_hash(), "camera": _camera_key(camera), "settings": fields,
                "rays": rays, "seed": seed, "version": __version__, "shaders": shader_sources_hash()}
@@ -185,16 +178,7 @@ class ConvergedReference(_FrameResult):
         s = self._frame.settings
         return f"<ConvergedReference {s.width}x{s.height}, {self.rays_per_pixel} ray(s) per reflective pixel>"
 
-    def _repr_png_(self) -> bytes:
-        """The reference, the frame and the error image side by side."""
-        from .display import converged_png
 
-        return converged_png(self)
-
-    def _repr_html_(self) -> str:
-        from .display import converged_html
-
-        return converged_html(self)
 
 
 # Relative view-depth tolerance when matching a true hit to a G-buffer sample (in_gbuffer).
@@ -285,11 +269,6 @@ class PerRayReference(_FrameResult):
         share = f", {100 * self.hit[traced].mean():.1f} % of the traced rays truly hit" if traced.any() else ""
         return f"<PerRayReference {n} ray(s) per pixel at {w}x{h}{share}>"
 
-    def _repr_html_(self) -> str:
-        """A summary: rays traced, true hits, hits on screen and in the G-buffer, SSR's coverage."""
-        from .display import per_ray_html
-
-        return per_ray_html(self)
 
     def _pixel_depth_span(self, depth: np.ndarray) -> np.ndarray:
         """World size of one pixel at view depth `depth`: the G-buffer stores a pixel's centre while

@@ -27,9 +27,7 @@ class NoReflectionWarning(UserWarning):
     """A render that asked for reflections traced none: nothing in the scene reflects."""
 
 
-def shader_dir() -> Path:
-    """The GLSL sources installed with the package."""
-    return Path(str(resources.files("ssrlab") / "shaders"))
+from ._package import shader_dir  # noqa: E402  (re-exported: ssrlab.shader_dir)
 
 
 DEVICE_ENV = "SSRLAB_DEVICE"
@@ -611,17 +609,7 @@ class Frame:
         return (f"<Frame {s.width}x{s.height}, {s.layers} layer(s), method={s.method!r}, "
                 f"passes {', '.join(passes)}{ms}>")
 
-    def _repr_png_(self) -> bytes:
-        """The final image, sRGB (Jupyter shows it when a cell ends with a frame)."""
-        from .display import frame_png
 
-        return frame_png(self)
-
-    def _repr_html_(self) -> str:
-        """The final image beside a table of GPU time per pass."""
-        from .display import frame_html
-
-        return frame_html(self)
 
 
 class GBuffer:
@@ -691,16 +679,7 @@ class GBuffer:
         s = self._frame.settings
         return f"<GBuffer {s.layers} layer(s) of {s.width}x{s.height}>"
 
-    def _repr_png_(self) -> bytes:
-        """A grid: one row per layer, columns lit colour, normal and depth."""
-        from .display import gbuffer_png
 
-        return gbuffer_png(self)
-
-    def _repr_html_(self) -> str:
-        from .display import gbuffer_html
-
-        return gbuffer_html(self)
 
 
 class RayResults:
@@ -783,16 +762,7 @@ class RayResults:
         n, h, w = self.hit.shape
         return f"<RayResults {n} ray(s) per pixel at {w}x{h}, mean {self.mean_fetches():.1f} fetches per ray>"
 
-    def _repr_png_(self) -> bytes:
-        """Hit share per pixel, hit layer of the first ray, depth fetches per ray."""
-        from .display import rays_png
 
-        return rays_png(self, self._frame.settings.layers)
-
-    def _repr_html_(self) -> str:
-        from .display import rays_html
-
-        return rays_html(self, self._frame.settings.layers)
 
 
 # The largest far/near ratio at which depth_mode="standard" keeps SSR hit positions within a

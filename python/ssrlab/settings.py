@@ -351,10 +351,6 @@ class Settings:
         # Only what differs from the defaults, so that a repr stays readable and evaluates back.
         return "Settings(" + ", ".join(f"{k}={v!r}" for k, v in self.changed().items()) + ")"
 
-    def _repr_html_(self) -> str:
-        from .display import settings_html
-
-        return settings_html(self)
 
     def resolved(self, device: str) -> "Settings":
         """A copy with every 'auto' value decided for `device` ('cpu': llvmpipe, 'gpu'): what a
