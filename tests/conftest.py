@@ -53,6 +53,16 @@ def model_path(rel: str) -> Path:
     pytest.skip(f"sample model {rel} not found under {MODELS}")
 
 
+def suzanne_copy(tmp_path: Path) -> Path:
+    """A copy of the Suzanne sample model in tmp_path/model (to edit), or a skip without the models."""
+    import shutil
+
+    src = model_path("Suzanne/Suzanne.gltf").parent
+    dst = tmp_path / "model"
+    shutil.copytree(src, dst)
+    return dst / "Suzanne.gltf"
+
+
 def gltf_json(path: Path) -> dict:
     """The JSON chunk of a .gltf or .glb file (read independently of the loader under test)."""
     data = path.read_bytes()

@@ -6,13 +6,13 @@ import importlib.util
 import json
 import math
 import os
-import shutil
 import warnings
 from pathlib import Path
 
 import pytest
 
 import ssrlab
+from conftest import suzanne_copy
 
 HOSTILE = Path(__file__).parent / "data" / "hostile"
 MANIFEST = json.loads((HOSTILE / "manifest.json").read_text())
@@ -63,18 +63,8 @@ def test_base_of_the_reproducers_loads_cleanly(tmp_path):
     assert scene.object_count == 1 and len(scene.lights) == 1 and scene.camera is not None
 
 
-def _suzanne_copy(tmp_path):
-    try:
-        src = Path(ssrlab.models.find("Suzanne")).parent
-    except FileNotFoundError as e:
-        pytest.skip(str(e))
-    dst = tmp_path / "model"
-    shutil.copytree(src, dst)
-    return dst / "Suzanne.gltf"
-
-
 def test_fifo_as_buffer_is_refused_without_blocking(tmp_path):
-    path = _suzanne_copy(tmp_path)
+    path = suzanne_copy(tmp_path)
     (path.parent / "Suzanne.bin").unlink()
     os.mkfifo(path.parent / "Suzanne.bin")  # reading it would wait for a writer for ever
     with pytest.raises(ssrlab.SceneError, match=r"Suzanne\.gltf.*buffer 0.*not a regular file"):
@@ -82,7 +72,7 @@ def test_fifo_as_buffer_is_refused_without_blocking(tmp_path):
 
 
 def test_fifo_as_image_is_refused(tmp_path):
-    path = _suzanne_copy(tmp_path)
+    path = suzanne_copy(tmp_path)
     (path.parent / "Suzanne_BaseColor.png").unlink()
     os.mkfifo(path.parent / "Suzanne_BaseColor.png")
     with pytest.raises(ssrlab.SceneError, match=r"Suzanne\.gltf.*image \d.*not a regular file"):
@@ -90,7 +80,7 @@ def test_fifo_as_image_is_refused(tmp_path):
 
 
 def test_symlink_leaving_the_folder_needs_opt_in(tmp_path):
-    path = _suzanne_copy(tmp_path)
+    path = suzanne_copy(tmp_path)
     outside = tmp_path / "elsewhere"
     outside.mkdir()
     (path.parent / "Suzanne.bin").rename(outside / "Suzanne.bin")
@@ -102,7 +92,7 @@ def test_symlink_leaving_the_folder_needs_opt_in(tmp_path):
 
 
 def test_relative_uri_into_a_subfolder_is_fine(tmp_path):
-    path = _suzanne_copy(tmp_path)
+    path = suzanne_copy(tmp_path)
     (path.parent / "sub").mkdir()
     (path.parent / "Suzanne.bin").rename(path.parent / "sub" / "Suzanne.bin")
     j = json.loads(path.read_text())
@@ -112,7 +102,7 @@ def test_relative_uri_into_a_subfolder_is_fine(tmp_path):
 
 
 def test_absolute_uri_inside_allowed_only_with_opt_in(tmp_path):
-    path = _suzanne_copy(tmp_path)
+    path = suzanne_copy(tmp_path)
     j = json.loads(path.read_text())
     j["buffers"][0]["uri"] = str(path.parent / "Suzanne.bin")
     path.write_text(json.dumps(j))

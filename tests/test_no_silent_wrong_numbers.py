@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from conftest import small
+from conftest import small, suzanne_copy
 
 # -- results own their values ----------------------------------------------------------------------
 
@@ -162,21 +162,9 @@ def test_frame_arrays_are_read_only(renderer):
 
 # -- finite in, finite out ------------------------------------------------------------------------
 
-def _suzanne(tmp_path) -> Path:
-    try:
-        src = Path(ssrlab.models.find("Suzanne")).parent
-    except FileNotFoundError as e:
-        pytest.skip(str(e))
-    import shutil
-
-    dst = tmp_path / "model"
-    shutil.copytree(src, dst)
-    return dst / "Suzanne.gltf"
-
-
 @pytest.mark.parametrize("element", [3, 7, 11, 15])
 def test_a_non_affine_node_matrix_is_refused_naming_the_node(tmp_path, element):
-    path = _suzanne(tmp_path)
+    path = suzanne_copy(tmp_path)
     j = json.loads(path.read_text())
     m = [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0]
     m[element] = 1e20 if element != 15 else 2.0
@@ -187,7 +175,7 @@ def test_a_non_affine_node_matrix_is_refused_naming_the_node(tmp_path, element):
 
 
 def test_an_affine_matrix_within_rounding_loads(tmp_path):
-    path = _suzanne(tmp_path)
+    path = suzanne_copy(tmp_path)
     j = json.loads(path.read_text())
     j["nodes"][0]["matrix"] = [1.0, 0, 0, 1e-9, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0.5, 0, 0, 1.0]
     path.write_text(json.dumps(j))
