@@ -41,8 +41,6 @@ SsrUniforms ssr_uniforms(const RenderSettings& s) {
     su.reuse_radius = s.reuse_radius;
     su.reuse_weighting = int(s.reuse_weighting);
     su.edge_aware = s.edge_aware;
-    su.composite_mode = int(s.composite);
-    su.glossy = int(s.glossy);
     su.cone_max_samples = s.cone_max_samples;
     su.cone_level_bias = s.cone_level_bias;
     su.cone_remainder = int(s.cone_remainder);

@@ -20,13 +20,11 @@ struct SsrUniforms {
     float hiz_crossing_offset;
     float fade_border, fade_camera_start, fade_camera_end, fade_distance_start;
     float fade_distance_end, roughness_cutoff, edge_depth_sigma, edge_normal_power;
-    int32_t reuse_radius, reuse_weighting, edge_aware, composite_mode;
-    int32_t glossy, cone_max_samples;
+    int32_t reuse_radius, reuse_weighting, edge_aware, cone_max_samples;
     float cone_level_bias;
-    int32_t cone_remainder;
-    int32_t cone_stretch, pad0, pad1, pad2;
+    int32_t cone_remainder, cone_stretch, pad0;
 };
-static_assert(sizeof(SsrUniforms) == 44 * 4, "std140 layout of SsrUniforms");
+static_assert(sizeof(SsrUniforms) == 40 * 4, "std140 layout of SsrUniforms");
 
 struct RenderSettings;
 SsrUniforms ssr_uniforms(const RenderSettings& s);

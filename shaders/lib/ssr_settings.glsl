@@ -45,15 +45,12 @@ layout(std140, binding = 4) uniform SsrSettings {
     int reuse_radius;        // 0, 1 or 2 (1: the thesis's 3x3)
     int reuse_weighting;     // REUSE_*
     int edge_aware;          // 1: depth- and normal-aware reuse and upsampling
-    int composite_mode;      // COMPOSITE_*
-
-    int glossy;              // GLOSSY_*: cone and blur_mips trace one mirror ray per pixel
     int cone_max_samples;    // in-circles marched per cone (seed 002, 4.4.5)
+
     float cone_level_bias;   // mip levels added to every cone / blur_mips fetch
     int cone_remainder;      // CONE_REMAINDER_*: what fills a cone whose weights stay below 1
-
     int cone_stretch;        // 1: footprints stretched along the ray at grazing angles (seed 002, 4.6.8)
-    int pad0, pad1, pad2;
+    int pad0;
 } ssr;
 
 const int SAMPLING_MIRROR = 0;
