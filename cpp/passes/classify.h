@@ -28,6 +28,10 @@ public:
     // (covered_tiles.glsl); the blocks of the other tiles are skipped without a fetch.
     explicit ClassifyPass(const DepthPeelPass* peel = nullptr) : peel_(peel) {}
     std::string name() const override { return "classify"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // The screen-space traces run over its ray list (indirect dispatch).
+        return f.reflections && s.method != TraceMethod::Bvh && s.skip;
+    }
     std::vector<std::string> inputs() const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
@@ -41,6 +45,9 @@ public:
     void bind() const;
     // The list's counters of the last run, read back from the GPU (Frame.stats).
     std::map<std::string, double> counters() const;
+    void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
+        for (const auto& [k, v] : counters()) stats[k] = v;
+    }
     // Whether the list holds one entry per (pixel, ray): Settings.adaptive_rays with skip.
     static bool per_ray(const RenderSettings& s) { return s.skip && s.adaptive_rays && s.traced_rays() > 1; }
     // Whether the resolve runs over this pass's resolve list (Settings.skip, the stochastic

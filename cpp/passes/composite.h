@@ -20,6 +20,13 @@ public:
         : reflections_(reflections), reflection_(std::move(reflection)), output_(std::move(output)),
           direct_(std::move(direct)) {}
     std::string name() const override { return output_ == "color" ? "composite" : "composite." + output_; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // One composite a frame, of the last reflection the chain made: denoised, accumulated, resolved, or none.
+        const bool svgf = f.reflections && s.denoise == Denoise::Svgf;
+        const bool temporal = f.reflections && s.temporal_reflections;
+        const std::string last = svgf ? "reflection.denoised" : temporal ? "reflection.temporal" : "reflection";
+        return output_ == "color" && (reflections_ ? f.reflections && reflection_ == last : !f.reflections);
+    }
     std::vector<std::string> inputs() const override {
         if (!reflections_) return {direct_, "gbuffer.material"};
         return {direct_, "gbuffer.material", reflection_, "gbuffer.albedo", "gbuffer.normal", "linear_depth"};

@@ -186,6 +186,15 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_CULL_FACE);
     glDisable(GL_FRAMEBUFFER_SRGB);
+    // With skip, the later per-layer passes (Hi-Z build, traces, pre-convolution,
+    // pre-integration) work on the layers the peeling filled only. Reading the occlusion
+    // queries waits for the peeling (the lighting pass does the same).
+    if (s.skip) {
+        const std::vector<uint64_t> samples = layer_samples();
+        int used = 0;
+        while (used < int(samples.size()) && samples[size_t(used)] > 0) ++used;
+        ctx.layers_used = used;
+    }
 }
 
 void DepthPeelPass::release() {

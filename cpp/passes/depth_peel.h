@@ -29,6 +29,7 @@ namespace ssr {
 class DepthPeelPass : public RenderPass {
 public:
     std::string name() const override { return "depth_peel"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
     std::vector<std::string> inputs() const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;

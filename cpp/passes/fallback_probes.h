@@ -31,6 +31,10 @@ public:
     explicit FallbackProbesPass(bool shadows) : shadows_(shadows) {}
     ~FallbackProbesPass();
     std::string name() const override { return "fallback_probes"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // Seed 004's local cube maps for what screen space did not resolve; with or without the shadow map.
+        return f.reflections && s.method != TraceMethod::Bvh && s.fallback == Fallback::Probes && shadows_ == f.shadows;
+    }
     std::vector<std::string> inputs() const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
@@ -40,6 +44,19 @@ public:
     static std::vector<glm::vec3> positions(const Scene& scene, const Bounds& bounds, const RenderSettings& s);
     // Captures so far (the renderer reruns a timed chain that captured) and the last one's cost.
     uint64_t captures() const { return captures_; }
+    // A bad probe position is the user's error, raised before any pass runs.
+    void check(const Scene& scene, const GpuScene& gs, const RenderSettings& s) override {
+        positions(scene, gs.bounds(), s);
+        captures_at_check_ = captures_;
+    }
+    // A probe capture (once per scene and probe set) is a first-use cost.
+    uint64_t first_uses() const override { return captures_; }
+    // The one-time capture's cost (wall clock around the finished GPU work) on the render that
+    // captured; 0 when the cached probes served.
+    void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
+        stats["probes"] = double(probes_.size());
+        stats["probe_capture_ms"] = captures_ != captures_at_check_ ? capture_ms_ : 0.0;
+    }
     double last_capture_ms() const { return capture_ms_; }
     int probe_count() const { return int(probes_.size()); }
     void release();
@@ -52,7 +69,7 @@ private:
     GLuint probe_ssbo_ = 0;  // probe centres (vec4)
     std::string key_;        // what the cached capture was made of
     std::vector<glm::vec3> probes_;
-    uint64_t captures_ = 0;
+    uint64_t captures_ = 0, captures_at_check_ = 0;
     double capture_ms_ = 0.0;
 };
 

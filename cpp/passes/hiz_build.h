@@ -18,6 +18,10 @@ namespace ssr {
 class HizBuildPass : public RenderPass {
 public:
     std::string name() const override { return "hiz_build"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // glossy="cone" needs the min-max pyramid whatever tracer follows the mirror ray.
+        return f.reflections && (s.method == TraceMethod::Hiz || s.glossy == Glossy::Cone);
+    }
     std::vector<std::string> inputs() const override { return {"gbuffer.depth", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"hiz", GL_RG32F, s.width, s.height, s.layers, 0},
@@ -32,6 +36,9 @@ public:
     }
     // Layers the last run built (frame.stats["hiz_layers_built"]).
     int layers_built() const { return layers_built_; }
+    void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
+        stats["hiz_layers_built"] = double(layers_built_);
+    }
 
 private:
     int layers_built_ = 0;

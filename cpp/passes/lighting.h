@@ -19,6 +19,7 @@ public:
     // `peel`: with Settings.skip, only the layers it found non-empty are shaded.
     explicit LightingPass(bool shadows, DepthPeelPass* peel = nullptr) : shadows_(shadows), peel_(peel) {}
     std::string name() const override { return "lighting"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return shadows_ == f.shadows; }  // the variant with or without the shadow map
     std::vector<std::string> inputs() const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
@@ -27,6 +28,11 @@ public:
     // 8x8 tiles the last run shaded from the covered-tile list (read back from the GPU), or -1
     // where it dispatched over whole layers.
     int tiles_shaded() const;
+    // layers_lit; with skip's counters, the 8x8 tiles shaded (-1: every texel of its layers).
+    void report(const RenderSettings& s, std::map<std::string, double>& stats) const override {
+        stats["layers_lit"] = double(layers_shaded_);
+        if (s.skip) stats["tiles_lit"] = double(tiles_shaded());
+    }
 
 private:
     bool shadows_;

@@ -25,6 +25,8 @@ public:
         : per_ray_(per_ray), shadows_(shadows), traced_shadows_(traced_shadows), viewer_is_ray_(viewer_is_ray),
           rays_(rays) {}
     std::string name() const override { return "reference"; }
+    // On request only (Renderer::reference), never in a frame's chain.
+    bool runs(const RenderSettings&, const FrameFacts&) const override { return false; }
     std::vector<std::string> inputs() const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;

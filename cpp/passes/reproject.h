@@ -13,6 +13,12 @@ namespace ssr {
 class ReprojectPass : public RenderPass {
 public:
     std::string name() const override { return "reproject"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // Whenever a temporal technique that reprojects is on (the thesis's TAA blends at the
+        // same pixel and needs none).
+        return s.temporal_reflections || s.taa == TaaMode::Clamped || s.bounces == Bounces::History ||
+               s.temporal_ray_reuse || (f.reflections && s.denoise == Denoise::Svgf);
+    }
     std::vector<std::string> inputs() const override { return {"linear_depth", "gbuffer.normal", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"reprojection", GL_RGBA32F, s.width, s.height, 0, 1}};

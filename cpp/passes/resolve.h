@@ -38,6 +38,7 @@ public:
     static Defines ray_defines(const FrameContext& ctx);
     static void bind_ray_inputs(FrameContext& ctx, GLuint prog);
     std::string name() const override { return "resolve"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::Stochastic; }
     std::vector<std::string> inputs() const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};

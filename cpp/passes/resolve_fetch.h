@@ -8,6 +8,7 @@
 //   outputs: resolve.ray_color, resolve.ray_target (RGBA32F, trace resolution, one layer per ray)
 #pragma once
 
+#include "passes/resolve.h"
 #include "render/render_pass.h"
 
 namespace ssr {
@@ -15,6 +16,12 @@ namespace ssr {
 class ResolveFetchPass : public RenderPass {
 public:
     std::string name() const override { return "resolve_fetch"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // Where the passes read by imageLoad (llvmpipe), the neighbours' rays reach the resolve
+        // through this pass's textures instead of its shared tile.
+        return f.reflections && s.glossy == Glossy::Stochastic && !ResolvePass::own_rays_only(s) &&
+               !ResolvePass::shared_tile(s, f.fetch_by_image);
+    }
     std::vector<std::string> inputs() const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};

@@ -14,6 +14,7 @@ namespace ssr {
 class SvgfAtrousPass : public RenderPass {
 public:
     std::string name() const override { return "svgf_atrous"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.denoise == Denoise::Svgf; }
     std::vector<std::string> inputs() const override {
         return {"svgf.variance", "svgf.guide"};
     }

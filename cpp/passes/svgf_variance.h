@@ -13,6 +13,7 @@ namespace ssr {
 class SvgfVariancePass : public RenderPass {
 public:
     std::string name() const override { return "svgf_variance"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.denoise == Denoise::Svgf; }
     std::vector<std::string> inputs() const override {
         return {"svgf.accumulated", "svgf.moments", "linear_depth", "gbuffer.normal", "gbuffer.material"};
     }

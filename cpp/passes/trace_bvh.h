@@ -26,6 +26,12 @@ class TraceBvhPass : public TracePass {
 public:
     TraceBvhPass(bool fallback, bool shadows) : fallback_(fallback), shadows_(shadows) {}
     std::string name() const override { return fallback_ ? "fallback_bvh" : "trace_bvh"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // Seed 003's ray-traced reflections (every ray), or the hybrid's fallback after a
+        // screen-space tracer (thesis 4.3); the variant with or without the shadow map.
+        if (!f.reflections || shadows_ != f.shadows) return false;
+        return fallback_ ? s.method != TraceMethod::Bvh && s.fallback == Fallback::Bvh : s.method == TraceMethod::Bvh;
+    }
     std::vector<std::string> inputs() const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;

@@ -13,6 +13,7 @@ class TraceHizPass : public TracePass {
 public:
     using TracePass::TracePass;
     std::string name() const override { return extra() ? "trace_hiz_extra" : "trace_hiz"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.method == TraceMethod::Hiz && (!extra() || (s.variance_rays && s.adaptive_rays)); }
     std::vector<std::string> inputs() const override {
         return {"hiz_trace", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

@@ -12,6 +12,7 @@ class TraceLinearPass : public TracePass {
 public:
     using TracePass::TracePass;
     std::string name() const override { return extra() ? "trace_linear_extra" : "trace_linear"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.method == TraceMethod::Linear && (!extra() || (s.variance_rays && s.adaptive_rays)); }
     std::vector<std::string> inputs() const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

@@ -19,6 +19,10 @@ namespace ssr {
 class VarianceRaysPass : public ClassifyPass {
 public:
     std::string name() const override { return "variance_rays"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        // Rays where the first trace's neighbourhood disagrees (FidelityFX SSSR).
+        return f.reflections && s.method != TraceMethod::Bvh && s.variance_rays && s.adaptive_rays;
+    }
     std::vector<std::string> inputs() const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
@@ -30,6 +34,9 @@ public:
     // The list's counters (frame.stats): variance_pixels (pixels listed for extra rays),
     // extra_rays (rays the second trace generated), extra_depth_fetches.
     std::map<std::string, double> extra_counters() const;
+    void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
+        for (const auto& [k, v] : extra_counters()) stats[k] = v;
+    }
 };
 
 }  // namespace ssr

@@ -1,8 +1,9 @@
-// A render pass: one unit that declares the textures it reads and the textures it writes,
-// in the spirit of Falcor's render passes. A frame is an ordered chain of passes
-// (Renderer::build_chain); the renderer allocates every declared output, checks that each
-// input was written by an earlier pass, times each pass on the GPU and checks GL errors
-// after it. Texture names are shared with Python: frame.read("gbuffer.normal").
+// A render pass: one unit that decides when it runs and declares the textures it reads and
+// the textures it writes, in the spirit of Falcor's render passes. The renderer keeps every
+// pass in one registry, in the order the papers run them; a frame's chain is the passes that
+// say they run (Renderer::build_chain). The renderer allocates every declared output, checks
+// that each input was written by an earlier pass, times each pass on the GPU and checks GL
+// errors after it. Texture names are shared with Python: frame.read("gbuffer.normal").
 #pragma once
 
 #include <algorithm>
@@ -102,14 +103,30 @@ struct FrameContext {
 // resolve binds 10: its output, 7 inputs and resolve_fetch's two textures).
 constexpr int kImageUnitsPerPass = 10;
 
+// What a frame's chain depends on besides the settings: facts of the scene and the device.
+struct FrameFacts {
+    bool shadows = false;         // a directional light casts the shadow map
+    bool reflections = false;     // tracing is on and some surface reflects
+    bool fetch_by_image = false;  // the passes read float inputs by imageLoad (the CPU device)
+};
+
 class RenderPass {
 public:
     virtual ~RenderPass() = default;
     // The name the papers give the pass; also its timer and error label.
     virtual std::string name() const = 0;
+    // Whether the pass runs in a frame with these settings and facts: each pass decides.
+    virtual bool runs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<std::string> inputs() const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
+    // Checks of the user's input that only this pass makes, before any pass of the frame runs.
+    virtual void check(const Scene& scene, const GpuScene& gpu_scene, const RenderSettings& s) {}
     virtual void execute(FrameContext& ctx) = 0;
+    // Work done outside the GL timeline that counts as first use (a capture cached across
+    // frames): a change of this count makes the renderer run the chain again, untimed.
+    virtual uint64_t first_uses() const { return 0; }
+    // The pass's counts of the timed run, into frame.stats.
+    virtual void report(const RenderSettings& s, std::map<std::string, double>& stats) const {}
 };
 
 }  // namespace ssr

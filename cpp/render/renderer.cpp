@@ -205,67 +205,19 @@ std::shared_ptr<FrameResources> Renderer::acquire(const std::vector<ResourceDesc
 // without a shadow caster, no tracing without a reflective surface or with method "off",
 // no Hi-Z pyramid for the linear tracer (unless the cone needs it), no pre-convolution or
 // pre-integrated visibility for stochastic glossy reflections.
-std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool shadows, bool reflections) {
+std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, const FrameFacts& facts) const {
     std::vector<RenderPass*> chain;
-    if (shadows) chain.push_back(&shadow_map_);
-    chain.push_back(&depth_peel_);
-    chain.push_back(shadows ? static_cast<RenderPass*>(&lighting_shadowed_) : &lighting_unshadowed_);
-    // Frames in time: reprojection whenever a temporal technique that reprojects is
-    // on, before the resolve (bounces="history" and temporal_ray_reuse read it there). The
-    // thesis's TAA blends at the same pixel and needs none.
-    const bool svgf = reflections && s.denoise == Denoise::Svgf;
-    if (s.temporal_reflections || s.taa == TaaMode::Clamped || s.bounces == Bounces::History || s.temporal_ray_reuse || svgf)
-        chain.push_back(&reproject_);
-    if (reflections) {
-        // glossy="cone" needs the min-max pyramid whatever tracer follows the mirror ray.
-        const bool hiz = s.method == TraceMethod::Hiz || s.glossy == Glossy::Cone;
-        if (hiz) chain.push_back(&hiz_build_);
-        if (s.glossy != Glossy::Stochastic) chain.push_back(&preconvolve_);  // seed 002, 4.4.4
-        if (s.glossy == Glossy::Cone) chain.push_back(&preintegrate_);        // seed 002, 4.4.2
-        if (s.method == TraceMethod::Bvh) {
-            // Seed 003's ray-traced reflections: every ray against the triangles.
-            chain.push_back(shadows ? &trace_bvh_shadowed_ : &trace_bvh_unshadowed_);
-        } else {
-            // The trace runs over the classify pass's ray list (indirect dispatch).
-            if (s.skip) chain.push_back(&classify_);
-            chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_) : &trace_linear_);
-            // Rays where the first pass's neighbourhood disagrees (FidelityFX SSSR).
-            if (s.variance_rays && s.adaptive_rays) {
-                chain.push_back(&variance_rays_);
-                chain.push_back(s.method == TraceMethod::Hiz ? static_cast<RenderPass*>(&trace_hiz_extra_)
-                                                             : &trace_linear_extra_);
-            }
-            // What screen space could not resolve goes to the triangles (thesis 4.3).
-            if (s.fallback == Fallback::Bvh) chain.push_back(shadows ? &fallback_bvh_shadowed_ : &fallback_bvh_unshadowed_);
-            // Or seed 004's local cube maps, then the environment.
-            if (s.fallback == Fallback::Probes)
-                chain.push_back(shadows ? &fallback_probes_shadowed_ : &fallback_probes_unshadowed_);
-        }
-        if (s.glossy == Glossy::Cone) {
-            chain.push_back(&cone_trace_);  // seed 002, 4.4.5
-        } else if (s.glossy == Glossy::BlurMips) {
-            chain.push_back(&blur_mips_);
-        } else {
-            // Where the passes read by imageLoad (llvmpipe), the neighbours' rays reach
-            // the resolve through resolve_fetch's textures instead of its shared tile.
-            if (!ResolvePass::own_rays_only(s) && !ResolvePass::shared_tile(s, fetch_by_image_))
-                chain.push_back(&resolve_fetch_);
-            chain.push_back(&resolve_);
-        }
-    }
-    // The reflection's temporal accumulation, when there is a reflection to accumulate.
-    const bool temporal = reflections && s.temporal_reflections;
-    if (temporal) chain.push_back(&temporal_);
-    // The SVGF denoiser (seed 003): accumulation, variance, a-trous wavelet iterations.
-    if (svgf) {
-        chain.push_back(&svgf_temporal_);
-        chain.push_back(&svgf_variance_);
-        chain.push_back(&svgf_atrous_);
-    }
-    chain.push_back(svgf ? &composite_denoised_
-                         : temporal ? &composite_temporal_ : reflections ? &composite_reflections_ : &composite_plain_);
-    if (s.taa != TaaMode::Off) chain.push_back(s.taa == TaaMode::Thesis ? &taa_thesis_ : &taa_clamped_);
+    for (RenderPass* p : passes_)
+        if (p->runs(s, facts)) chain.push_back(p);
     return chain;
+}
+
+FrameFacts Renderer::facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const {
+    FrameFacts f;
+    f.shadows = ShadowMapPass::fit(scene, gs.bounds(), s).enabled;
+    f.reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
+    f.fetch_by_image = fetch_by_image_;
+    return f;
 }
 
 // What makes two frames share their first-use costs: the passes, their textures' formats and
@@ -360,10 +312,8 @@ std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const Rend
     s.validate();
     CurrentContext current(*ctx_);
     const GpuScene& gs = gpu_scene(scene);
-    const ShadowSetup shadow = ShadowMapPass::fit(scene, gs.bounds(), s);
-    const bool reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
     std::vector<ChainEntry> out;
-    for (RenderPass* p : build_chain(s, shadow.enabled, reflections)) {
+    for (RenderPass* p : build_chain(s, facts(scene, gs, s))) {
         ChainEntry e{p->name(), p->inputs(), {}};
         for (const auto& d : p->outputs(s)) e.outputs.push_back(d.name);
         out.push_back(std::move(e));
@@ -427,8 +377,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     gs.bind_geometry();  // the scene's objects and materials, for every pass that reads them
 
     // The chain, its resources, and a check that every input is written before it is read.
-    const bool reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
-    const std::vector<RenderPass*> chain = build_chain(s, shadow.enabled, reflections);
+    const std::vector<RenderPass*> chain = build_chain(s, facts(scene, gs, s));
     std::vector<ResourceDesc> descs;
     std::set<std::string> written;
     for (RenderPass* p : chain) {
@@ -515,15 +464,16 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     const std::string variant = variant_key(chain, descs, defines) + "scene:" + std::to_string(scene.id()) + "/" +
                                 std::to_string(scene.revision());
     bool warm = warmed_variants_.count(variant) != 0;
-    // Reflection probes: a bad probe position is the user's error, raised before any pass runs.
-    FallbackProbesPass* probes = nullptr;
-    for (RenderPass* p : chain)
-        if (p == &fallback_probes_shadowed_ || p == &fallback_probes_unshadowed_) probes = static_cast<FallbackProbesPass*>(p);
-    if (probes) FallbackProbesPass::positions(scene, gs.bounds(), s);
-    const uint64_t captures_at_start = probes ? probes->captures() : 0;
+    // Each pass's own checks of the user's input, before any pass runs.
+    for (RenderPass* p : chain) p->check(scene, gs, s);
+    auto first_uses = [&chain] {
+        uint64_t n = 0;
+        for (const RenderPass* p : chain) n += p->first_uses();
+        return n;
+    };
     for (int run = 0;; ++run) {
         const size_t programs_before = shaders_->cached_programs();
-        const uint64_t captures_before = probes ? probes->captures() : 0;
+        const uint64_t first_uses_before = first_uses();
         timer_.begin_frame();
         frame->passes.clear();
         fc.layers_used = -1;
@@ -534,19 +484,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
             }
             check_gl(*ctx_, p->name().c_str());
             frame->passes.push_back(p->name());
-            // The later per-layer passes (Hi-Z build, traces, pre-convolution,
-            // pre-integration) work on the layers the peeling filled only. Reading the
-            // occlusion queries waits for the peeling (the lighting pass does the same).
-            if (p == &depth_peel_ && s.skip) {
-                const std::vector<uint64_t> samples = depth_peel_.layer_samples();
-                int used = 0;
-                while (used < int(samples.size()) && samples[size_t(used)] > 0) ++used;
-                fc.layers_used = used;
-            }
         }
-        // A probe capture (once per scene and probe set) is a first-use cost too.
-        const bool compiled = shaders_->cached_programs() != programs_before ||
-                              (probes && probes->captures() != captures_before);
+        // Work a pass caches across frames (a probe capture) is a first-use cost too.
+        const bool compiled = shaders_->cached_programs() != programs_before || first_uses() != first_uses_before;
         if ((warm && !compiled) || run >= 2) break;
         warm = true;
         if (warmed_variants_.size() >= kMaxWarmedVariants) warmed_variants_.clear();
@@ -555,27 +495,13 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     }
     frame->timings = timer_.resolve();
     frame->layer_samples = depth_peel_.layer_samples();
-    if (std::find(chain.begin(), chain.end(), &classify_) != chain.end()) frame->stats = classify_.counters();
-    if (std::find(chain.begin(), chain.end(), &variance_rays_) != chain.end())
-        for (const auto& [k, v] : variance_rays_.extra_counters()) frame->stats[k] = v;
+    for (const RenderPass* p : chain) p->report(s, frame->stats);
     frame->stats["passes_run"] = double(chain.size());
-    if (probes) {
-        frame->stats["probes"] = double(probes->probe_count());
-        // The one-time capture's cost (wall clock around the finished GPU work), on the
-        // render that captured; 0 when the cached probes served.
-        frame->stats["probe_capture_ms"] = probes->captures() != captures_at_start ? probes->last_capture_ms() : 0.0;
-    }
     // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):
     // peeling stops drawing after the first empty one (depth_peel.cpp).
     int layers_used = 0;
     while (layers_used < int(frame->layer_samples.size()) && frame->layer_samples[size_t(layers_used)] > 0) ++layers_used;
     frame->stats["layers_used"] = double(layers_used);
-    if (std::find(chain.begin(), chain.end(), &hiz_build_) != chain.end())
-        frame->stats["hiz_layers_built"] = double(hiz_build_.layers_built());
-    frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
-    // With skip's counters, the 8x8 tiles the lighting shaded (-1: every texel of its layers).
-    if (s.skip)
-        frame->stats["tiles_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).tiles_shaded());
     double total = 0.0;
     for (const auto& name : frame->passes) total += frame->timings[name];
     frame->timings["total"] = total;

@@ -129,7 +129,9 @@ private:
     Renderer(const std::string& device, const std::string& shader_dir, const std::string& input_fetch);
     const GpuScene& gpu_scene(const Scene& scene);
     std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
-    std::vector<RenderPass*> build_chain(const RenderSettings& s, bool shadows, bool reflections);
+    // The passes of a frame with these settings and facts: those of passes_ that say they run.
+    std::vector<RenderPass*> build_chain(const RenderSettings& s, const FrameFacts& facts) const;
+    FrameFacts facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const;
     void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
     void destroy_gl_objects();
     // Integrates the specular-albedo table on first use and binds it to its texture unit.
@@ -192,6 +194,16 @@ private:
     SvgfVariancePass svgf_variance_;
     SvgfAtrousPass svgf_atrous_;
     CompositePass composite_denoised_{true, "reflection.denoised"};
+    // Every pass, in the order the papers run them (declared inputs after the outputs they read):
+    // a frame's chain is the ones that run. Adding a pass: its member above and its place here.
+    const std::vector<RenderPass*> passes_{
+        &shadow_map_, &depth_peel_, &lighting_shadowed_, &lighting_unshadowed_, &reproject_, &hiz_build_,
+        &preconvolve_, &preintegrate_, &trace_bvh_shadowed_, &trace_bvh_unshadowed_, &classify_, &trace_hiz_,
+        &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_, &fallback_bvh_shadowed_,
+        &fallback_bvh_unshadowed_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &cone_trace_,
+        &blur_mips_, &resolve_fetch_, &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_,
+        &composite_denoised_, &composite_temporal_, &composite_reflections_, &composite_plain_, &taa_thesis_,
+        &taa_clamped_};
 };
 
 }  // namespace ssr
