@@ -29,8 +29,8 @@ def test_ldr_flip_is_flip_evaluators_mean_on_the_displayed_pair():
     _, expect, _ = flip_evaluator.evaluate(_srgb(REFERENCE).astype(np.float32), _srgb(IMAGE).astype(np.float32),
                                            "LDR")
     m = metrics.image_metrics(IMAGE, REFERENCE, MASK)
-    assert m["flip_ldr"] == pytest.approx(expect, abs=2e-4)
-    assert metrics.flip(IMAGE, REFERENCE) == pytest.approx(expect, abs=2e-4)
+    assert m["flip_ldr"] == pytest.approx(expect, abs=1e-5)
+    assert metrics.flip(IMAGE, REFERENCE) == pytest.approx(expect, abs=1e-5)
     assert 0.01 < m["flip_ldr"] < 1
 
 
