@@ -64,7 +64,10 @@ def test_base_of_the_reproducers_loads_cleanly(tmp_path):
 
 
 def _suzanne_copy(tmp_path):
-    src = Path(ssrlab.models.find("Suzanne")).parent
+    try:
+        src = Path(ssrlab.models.find("Suzanne")).parent
+    except FileNotFoundError as e:
+        pytest.skip(str(e))
     dst = tmp_path / "model"
     shutil.copytree(src, dst)
     return dst / "Suzanne.gltf"

@@ -4,6 +4,7 @@
 #include <pybind11/functional.h>
 
 #include "bindings/bindings.h"
+#include "scene/scene_limits.h"
 #include "core/errors.h"
 #include "render/camera.h"
 #include "scene/embree_scene.h"
@@ -99,8 +100,11 @@ void validate_material(const Material& m, const Scene* scene) {
             throw std::invalid_argument(std::string("Material.") + name + " must be in [0, 1], got " + std::to_string(v));
     };
     for (int i = 0; i < 4; ++i)
-        if (!(m.base_color[i] >= 0.0f) || !std::isfinite(m.base_color[i]))
-            throw std::invalid_argument("Material.base_color components must be finite and >= 0");
+        // The G-buffer stores albedo as sRGB8 (depth_peel.cpp): a component above 1 would be
+        // clamped there without a word, as glTF's baseColorFactor range [0, 1] also says.
+        if (!(m.base_color[i] >= 0.0f && m.base_color[i] <= 1.0f))
+            throw std::invalid_argument("Material.base_color components must be in [0, 1], got " +
+                                        std::to_string(m.base_color[i]));
     unit(m.metallic, "metallic");
     unit(m.roughness, "roughness");
     if (!m.auto_reflectivity()) unit(m.reflectivity, "reflectivity");
@@ -125,7 +129,7 @@ void bind_scene(py::module_& m) {
     py::class_<Material>(m, "Material", R"doc(
 A glTF 2.0 metallic-roughness material plus the thesis's reflectivity.
 
-base_color   linear RGBA, each >= 0 (default (0.8, 0.8, 0.8, 1))
+base_color   linear RGBA, each in [0, 1] (default (0.8, 0.8, 0.8, 1))
 metallic     0..1
 roughness    perceptual roughness 0..1, as in glTF; GGX alpha = roughness**2
 reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000, 2.4); or "auto":
@@ -390,7 +394,8 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
         .def_property(
             "ambient", [](const Scene& s) { return s.ambient; },
             [](Scene& s, glm::vec3 a) {
-                if (!(a.x >= 0 && a.y >= 0 && a.z >= 0)) throw std::invalid_argument("Scene.ambient must be >= 0");
+                if (const std::string p = radiance_problem(a, 1.0f); !p.empty())
+                    throw std::invalid_argument("Scene.ambient " + p);
                 s.ambient = a;
                 s.touch();
             },
@@ -411,6 +416,14 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
         .def_property(
             "environment", [](const Scene& s) { return s.environment; },
             [](Scene& s, const Environment& e) {
+                // What each kind reads, scaled by its intensity (a map's texels are checked on load).
+                std::vector<std::pair<const char*, glm::vec3>> terms = {{"intensity", glm::vec3(1.0f)}};
+                if (e.type == Environment::Type::Constant) terms = {{"color", e.color}};
+                if (e.type == Environment::Type::Sky)
+                    terms = {{"zenith", e.sky_zenith}, {"horizon", e.sky_horizon}, {"ground", e.ground}};
+                for (const auto& [name, rgb] : terms)
+                    if (const std::string p = radiance_problem(rgb, e.intensity); !p.empty())
+                        throw std::invalid_argument(std::string("Scene.environment: ") + name + " " + p);
                 s.environment = e;
                 s.touch();
             },
@@ -473,7 +486,8 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 return py::make_tuple(ids, warnings);  // the Python wrapper emits the warnings
             },
             py::arg("path"), py::arg("transform"), py::arg("allow_external_files") = false)
-        .def("_save", [](const Scene& s, const std::string& path) { save_gltf(s, path); })
+        .def("_save", [](const Scene& s, const std::string& path, const std::string& folder) { save_gltf(s, path, folder); },
+             py::arg("path"), py::arg("folder") = "")
         .def(
             "add_image",
             [](Scene& s, py::array_t<uint8_t, py::array::c_style | py::array::forcecast> rgba, const std::string& name) {

@@ -14,6 +14,7 @@ py::exception<ssr::GLError>* gl_error = nullptr;
 py::exception<ssr::ShaderError>* shader_error = nullptr;
 py::exception<ssr::DeviceError>* device_error = nullptr;
 py::exception<ssr::SceneError>* scene_error = nullptr;
+py::exception<ssr::OutputError>* output_error = nullptr;
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -25,6 +26,10 @@ PYBIND11_MODULE(_core, m) {
     shader_error = new py::exception<ssr::ShaderError>(m, "ShaderError", PyExc_RuntimeError);
     device_error = new py::exception<ssr::DeviceError>(m, "DeviceError", PyExc_RuntimeError);
     scene_error = new py::exception<ssr::SceneError>(m, "SceneError", PyExc_ValueError);
+    output_error = new py::exception<ssr::OutputError>(m, "OutputError", PyExc_OSError);
+    output_error->attr("__doc__") =
+        "An output file could not be written (a full disk, no permission): an OSError naming the file (.filename) "
+        "and the cause (.errno, .strerror).";
     gl_error->attr("__doc__") = "OpenGL reported an error (the message names the call or pass).";
     shader_error->attr("__doc__") = "A GLSL shader failed to compile or link; .file and .line locate the error.";
     device_error->attr("__doc__") = "No EGL device of the kind asked for (e.g. device='gpu' without a GPU).";
@@ -45,6 +50,12 @@ PYBIND11_MODULE(_core, m) {
             PyErr_SetString(device_error->ptr(), e.what());
         } catch (const ssr::SceneError& e) {
             PyErr_SetString(scene_error->ptr(), e.what());
+        } catch (const ssr::OutputError& e) {
+            // OSError(errno, strerror, filename): str() reads "[Errno 28] No space left on device: 'path'".
+            py::object type = py::reinterpret_borrow<py::object>(output_error->ptr());
+            py::object err = e.err ? type(e.err, e.cause, e.path) : type(e.what());
+            if (!e.err) err.attr("filename") = e.path;
+            PyErr_SetObject(output_error->ptr(), err.ptr());
         } catch (const ssr::FileNotFound& e) {
             PyErr_SetString(PyExc_FileNotFoundError, e.what());
         }

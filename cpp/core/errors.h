@@ -33,6 +33,17 @@ struct SceneError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// An output file that could not be written (a full disk, no permission, a writer that failed):
+// mapped to ssrlab.OutputError, an OSError whose errno, strerror and filename are set, since
+// nothing is wrong with the scene or the settings when a disk is full.
+struct OutputError : std::runtime_error {
+    OutputError(const std::string& path_, int err_, const std::string& cause_)
+        : std::runtime_error(path_ + ": " + cause_), path(path_), err(err_), cause(cause_) {}
+    std::string path;
+    int err = 0;         // the errno of the failed system call, 0 where the writer gave none
+    std::string cause;
+};
+
 // A file that does not exist (mapped to Python's FileNotFoundError).
 struct FileNotFound : std::runtime_error {
     using std::runtime_error::runtime_error;

@@ -1,5 +1,7 @@
 #include "render/camera.h"
 
+#include "scene/scene_limits.h"
+
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <stdexcept>
@@ -13,6 +15,8 @@ bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 void Camera::validate() const {
     if (!finite3(position)) throw std::invalid_argument("Camera.position must be finite");
     if (!finite3(target)) throw std::invalid_argument("Camera.target must be finite");
+    if (const std::string p = world_point_problem(position); !p.empty()) throw std::invalid_argument("Camera.position " + p);
+    if (const std::string p = world_point_problem(target); !p.empty()) throw std::invalid_argument("Camera.target " + p);
     if (!finite3(up) || glm::length(up) < 1e-6f) throw std::invalid_argument("Camera.up must be a non-zero finite vector");
     const glm::vec3 fwd = target - position;
     if (glm::length(fwd) < 1e-6f) throw std::invalid_argument("Camera.target must differ from Camera.position");

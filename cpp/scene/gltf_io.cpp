@@ -16,10 +16,12 @@
 #include <new>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string_view>
 
 #include "core/errors.h"
 #include "scene/image_io.h"
+#include "scene/scene_limits.h"
 
 namespace fs = std::filesystem;
 
@@ -39,11 +41,6 @@ constexpr int kModeTriangles = 4, kModeStrip = 5, kModeFan = 6;
 constexpr uint64_t kMaxFileBytes = uint64_t(1) << 30;  // per file read: the model, each buffer, each image
 constexpr int kMaxJsonDepth = 64;                      // real files nest ~8 deep; extras rarely more
 constexpr int kMaxNodeDepth = 1000;                    // node hierarchy levels
-// Radiance the lighting buffers can hold: "lit" and the reflection are RGBA16F (largest
-// finite value 65504), so light colour x intensity and the ambient/environment terms are
-// capped well below where a lit pixel would overflow to Inf.
-constexpr double kMaxLightPower = 1e4;
-constexpr double kMaxRadiance = 1e3;
 
 bool checked_add(uint64_t a, uint64_t b, uint64_t* out) { return !__builtin_add_overflow(a, b, out); }
 bool checked_mul(uint64_t a, uint64_t b, uint64_t* out) { return !__builtin_mul_overflow(a, b, out); }
@@ -686,6 +683,7 @@ glm::mat4 node_local_transform(const tinygltf::Node& n, const GltfReader& r, con
         check_finite_list(r, n.matrix, what + ": matrix");
         glm::mat4 m;
         for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(n.matrix[size_t(i)]);  // column-major
+        if (const std::string p = affine_problem(m); !p.empty()) r.fail(what + ": matrix " + p);
         return m;
     }
     glm::mat4 t(1.0f), rot(1.0f), s(1.0f);
@@ -863,33 +861,11 @@ void check_model_values(const tinygltf::Model& model, const GltfReader& r, std::
     }
 }
 
-// World-space coordinates beyond this lose float precision to the point where view
-// directions and depths are noise (a camera at 1e9 resolves no step finer than ~100 units).
-constexpr double kMaxWorldCoordinate = 1e9;
+bool within_world(const glm::vec3& p) { return world_point_problem(p).empty(); }
 
-bool within_world(const glm::vec3& p) {
-    return std::abs(p.x) <= kMaxWorldCoordinate && std::abs(p.y) <= kMaxWorldCoordinate &&
-           std::abs(p.z) <= kMaxWorldCoordinate;
-}
-
-// Whether an object's transform can be drawn: its 3x3 part must be well-conditioned, since
-// normals are transformed by the inverse transpose (a zero scale makes them NaN, and a scale
-// ratio of 1e19 underflows them to zero length in float).
-constexpr double kMaxScaleRatio = 1e6;
-
-bool invertible_transform(const glm::mat4& m) {
-    const glm::dmat3 a{glm::mat3(m)};
-    const double l0 = glm::length(a[0]), l1 = glm::length(a[1]), l2 = glm::length(a[2]);
-    const double scale = l0 * l1 * l2;
-    const double det = glm::determinant(a);
-    if (!std::isfinite(scale) || !(scale > 0.0) || !(std::abs(det) > 1e-6 * scale)) return false;
-    if (std::max({l0, l1, l2}) > kMaxScaleRatio * std::min({l0, l1, l2})) return false;
-    const glm::mat3 n = glm::transpose(glm::inverse(glm::mat3(m)));
-    for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r)
-            if (!std::isfinite(n[c][r])) return false;
-    return true;
-}
+// Whether an object's transform can be drawn (scene_limits.h): a zero scale or axes scaled
+// far apart make its normals NaN or zero-length.
+bool invertible_transform(const glm::mat4& m) { return transform_problem(m).empty(); }
 
 // A checked vec3 direction: finite and of non-zero length.
 bool usable_direction(const glm::vec3& v) {
@@ -1420,7 +1396,31 @@ std::vector<double> matrix_values(const glm::mat4& m) {
 
 }  // namespace
 
-void save_gltf(const Scene& scene, const std::string& path) {
+// Writes `bytes` to `path` and makes sure they reached the file system: every write, the
+// fsync and the close are checked, and a failure is an OutputError with its errno.
+static void write_file_checked(const std::string& path, const std::string& bytes) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) throw OutputError(path, errno, std::string("cannot open for writing: ") + std::strerror(errno));
+    size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int err = n < 0 ? errno : EIO;
+            ::close(fd);
+            throw OutputError(path, err, std::string("cannot write the glTF file: ") + std::strerror(err));
+        }
+        done += size_t(n);
+    }
+    if (::fsync(fd) != 0 && errno != EINVAL) {
+        const int err = errno;
+        ::close(fd);
+        throw OutputError(path, err, std::string("cannot write the glTF file: ") + std::strerror(err));
+    }
+    if (::close(fd) != 0) throw OutputError(path, errno, std::string("cannot finish the glTF file: ") + std::strerror(errno));
+}
+
+void save_gltf(const Scene& scene, const std::string& path, const std::string& folder) {
     const fs::path out(path);
     const std::string ext = out.extension().string();
     if (ext != ".gltf" && ext != ".glb")
@@ -1580,7 +1580,7 @@ void save_gltf(const Scene& scene, const std::string& path) {
         // and loaded without allow_external_files; absolute otherwise.
         std::error_code ec;
         const fs::path map = fs::weakly_canonical(fs::absolute(env.map_path), ec);
-        const fs::path dir = fs::weakly_canonical(fs::absolute(out).parent_path(), ec);
+        const fs::path dir = fs::weakly_canonical(fs::absolute(folder.empty() ? out.parent_path() : fs::path(folder)), ec);
         const fs::path rel = map.lexically_relative(dir);
         const bool inside = !ec && !rel.empty() && *rel.begin() != "..";
         env_obj["map"] = tinygltf::Value(inside ? rel.generic_string() : fs::absolute(env.map_path).string());
@@ -1599,12 +1599,25 @@ void save_gltf(const Scene& scene, const std::string& path) {
     model.scenes.push_back(gs);
     model.defaultScene = 0;
 
-    if (!binary) model.buffers[0].uri = out.stem().string() + ".bin";
-    if (model.buffers[0].data.empty()) model.buffers.clear(), model.bufferViews.clear();
+    // tinygltf's file writers leave a stream's close unchecked (a full disk gives a silently
+    // truncated file): the model is serialised in memory and every file written and checked here.
     tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToFile(&model, path, /*embedImages=*/false, /*embedBuffers=*/false,
-                                     /*prettyPrint=*/true, /*writeBinary=*/binary))
-        throw SceneError(path + ": could not write the glTF file");
+    std::ostringstream text;
+    if (binary || model.buffers.empty() || model.buffers[0].data.empty()) {
+        if (!model.buffers.empty() && model.buffers[0].data.empty()) model.buffers.clear(), model.bufferViews.clear();
+        writer.WriteGltfSceneToStream(&model, text, /*prettyPrint=*/true, /*writeBinary=*/binary);
+        write_file_checked(path, text.str());
+        return;
+    }
+    // .gltf + .bin: the buffer goes to its own file, and the JSON names it (not a data URI).
+    const std::vector<unsigned char> bin = std::move(model.buffers[0].data);
+    model.buffers[0].data.clear();
+    writer.WriteGltfSceneToStream(&model, text, /*prettyPrint=*/true, /*writeBinary=*/false);
+    nlohmann::json doc = nlohmann::json::parse(text.str());
+    const std::string bin_name = out.stem().string() + ".bin";
+    doc["buffers"][0] = nlohmann::json{{"byteLength", bin.size()}, {"uri", bin_name}};
+    write_file_checked((out.parent_path() / bin_name).string(), std::string(bin.begin(), bin.end()));
+    write_file_checked(path, doc.dump(2) + "\n");
 }
 
 }  // namespace ssr

@@ -26,6 +26,8 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform 
 // Writes `scene` as glTF 2.0: binary (.glb, everything embedded) or JSON (.gltf + a .bin
 // beside it, images embedded in the buffer). Lights use KHR_lights_punctual; reflectivity,
 // the ambient term and the environment travel in `extras`, so loading gives back the same scene.
-void save_gltf(const Scene& scene, const std::string& path);
+// `folder`: where the file will finally live, when it is written elsewhere first (a staging
+// folder renamed into place); references to files (an environment map) are made relative to it.
+void save_gltf(const Scene& scene, const std::string& path, const std::string& folder = "");
 
 }  // namespace ssr

@@ -4,6 +4,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 
 #include "core/errors.h"
@@ -133,6 +135,15 @@ void probe_image_file(const std::string& path, const std::string& what) {
 }
 
 void write_float_image(const std::string& path, const FloatImage& image, bool half) {
+    // errno is cleared first so that a failure the writer reports can name its system cause
+    // (ENOSPC, EACCES...); OpenImageIO's own message is kept beside it.
+    auto fail = [&](const std::string& what, const std::string& detail) {
+        const int err = errno;
+        std::string cause = what;
+        if (err) cause += std::string(": ") + std::strerror(err);
+        if (!detail.empty()) cause += " (" + detail + ")";
+        throw OutputError(path, err, cause);
+    };
     auto out = OIIO::ImageOutput::create(path);
     if (!out) throw SceneError(path + ": no image writer for this file type: " + OIIO::geterror());
     const std::string fmt = out->format_name();
@@ -140,10 +151,10 @@ void write_float_image(const std::string& path, const FloatImage& image, bool ha
     OIIO::TypeDesc type = eight_bit ? OIIO::TypeDesc::UINT8 : (half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
     OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
     if (!image.channel_names.empty()) spec.channelnames = image.channel_names;
-    if (!out->open(path, spec)) throw SceneError(path + ": cannot open for writing: " + out->geterror());
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()))
-        throw SceneError(path + ": cannot write image: " + out->geterror());
-    if (!out->close()) throw SceneError(path + ": cannot finish writing: " + out->geterror());
+    errno = 0;
+    if (!out->open(path, spec)) fail("cannot open for writing", out->geterror());
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail("cannot write the image", out->geterror());
+    if (!out->close()) fail("cannot finish writing the image", out->geterror());
 }
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "scene/scene_limits.h"
+
 #include <atomic>
 #include <cmath>
 #include <stdexcept>
@@ -103,16 +105,21 @@ int Scene::add_object(int mesh, int material, const glm::mat4& transform, const 
     if (material < 0 || material >= int(materials.size()))
         throw std::invalid_argument("object '" + obj_name + "': material index " + std::to_string(material) +
                                     " out of range");
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            if (!std::isfinite(transform[c][r]))
-                throw std::invalid_argument("object '" + obj_name + "': transform contains NaN or Inf");
+    if (const std::string p = transform_problem(transform); !p.empty())
+        throw std::invalid_argument("object '" + obj_name + "': transform " + p);
+    Bounds b;
+    for (const auto& q : meshes[size_t(mesh)].positions) b.extend(q);
+    if (!b.empty())
+        if (const std::string p = world_bounds_problem(transform, b.min, b.max); !p.empty())
+            throw std::invalid_argument("object '" + obj_name + "': " + p);
     objects.push_back(Object{obj_name, mesh, material, transform});
     touch();
     return int(objects.size()) - 1;
 }
 
 int Scene::add_light(const Light& l) {
+    if (const std::string p = light_problem(l); !p.empty())
+        throw std::invalid_argument("light '" + l.name + "': " + p);
     lights.push_back(l);
     touch();
     return int(lights.size()) - 1;

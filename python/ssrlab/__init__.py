@@ -9,7 +9,8 @@
     frame.timings           # GPU milliseconds per pass
 """
 
-from ._core import Camera, DeviceError, Environment, GLError, Light, Material, SceneError, ShaderError
+from ._core import (Camera, DeviceError, Environment, GLError, Light, Material, OutputError, SceneError,
+                    ShaderError)
 from . import image_codec as _image_codec
 
 _image_codec.register()  # image files through Python packages where the extension has no OpenImageIO
@@ -34,7 +35,7 @@ __version__ = _package_version()
 
 __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
-    "NoReflectionWarning", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
+    "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
     "ShaderError", "directional_light", "models", "point_light", "scenes",
     "shader_dir", "transforms", "display", "devices", "__version__",
 ]

@@ -121,7 +121,10 @@ def write(path, pixels: np.ndarray, names=(), half: bool = False) -> None:
         # OpenImageIO's float -> uint8: round half up, in float32
         q = np.floor(np.clip(np.nan_to_num(a), 0.0, 1.0) * np.float32(255.0) + np.float32(0.5)).astype(np.uint8)
         img = _pil().fromarray(q[..., 0] if c == 1 else q, _MODES[c])
-        img.save(str(path), format="PNG" if suffix == ".png" else "JPEG", **({"quality": 95} if suffix != ".png" else {}))
+        if suffix == ".png":
+            img.save(str(path), format="PNG")
+        else:
+            img.save(str(path), format="JPEG", quality=95)
         return
     if suffix == ".exr":
         OpenEXR = _openexr()

@@ -8,6 +8,7 @@ user wrote is lost without asking.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import os
@@ -20,6 +21,37 @@ import numpy as np
 from . import _core
 
 MANIFEST = ".ssrlab-manifest.json"
+OutputError = _core.OutputError
+
+
+def output_error(exc: BaseException, target: Path) -> OSError:
+    """An OutputError (an OSError) naming `target`, the file the user asked for, with the cause of
+    `exc`, which may name a temporary file: errno and strerror are kept where the cause has them."""
+    code = getattr(exc, "errno", None) or errno.EIO
+    cause = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+    return OutputError(code, f"cannot write {target.name}: {cause}", str(target))
+
+
+def atomic_write(target: Path, writer: Callable[[Path], None]) -> None:
+    """Calls writer(temp_path) on a temporary file beside `target`, then renames it into place: a
+    failure (a full disk, a writer that raises) leaves `target` as it was and no partial file, and
+    raises an OutputError naming `target`."""
+    target = Path(target)
+    suffix = "".join(target.suffixes) or ".tmp"
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".ssrlab-", suffix=suffix, dir=target.parent)
+    except OSError as exc:
+        raise output_error(exc, target) from exc
+    os.close(fd)
+    try:
+        writer(Path(tmp))
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600 files; give the usual mode
+        os.replace(tmp, target)
+    except OSError as exc:
+        raise output_error(exc, target) from exc
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
 
 
 def linear_to_srgb(linear: np.ndarray, exposure: float = 1.0) -> np.ndarray:
@@ -79,21 +111,17 @@ class OutputFolder:
                 raise FileExistsError(f"{path} exists and {why}; pass overwrite=True (--overwrite) to replace it")
 
     def write(self, name: str, writer: Callable[[Path], None]) -> Path:
-        """Calls writer(temp_path) then moves the result into place atomically."""
-        self.folder.mkdir(parents=True, exist_ok=True)
-        target = self.folder / name
-        suffix = "".join(target.suffixes) or ".tmp"
-        fd, tmp = tempfile.mkstemp(prefix=".ssrlab-", suffix=suffix, dir=self.folder)
-        os.close(fd)
+        """Calls writer(temp_path) then moves the result into place atomically (atomic_write); the
+        manifest is replaced the same way."""
         try:
-            writer(Path(tmp))
-            os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600 files; give the usual mode
-            os.replace(tmp, target)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+            self.folder.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise output_error(exc, self.folder) from exc
+        target = self.folder / name
+        atomic_write(target, writer)
         self._manifest[name] = _sha256(target)
-        self._manifest_path.write_text(json.dumps({"files": self._manifest}, indent=1, sort_keys=True))
+        text = json.dumps({"files": self._manifest}, indent=1, sort_keys=True)
+        atomic_write(self._manifest_path, lambda p: p.write_text(text))
         return target
 
 

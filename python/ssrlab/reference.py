@@ -127,26 +127,55 @@ def reflective_mask(frame) -> np.ndarray:
     return g.coverage[0] & (g.reflectivity[0] > 0)
 
 
-class ConvergedReference:
+class _FrameResult:
+    """A result computed into textures a frame holds, which a later call on the same frame (another
+    reference) overwrites. The frame keeps a weak list of its live results and, before any such
+    call, asks each to copy what it reads into arrays of its own (``_keep``): a result keeps the
+    values it computed, whatever is computed after it, and costs no read-back while it is the
+    newest one."""
+
+    TEXTURES: tuple[str, ...] = ()
+
+    def __init__(self, frame):
+        self._frame = frame
+        self._owned: dict[str, np.ndarray] | None = None
+        frame._results.add(self)
+
+    def _keep(self) -> None:
+        """Copies this result's textures out of the frame (once), before the frame overwrites them."""
+        if self._owned is None and not self._frame.released:
+            self._owned = {name: self._frame.read(name) for name in self.TEXTURES}
+
+    def _read(self, name: str) -> np.ndarray:
+        if self._owned is not None:
+            return self._owned[name]
+        if self._frame.released:
+            raise ValueError(f"cannot read this {type(self).__name__}: its frame was released (Frame.release() or "
+                             "the end of its with block) before the result was read; read it before releasing")
+        return self._frame.read(name)
+
+
+class ConvergedReference(_FrameResult):
     """The converged reference of a frame: `rays_per_pixel` rays per reflective pixel (one for
     mirrors) traced against the triangles and shaded like the G-buffer."""
 
     kind = "converged"
+    TEXTURES = ("reference.reflection", "reference.color")
 
     def __init__(self, frame, rays_per_pixel: int, timings: dict):
-        self._frame = frame
+        super().__init__(frame)
         self.rays_per_pixel = rays_per_pixel
         self.timings = timings  # GPU milliseconds of the reference passes
 
     @property
     def reflection(self) -> np.ndarray:
         """(H, W, 3) the true reflection c_r (0 where a pixel does not reflect)."""
-        return self._frame.read("reference.reflection")[0, :, :, :3]
+        return self._read("reference.reflection")[0, :, :, :3]
 
     @property
     def color(self) -> np.ndarray:
         """(H, W, 3) the frame's final image with the true reflection, composited like the frame."""
-        return self._frame.read("reference.color")[0, :, :, :3]
+        return self._read("reference.color")[0, :, :, :3]
 
     @property
     def reflective(self) -> np.ndarray:
@@ -172,7 +201,7 @@ class ConvergedReference:
 IN_GBUFFER_DEPTH_TOLERANCE = 1e-3
 
 
-class PerRayReference:
+class PerRayReference(_FrameResult):
     """The rays an SSR frame traced, each traced again against the triangles: (R, h, w) arrays at
     the trace resolution, like Frame.rays.
 
@@ -188,13 +217,14 @@ class PerRayReference:
     """
 
     kind = "per_ray"
+    TEXTURES = ("reference.hit", "reference.position", "reference.radiance")
 
     def __init__(self, frame, timings: dict):
-        self._frame = frame
+        super().__init__(frame)
         self.timings = timings
 
     def _hit(self):
-        return self._frame.read("reference.hit")
+        return self._read("reference.hit")
 
     @property
     def hit(self) -> np.ndarray:
@@ -217,15 +247,15 @@ class PerRayReference:
 
     @property
     def position(self) -> np.ndarray:
-        return self._frame.read("reference.position")[..., :3]
+        return self._read("reference.position")[..., :3]
 
     @property
     def on_screen(self) -> np.ndarray:
-        return self.hit & (self._frame.read("reference.position")[..., 3] > 0.5)
+        return self.hit & (self._read("reference.position")[..., 3] > 0.5)
 
     @property
     def radiance(self) -> np.ndarray:
-        return self._frame.read("reference.radiance")[..., :3]
+        return self._read("reference.radiance")[..., :3]
 
     @property
     def in_gbuffer(self) -> np.ndarray:

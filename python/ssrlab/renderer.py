@@ -292,6 +292,8 @@ class Frame:
         self._scene = scene
         self._cache: dict[str, np.ndarray] = {}
         self._trace_sum_cache: dict[str, int] | None = None
+        # Results computed into textures a later call overwrites (ssrlab.reference._FrameResult).
+        self._results: "weakref.WeakSet" = weakref.WeakSet()
 
     # -- lifetime -------------------------------------------------------------------------------
     def release(self) -> None:
@@ -403,7 +405,8 @@ class Frame:
 
     # -- images -------------------------------------------------------------------------------
     def read(self, name: str, level: int = 0) -> np.ndarray:
-        """Every layer of a texture as float32 (layers, height, width, 4), cached."""
+        """Every layer of a texture as float32 (layers, height, width, 4), cached and read-only
+        (copy it to change it: ``frame.read(name).copy()``)."""
         self._check_live(repr(name))
         key = f"{name}@{level}"
         if key not in self._cache:
@@ -413,6 +416,9 @@ class Frame:
                 # no ray, which reads as zeros here, as the full-screen trace writes it.
                 traced = self.read("rays.sample", level)[..., 3:4] > 0.5
                 data = np.where(traced, data, np.float32(0.0)).astype(np.float32, copy=False)
+            # Read-only: every property and result shares this one copy, so an in-place change by
+            # one reader would silently change what every other reader sees.
+            data.flags.writeable = False
             self._cache[key] = data
         return self._cache[key]
 
@@ -521,6 +527,11 @@ class Frame:
         if self._renderer is None or self._scene is None:
             raise ValueError("this frame does not know its renderer and scene")
         self._check_live("a reference")
+        if kind not in ("per_ray", "converged"):
+            raise ValueError(f"reference kind must be 'converged' or 'per_ray', got {kind!r}")
+        # Every earlier reference of this frame keeps its values before the textures are reused.
+        for result in list(self._results):
+            result._keep()
         if kind == "per_ray":
             timings = self._renderer._native.reference(self._scene, self._native, "per_ray", 1, seed, sampling,
                                                       viewer, shadows)

@@ -4,6 +4,8 @@ ambient term, an environment and an optional default camera."""
 from __future__ import annotations
 
 import os
+import shutil
+import tempfile
 import warnings
 from pathlib import Path
 
@@ -189,7 +191,23 @@ class Scene(_core.Scene):
         existing = [p for p in targets if p.exists()]
         if existing and not overwrite:
             raise FileExistsError(f"{existing[0]} exists; pass overwrite=True to replace it")
-        self._save(str(path))
+        # Written into a temporary folder beside the target, then renamed into place (the .bin
+        # first, so a .gltf never names a buffer that is not there): a failure leaves no partial
+        # file and raises an OutputError (an OSError) naming the file.
+        from .io import output_error
+
+        try:
+            staging = Path(tempfile.mkdtemp(prefix=".ssrlab-save-", dir=path.parent))
+        except OSError as exc:
+            raise output_error(exc, path) from exc
+        try:
+            self._save(str(staging / path.name), str(path.parent.resolve()))
+            for t in reversed(targets):
+                os.replace(staging / t.name, t)
+        except OSError as exc:
+            raise output_error(exc, path) from exc
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
         return path
 
     def copy(self) -> "Scene":
