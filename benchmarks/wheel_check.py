@@ -126,6 +126,12 @@ assert png.shape == (90, 160, 3) and exr.shape == (90, 160, 3) and png.std() > 0
 assert np.abs(ssrlab.io.linear_to_srgb(exr) - png).max() <= 0.5 / 255 + 1e-6, "color.png is color.exr in sRGB"
 print("read back: color.png", png.shape, "| color.exr", names, "| gbuffer_layer0.exr", len(g_names), "channels")
 print("ssrlab imported from", ssrlab.__file__)
+try:  # a file the system will not let the codec write: an OutputError naming it, as with OpenImageIO
+    ssrlab.io.write_image(folder + "/no/such/folder/x.exr", exr)
+    raise AssertionError("writing into a missing folder did not fail")
+except ssrlab.OutputError as e:
+    assert "x.exr" in str(e) and e.errno, e
+    print("a failed write:", type(e).__name__, e.errno, e)
 if len(sys.argv) > 2:  # a textured glTF model: textures decoded by Pillow, saved as a .glb (PNG encoded) and read back
     scene = ssrlab.Scene.load(sys.argv[2])
     assert scene.image_count > 0 and scene.material(0).base_color_texture >= 0

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'write_image']
+__all__: list[str] = ['Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -25,11 +25,15 @@ class SceneError(ValueError):
     """
     A malformed scene or glTF file; the message names the file and the accessor, image or node.
     """
+class OutputError(OSError):
+    """
+    An output file could not be written (a full disk, no permission): an OSError naming the file (.filename) and the cause (.errno, .strerror).
+    """
 class Material:
     """
     A glTF 2.0 metallic-roughness material plus the thesis's reflectivity.
     
-    base_color   linear RGBA, each >= 0 (default (0.8, 0.8, 0.8, 1))
+    base_color   linear RGBA, each in [0, 1] (default (0.8, 0.8, 0.8, 1))
     metallic     0..1
     roughness    perceptual roughness 0..1, as in glTF; GGX alpha = roughness**2
     reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000, 2.4); or "auto":
@@ -358,7 +362,7 @@ class Scene:
         """
         Makes this scene a deep copy of `other` (a different scene for GPU caches).
         """
-    def _save(self, arg0: str) -> None:
+    def _save(self, path: str, folder: str = '') -> None:
         ...
     def add_image(self, rgba: typing.Annotated[numpy.typing.ArrayLike, numpy.uint8], name: str = 'image') -> int:
         """
