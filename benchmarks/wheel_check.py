@@ -86,12 +86,12 @@ def main() -> int:
 
     # 3. A fresh environment, nothing from the system's site packages.
     venv = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-venv-"))
+    work = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-run-"))
     try:
         run([sys.executable, "-m", "venv", venv])
         py = venv / "bin" / "python"
         run([py, "-m", "pip", "install", "-q", f"{repaired}[images]"])
         # 4. Render the default scene from a folder that is not the source tree.
-        work = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-run-"))
         info = run([venv / "bin" / "ssrlab", "info"], cwd=work).stdout
         print("\n".join("  " + line for line in info.splitlines()[:8]))
         render = run([venv / "bin" / "ssrlab", "render", "--width", "160", "--height", "90", "--out", work / "r"],
@@ -105,8 +105,9 @@ def main() -> int:
     finally:
         if not args.keep:
             shutil.rmtree(venv, ignore_errors=True)
+            shutil.rmtree(work, ignore_errors=True)
         else:
-            print(f"kept {venv}")
+            print(f"kept {venv} and {work}")
     return 0
 
 
