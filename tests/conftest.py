@@ -17,8 +17,8 @@ REPO = Path(__file__).resolve().parents[1]
 MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
 # ssrlab.models looks here too (scene builders that use a sample model, e.g. Suzanne).
 os.environ.setdefault("SSRLAB_MODELS", os.pathsep.join(str(p) for p in MODELS))
-# FLIP costs 0.1-0.5 s an image on a CPU core (docs/metrics.md), more than most of the suite's
-# renders: sweeps here leave FLIP and SSIM out unless a test asks (perceptual=True, or
+# FLIP costs tens to hundreds of milliseconds for each of the suite's small images (docs/metrics.md),
+# more than most of its renders: sweeps here leave FLIP and SSIM out unless a test asks (perceptual=True, or
 # SSRLAB_PERCEPTUAL=1 as the thesis_layers notebook's test does).
 os.environ.setdefault("SSRLAB_PERCEPTUAL", "0")
 

@@ -35,7 +35,8 @@ viewing distance of a 0.7 m wide, 3840 pixel display). The FLIP and SSIM package
 optional (``pip install 'ssrlab[metrics]'``): without them image_metrics reports None under
 their keys and warns once; flip() and ssim() raise ImportError naming the extra. FLIP's filters
 are large and fixed in size (67 pixels per degree), so it costs far more than the other metrics
-(0.1 s for a 96x54 image, 0.3-0.6 s at 320x180 on one CPU core): SSRLAB_PERCEPTUAL=0 leaves
+(tens of milliseconds for a small image, about 0.3 s at 320x180 and 3 s at 640x360 on one CPU
+core; benchmarks/metric_cost.py): SSRLAB_PERCEPTUAL=0 leaves
 FLIP and SSIM out of image_metrics (and so of sweep rows) unless asked for.
 
 Inputs with NaN or Inf values raise ValueError: an error metric over them would be
@@ -289,7 +290,7 @@ def image_metrics(image, reference, reflective_mask, *, perceptual: bool | None 
     for k in PERCEPTUAL_KEYS:
         out[k] = out[k + "_reflective"] = None
     if perceptual is None and os.environ.get(PERCEPTUAL_ENV, "").strip().lower() in ("0", "off", "no", "false"):
-        perceptual = False  # FLIP costs 0.1-1 s an image on a CPU core: a sweep may not want it
+        perceptual = False  # FLIP costs up to seconds an image on a CPU core: a sweep may not want it
     if perceptual is None:
         perceptual = perceptual_available()
         if not perceptual and "missing" not in _WARNED:
