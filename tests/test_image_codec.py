@@ -64,6 +64,10 @@ def test_decode_and_encode_png_round_trip():
 def test_bad_files_and_missing_packages_are_named(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match=r"out\.tif.*PNG, JPEG and EXR"):
         image_codec.write(tmp_path / "out.tif", np.zeros((2, 2, 3), np.float32))
+    with pytest.raises(FileNotFoundError):  # an OSError, which the extension makes an OutputError
+        image_codec.write(tmp_path / "no" / "folder" / "out.exr", np.zeros((2, 2, 3), np.float32))
+    with pytest.raises(OSError):
+        image_codec.write(tmp_path / "no" / "folder" / "out.png", np.zeros((2, 2, 3), np.float32))
     with pytest.raises(ValueError, match="distinct channel names"):
         image_codec.write(tmp_path / "out.exr", np.zeros((2, 2, 2), np.float32), ["R", "R"])
     import builtins

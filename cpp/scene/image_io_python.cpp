@@ -139,12 +139,35 @@ void probe_image_file(const std::string& path, const std::string& what) {
 }
 
 void write_float_image(const std::string& path, const FloatImage& image, bool half) {
-    with_codec(path, [&](py::object& codec) {
-        py::array_t<float> a({py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(image.channels)});
-        std::memcpy(a.mutable_data(), image.pixels.data(), image.pixels.size() * sizeof(float));
-        codec("write", path, a, image.channel_names, half);
-        return 0;
-    });
+    // A file the system would not let the codec write (an OSError: no space, no permission) is an
+    // OutputError naming the file and its errno, as OpenImageIO's writer reports it.
+    int err = 0;
+    std::string cause;
+    {
+        py::gil_scoped_acquire gil;
+        try {
+            with_codec(path, [&](py::object& codec) {
+                py::array_t<float> a(
+                    {py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(image.channels)});
+                std::memcpy(a.mutable_data(), image.pixels.data(), image.pixels.size() * sizeof(float));
+                try {
+                    codec("write", path, a, image.channel_names, half);
+                } catch (py::error_already_set& e) {
+                    if (!e.matches(PyExc_OSError)) throw;
+                    py::object value = e.value();
+                    py::object no = py::getattr(value, "errno", py::none());
+                    err = no.is_none() ? 0 : no.cast<int>();
+                    py::object text = py::getattr(value, "strerror", py::none());
+                    cause = "cannot write the image: " +
+                            (text.is_none() ? std::string(e.what()) : text.cast<std::string>());
+                }
+                return 0;
+            });
+        } catch (const FileNotFound& e) {
+            cause = std::string("cannot write the image: ") + e.what();
+        }
+    }
+    if (!cause.empty()) throw OutputError(path, err, cause);
 }
 
 }  // namespace ssr

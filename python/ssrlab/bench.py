@@ -135,8 +135,8 @@ def _time_column(column: str) -> str:
 
 def is_volatile(column: str) -> bool:
     """True for the columns that change from run to run of the same configuration: times and
-    their spread, the timestamp, the worker and whether the reference was in the store. Everything else, the metrics included, is
-    deterministic."""
+    their spread, the timestamp, the worker and whether the reference was in the store.
+    Everything else, the metrics included, is deterministic."""
     column = _time_column(column)
     return column in VOLATILE_KEYS or (column.startswith("gpu_") and column.endswith("_ms"))
 

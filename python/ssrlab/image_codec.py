@@ -18,7 +18,9 @@ first, then the others by name).
 
 from __future__ import annotations
 
+import errno
 import io as _stdio
+import os
 from pathlib import Path
 
 import numpy as np
@@ -121,7 +123,10 @@ def write(path, pixels: np.ndarray, names=(), half: bool = False) -> None:
         # OpenImageIO's float -> uint8: round half up, in float32
         q = np.floor(np.clip(np.nan_to_num(a), 0.0, 1.0) * np.float32(255.0) + np.float32(0.5)).astype(np.uint8)
         img = _pil().fromarray(q[..., 0] if c == 1 else q, _MODES[c])
-        img.save(str(path), format="PNG" if suffix == ".png" else "JPEG", **({"quality": 95} if suffix != ".png" else {}))
+        if suffix == ".png":
+            img.save(str(path), format="PNG")
+        else:
+            img.save(str(path), format="JPEG", quality=95)
         return
     if suffix == ".exr":
         OpenEXR = _openexr()
@@ -132,8 +137,14 @@ def write(path, pixels: np.ndarray, names=(), half: bool = False) -> None:
         dtype = np.float16 if half else np.float32
         channels = {n: np.ascontiguousarray(a[..., i].astype(dtype)) for i, n in enumerate(names)}
         header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+        parent = Path(str(path)).parent
+        if not parent.is_dir():  # OpenEXR reports this as a RuntimeError without the cause
+            raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), str(parent))
         with OpenEXR.File(header, channels) as f:
-            f.write(str(path))
+            try:
+                f.write(str(path))
+            except RuntimeError as e:  # OpenEXR's failures (a full disk...) as the OSError they are
+                raise OSError(errno.EIO, f"OpenEXR could not write the file: {e}", str(path)) from e
         return
     raise ValueError(f"{path}: without OpenImageIO ssrlab writes PNG, JPEG and EXR files, not {suffix or 'this'}")
 

@@ -33,7 +33,11 @@ ssim          mean structural similarity (Wang et al. 2004) by scikit-image's
 Both viewing-condition parameters of FLIP are its defaults: 67 pixels per degree (a 0.7 m
 viewing distance of a 0.7 m wide, 3840 pixel display). The FLIP and SSIM packages are
 optional (``pip install 'ssrlab[metrics]'``): without them image_metrics reports None under
-their keys and warns once; flip() and ssim() raise ImportError naming the extra.
+their keys and warns once; flip() and ssim() raise ImportError naming the extra. FLIP's filters
+are large and fixed in size (67 pixels per degree), so it costs far more than the other metrics
+(tens of milliseconds for a small image, about 0.3 s at 320x180 and 3 s at 640x360 on one CPU
+core; benchmarks/metric_cost.py): SSRLAB_PERCEPTUAL=0 leaves
+FLIP and SSIM out of image_metrics (and so of sweep rows) unless asked for.
 
 Inputs with NaN or Inf values raise ValueError: an error metric over them would be
 meaningless (a NaN poisons every sum) and usually points at a rendering bug.
@@ -41,6 +45,7 @@ meaningless (a NaN poisons every sum) and usually points at a rendering bug.
 
 from __future__ import annotations
 
+import os
 import warnings
 
 import numpy as np
@@ -240,6 +245,8 @@ def ssim(image, reference, mask=None) -> float | None:
 
 
 PERCEPTUAL_KEYS = ("flip_ldr", "flip_hdr", "ssim")
+# SSRLAB_PERCEPTUAL=0 leaves FLIP and SSIM out of image_metrics by default (sweep rows included).
+PERCEPTUAL_ENV = "SSRLAB_PERCEPTUAL"
 _WARNED: set[str] = set()
 
 
@@ -261,7 +268,8 @@ def image_metrics(image, reference, reflective_mask, *, perceptual: bool | None 
     _reflective (reflective pixels; None when no pixel reflects, since a mean over no pixels
     is undefined). `perceptual`: True computes FLIP and SSIM (ImportError without their
     packages); False leaves them None; None (default) computes them where the packages are
-    installed, else leaves them None with a warning naming the pip extra.
+    installed (else leaves them None with a warning naming the pip extra) unless
+    $SSRLAB_PERCEPTUAL is 0.
     """
     a, b = _pair(image, reference)
     m = np.asarray(reflective_mask)
@@ -281,6 +289,8 @@ def image_metrics(image, reference, reflective_mask, *, perceptual: bool | None 
         out.update(thesis_error_reflective=None, rmse_reflective=None, psnr_reflective=None)
     for k in PERCEPTUAL_KEYS:
         out[k] = out[k + "_reflective"] = None
+    if perceptual is None and os.environ.get(PERCEPTUAL_ENV, "").strip().lower() in ("0", "off", "no", "false"):
+        perceptual = False  # FLIP costs up to seconds an image on a CPU core: a sweep may not want it
     if perceptual is None:
         perceptual = perceptual_available()
         if not perceptual and "missing" not in _WARNED:
