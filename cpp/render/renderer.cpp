@@ -240,6 +240,8 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, bool sha
             // Or seed 004's local cube maps, then the environment.
             if (s.fallback == Fallback::Probes)
                 chain.push_back(shadows ? &fallback_probes_shadowed_ : &fallback_probes_unshadowed_);
+            // Or the environment, weighted by the share of the ray the scene leaves open.
+            if (SpecularOcclusionPass::enabled(s)) chain.push_back(&specular_occlusion_);
         }
         if (s.glossy == Glossy::Cone) {
             chain.push_back(&cone_trace_);  // seed 002, 4.4.5
@@ -543,6 +545,8 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     if (std::find(chain.begin(), chain.end(), &classify_) != chain.end()) frame->stats = classify_.counters();
     if (std::find(chain.begin(), chain.end(), &variance_rays_) != chain.end())
         for (const auto& [k, v] : variance_rays_.extra_counters()) frame->stats[k] = v;
+    if (std::find(chain.begin(), chain.end(), &specular_occlusion_) != chain.end())
+        for (const auto& [k, v] : specular_occlusion_.counters()) frame->stats[k] = v;
     frame->stats["passes_run"] = double(chain.size());
     if (probes) {
         frame->stats["probes"] = double(probes->probe_count());

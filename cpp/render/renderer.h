@@ -14,6 +14,7 @@
 #include "core/gpu_timer.h"
 #include "core/shader_library.h"
 #include "passes/blur_mips.h"
+#include "passes/specular_occlusion.h"
 #include "passes/composite.h"
 #include "passes/cone_trace.h"
 #include "passes/depth_peel.h"
@@ -178,6 +179,7 @@ private:
     PreintegratePass preintegrate_;
     ConeTracePass cone_trace_;
     BlurMipsPass blur_mips_;
+    SpecularOcclusionPass specular_occlusion_;
     CompositePass composite_plain_{false}, composite_reflections_{true};
     CompositePass composite_temporal_{true, "reflection.temporal"};
     // The SVGF denoiser of the reflection (issue 12, seed 003).

@@ -276,6 +276,15 @@ class Settings:
         False, "vertically stretched cones at grazing angles (seed 002, 4.6.8): each cone sample's footprint "
         "becomes r / sqrt(N.V) along the ray's screen direction and r sqrt(N.V) across it (at most 4:1), "
         "read as up to 4 samples along the ray at the narrow side's mip level", group="glossy")
+    specular_occlusion: str = _setting(
+        "exit", "what a reflection ray screen space did not resolve (a miss, or the faded share of a hit) "
+        "brings with fallback 'environment': 'off' the environment; otherwise the environment weighted by "
+        "the share of the ray (the lobe, for glossy 'cone' and 'blur_mips') the scene leaves open, the rest "
+        "the lit colour of what blocks it (the specular_occlusion pass; docs/occlusion.md). 'horizon': the "
+        "visibility cone of horizon-based occlusion over layer 0's depth (GTSO, Jimenez et al. 2016); "
+        "'exit': where the ray left the screen (open sky, or a surface of the deep G-buffer at its exit "
+        "pixel that the ray runs into). frame.stats counts unresolved_rays and occluded_misses",
+        choices=("off", "horizon", "exit"), group="glossy")
 
     # -- denoiser of the reflection (issue 12; seed 003: SVGF, Schied et al. 2017) -------------------
     denoise: str = _setting(
