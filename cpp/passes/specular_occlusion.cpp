@@ -16,7 +16,19 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
     d["METHOD"] = s.specular_occlusion == SpecularOcclusion::Horizon ? "1" : "2";
     // cone and blur_mips trace one mirror ray that stands for the whole lobe.
     d["LOBE"] = s.glossy == Glossy::Stochastic ? "0" : "1";
+    if (s.specular_occlusion == SpecularOcclusion::Exit) {
+        // Stage 0: the enclosure cells (the farthest surface of each cell, or open background).
+        Defines dc = d;
+        dc["STAGE"] = "0";
+        glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, dc));
+        bind_inputs_in_order(r, inputs());
+        bind_image_layered(1, r.get("occlusion_cells"), GL_WRITE_ONLY);
+        const Texture& cells = r.get("occlusion_cells");
+        dispatch_2d(cells.width(), cells.height(), 1, 8, 8);
+    }
+    d["STAGE"] = "1";
     glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d));
+    if (s.specular_occlusion == SpecularOcclusion::Exit) glBindTextureUnit(8, r.get("occlusion_cells").id());
     const uint32_t zero[2] = {0, 0};
     if (!counters_) counters_ = Buffer::create(sizeof(zero));
     counters_.upload(zero, sizeof(zero));

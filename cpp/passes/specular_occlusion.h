@@ -7,12 +7,15 @@
 //   inputs : linear_depth, gbuffer.normal, gbuffer.material, lit, rays.hit, rays.sample,
 //            rays.direction, gbuffer.albedo
 //   outputs: rays.radiance (as fallback_probes: rgb the radiance, a -1 for an unresolved ray,
-//            -2 for a resolved one)
+//            -2 for a resolved one); with "exit" occlusion_cells (R32F, one texel per cell() x cell() pixels:
+//            the farthest layer-0 view depth of it and its 8 neighbours, 1e30 where any pixel
+//            there shows the background)
 // Runs after the tracer with fallback "environment" (the fallbacks "bvh" and "probes" own
 // rays.radiance) and specular_occlusion other than "off". Counts the unresolved rays and the
 // occluded ones (visibility below 1/2) for Frame.stats.
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <string>
 
@@ -29,8 +32,16 @@ public:
                 "rays.direction", "gbuffer.albedo"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"rays.radiance", GL_RGBA32F, s.trace_width(), s.trace_height(), s.traced_rays(), 1}};
+        std::vector<ResourceDesc> out = {
+            {"rays.radiance", GL_RGBA32F, s.trace_width(), s.trace_height(), s.traced_rays(), 1}};
+        if (s.specular_occlusion == SpecularOcclusion::Exit)
+            out.push_back({"occlusion_cells", GL_R32F, (s.width + cell(s) - 1) / cell(s),
+                           (s.height + cell(s) - 1) / cell(s), 0, 1});
+        return out;
     }
+    // "exit": the side of an enclosure cell in pixels, 1/16 of the image height (as
+    // shaders/passes/specular_occlusion.comp computes it).
+    static int cell(const RenderSettings& s) { return std::max(4, s.height / 16); }
     void execute(FrameContext& ctx) override;
 
     // Whether the chain runs the pass for these settings.

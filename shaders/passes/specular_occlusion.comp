@@ -13,26 +13,35 @@
 //     Strategies for Accurate Indirect Occlusion", sections 4 and 5): horizon-based ambient
 //     occlusion over layer 0's depth in SLICES screen slices gives the cosine-weighted
 //     visibility and the bent normal; the visible region is the cone around the bent normal
-//     with cos(aperture) = sqrt(1 - visibility); a ray is visible by the angle between it and
-//     the bent normal (a mirror ray, or each stochastic ray), a lobe by the solid angle the
-//     cone shares with the lobe's cone (the cap-cap overlap of Oat and Sander 2007, "Ambient
-//     aperture lighting"), over the lobe's. The occluder's radiance: the lit colour of the
-//     samples that set the horizons, weighted by the angle each blocks.
-//   METHOD 2, "exit": where the ray left the screen. The ray is clipped to the view; at its
-//     exit pixel the deep G-buffer's layers give the first surface at or behind the ray (the
-//     ray passes in front of it). No surface: the ray leaves into open sky (V = 1). A surface
-//     whose plane the ray runs toward (n . d < 0) is taken to continue beyond the screen: the
-//     ray meets the plane after t, and V = 1 - exp(-t / (EXIT_REACH * depth)), a confidence
-//     that shrinks with how far the plane must be extrapolated relative to its distance to
-//     the camera. A plane the ray moves away from (a floor it rises above) does not block it.
-//     A ray behind every layer there went into hidden space: V = 0. The occluder's radiance:
-//     the lit colour of that surface at the exit pixel (the wall seen at the screen edge).
-// LOBE 1 (glossy "cone" and "blur_mips": one mirror ray per pixel whose misses take the
-// lobe-averaged environment, lib/glossy_common.glsl): the same over the lobe's 16 fixed VNDF
-// directions. A ray screen space resolved (a hit at full fade weight) writes -2 ("not a
-// fallback ray"), every other a = -1 (no hit distance, as the environment). Counters (binding
-// 14): unresolved rays and occluded ones (V < 0.5), once per ray (the CPU device's atomics are
-// slow in a loop: only those two, after the estimate).
+//     with cos(aperture) = sqrt(1 - visibility); the lobe's visible share SO is the solid angle
+//     that cone shares with the lobe's cone around the mirror direction (half-angle
+//     lib/cone_angle.glsl's; the cap-cap overlap of Oat and Sander 2007, "Ambient aperture
+//     lighting"), over the lobe's. A miss of the stochastic resolve takes the occluded share
+//     that the pixel's resolved rays do not already account for (see main); the lobe of cone
+//     and blur_mips, SO. The occluder: the samples that set the horizons, weighted by the angle
+//     each blocks.
+//   METHOD 2, "exit": what the frame knows of where the ray went.
+//     (a) Its way to the screen's edge, re-walked in MARCH_STEPS samples: where it is farther
+//         than every surface of the enclosure cell around it (stage 0: the farthest layer-0
+//         depth of a cell and its 8 neighbours, infinitely far if any of their pixels shows
+//         the background), it is behind a closed region -- the background there continues
+//         behind whatever covers the ray -- and is blocked (V = 0). A ray merely behind the
+//         nearest surface is not: it may pass behind an object (an open scene's spheres).
+//     (b) At its exit pixel, the first surface of the deep G-buffer's layers at or behind the
+//         ray: none (open sky at the border) leaves V = 1; a surface whose plane the ray runs
+//         toward (n . d < 0) is taken to continue beyond the screen: the ray meets the plane
+//         after t, and V = 1 - exp(-t / (EXIT_REACH * depth)), a confidence that shrinks with
+//         how far the plane must be extrapolated relative to its distance to the camera; a
+//         plane the ray rises away from (a floor) does not block it; a ray behind every layer
+//         there went into hidden space (V = 0).
+//     A ray that ends on screen (at max_distance, or the near plane) without (a): V = 1.
+//   Both: a faded hit knows where it went: V = 0 and its own lit colour (the hit is on screen
+//   and, measured on hall, right to 6 % where the environment it faded toward was 139 % off).
+// The occluder's radiance, where it is not a hit: the ambient term of the surface found
+// (ambient x albedo), not its lit colour. What blocks a reflection ray that screen space missed
+// is the side of a surface the camera does not see (undersides, backs), which the direct light
+// mostly does not reach either; measured on hall at roughness 0.2 against the lit colour and
+// the mean of both (docs/occlusion.md).
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"
@@ -49,9 +58,6 @@
 #endif
 #ifndef LOBE
 #define LOBE 0
-#endif
-#ifndef FADED_HITS
-#define FADED_HITS 1
 #endif
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -71,18 +77,23 @@ layout(std430, binding = 14) buffer OcclusionCounters {
 } counters;
 
 layout(location = 0) uniform int u_rays;  // rays per trace pixel (layers of rays.*)
+layout(binding = 8) uniform sampler2D u_cells;  // occlusion_cells (stage 0's output)
+
+#ifndef STAGE
+#define STAGE 1
+#endif
+const int CELL_DIVISOR = 16;
+// The side of an enclosure cell, pixels (= SpecularOcclusionPass::cell).
+int cell_size() {
+    return max(4, int(frame.viewport.y) / CELL_DIVISOR);
+}
 
 const int SLICES = 4;         // horizon: screen slices (GTAO's directions)
 const int STEPS = 8;          // horizon: depth samples per side of a slice
 const float RADIUS = 0.25;    // horizon: search radius, fraction of the image height
 const float EXIT_REACH = 1.0; // exit: extrapolation scale, in units of the surface's view depth
-const int LOBE_SAMPLES = 16;
-#ifndef MARCH_STEPS
-#define MARCH_STEPS 16        // exit: samples of the ray's way to the exit
-#endif
-#ifndef HIDDEN_DEPTH
-#define HIDDEN_DEPTH 1.0     // exit: how far behind a surface (relative to its depth) still counts as hidden by it
-#endif  // as lib/glossy_common.glsl's ENV_LOBE_SAMPLES
+const int LOBE_SAMPLES = 16;  // as lib/glossy_common.glsl's ENV_LOBE_SAMPLES
+const int MARCH_STEPS = 16;   // exit: samples of the ray's way to the screen's edge
 
 ivec2 g_size;
 int g_layers;
@@ -93,6 +104,11 @@ vec3 env_view(vec3 d) {
 
 bool covered(ivec2 p, int layer) {
     return texelFetch(u_material, ivec3(p, layer), 0).g > 0.5;
+}
+
+// The radiance assumed for the unseen side of the surface at pixel p of `layer` (see the top).
+vec3 occluder_radiance(ivec2 p, int layer) {
+    return frame.ambient.rgb * texelFetch(u_albedo, ivec3(p, layer), 0).rgb;
 }
 
 // ---- METHOD 1: the horizon's visibility cone (GTSO) -------------------------------------------
@@ -119,10 +135,11 @@ Cone horizon_cone(ivec2 p, vec3 pos, vec3 n) {
     for (int s = 0; s < SLICES; ++s) {
         float phi = (float(s) + rot) * PI / float(SLICES);
         vec2 dir2 = vec2(cos(phi), sin(phi));
-        // The slice: the plane through v and the screen direction (GTAO's approximation of
-        // the view-space direction of a screen direction by (dir2, 0)).
-        vec3 u = vec3(dir2, 0.0) - dot(vec3(dir2, 0.0), v) * v;
-        u = normalize(u);
+        // The slice: the plane through the camera and the screen line through p along dir2
+        // (it holds v and the view-space direction of that line at p's depth); every sample
+        // below lies in it.
+        vec3 line = normalize(vec3(dir2.x / frame.proj[0][0], dir2.y / frame.proj[1][1], 0.0));
+        vec3 u = normalize(line - dot(line, v) * v);
         vec3 axis = cross(u, v);
         vec3 np = n - axis * dot(n, axis);
         float np_len = length(np);
@@ -144,7 +161,7 @@ Cone horizon_cone(ivec2 p, vec3 pos, vec3 n) {
                 float c = dot(w, v) * inversesqrt(max(dot(w, w), 1e-12));
                 if (c > best) {
                     best = c;
-                    best_c = texelFetch(u_lit, ivec3(qi, 0), 0).rgb;
+                    best_c = occluder_radiance(qi, 0);
                 }
             }
             float hs = sgn * acos(clamp(best, -1.0, 1.0));
@@ -161,11 +178,14 @@ Cone horizon_cone(ivec2 p, vec3 pos, vec3 n) {
         vis += np_len * a;
         wsum += np_len;
         float b = 0.5 * (h[0] + h[1]);
-        bent += np_len * (v * cos(b) + u * sin(b));
+        bent += np_len * (v * cos(b) - v * cos(n_ang) + u * (sin(b) - sin(n_ang)));
     }
     Cone c;
     float visibility = wsum > 0.0 ? clamp(vis / wsum, 0.0, 1.0) : 1.0;
-    c.bent = dot(bent, bent) > 1e-12 ? normalize(bent) : n;
+    // The mid-horizon directions summed over slices lean toward v even with no occluder (each
+    // slice holds n's projection, not n): their unoccluded sum is subtracted above and n put in
+    // its place, so that an open surface's bent normal is its normal.
+    c.bent = normalize(n * wsum + bent);
     // GTSO: the cone whose cosine-weighted solid angle equals the visibility, sin^2 = V.
     c.aperture = acos(sqrt(1.0 - visibility));
     c.occluder = occ_w > 0.0 ? occ / occ_w : vec3(0.0);
@@ -186,6 +206,7 @@ float cone_share(Cone c, vec3 axis, float lobe) {
     return clamp(overlap / (1.0 - cos(lobe)), 0.0, 1.0);
 }
 
+
 // ---- METHOD 2: where the ray left the screen ---------------------------------------------------
 
 float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
@@ -194,30 +215,28 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
     if (len <= 0.0) return 1.0;
     vec3 a = view_to_pixel(o), b = view_to_pixel(o + d * len);
     float s = screen_exit(a.xy, b.xy, frame.viewport.xy);
-    // It never left the image: it ended at the near plane (toward the camera, into what the
-    // frame cannot see behind it) or at max_distance. Screen space knows nothing: the sky.
-    if (s >= 1.0) return 1.0;
-    // The view point at the exit: 1/w is linear in screen space.
-    float iw = mix(1.0 / a.z, 1.0 / b.z, s);
-    float t = len * (s / b.z) / iw;
-    vec3 r = o + d * t;
-    ivec2 e = clamp(ivec2(floor(mix(a.xy, b.xy, s))), ivec2(0), g_size - 1);
-    // The ray's own way to the exit, re-walked coarsely over layer 0: where it passed behind a
-    // surface by less than HIDDEN_DEPTH of that surface's depth (more than the tracer's
-    // thickness, so the tracer let it through), it went into the space the surface hides; a
-    // solid object's hidden side is the object itself.
+    // (a) The ray's way to the edge (the top of the file).
+    int cell = cell_size();
     for (int k = 1; k <= MARCH_STEPS; ++k) {
         float sk = s * float(k) / float(MARCH_STEPS + 1);
         vec2 px = mix(a.xy, b.xy, sk);
         ivec2 pi = clamp(ivec2(floor(px)), ivec2(0), g_size - 1);
-        if (!covered(pi, 0)) continue;
-        float scene_depth = texelFetch(u_linear_depth, ivec3(pi, 0), 0).r;
         float ray_depth_k = 1.0 / mix(1.0 / a.z, 1.0 / b.z, sk);
-        if (ray_depth_k > scene_depth * (1.0 + 1e-3) + ssr.thickness && ray_depth_k < scene_depth * (1.0 + HIDDEN_DEPTH)) {
-            occluder = texelFetch(u_lit, ivec3(pi, 0), 0).rgb;
+        float cell_depth = texelFetch(u_cells, pi / cell, 0).r;
+        if (ray_depth_k > cell_depth * (1.0 + 1e-3) + ssr.thickness) {
+            // Behind every surface of a closed block: blocked.
+            occluder = occluder_radiance(pi, 0);
             return 0.0;
         }
     }
+    // It never left the image: it ended at the near plane (toward the camera, into what the
+    // frame cannot see behind it) or at max_distance, in front of everything. The sky.
+    if (s >= 1.0) return 1.0;
+    // (b) The view point at the exit: 1/w is linear in screen space.
+    float iw = mix(1.0 / a.z, 1.0 / b.z, s);
+    float t = len * (s / b.z) / iw;
+    vec3 r = o + d * t;
+    ivec2 e = clamp(ivec2(floor(mix(a.xy, b.xy, s))), ivec2(0), g_size - 1);
     if (!covered(e, 0)) return 1.0;  // open sky at the border
     float ray_depth = -r.z;
     for (int layer = 0; layer < g_layers; ++layer) {
@@ -226,7 +245,7 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
         if (depth < ray_depth * (1.0 - 1e-3)) continue;  // in front of the ray: it passes behind
         vec3 sp = view_position(vec2(e) + 0.5, depth);
         vec3 n = normalize(texelFetch(u_normal, ivec3(e, layer), 0).xyz);
-        occluder = texelFetch(u_lit, ivec3(e, layer), 0).rgb;
+        occluder = occluder_radiance(e, layer);
         float toward = -dot(d, n);
         float dist = dot(r - sp, n);
         if (toward <= 1e-4 || dist < 0.0) return 1.0;  // rising above the surface or beside it
@@ -234,11 +253,36 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
         return 1.0 - exp(-t_plane / (EXIT_REACH * depth));
     }
     // Behind every layer at the exit: hidden space, where screen space saw only occluders.
-    occluder = texelFetch(u_lit, ivec3(e, 0), 0).rgb;
+    occluder = occluder_radiance(e, 0);
     return 0.0;
 }
 
-// ---- per ray ------------------------------------------------------------------------------------
+#if STAGE == 0
+// ---- stage 0: enclosure cells -----------------------------------------------------------------
+// The farthest layer-0 surface of each cell and its 8 neighbours, or 1e30 where any of them
+// shows background: a ray farther than every surface of a closed block is behind all of it -- the
+// block's background continues behind whatever covers the ray (seed 002's Hi-Z max, but with
+// the sky counted as infinitely far, which the tracer's pyramid leaves out).
+layout(binding = 1, r32f) writeonly uniform image2D o_cells;
+
+void main() {
+    ivec2 c = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(c, imageSize(o_cells)))) return;
+    ivec2 size = ivec2(frame.viewport.xy);
+    int cell = cell_size();
+    // The cell and its 8 neighbours: an object filling one cell does not close it.
+    ivec2 lo = max((c - 1) * cell, ivec2(0)), hi = min((c + 2) * cell, size);
+    float far_depth = 0.0;
+    for (int y = lo.y; y < hi.y; ++y)
+        for (int x = lo.x; x < hi.x; ++x) {
+            ivec2 p = ivec2(x, y);
+            float z = texelFetch(u_linear_depth, ivec3(p, 0), 0).r;
+            far_depth = max(far_depth, covered(p, 0) ? z : 1e30);
+        }
+    imageStore(o_cells, c, vec4(far_depth));
+}
+#else
+// ---- stage 1: per ray ---------------------------------------------------------------------------
 
 void main() {
     ivec3 id = ivec3(gl_GlobalInvocationID.xy, 0);
@@ -247,10 +291,14 @@ void main() {
     g_layers = int(frame.clip.z);
     vec4 smp0 = texelFetch(u_ray_sample, ivec3(id.xy, 0), 0);
     bool any_unresolved = false;
+    float w_hit = 0.0, w_all = 0.0;  // horizon: the share of the pixel's rays screen space resolved
     for (int r = 0; r < u_rays; ++r) {
         vec4 hit = texelFetch(u_ray_hit, ivec3(id.xy, r), 0);
         float w = texelFetch(u_ray_sample, ivec3(id.xy, r), 0).x;
-        if (smp0.w > 0.5 && w > 0.0 && !(hit.z > 0.5 && hit.w >= 1.0)) any_unresolved = true;
+        bool ray = smp0.w > 0.5 && w > 0.0;
+        if (ray && !(hit.z > 0.5 && hit.w >= 1.0)) any_unresolved = true;
+        w_all += ray ? w : 0.0;
+        w_hit += ray && hit.z > 0.5 ? w * hit.w : 0.0;
     }
     if (!any_unresolved) {
         for (int r = 0; r < u_rays; ++r) imageStore(o_radiance, ivec3(id.xy, r), vec4(0.0, 0.0, 0.0, -2.0));
@@ -266,6 +314,14 @@ void main() {
     float n_dot_v = clamp(dot(g.normal, v), 0.0, 1.0);
 #if METHOD == 1
     Cone cone = horizon_cone(p, pos, g.normal);
+    // GTSO's visible share of the whole lobe (around the mirror direction); the rays screen
+    // space resolved already stand for part of the occluded share, so the misses take only the
+    // rest of it: V_miss = 1 - max(0, (1 - SO) - h) / (1 - h), h the resolved share. (Applying
+    // SO to every miss counts the occlusion screen space found twice.)
+    bool mirror_lobe = alpha < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
+    float so = cone_share(cone, reflect(-v, g.normal), mirror_lobe ? 0.0 : cone_angle(g.roughness, n_dot_v));
+    float h = LOBE != 0 ? 0.0 : (w_all > 0.0 ? w_hit / w_all : 0.0);
+    float v_miss = h < 0.999 ? 1.0 - max(0.0, (1.0 - so) - h) / (1.0 - h) : 1.0;
 #endif
     uint unresolved = 0u, occluded = 0u;
     for (int r = 0; r < u_rays; ++r) {
@@ -279,7 +335,6 @@ void main() {
         vec3 d = normalize(texelFetch(u_ray_direction, rid, 0).xyz);
         vec3 c;
         float vis;
-#if FADED_HITS
         if (hit.z > 0.5) {
             // A faded hit knows where it went: the surface it hit blocks the ray.
             ++unresolved;
@@ -288,7 +343,6 @@ void main() {
             imageStore(o_radiance, rid, vec4(texelFetch(u_lit, hp, 0).rgb, -1.0));
             continue;
         }
-#endif
 #if LOBE
         // The lobe the single mirror ray stands for (glossy_environment_lobe's directions).
         bool mirror = alpha < 1e-4;
@@ -307,7 +361,7 @@ void main() {
             total += wl;
         }
         env = total > 0.0 ? env / total : env_view(d);
-        vis = cone_share(cone, d, mirror ? 0.0 : cone_angle(g.roughness, n_dot_v));
+        vis = so;
         c = mix(cone.occluder, env, vis);
 #else
         vec3 sum = vec3(0.0);
@@ -329,7 +383,7 @@ void main() {
 #endif
 #else
 #if METHOD == 1
-        vis = cone_share(cone, d, 0.0);
+        vis = v_miss;
         c = mix(cone.occluder, env_view(d), vis);
 #else
         vec3 occ;
@@ -344,3 +398,4 @@ void main() {
     if (unresolved > 0u) atomicAdd(counters.unresolved, unresolved);
     if (occluded > 0u) atomicAdd(counters.occluded, occluded);
 }
+#endif
