@@ -1,5 +1,6 @@
 #include "passes/specular_occlusion.h"
 
+#include "core/gpu_timer.h"
 #include "passes/compute.h"
 
 namespace ssr {
@@ -16,24 +17,41 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
     d["METHOD"] = s.specular_occlusion == SpecularOcclusion::Horizon ? "1" : "2";
     // cone and blur_mips trace one mirror ray that stands for the whole lobe.
     d["LOBE"] = s.glossy == Glossy::Stochastic ? "0" : "1";
-    if (s.specular_occlusion == SpecularOcclusion::Exit) {
-        // Stage 0: the enclosure cells (the farthest surface of each cell, or open background).
-        Defines dc = d;
-        dc["STAGE"] = "0";
-        glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, dc));
+    // Issue 13: the float inputs by imageLoad on the CPU device, image units 2-8.
+    auto bind_inputs = [&]() {
         bind_inputs_in_order(r, inputs());
-        bind_image_layered(1, r.get("occlusion_cells"), GL_WRITE_ONLY);
+        if (ctx.fetch_by_image())
+            bind_input_images(r, 2, {"linear_depth", "gbuffer.normal", "lit", "rays.hit", "rays.sample", "rays.direction"});
+    };
+    const bool exit = s.specular_occlusion == SpecularOcclusion::Exit;
+    if (exit) {
+        // The enclosure cells: each cell's farthest surface (or open background), then the
+        // same over it and its 8 neighbours. Timed as a part of the pass.
+        GpuScope t(ctx.timer, name() + ".cells");
         const Texture& cells = r.get("occlusion_cells");
+        Defines d0 = d;
+        d0["STAGE"] = "0";
+        glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d0));
+        bind_inputs();
+        bind_image_layered(1, cells, GL_WRITE_ONLY);
+        dispatch_2d(cells.width(), cells.height(), 1, 8, 8);
+        d0["STAGE"] = "1";
+        glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d0));
+        bind_image_layered(0, r.get("occlusion_enclosure"), GL_WRITE_ONLY);
+        bind_image_layered(1, cells, GL_READ_ONLY);
         dispatch_2d(cells.width(), cells.height(), 1, 8, 8);
     }
-    d["STAGE"] = "1";
+    d["STAGE"] = "2";
     glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d));
-    if (s.specular_occlusion == SpecularOcclusion::Exit) glBindTextureUnit(8, r.get("occlusion_cells").id());
     const uint32_t zero[2] = {0, 0};
     if (!counters_) counters_ = Buffer::create(sizeof(zero));
     counters_.upload(zero, sizeof(zero));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, counters_.id());
-    bind_inputs_in_order(r, inputs());
+    bind_inputs();
+    if (exit) {
+        glBindTextureUnit(8, r.get("occlusion_enclosure").id());
+        if (ctx.fetch_by_image()) bind_image_layered(8, r.get("occlusion_enclosure"), GL_READ_ONLY);
+    }
     bind_image_layered(0, r.get("rays.radiance"), GL_WRITE_ONLY);
     glUniform1i(0, s.traced_rays());
     dispatch_2d(s.trace_width(), s.trace_height(), 1, 8, 8);

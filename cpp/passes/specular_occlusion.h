@@ -7,9 +7,9 @@
 //   inputs : linear_depth, gbuffer.normal, gbuffer.material, lit, rays.hit, rays.sample,
 //            rays.direction, gbuffer.albedo
 //   outputs: rays.radiance (as fallback_probes: rgb the radiance, a -1 for an unresolved ray,
-//            -2 for a resolved one); with "exit" occlusion_cells (R32F, one texel per cell() x cell() pixels:
-//            the farthest layer-0 view depth of it and its 8 neighbours, 1e30 where any pixel
-//            there shows the background)
+//            -2 for a resolved one); with "exit" occlusion_cells and occlusion_enclosure (R32F,
+//            one texel per cell() x cell() pixels: the farthest layer-0 view depth of the cell,
+//            and of it and its 8 neighbours; 1e30 where any pixel there shows the background)
 // Runs after the tracer with fallback "environment" (the fallbacks "bvh" and "probes" own
 // rays.radiance) and specular_occlusion other than "off". Counts the unresolved rays and the
 // occluded ones (visibility below 1/2) for Frame.stats.
@@ -35,8 +35,8 @@ public:
         std::vector<ResourceDesc> out = {
             {"rays.radiance", GL_RGBA32F, s.trace_width(), s.trace_height(), s.traced_rays(), 1}};
         if (s.specular_occlusion == SpecularOcclusion::Exit)
-            out.push_back({"occlusion_cells", GL_R32F, (s.width + cell(s) - 1) / cell(s),
-                           (s.height + cell(s) - 1) / cell(s), 0, 1});
+            for (const char* name : {"occlusion_cells", "occlusion_enclosure"})
+                out.push_back({name, GL_R32F, (s.width + cell(s) - 1) / cell(s), (s.height + cell(s) - 1) / cell(s), 0, 1});
         return out;
     }
     // "exit": the side of an enclosure cell in pixels, 1/16 of the image height (as

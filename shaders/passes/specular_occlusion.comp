@@ -52,6 +52,13 @@
 #include "../lib/ggx_sampling.glsl"
 #include "../lib/screen_ray.glsl"
 #include "../lib/cone_angle.glsl"
+#include "../lib/input_fetch.glsl"
+
+// 0: the farthest surface of each enclosure cell; 1: of each cell and its 8 neighbours;
+// 2: the rays.
+#ifndef STAGE
+#define STAGE 2
+#endif
 
 #ifndef METHOD
 #define METHOD 2
@@ -62,26 +69,23 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
-layout(binding = 1) uniform sampler2DArray u_normal;
+// Texture units 0-8; with FETCH_BY_IMAGE (lib/input_fetch.glsl) the float inputs are image
+// units 2-8 (units 0 and 1 hold the stages' outputs).
+INPUT_ARRAY(u_linear_depth, 0, 2, r32f);
+INPUT_ARRAY(u_normal, 1, 3, rgba16f);
 layout(binding = 2) uniform sampler2DArray u_material;
-layout(binding = 3) uniform sampler2DArray u_lit;
-layout(binding = 4) uniform sampler2DArray u_ray_hit;
-layout(binding = 5) uniform sampler2DArray u_ray_sample;
-layout(binding = 6) uniform sampler2DArray u_ray_direction;
+INPUT_ARRAY(u_lit, 3, 4, rgba16f);
+INPUT_ARRAY(u_ray_hit, 4, 5, rgba32f);
+INPUT_ARRAY(u_ray_sample, 5, 6, rgba32f);
+INPUT_ARRAY(u_ray_direction, 6, 7, rgba32f);
 layout(binding = 7) uniform sampler2DArray u_albedo;
-layout(binding = 0, rgba32f) writeonly uniform image2DArray o_radiance;
+INPUT_2D(u_cells, 8, 8, r32f);  // occlusion_enclosure (stage 1's output)
 layout(std430, binding = 14) buffer OcclusionCounters {
     uint unresolved;
     uint occluded;
 } counters;
 
 layout(location = 0) uniform int u_rays;  // rays per trace pixel (layers of rays.*)
-layout(binding = 8) uniform sampler2D u_cells;  // occlusion_cells (stage 0's output)
-
-#ifndef STAGE
-#define STAGE 1
-#endif
 const int CELL_DIVISOR = 16;
 // The side of an enclosure cell, pixels (= SpecularOcclusionPass::cell).
 int cell_size() {
@@ -93,7 +97,7 @@ const int STEPS = 8;          // horizon: depth samples per side of a slice
 const float RADIUS = 0.25;    // horizon: search radius, fraction of the image height
 const float EXIT_REACH = 1.0; // exit: extrapolation scale, in units of the surface's view depth
 const int LOBE_SAMPLES = 16;  // as lib/glossy_common.glsl's ENV_LOBE_SAMPLES
-const int MARCH_STEPS = 16;   // exit: samples of the ray's way to the screen's edge
+const int MARCH_STEPS = 8;   // exit: samples of the ray's way to the screen's edge
 
 ivec2 g_size;
 int g_layers;
@@ -156,7 +160,7 @@ Cone horizon_cone(ivec2 p, vec3 pos, vec3 n) {
                 ivec2 qi = ivec2(floor(q));
                 if (any(lessThan(qi, ivec2(0))) || any(greaterThanEqual(qi, g_size))) break;
                 if (!covered(qi, 0)) continue;
-                vec3 sp = view_position(vec2(qi) + 0.5, texelFetch(u_linear_depth, ivec3(qi, 0), 0).r);
+                vec3 sp = view_position(vec2(qi) + 0.5, FETCH(u_linear_depth, ivec3(qi, 0)).r);
                 vec3 w = sp - pos;
                 float c = dot(w, v) * inversesqrt(max(dot(w, w), 1e-12));
                 if (c > best) {
@@ -222,7 +226,7 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
         vec2 px = mix(a.xy, b.xy, sk);
         ivec2 pi = clamp(ivec2(floor(px)), ivec2(0), g_size - 1);
         float ray_depth_k = 1.0 / mix(1.0 / a.z, 1.0 / b.z, sk);
-        float cell_depth = texelFetch(u_cells, pi / cell, 0).r;
+        float cell_depth = FETCH(u_cells, pi / cell).r;
         if (ray_depth_k > cell_depth * (1.0 + 1e-3) + ssr.thickness) {
             // Behind every surface of a closed block: blocked.
             occluder = occluder_radiance(pi, 0);
@@ -241,10 +245,10 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
     float ray_depth = -r.z;
     for (int layer = 0; layer < g_layers; ++layer) {
         if (!covered(e, layer)) break;
-        float depth = texelFetch(u_linear_depth, ivec3(e, layer), 0).r;
+        float depth = FETCH(u_linear_depth, ivec3(e, layer)).r;
         if (depth < ray_depth * (1.0 - 1e-3)) continue;  // in front of the ray: it passes behind
         vec3 sp = view_position(vec2(e) + 0.5, depth);
-        vec3 n = normalize(texelFetch(u_normal, ivec3(e, layer), 0).xyz);
+        vec3 n = normalize(FETCH(u_normal, ivec3(e, layer)).xyz);
         occluder = occluder_radiance(e, layer);
         float toward = -dot(d, n);
         float dist = dot(r - sp, n);
@@ -259,10 +263,8 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
 
 #if STAGE == 0
 // ---- stage 0: enclosure cells -----------------------------------------------------------------
-// The farthest layer-0 surface of each cell and its 8 neighbours, or 1e30 where any of them
-// shows background: a ray farther than every surface of a closed block is behind all of it -- the
-// block's background continues behind whatever covers the ray (seed 002's Hi-Z max, but with
-// the sky counted as infinitely far, which the tracer's pyramid leaves out).
+// The farthest layer-0 surface of each cell, or 1e30 where it shows background (seed 002's
+// Hi-Z max, but with the sky counted as infinitely far, which the tracer's pyramid leaves out).
 layout(binding = 1, r32f) writeonly uniform image2D o_cells;
 
 void main() {
@@ -270,31 +272,48 @@ void main() {
     if (any(greaterThanEqual(c, imageSize(o_cells)))) return;
     ivec2 size = ivec2(frame.viewport.xy);
     int cell = cell_size();
-    // The cell and its 8 neighbours: an object filling one cell does not close it.
-    ivec2 lo = max((c - 1) * cell, ivec2(0)), hi = min((c + 2) * cell, size);
+    ivec2 lo = c * cell, hi = min(lo + cell, size);
     float far_depth = 0.0;
     for (int y = lo.y; y < hi.y; ++y)
         for (int x = lo.x; x < hi.x; ++x) {
-            ivec2 p = ivec2(x, y);
-            float z = texelFetch(u_linear_depth, ivec3(p, 0), 0).r;
-            far_depth = max(far_depth, covered(p, 0) ? z : 1e30);
+            ivec3 p = ivec3(x, y, 0);
+            far_depth = max(far_depth, texelFetch(u_material, p, 0).g > 0.5 ? FETCH(u_linear_depth, p).r : 1e30);
         }
     imageStore(o_cells, c, vec4(far_depth));
 }
-#else
-// ---- stage 1: per ray ---------------------------------------------------------------------------
+#elif STAGE == 1
+// ---- stage 1: a cell and its 8 neighbours ------------------------------------------------------
+// A ray farther than every surface of a closed region is behind all of it: the region's
+// background continues behind whatever covers the ray. The region is a cell and its
+// neighbours, so that an object filling one cell does not close it.
+layout(binding = 0, r32f) writeonly uniform image2D o_enclosure;
+layout(binding = 1, r32f) readonly uniform image2D u_cell_depth;
 
+void main() {
+    ivec2 c = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 n = imageSize(o_enclosure);
+    if (any(greaterThanEqual(c, n))) return;
+    float far_depth = 0.0;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x)
+            far_depth = max(far_depth, imageLoad(u_cell_depth, clamp(c + ivec2(x, y), ivec2(0), n - 1)).r);
+    imageStore(o_enclosure, c, vec4(far_depth));
+}
+#else
+// ---- stage 2: per ray ---------------------------------------------------------------------------
+
+layout(binding = 0, rgba32f) writeonly uniform image2DArray o_radiance;
 void main() {
     ivec3 id = ivec3(gl_GlobalInvocationID.xy, 0);
     if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
     g_size = ivec2(frame.viewport.xy);
     g_layers = int(frame.clip.z);
-    vec4 smp0 = texelFetch(u_ray_sample, ivec3(id.xy, 0), 0);
+    vec4 smp0 = FETCH(u_ray_sample, ivec3(id.xy, 0));
     bool any_unresolved = false;
     float w_hit = 0.0, w_all = 0.0;  // horizon: the share of the pixel's rays screen space resolved
     for (int r = 0; r < u_rays; ++r) {
-        vec4 hit = texelFetch(u_ray_hit, ivec3(id.xy, r), 0);
-        float w = texelFetch(u_ray_sample, ivec3(id.xy, r), 0).x;
+        vec4 hit = FETCH(u_ray_hit, ivec3(id.xy, r));
+        float w = FETCH(u_ray_sample, ivec3(id.xy, r)).x;
         bool ray = smp0.w > 0.5 && w > 0.0;
         if (ray && !(hit.z > 0.5 && hit.w >= 1.0)) any_unresolved = true;
         w_all += ray ? w : 0.0;
@@ -305,9 +324,9 @@ void main() {
         return;
     }
     ivec2 p = min(id.xy * ssr.downscale + ssr.downscale / 2, g_size - 1);
-    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), FETCH(u_normal, ivec3(p, 0)),
                                texelFetch(u_material, ivec3(p, 0), 0));
-    vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+    vec3 pos = view_position(vec2(p) + 0.5, FETCH(u_linear_depth, ivec3(p, 0)).r);
     vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);  // as lib/ray_generation.glsl
     vec3 v = normalize(-pos);
     float alpha = g.roughness * g.roughness;
@@ -326,21 +345,23 @@ void main() {
     uint unresolved = 0u, occluded = 0u;
     for (int r = 0; r < u_rays; ++r) {
         ivec3 rid = ivec3(id.xy, r);
-        vec4 hit = texelFetch(u_ray_hit, rid, 0);
-        float w = texelFetch(u_ray_sample, rid, 0).x;
+        vec4 hit = FETCH(u_ray_hit, rid);
+        float w = FETCH(u_ray_sample, rid).x;
         if (!(smp0.w > 0.5 && w > 0.0) || (hit.z > 0.5 && hit.w >= 1.0)) {
             imageStore(o_radiance, rid, vec4(0.0, 0.0, 0.0, -2.0));
             continue;
         }
-        vec3 d = normalize(texelFetch(u_ray_direction, rid, 0).xyz);
+        vec3 d = normalize(FETCH(u_ray_direction, rid).xyz);
         vec3 c;
         float vis;
-        if (hit.z > 0.5) {
-            // A faded hit knows where it went: the surface it hit blocks the ray.
+        ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), g_size - 1), max(int(hit.z) - 1, 0));
+        // A faded hit that faces the ray (the first of lib/screen_confidence.glsl's tests: a
+        // back-facing "hit", e.g. a floor finding itself near the border, passed behind or
+        // along a surface) knows where it went: the surface it hit blocks the ray.
+        if (hit.z > 0.5 && dot(FETCH(u_normal, hp).xyz, d) < 0.0) {
             ++unresolved;
             ++occluded;
-            ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), g_size - 1), int(hit.z) - 1);
-            imageStore(o_radiance, rid, vec4(texelFetch(u_lit, hp, 0).rgb, -1.0));
+            imageStore(o_radiance, rid, vec4(FETCH(u_lit, hp).rgb, -1.0));
             continue;
         }
 #if LOBE
