@@ -70,6 +70,8 @@ def test_closed_box_reflects_its_walls_not_the_sky(renderer, glossy):
     assert "specular_occlusion" in on.passes and "specular_occlusion" not in off.passes
     assert on.stats["occluded_misses"] > 0
     assert on.stats["occluded_misses"] <= on.stats["unresolved_rays"]
+    # One count per ray the pass estimated for (rays.radiance a = -1).
+    assert on.stats["unresolved_rays"] == int((on.read("rays.radiance")[..., 3] > -1.5).sum())
     assert "occluded_misses" not in off.stats
 
 

@@ -933,6 +933,14 @@ class RenderSettings:
     def skip(self, arg0: bool) -> None:
         ...
     @property
+    def specular_occlusion(self) -> str:
+        """
+        ssrlab.Settings.specular_occlusion: what a reflection ray screen space did not resolve (a miss, or the faded share of a hit) brings with fallback 'environment': 'off' the environment; otherwise the environment weighted by the share of the ray (the lobe, for glossy 'cone' and 'blur_mips') the scene leaves open, the rest the lit colour of what blocks it (the specular_occlusion pass; docs/occlusion.md). 'horizon': the visibility cone of horizon-based occlusion over layer 0's depth (GTSO, Jimenez et al. 2016); 'exit': where the ray left the screen (open sky, or a surface of the deep G-buffer at its exit pixel that the ray runs into). frame.stats counts unresolved_rays and occluded_misses
+        """
+    @specular_occlusion.setter
+    def specular_occlusion(self, arg1: str) -> None:
+        ...
+    @property
     def stride(self) -> float:
         """
         ssrlab.Settings.stride [pixels]: pixels per step along the ray's major screen axis
