@@ -101,9 +101,43 @@ const int MARCH_STEPS = 8;   // exit: samples of the ray's way to the screen's e
 
 ivec2 g_size;
 int g_layers;
+// Uniform values the per-ray walks read, read once at the start of main (issue 13: llvmpipe
+// reads a uniform-block value lane by lane, with a bounds check per lane, inside loops and
+// branches; reading them there made the exit walk 5x slower).
+mat4 g_proj;
+mat3 g_to_world;
+vec4 g_viewport;
+float g_near, g_thickness, g_max_distance;
+vec3 g_ambient;
+float g_inv_cell;
+
+void read_uniforms() {
+    g_size = ivec2(frame.viewport.xy);
+    g_layers = int(frame.clip.z);
+    g_proj = frame.proj;
+    g_to_world = mat3(frame.inv_view);
+    g_viewport = frame.viewport;
+    g_near = frame.clip.x;
+    g_thickness = ssr.thickness;
+    g_max_distance = ssr.max_distance;
+    g_ambient = frame.ambient.rgb;
+    g_inv_cell = 1.0 / float(max(4, int(frame.viewport.y) / CELL_DIVISOR));
+}
+
+// lib/screen_ray.glsl's view_to_pixel and lib/depth_convention.glsl's view_position, from the
+// values above.
+vec3 pixel_of(vec3 p) {
+    vec4 c = g_proj * vec4(p, 1.0);
+    return vec3((c.xy / c.w * 0.5 + 0.5) * g_viewport.xy, c.w);
+}
+
+vec3 view_point(vec2 pixel, float z) {
+    vec2 ndc = pixel * g_viewport.zw * 2.0 - 1.0;
+    return vec3((ndc + vec2(g_proj[2][0], g_proj[2][1])) * z / vec2(g_proj[0][0], g_proj[1][1]), -z);
+}
 
 vec3 env_view(vec3 d) {
-    return environment_radiance(normalize(mat3(frame.inv_view) * d));
+    return environment_radiance(normalize(g_to_world * d));
 }
 
 bool covered(ivec2 p, int layer) {
@@ -112,7 +146,7 @@ bool covered(ivec2 p, int layer) {
 
 // The radiance assumed for the unseen side of the surface at pixel p of `layer` (see the top).
 vec3 occluder_radiance(ivec2 p, int layer) {
-    return frame.ambient.rgb * texelFetch(u_albedo, ivec3(p, layer), 0).rgb;
+    return g_ambient * texelFetch(u_albedo, ivec3(p, layer), 0).rgb;
 }
 
 // ---- METHOD 1: the horizon's visibility cone (GTSO) -------------------------------------------
@@ -126,7 +160,7 @@ struct Cone {
 
 Cone horizon_cone(ivec2 p, vec3 pos, vec3 n) {
     vec3 v = normalize(-pos);
-    float radius_px = RADIUS * frame.viewport.y;
+    float radius_px = RADIUS * g_viewport.y;
     // A per-pixel rotation of the slices and offset of the steps (4x4 interleaved, as GTAO's
     // noise; deterministic), so neighbouring pixels sample different directions.
     int cell = (p.x & 3) + 4 * (p.y & 3);
@@ -142,7 +176,7 @@ Cone horizon_cone(ivec2 p, vec3 pos, vec3 n) {
         // The slice: the plane through the camera and the screen line through p along dir2
         // (it holds v and the view-space direction of that line at p's depth); every sample
         // below lies in it.
-        vec3 line = normalize(vec3(dir2.x / frame.proj[0][0], dir2.y / frame.proj[1][1], 0.0));
+        vec3 line = normalize(vec3(dir2.x / g_proj[0][0], dir2.y / g_proj[1][1], 0.0));
         vec3 u = normalize(line - dot(line, v) * v);
         vec3 axis = cross(u, v);
         vec3 np = n - axis * dot(n, axis);
@@ -160,7 +194,7 @@ Cone horizon_cone(ivec2 p, vec3 pos, vec3 n) {
                 ivec2 qi = ivec2(floor(q));
                 if (any(lessThan(qi, ivec2(0))) || any(greaterThanEqual(qi, g_size))) break;
                 if (!covered(qi, 0)) continue;
-                vec3 sp = view_position(vec2(qi) + 0.5, FETCH(u_linear_depth, ivec3(qi, 0)).r);
+                vec3 sp = view_point(vec2(qi) + 0.5, FETCH(u_linear_depth, ivec3(qi, 0)).r);
                 vec3 w = sp - pos;
                 float c = dot(w, v) * inversesqrt(max(dot(w, w), 1e-12));
                 if (c > best) {
@@ -215,19 +249,21 @@ float cone_share(Cone c, vec3 axis, float lobe) {
 
 float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
     occluder = vec3(0.0);
-    float len = ray_length_in_front_of_near(o, d, ssr.max_distance);
+    // The ray's length in front of the near plane (lib/screen_ray.glsl), at most max_distance.
+    float len = g_max_distance;
+    if (o.z + d.z * len > -g_near) len = (-g_near - o.z) / d.z * 0.999;
     if (len <= 0.0) return 1.0;
-    vec3 a = view_to_pixel(o), b = view_to_pixel(o + d * len);
-    float s = screen_exit(a.xy, b.xy, frame.viewport.xy);
+    vec3 a = pixel_of(o), b = pixel_of(o + d * len);
+    float s = screen_exit(a.xy, b.xy, g_viewport.xy);
     // (a) The ray's way to the edge (the top of the file).
-    int cell = cell_size();
     for (int k = 1; k <= MARCH_STEPS; ++k) {
         float sk = s * float(k) / float(MARCH_STEPS + 1);
         vec2 px = mix(a.xy, b.xy, sk);
         ivec2 pi = clamp(ivec2(floor(px)), ivec2(0), g_size - 1);
         float ray_depth_k = 1.0 / mix(1.0 / a.z, 1.0 / b.z, sk);
-        float cell_depth = FETCH(u_cells, pi / cell).r;
-        if (ray_depth_k > cell_depth * (1.0 + 1e-3) + ssr.thickness) {
+        // (a float product: x86 has no vector integer division, so llvmpipe divides lane by lane)
+        float cell_depth = FETCH(u_cells, ivec2((vec2(pi) + 0.5) * g_inv_cell)).r;
+        if (ray_depth_k > cell_depth * (1.0 + 1e-3) + g_thickness) {
             // Behind every surface of a closed block: blocked.
             occluder = occluder_radiance(pi, 0);
             return 0.0;
@@ -247,7 +283,7 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
         if (!covered(e, layer)) break;
         float depth = FETCH(u_linear_depth, ivec3(e, layer)).r;
         if (depth < ray_depth * (1.0 - 1e-3)) continue;  // in front of the ray: it passes behind
-        vec3 sp = view_position(vec2(e) + 0.5, depth);
+        vec3 sp = view_point(vec2(e) + 0.5, depth);
         vec3 n = normalize(FETCH(u_normal, ivec3(e, layer)).xyz);
         occluder = occluder_radiance(e, layer);
         float toward = -dot(d, n);
@@ -304,10 +340,9 @@ void main() {
 
 layout(binding = 0, rgba32f) writeonly uniform image2DArray o_radiance;
 void main() {
+    read_uniforms();  // before any control flow
     ivec3 id = ivec3(gl_GlobalInvocationID.xy, 0);
     if (id.x >= ssr.trace_width || id.y >= ssr.trace_height) return;
-    g_size = ivec2(frame.viewport.xy);
-    g_layers = int(frame.clip.z);
     vec4 smp0 = FETCH(u_ray_sample, ivec3(id.xy, 0));
     bool any_unresolved = false;
     float w_hit = 0.0, w_all = 0.0;  // horizon: the share of the pixel's rays screen space resolved
