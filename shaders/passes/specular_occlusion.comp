@@ -22,7 +22,7 @@
 //     each blocks.
 //   METHOD 2, "exit": what the frame knows of where the ray went.
 //     (a) Its way to the screen's edge, re-walked in MARCH_STEPS samples: where it is farther
-//         than every surface of the enclosure cell around it (stage 0: the farthest layer-0
+//         than every surface of the enclosure cell around it (stages 0-1: the farthest layer-0
 //         depth of a cell and its 8 neighbours, infinitely far if any of their pixels shows
 //         the background), it is behind a closed region -- the background there continues
 //         behind whatever covers the ray -- and is blocked (V = 0). A ray merely behind the
@@ -35,8 +35,8 @@
 //         plane the ray rises away from (a floor) does not block it; a ray behind every layer
 //         there went into hidden space (V = 0).
 //     A ray that ends on screen (at max_distance, or the near plane) without (a): V = 1.
-//   Both: a faded hit knows where it went: V = 0 and its own lit colour (the hit is on screen
-//   and, measured on hall, right to 6 % where the environment it faded toward was 139 % off).
+//   Both: a faded hit whose surface faces the ray knows where it went: V = 0 and its own lit
+//   colour (measured on hall: right to 6 % where the environment it faded toward was 139 % off).
 // The occluder's radiance, where it is not a hit: the ambient term of the surface found
 // (ambient x albedo), not its lit colour. What blocks a reflection ray that screen space missed
 // is the side of a surface the camera does not see (undersides, backs), which the direct light
