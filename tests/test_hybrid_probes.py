@@ -53,7 +53,9 @@ def test_probes_beat_the_environment_on_hall_and_are_cached(renderer):
     # 160x120: at 128x96 the hall's unresolved rays are a few corner pixels where the centre
     # probe helps one corner and hurts the other (the README's figures are at 640x360).
     scene = ssrlab.scenes.hall(floor_roughness=0.0)
-    st = small(width=160, height=120, origin_bias=0.0005)
+    # Against the bare environment (specular occlusion also darkens the hall's misses, and
+    # beats the probes there: 0.029 against 0.034; tests/test_occlusion.py).
+    st = small(width=160, height=120, origin_bias=0.0005, specular_occlusion="off")
     f = renderer.render(scene, settings=st)
     floor = f.gbuffer.object_id[0] == 0
     ref = f.reference("converged", rays=1, viewer="camera", shadows="map")

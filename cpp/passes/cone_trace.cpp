@@ -1,13 +1,19 @@
 #include "passes/cone_trace.h"
 
 #include "passes/compute.h"
+#include "passes/specular_occlusion.h"
 
 namespace ssr {
 
 void ConeTracePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
-    glUseProgram(ctx.shaders.program({"passes/cone_trace.comp"}, ctx.defines));
+    // Unresolved rays bring the specular_occlusion pass's estimate (lib/glossy_common.glsl).
+    const bool occlusion = SpecularOcclusionPass::enabled(ctx.settings);
+    Defines d = ctx.defines;
+    d["SPECULAR_OCCLUSION"] = occlusion ? "1" : "0";
+    glUseProgram(ctx.shaders.program({"passes/cone_trace.comp"}, d));
     bind_inputs_in_order(r, inputs());
+    if (occlusion) glBindTextureUnit(12, r.get("rays.radiance").id());
     bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }

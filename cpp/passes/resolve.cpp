@@ -5,11 +5,13 @@
 #include "core/errors.h"
 #include "passes/classify.h"
 #include "passes/compute.h"
+#include "passes/specular_occlusion.h"
 
 namespace ssr {
 
 bool ResolvePass::ray_radiance(const RenderSettings& s) {
-    return s.method == TraceMethod::Bvh || s.fallback == Fallback::Bvh || s.fallback == Fallback::Probes;
+    return s.method == TraceMethod::Bvh || s.fallback == Fallback::Bvh || s.fallback == Fallback::Probes ||
+           SpecularOcclusionPass::enabled(s);
 }
 
 Defines ResolvePass::ray_defines(const FrameContext& ctx) {

@@ -14,6 +14,7 @@
 #include "core/gpu_timer.h"
 #include "core/shader_library.h"
 #include "passes/blur_mips.h"
+#include "passes/specular_occlusion.h"
 #include "passes/composite.h"
 #include "passes/cone_trace.h"
 #include "passes/depth_peel.h"
@@ -187,6 +188,7 @@ private:
     PreintegratePass preintegrate_;
     ConeTracePass cone_trace_;
     BlurMipsPass blur_mips_;
+    SpecularOcclusionPass specular_occlusion_;
     CompositePass composite_plain_{false}, composite_reflections_{true};
     CompositePass composite_temporal_{true, "reflection.temporal"};
     // The SVGF denoiser of the reflection (seed 003).
@@ -200,7 +202,7 @@ private:
         &shadow_map_, &depth_peel_, &lighting_shadowed_, &lighting_unshadowed_, &reproject_, &hiz_build_,
         &preconvolve_, &preintegrate_, &trace_bvh_shadowed_, &trace_bvh_unshadowed_, &classify_, &trace_hiz_,
         &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_, &fallback_bvh_shadowed_,
-        &fallback_bvh_unshadowed_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &cone_trace_,
+        &fallback_bvh_unshadowed_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &specular_occlusion_, &cone_trace_,
         &blur_mips_, &resolve_fetch_, &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_,
         &composite_denoised_, &composite_temporal_, &composite_reflections_, &composite_plain_, &taa_thesis_,
         &taa_clamped_};

@@ -94,6 +94,12 @@ const std::vector<std::pair<ConeRemainder, std::string>>& names() {
                                                                          {ConeRemainder::Environment, "environment"}};
     return n;
 }
+template <>
+const std::vector<std::pair<SpecularOcclusion, std::string>>& names() {
+    static const std::vector<std::pair<SpecularOcclusion, std::string>> n = {
+        {SpecularOcclusion::Off, "off"}, {SpecularOcclusion::Horizon, "horizon"}, {SpecularOcclusion::Exit, "exit"}};
+    return n;
+}
 }  // namespace
 
 template <typename E>
@@ -129,6 +135,7 @@ SSR_INSTANTIATE(TaaMode)
 SSR_INSTANTIATE(Bounces)
 SSR_INSTANTIATE(Glossy)
 SSR_INSTANTIATE(ConeRemainder)
+SSR_INSTANTIATE(SpecularOcclusion)
 #undef SSR_INSTANTIATE
 
 void RenderSettings::validate() const {

@@ -25,6 +25,8 @@ enum class TaaMode { Off, Thesis, Clamped };
 enum class Bounces { Single, History };
 enum class Glossy { Stochastic, Cone, BlurMips };  // order = GLOSSY_* in ssr_settings.glsl
 enum class ConeRemainder { Hit, Environment };     // order = CONE_REMAINDER_*
+// What an unresolved ray's environment is weighted by (passes/specular_occlusion.h).
+enum class SpecularOcclusion { Off, Horizon, Exit };
 // Denoiser of the resolved reflection (seed 003): none, or SVGF (Schied et al. 2017).
 enum class Denoise { None, Svgf };
 
@@ -112,6 +114,8 @@ struct RenderSettings {
     float cone_level_bias = 1.0f;  // added to the mip level of every cone / blur_mips fetch
     ConeRemainder cone_remainder = ConeRemainder::Hit;  // what fills a cone whose weights stay below 1
     bool cone_stretch = false;  // seed 002 4.6.8: footprints stretched along the ray at grazing angles
+    // Unresolved rays: the environment weighted by the share the scene leaves open (specular_occlusion pass).
+    SpecularOcclusion specular_occlusion = SpecularOcclusion::Exit;
 
     // Denoiser of the resolved reflection (seed 003: SVGF, Schied et al. 2017); units in
     // python/ssrlab/settings.py.

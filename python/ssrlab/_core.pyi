@@ -937,6 +937,14 @@ class RenderSettings:
     def skip(self, arg0: bool) -> None:
         ...
     @property
+    def specular_occlusion(self) -> str:
+        """
+        ssrlab.Settings.specular_occlusion: what a reflection ray screen space did not resolve (a miss, or the faded share of a hit) brings with fallback 'environment' (the specular_occlusion pass; docs/occlusion.md): 'off' the environment; otherwise the environment weighted by the estimated share of the ray (of the lobe, for glossy 'cone' and 'blur_mips') the scene leaves open, the rest the ambient term of the surface that blocks it, and a faded hit that faces its ray its hit's lit colour. 'exit': what the frame knows of where the ray went: blocked where its way to the screen's edge passes behind every surface of a closed region (no background in a cell of 1/16 of the image height and its neighbours), or where it leaves the screen running into the plane of the surface at its exit pixel (the deep G-buffer's first layer at or behind it); open where it leaves into background. 'horizon': GTSO (Jimenez et al. 2016), the visibility cone of horizon-based ambient occlusion over layer 0's depth intersected with the GGX lobe. Ignored with other fallbacks and method 'bvh'. frame.stats counts unresolved_rays and occluded_misses (estimated visibility below 1/2)
+        """
+    @specular_occlusion.setter
+    def specular_occlusion(self, arg1: str) -> None:
+        ...
+    @property
     def stride(self) -> float:
         """
         ssrlab.Settings.stride [pixels]: pixels per step along the ray's major screen axis

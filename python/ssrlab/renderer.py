@@ -409,7 +409,9 @@ class Frame:
         stochastic resolve, the resolve's list: resolve_pixels (receiving pixels, own-rays
         resolve) or resolve_tiles (16x16 tiles holding a receiver), resolve_groups (its indirect
         groups) and environment_pixels (reflective pixels rougher than the cutoff, given the
-        environment by the classify pass). rays_traced and depth_fetches are summed from
+        environment by the classify pass); with the specular_occlusion pass (Settings.specular_occlusion),
+        unresolved_rays (rays it estimated for: misses and faded hits) and occluded_misses (those whose
+        estimated visibility is below 1/2). rays_traced and depth_fetches are summed from
         rays.sample (its weight and fetch channels, less the second trace's extra_*) when one of
         them is first read (a read-back; the trace keeps no counter): read them before
         Frame.release()."""

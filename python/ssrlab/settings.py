@@ -276,6 +276,20 @@ class Settings:
         False, "vertically stretched cones at grazing angles (seed 002, 4.6.8): each cone sample's footprint "
         "becomes r / sqrt(N.V) along the ray's screen direction and r sqrt(N.V) across it (at most 4:1), "
         "read as up to 4 samples along the ray at the narrow side's mip level", group="glossy")
+    specular_occlusion: str = _setting(
+        "exit", "what a reflection ray screen space did not resolve (a miss, or the faded share of a hit) "
+        "brings with fallback 'environment' (the specular_occlusion pass; docs/occlusion.md): 'off' the "
+        "environment; otherwise the environment weighted by the estimated share of the ray (of the lobe, for "
+        "glossy 'cone' and 'blur_mips') the scene leaves open, the rest the ambient term of the surface that "
+        "blocks it, and a faded hit that faces its ray its hit's lit colour. 'exit': what the frame knows of "
+        "where the ray went: blocked where its way to the screen's edge passes behind every surface of a "
+        "closed region (no background in a cell of 1/16 of the image height and its neighbours), or where it "
+        "leaves the screen running into the plane of the surface at its exit pixel (the deep G-buffer's first "
+        "layer at or behind it); open where it leaves into background. 'horizon': GTSO (Jimenez et al. 2016), "
+        "the visibility cone of horizon-based ambient occlusion over layer 0's depth intersected with the GGX "
+        "lobe. Ignored with other fallbacks and method 'bvh'. frame.stats counts unresolved_rays and "
+        "occluded_misses (estimated visibility below 1/2)",
+        choices=("off", "horizon", "exit"), group="glossy")
 
     # -- denoiser of the reflection (seed 003: SVGF, Schied et al. 2017) -------------------
     denoise: str = _setting(

@@ -43,3 +43,18 @@ vec3 glossy_environment_lobe(vec3 n, vec3 v, float roughness, vec3 mirror_dir) {
     }
     return total > 0.0 ? sum / total : glossy_environment(mirror_dir);
 }
+
+// What the pixel's unresolved mirror ray brings for the lobe: with SPECULAR_OCCLUSION, the
+// specular_occlusion pass's estimate (rays.radiance at texture unit 12, a = -1; the environment
+// weighted by the share of the lobe the scene leaves open), else the lobe's environment.
+#if defined(SPECULAR_OCCLUSION) && SPECULAR_OCCLUSION
+layout(binding = 12) uniform sampler2DArray u_ray_radiance;
+#endif
+
+vec3 glossy_unresolved(ivec2 q, vec3 n, vec3 v, float roughness, vec3 mirror_dir) {
+#if defined(SPECULAR_OCCLUSION) && SPECULAR_OCCLUSION
+    vec4 rr = texelFetch(u_ray_radiance, ivec3(q, 0), 0);
+    if (rr.a > -1.5) return rr.rgb;
+#endif
+    return glossy_environment_lobe(n, v, roughness, mirror_dir);
+}

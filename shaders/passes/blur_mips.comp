@@ -52,7 +52,7 @@ void main() {
         return;
     }
     vec3 dir = texelFetch(u_direction, ivec3(q, 0), 0).xyz;
-    vec3 env = glossy_environment_lobe(g.normal, v, g.roughness, dir);
+    vec3 env = glossy_unresolved(q, g.normal, v, g.roughness, dir);
     vec4 hit = texelFetch(u_hit, ivec3(q, 0), 0);
     reflection = env;
     if (hit.z > 0.5) {
