@@ -17,7 +17,7 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
     d["METHOD"] = s.specular_occlusion == SpecularOcclusion::Horizon ? "1" : "2";
     // cone and blur_mips trace one mirror ray that stands for the whole lobe.
     d["LOBE"] = s.glossy == Glossy::Stochastic ? "0" : "1";
-    // Issue 13: the float inputs by imageLoad on the CPU device, image units 2-8.
+    // The float inputs by imageLoad on the CPU device, image units 2-8.
     auto bind_inputs = [&]() {
         bind_inputs_in_order(r, inputs());
         if (ctx.fetch_by_image())

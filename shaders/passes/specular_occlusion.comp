@@ -101,7 +101,7 @@ const int MARCH_STEPS = 8;   // exit: samples of the ray's way to the screen's e
 
 ivec2 g_size;
 int g_layers;
-// Uniform values the per-ray walks read, read once at the start of main (issue 13: llvmpipe
+// Uniform values the per-ray walks read, read once at the start of main (llvmpipe
 // reads a uniform-block value lane by lane, with a bounds check per lane, inside loops and
 // branches; reading them there made the exit walk 5x slower).
 mat4 g_proj;
