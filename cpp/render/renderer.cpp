@@ -443,6 +443,8 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
                                         " layers, beyond this device's GL_MAX_ARRAY_TEXTURE_LAYERS (" +
                                         std::to_string(max_array_layers_) + "): lower Settings.layers or rays_per_pixel");
     }
+    // A fragment-list budget the device cannot hold is refused before anything is allocated.
+    if (s.deep_gbuffer == DeepGBuffer::Lists) DepthPeelPass::store_limit_bytes(s.deep_gbuffer_budget);
     // On the CPU device the textures take system memory: a frame that cannot fit is refused
     // here rather than killed by the OS mid-frame (idle texture sets and scratch can be reused).
     // Asked of the system only beyond 256 MiB of new textures, not on every ordinary frame.
@@ -539,6 +541,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         ++frame->warmup_runs;
     }
     frame->timings = timer_.resolve();
+    // The deep G-buffer's construction, whatever built it (Settings.deep_gbuffer): the depth_peel
+    // pass's time; its parts are depth_peel.layer<i> (peeling) or deep_gbuffer.<part> (lists).
+    frame->timings["deep_gbuffer"] = frame->timings["depth_peel"];
     frame->layer_samples = depth_peel_.layer_samples();
     if (std::find(chain.begin(), chain.end(), &classify_) != chain.end()) frame->stats = classify_.counters();
     if (std::find(chain.begin(), chain.end(), &variance_rays_) != chain.end())
@@ -555,6 +560,14 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     int layers_used = 0;
     while (layers_used < int(frame->layer_samples.size()) && frame->layer_samples[size_t(layers_used)] > 0) ++layers_used;
     frame->stats["layers_used"] = double(layers_used);
+    const DepthPeelPass::ListStats& lists = depth_peel_.list_stats();
+    frame->stats["deep_gbuffer_lists"] = double(lists.lists);
+    if (s.deep_gbuffer == DeepGBuffer::Lists) {
+        frame->stats["deep_gbuffer_fell_back"] = double(lists.fell_back);
+        frame->stats["deep_gbuffer_redone"] = double(lists.redone);
+        frame->stats["deep_gbuffer_fragments"] = double(lists.fragments);
+        frame->stats["deep_gbuffer_bytes"] = double(lists.bytes);
+    }
     if (std::find(chain.begin(), chain.end(), &hiz_build_) != chain.end())
         frame->stats["hiz_layers_built"] = double(hiz_build_.layers_built());
     frame->stats["layers_lit"] = double((shadow.enabled ? lighting_shadowed_ : lighting_unshadowed_).layers_shaded());
