@@ -93,6 +93,9 @@ def test_coplanar_fragments_collapse_as_in_peeling(renderer, depth_mode):
     assert g.object_id[1, centre[0], centre[1]] == a
 
 
+NEAR = ssrlab.Camera(position=(0, 0, 3.5), target=(0, 0, 0), fov_y=90, near=0.1, far=100)
+
+
 def nested_spheres() -> ssrlab.Scene:
     s = ssrlab.Scene()
     for r in (1.0, 2.0, 3.0):
@@ -105,7 +108,7 @@ def test_a_store_too_small_is_redone_not_truncated(renderer):
     pass again with a store that fits, and says so; the layers still equal peeling's."""
     scene = nested_spheres()
     far = ssrlab.Camera(position=(0, 0, 60), target=(0, 0, 0), fov_y=40, near=0.5, far=100)
-    near = ssrlab.Camera(position=(0, 0, 6), target=(0, 0, 0), fov_y=60, near=0.5, far=100)
+    near = ssrlab.Camera(position=(0, 0, 3.5), target=(0, 0, 0), fov_y=90, near=0.1, far=100)
     r = ssrlab.Renderer("auto")
     settings = tiny(deep_gbuffer="lists", layers=8)
     first = r.render(scene, far, settings)
@@ -127,7 +130,7 @@ def test_a_store_too_small_is_redone_not_truncated(renderer):
 def test_fragments_beyond_the_budget_are_peeled(renderer):
     """A budget the frame's fragments exceed: the frame is peeled (never truncated) and says so."""
     scene = nested_spheres()
-    cam = ssrlab.Camera(position=(0, 0, 6), target=(0, 0, 0), fov_y=60, near=0.5, far=100)
+    cam = ssrlab.Camera(position=(0, 0, 3.5), target=(0, 0, 0), fov_y=90, near=0.1, far=100)
     # 1 MiB holds 16384 fragments: 6 surfaces over 256 x 128 pixels are many more.
     kw = dict(width=256, height=128, layers=8)
     f = renderer.render(scene, cam, tiny(deep_gbuffer="lists", deep_gbuffer_budget=1, **kw))
@@ -142,9 +145,9 @@ def test_fragments_beyond_the_budget_are_peeled(renderer):
 
 def test_a_budget_beyond_the_device_is_a_value_error(renderer):
     with pytest.raises(ValueError, match="deep_gbuffer_budget"):
-        renderer.render(nested_spheres(), None, tiny(deep_gbuffer="lists", deep_gbuffer_budget=1 << 20))
+        renderer.render(nested_spheres(), NEAR, tiny(deep_gbuffer="lists", deep_gbuffer_budget=1 << 20))
     # The renderer still works afterwards.
-    assert renderer.render(nested_spheres(), None, tiny(deep_gbuffer="lists")).stats["deep_gbuffer_method"] == "lists"
+    assert renderer.render(nested_spheres(), NEAR, tiny(deep_gbuffer="lists")).stats["deep_gbuffer_method"] == "lists"
 
 
 def test_setting_values_and_timings(renderer):
@@ -153,14 +156,14 @@ def test_setting_values_and_timings(renderer):
     with pytest.raises(ValueError, match="deep_gbuffer_budget"):
         ssrlab.Settings(deep_gbuffer_budget=-1)
     scene = nested_spheres()
-    lists = renderer.render(scene, None, tiny(deep_gbuffer="lists", layers=4))
+    lists = renderer.render(scene, NEAR, tiny(deep_gbuffer="lists", layers=4))
     t = lists.timings
     assert t["deep_gbuffer"] == t["depth_peel"] > 0
     for part in ("append", "select", "write"):
         assert 0 <= t[f"deep_gbuffer.{part}"] <= t["deep_gbuffer"] * 1.001
     assert lists.settings.deep_gbuffer == "lists"
-    peel = renderer.render(scene, None, tiny(deep_gbuffer="peel", layers=4))
+    peel = renderer.render(scene, NEAR, tiny(deep_gbuffer="peel", layers=4))
     assert peel.timings["deep_gbuffer"] == peel.timings["depth_peel"] and "depth_peel.layer3" in peel.timings
     # 'auto' is decided for the device, and the frame records the method it ran with.
-    auto = renderer.render(scene, None, tiny(layers=4))
+    auto = renderer.render(scene, NEAR, tiny(layers=4))
     assert auto.settings.deep_gbuffer in ("peel", "lists")
