@@ -230,7 +230,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     if (kept_bytes > store_limit_bytes(0) || max_fragments == 0) return false;
     if (heads_.size() < sizeof(GLuint) * pixels) heads_ = Buffer::create(sizeof(GLuint) * pixels);
     if (kept_.size() < kept_bytes) kept_ = Buffer::create(kept_bytes);
-    if (!counter_) counter_ = Buffer::create(4 * sizeof(GLuint));
+    if (!counter_) counter_ = Buffer::create((4 + 16) * sizeof(GLuint));  // header, pixels per layer (<= 16)
 
     // The store starts at the last frame's size (two fragments a pixel at first) and grows to
     // the counted fragments when they did not fit: the counter counts past the capacity.
@@ -272,9 +272,12 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
         glDispatchCompute(GLuint((s.width + 7) / 8), GLuint((s.height + 7) / 8), 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     }
-    // The most layers any pixel holds: deeper layers are only cleared (peeling's empty layers).
-    glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-    const int filled = std::min<int>(int(counts[2]), s.layers);
+    // The most layers any pixel holds: deeper layers are only cleared (peeling's empty layers);
+    // and the pixels each layer covers (Frame.layer_samples).
+    GLuint counted[4 + 16] = {};
+    glGetNamedBufferSubData(counter_.id(), 0, sizeof(counted), counted);
+    const int filled = std::min<int>(int(counted[2]), s.layers);
+    list_samples_.assign(counted + 4, counted + 4 + s.layers);
 
     Texture& depth = ctx.resources.get("gbuffer.depth");
     Texture& albedo = ctx.resources.get("gbuffer.albedo");
@@ -308,16 +311,15 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
         fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
         if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
-        for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
-        glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
-        // The pixels the layer covers (Frame.layer_samples; 0 for a layer no pixel reaches).
-        glBeginQuery(GL_SAMPLES_PASSED, queries_[size_t(layer)]);
         if (layer < filled) {
+            // Every texel written (the clear values where the layer has no fragment): no clear.
             glDepthFunc(GL_ALWAYS);  // every kept fragment's depth is written as stored
             glUniform1i(loc_layer, layer);
             glDrawArrays(GL_TRIANGLES, 0, 3);
+        } else {
+            for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+            glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
         }
-        glEndQuery(GL_SAMPLES_PASSED);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_FRAMEBUFFER_SRGB);
@@ -339,7 +341,7 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     const GLuint none = 0xffffffffu;
     glClearNamedBufferSubData(heads_.id(), GL_R32UI, 0, GLsizeiptr(sizeof(GLuint) * pixels), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &none);
-    const GLuint counter[4] = {0, GLuint(capacity), 0, 0};
+    GLuint counter[4 + 16] = {0, GLuint(capacity), 0, 0};
     counter_.upload(counter, sizeof(counter));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, store_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 17, counter_.id());
@@ -419,6 +421,7 @@ void DepthPeelPass::release() {
 }
 
 std::vector<uint64_t> DepthPeelPass::layer_samples() {
+    if (list_stats_.lists) return list_samples_;  // the selection counted the covered pixels
     std::vector<uint64_t> out;
     for (int i = 0; i < used_queries_; ++i) {
         GLuint64 n = 0;

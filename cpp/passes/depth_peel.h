@@ -43,8 +43,8 @@ public:
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 
-    // Pixels (samples passing the depth test) each layer of the last frame wrote; read
-    // after the frame, when the GPU has finished.
+    // Pixels (samples passing the depth test) each layer of the last frame wrote (the lists:
+    // the pixels each layer covers); read after the frame, when the GPU has finished.
     std::vector<uint64_t> layer_samples();
     void release();  // deletes the pass's GL objects (in the current context)
 
@@ -94,6 +94,7 @@ private:
     uint64_t capacity_ = 0;  // fragments the store holds
     GLuint empty_vao_ = 0;
     ListStats list_stats_;
+    std::vector<uint64_t> list_samples_;  // pixels each layer covers, from the lists' selection
 };
 
 }  // namespace ssr

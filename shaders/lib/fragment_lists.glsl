@@ -21,8 +21,11 @@ struct ListFragment {
 
 layout(std430, binding = 16) buffer FragmentStore { ListFragment fragments[]; };
 // x: fragments appended (may exceed the capacity), y: the capacity, z: the most layers any pixel
-// holds (the selection pass's maximum), w: unused.
-layout(std430, binding = 17) coherent buffer FragmentCounter { uvec4 fragment_counter; };
+// holds (the selection pass's maximum), w: unused; then the pixels each layer covers.
+layout(std430, binding = 17) coherent buffer FragmentCounter {
+    uvec4 fragment_counter;
+    uint layer_pixels[];
+};
 layout(std430, binding = 18) coherent buffer FragmentHeads { uint fragment_head[]; };
 
 void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 normal_roughness, vec4 material,
