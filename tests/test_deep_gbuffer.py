@@ -167,3 +167,20 @@ def test_setting_values_and_timings(renderer):
     # 'auto' is decided for the device, and the frame records the method it ran with.
     auto = renderer.render(scene, NEAR, tiny(layers=4))
     assert auto.settings.deep_gbuffer in ("peel", "lists")
+
+
+@pytest.mark.parametrize("scene_name", ["hall", "spheres_and_boxes"])
+def test_the_whole_frame_is_the_same(renderer, scene_name):
+    """Downstream of the layers nothing changes: lighting over the covered tiles (marked by the
+    lists' selection instead of the shading pass), the trace over layer 0's reflective regions,
+    the resolve and the composite give the same image bit for bit."""
+    scene = ssrlab.scenes.load(scene_name)
+    kw = dict(width=64, height=48, layers=4, shadow_map_size=256)
+    peel = renderer.render(scene, settings=small(deep_gbuffer="peel", **kw))
+    lists = renderer.render(scene, settings=small(deep_gbuffer="lists", **kw))
+    assert lists.stats["deep_gbuffer_method"] == "lists"
+    assert lists.passes == peel.passes
+    for name in ("lit", "color"):
+        np.testing.assert_array_equal(bits(peel.read(name)), bits(lists.read(name)), err_msg=name)
+    for key in ("layers_used", "layers_lit", "tiles_lit"):
+        assert peel.stats[key] == lists.stats[key], key
