@@ -26,9 +26,8 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(std430, binding = 19) writeonly buffer KeptFragments { uint kept[]; };
 
-shared uint group_layers;      // the most layers a pixel of this tile holds
 shared uint group_reflective;  // 1: a pixel's layer 0 is reflective
-shared uint group_pixels[LAYERS];
+shared uint group_count[LAYERS];  // [c - 1]: the tile's pixels holding exactly c layers
 
 // True when fragment a replaces fragment b at the same depth (see above).
 bool wins(uint draw_a, uint prim_a, uint draw_b, uint prim_b) {
@@ -39,11 +38,8 @@ void main() {
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     uint lane = gl_LocalInvocationIndex;
-    if (lane == 0u) {
-        group_layers = 0u;
-        group_reflective = 0u;
-    }
-    if (lane < uint(LAYERS)) group_pixels[lane] = 0u;
+    if (lane == 0u) group_reflective = 0u;
+    if (lane < uint(LAYERS)) group_count[lane] = 0u;
     barrier();
 
     int count = 0;
@@ -86,14 +82,22 @@ void main() {
         uint plane = uint(size.x * size.y);
         for (int k = 0; k < LAYERS; ++k) kept[uint(k) * plane + pixel] = k < count ? slot[k] : FRAGMENT_NONE;
         if (count > 0) {
-            atomicMax(group_layers, uint(count));
-            for (int k = 0; k < count; ++k) atomicAdd(group_pixels[k], 1u);
+            atomicAdd(group_count[count - 1], 1u);
             if ((fragments[slot[0]].draw_flags & 0x80000000u) != 0u) group_reflective = 1u;
         }
     }
     barrier();
-    if (lane < uint(LAYERS) && group_pixels[lane] > 0u) atomicAdd(layer_pixels[lane], group_pixels[lane]);
-    if (lane != 0u || group_layers == 0u) return;
+    // Layer k covers the pixels holding more than k layers.
+    if (lane < uint(LAYERS)) {
+        uint covering = 0u;
+        for (int c = int(lane); c < LAYERS; ++c) covering += group_count[c];
+        if (covering > 0u) atomicAdd(layer_pixels[lane], covering);
+    }
+    if (lane != 0u) return;
+    uint group_layers = 0u;
+    for (int c = LAYERS; c > 0 && group_layers == 0u; --c)
+        if (group_count[c - 1] > 0u) group_layers = uint(c);
+    if (group_layers == 0u) return;
     atomicMax(fragment_counter.z, group_layers);
     ivec2 grid = covered_tile_grid();
     ivec2 tile = ivec2(gl_WorkGroupID.xy);
