@@ -561,8 +561,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     while (layers_used < int(frame->layer_samples.size()) && frame->layer_samples[size_t(layers_used)] > 0) ++layers_used;
     frame->stats["layers_used"] = double(layers_used);
     const DepthPeelPass::ListStats& lists = depth_peel_.list_stats();
-    frame->stats["deep_gbuffer_lists"] = double(lists.lists);
+    // Where the lists were asked for: which method built the layers, and the lists' counts.
     if (s.deep_gbuffer == DeepGBuffer::Lists) {
+        frame->stats["deep_gbuffer_lists"] = double(lists.lists);
         frame->stats["deep_gbuffer_fell_back"] = double(lists.fell_back);
         frame->stats["deep_gbuffer_redone"] = double(lists.redone);
         frame->stats["deep_gbuffer_fragments"] = double(lists.fragments);

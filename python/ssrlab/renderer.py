@@ -365,8 +365,8 @@ class Frame:
         environment by the classify pass). rays_traced and depth_fetches are summed from
         rays.sample (its weight and fetch channels, less the second trace's extra_*) when one of
         them is first read (a read-back; the trace keeps no counter, issue 13): read them before
-        Frame.release(). deep_gbuffer_method: how the layers were built ('peel' or 'lists'); with
-        Settings.deep_gbuffer 'lists' also deep_gbuffer_fragments (the frame's fragments),
+        Frame.release(). With Settings.deep_gbuffer 'lists': deep_gbuffer_method (how the layers
+        were built: 'lists', or 'peel' where the lists fell back), deep_gbuffer_fragments (the frame's fragments),
         deep_gbuffer_bytes (the lists' buffers), deep_gbuffer_redone (1: the fragment store was
         too small and the geometry pass ran again with one that fits) and deep_gbuffer_fell_back (1:
         the fragments exceeded Settings.deep_gbuffer_budget and the layers were peeled)."""
