@@ -86,6 +86,9 @@ class Renderer:
         self._native = _core.Renderer(device=device, shader_dir=str(folder), input_fetch=input_fetch)
         self.device = device
         self._frames: "weakref.WeakSet[Frame]" = weakref.WeakSet()
+        # Settings.deep_gbuffer 'auto': the method measured faster, per scene, size and layers.
+        self._deep_gbuffer_auto: dict[tuple, str] = {}
+        self.deep_gbuffer_measurements: dict[tuple, dict[str, float]] = {}
 
     @property
     def live_frames(self) -> list["Frame"]:
@@ -128,6 +131,7 @@ class Renderer:
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
         _warn_depth_precision(camera, settings)
+        settings = self._decide_deep_gbuffer(scene, camera, settings)
         settings = settings.resolved(self.info["device"])  # 'auto' decided for this device
         native = self._native.render(scene, camera, settings.to_native())
         frame = Frame(native, settings, renderer=self, scene=scene)
@@ -161,6 +165,8 @@ class Renderer:
         return self._sequence(scene, cameras, settings)
 
     def _sequence(self, scene, cameras, settings):
+        # deep_gbuffer 'auto' is measured before the sequence starts, on its first camera.
+        settings = self._decide_deep_gbuffer(scene, cameras[0], settings)
         sequence = self._native.begin_sequence()
         try:
             for i, camera in enumerate(cameras):
@@ -172,6 +178,44 @@ class Renderer:
                 yield frame
         finally:
             del sequence  # the history's textures go with it
+
+    def _decide_deep_gbuffer(self, scene, camera, settings: Settings) -> Settings:
+        """Settings.deep_gbuffer 'auto' made 'peel' or 'lists': the exact method that builds this
+        scene's layers faster on this device, measured once per renderer, scene (and revision),
+        image size, layer count, culling and depth mode: the G-buffer alone (no shadow map, no
+        reflections) is built 3 times with each method after a warm-up render, and the smaller
+        median of Frame.timings['deep_gbuffer'] wins (recorded in deep_gbuffer_measurements).
+        One layer is always peeled: a single geometry pass is what the lists' append is, and the
+        lists add their selection and write (benchmarks/deep_gbuffer.py: 2-5x slower at one layer
+        on every benchmark scene)."""
+        if settings.deep_gbuffer != "auto":
+            return settings
+        if settings.layers == 1:
+            return settings.replace(deep_gbuffer="peel")
+        key = (id(scene), scene.revision, settings.width, settings.height, settings.layers,
+               settings.backface_culling, settings.depth_mode)
+        if key not in self._deep_gbuffer_auto:
+            base = Settings(width=settings.width, height=settings.height, layers=settings.layers,
+                            backface_culling=settings.backface_culling, depth_mode=settings.depth_mode,
+                            method="off", shadow_map_size=0)
+            medians = {}
+            for method in ("peel", "lists"):
+                s = base.replace(deep_gbuffer=method).resolved(self.info["device"])
+                times = []
+                for run in range(4):
+                    f = Frame(self._native.render(scene, camera, s.to_native()), s, renderer=self, scene=scene)
+                    if run > 0:  # the first render compiles and sizes the lists' store
+                        times.append(f.timings["deep_gbuffer"])
+                    # A frame that fell back to peeling is no measurement of the lists.
+                    if method == "lists" and f.stats.get("deep_gbuffer_method") != "lists":
+                        times = [float("inf")]
+                        f.release()
+                        break
+                    f.release()
+                medians[method] = float(np.median(times))
+            self.deep_gbuffer_measurements[key] = medians
+            self._deep_gbuffer_auto[key] = "lists" if medians["lists"] < medians["peel"] else "peel"
+        return settings.replace(deep_gbuffer=self._deep_gbuffer_auto[key])
 
     def prepare(self, settings: Settings | None = None, scene=None, camera=None) -> None:
         """Compiles and warms up every program the frame chain of `settings` uses, so that the

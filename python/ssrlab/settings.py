@@ -49,8 +49,9 @@ class Settings:
         "auto", "how the layered G-buffer is built: 'peel' (depth peeling, one geometry pass per layer, seed 000 "
         "1.5.1), 'lists' (one geometry pass appending every fragment to per-pixel linked lists, Yang et al. "
         "2010, then a selection of each pixel's `layers` nearest depths: the same layers as 'peel' bit for "
-        "bit, equal depths included) or 'auto' (the exact method this device builds faster; Frame.settings "
-        "holds the one the frame ran with)", choices=("auto", "peel", "lists"), group="deep G-buffer")
+        "bit, equal depths included) or 'auto' (the exact method this device builds faster: measured by the "
+        "Renderer once per scene, size and layer count, Renderer.deep_gbuffer_measurements; one layer is "
+        "peeled; Frame.settings holds the one the frame ran with)", choices=("auto", "peel", "lists"), group="deep G-buffer")
     deep_gbuffer_budget: int = _setting(
         0, "deep_gbuffer 'lists': the most memory its fragment store may take (64 bytes a fragment; 0: the "
         "device's largest storage buffer; more than that is a ValueError); a frame with more fragments is never "
@@ -373,8 +374,8 @@ class Settings:
         if device not in ("cpu", "gpu"):
             raise ValueError(f"device must be 'cpu' or 'gpu', got {device!r}")
         s = self.replace(skip=device == "cpu") if self.skip == "auto" else self
-        # deep_gbuffer 'auto': peeling until a device's measurement says otherwise (see
-        # docs/deep_gbuffer.md: on llvmpipe the lists' one geometry pass is the faster from 2 layers).
+        # deep_gbuffer 'auto': a Renderer measures both methods per scene (Renderer.render);
+        # settings resolved without a renderer and scene peel (docs/deep_gbuffer.md).
         return s.replace(deep_gbuffer=_auto_deep_gbuffer(device, s.layers)) if s.deep_gbuffer == "auto" else s
 
     def to_native(self, device: str = "cpu") -> "_core.RenderSettings":
