@@ -210,3 +210,18 @@ def test_textured_and_normal_mapped_surfaces_are_equal(renderer):
     for culling in (False, True):
         f = assert_same_layers(renderer, s, cam, "textured", layers=4, backface_culling=culling)
         assert f.stats["layers_used"] >= 3
+
+
+def test_coplanar_triangles_of_one_draw_keep_peelings_winner(renderer):
+    """Two triangles of one mesh in the same plane (their vertex normals differ): peeling's
+    shading pass writes them in primitive order, so the later one shows; the lists keep it too."""
+    s = ssrlab.Scene()
+    p = np.float32([[-1, -1, 0], [1, -1, 0], [0, 1, 0]])
+    positions = np.concatenate([p, p])
+    normals = np.float32([[0, 0, 1]] * 3 + [[0.6, 0, 0.8]] * 3)
+    s.add_mesh(positions, np.array([[0, 1, 2], [3, 4, 5]]), normals=normals, name="twice")
+    cam = ssrlab.Camera(position=(0, 0, 3), target=(0, 0, 0), fov_y=60, near=0.1, far=10)
+    f = assert_same_layers(renderer, s, cam, "coplanar triangles", layers=2)
+    n = f.read("gbuffer.normal")[0, 16, 24, :3]
+    assert f.gbuffer.coverage[:, 16, 24].tolist() == [True, False]
+    np.testing.assert_allclose(n, [0.6, 0, 0.8], atol=2e-3)
