@@ -198,24 +198,34 @@ class Renderer:
             base = Settings(width=settings.width, height=settings.height, layers=settings.layers,
                             backface_culling=settings.backface_culling, depth_mode=settings.depth_mode,
                             method="off", shadow_map_size=0)
-            medians = {}
-            for method in ("peel", "lists"):
-                s = base.replace(deep_gbuffer=method).resolved(self.info["device"])
-                times = []
-                for run in range(4):
-                    f = Frame(self._native.render(scene, camera, s.to_native()), s, renderer=self, scene=scene)
-                    if run > 0:  # the first render compiles and sizes the lists' store
-                        times.append(f.timings["deep_gbuffer"])
-                    # A frame that fell back to peeling is no measurement of the lists.
-                    if method == "lists" and f.stats.get("deep_gbuffer_method") != "lists":
-                        times = [float("inf")]
-                        f.release()
-                        break
-                    f.release()
-                medians[method] = float(np.median(times))
+            try:
+                medians = self._measure_deep_gbuffer(scene, camera, base)
+            except ValueError:
+                # Settings this device refuses (a frame beyond its memory, ...): the render
+                # itself raises its own error, naming the settings as given.
+                return settings.replace(deep_gbuffer="peel")
             self.deep_gbuffer_measurements[key] = medians
             self._deep_gbuffer_auto[key] = "lists" if medians["lists"] < medians["peel"] else "peel"
         return settings.replace(deep_gbuffer=self._deep_gbuffer_auto[key])
+
+    def _measure_deep_gbuffer(self, scene, camera, base: Settings) -> dict[str, float]:
+        """Median GPU milliseconds of the G-buffer's construction with each exact method."""
+        medians = {}
+        for method in ("peel", "lists"):
+            s = base.replace(deep_gbuffer=method).resolved(self.info["device"])
+            times = []
+            for run in range(4):
+                f = Frame(self._native.render(scene, camera, s.to_native()), s, renderer=self, scene=scene)
+                if run > 0:  # the first render compiles and sizes the lists' store
+                    times.append(f.timings["deep_gbuffer"])
+                # A frame that fell back to peeling is no measurement of the lists.
+                if method == "lists" and f.stats.get("deep_gbuffer_method") != "lists":
+                    times = [float("inf")]
+                    f.release()
+                    break
+                f.release()
+            medians[method] = float(np.median(times))
+        return medians
 
     def prepare(self, settings: Settings | None = None, scene=None, camera=None) -> None:
         """Compiles and warms up every program the frame chain of `settings` uses, so that the
