@@ -305,6 +305,13 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     const GLint loc_layer = glGetUniformLocation(write, "u_layer");
     const float zero[4] = {0, 0, 0, 0};
     const float clear_depth = ctx.depth.clear_depth();
+    // Each layer is written over the bounding box of its covered 8x8 tiles only (the selection
+    // marked them), the rest cleared: deep layers often cover a small part of the image.
+    const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
+    std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y) * size_t(std::max(filled, 1)));
+    if (filled > 0)
+        glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * 4), GLsizeiptr(sizeof(GLuint) * flags.size()),
+                                flags.data());
     for (int layer = 0; layer < s.layers; ++layer) {
         fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT0, albedo, 0, layer);
@@ -312,10 +319,26 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
         fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
         if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
         if (layer < filled) {
-            // Every texel written (the clear values where the layer has no fragment): no clear.
+            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
+            const GLuint* f = flags.data() + size_t(layer) * size_t(grid_x) * size_t(grid_y);
+            for (int ty = 0; ty < grid_y; ++ty)
+                for (int tx = 0; tx < grid_x; ++tx)
+                    if (f[size_t(ty * grid_x + tx)]) {
+                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
+                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
+                    }
+            const bool whole = x0 == 0 && y0 == 0 && x1 == grid_x - 1 && y1 == grid_y - 1;
+            if (!whole) {
+                for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+                glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
+                glEnable(GL_SCISSOR_TEST);
+                glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+            }
+            // Every texel within is written (the clear values where the layer has no fragment).
             glDepthFunc(GL_ALWAYS);  // every kept fragment's depth is written as stored
             glUniform1i(loc_layer, layer);
             glDrawArrays(GL_TRIANGLES, 0, 3);
+            glDisable(GL_SCISSOR_TEST);
         } else {
             for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
             glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
