@@ -29,7 +29,7 @@ def main() -> None:
         scene = ssrlab.scenes.load(name)
         rows = []
         for layers in args.layers:
-            s = ssrlab.Settings(width=args.width, height=args.height, layers=layers)
+            s = ssrlab.Settings(width=args.width, height=args.height, layers=layers, deep_gbuffer="peel")
             t = median_timings(renderer, scene, s, repeats=args.repeats)
             rows.append((layers, t))
         base = rows[0][1]["depth_peel"]

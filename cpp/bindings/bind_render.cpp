@@ -62,6 +62,9 @@ void bind_render(py::module_& m) {
         .def_property(
             "depth_mode", [](const RenderSettings& s) { return depth_mode_name(s.depth_mode); },
             [](RenderSettings& s, const std::string& v) { s.depth_mode = parse_depth_mode(v); })
+        .def_property("deep_gbuffer", enum_getter(&RenderSettings::deep_gbuffer),
+                      enum_setter("deep_gbuffer", &RenderSettings::deep_gbuffer))
+        .def_readwrite("deep_gbuffer_budget", &RenderSettings::deep_gbuffer_budget)
         .def_readwrite("shadow_map_size", &RenderSettings::shadow_map_size)
         .def_readwrite("shadow_normal_offset", &RenderSettings::shadow_normal_offset)
         .def_readwrite("shadow_pcf_radius", &RenderSettings::shadow_pcf_radius)

@@ -1,6 +1,8 @@
 #include "passes/depth_peel.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace ssr {
@@ -19,6 +21,46 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const 
 }
 
 void DepthPeelPass::execute(FrameContext& ctx) {
+    list_stats_ = ListStats{};
+    prepare_tiles(ctx);
+    if (ctx.settings.deep_gbuffer == DeepGBuffer::Lists) {
+        if (lists(ctx)) return;
+        list_stats_.fell_back = 1;  // beyond the budget: peeled, never truncated
+    }
+    peel(ctx);
+}
+
+// The covered-tile flags both constructions set (shaders/lib/covered_tiles.glsl), cleared, with
+// the header the lighting pass's compaction counts into; and one samples query per layer.
+void DepthPeelPass::prepare_tiles(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    const int tiles = covered_tiles_per_layer(s) * s.layers;
+    // Flags and list per layer, then layer 0's reflective regions: dispatch arguments, flags, list.
+    const size_t regions = size_t(classify_regions(s));
+    const size_t tile_bytes = sizeof(GLuint) * (4 + 2 * size_t(tiles) + 4 + 2 * regions);
+    if (tiles_.size() < tile_bytes) tiles_ = Buffer::create(tile_bytes);
+    const GLuint header[4] = {0, 1, 1, 0};
+    tiles_.upload(header, sizeof(header));
+    const GLuint zero_flag = 0;
+    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, sizeof(header), sizeof(GLuint) * size_t(tiles), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero_flag);
+    const GLuint region_header[4] = {0, 1, 1, 0};  // no region listed yet; a 1 x 1 dispatch layer
+    glNamedBufferSubData(tiles_.id(), GLintptr(classify_regions_offset(s)), sizeof(region_header), region_header);
+    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, GLintptr(classify_regions_offset(s) + sizeof(region_header)),
+                              sizeof(GLuint) * regions, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_flag);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoveredTilesBinding, tiles_.id());
+    tiles_layers_ = s.layers;
+    tiles_width_ = s.width;
+    tiles_height_ = s.height;
+    while (int(queries_.size()) < s.layers) {
+        GLuint q = 0;
+        glGenQueries(1, &q);
+        queries_.push_back(q);
+    }
+    used_queries_ = s.layers;
+}
+
+void DepthPeelPass::peel(FrameContext& ctx) {
     const RenderSettings& s = ctx.settings;
     Texture& depth = ctx.resources.get("gbuffer.depth");
     Texture& albedo = ctx.resources.get("gbuffer.albedo");
@@ -70,37 +112,11 @@ void DepthPeelPass::execute(FrameContext& ctx) {
         glDisable(GL_CULL_FACE);
     }
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);  // the clears below obey the write masks
-    // The covered-tile flags the shading pass sets (shaders/lib/covered_tiles.glsl), cleared,
-    // with the header the lighting pass's compaction counts into.
-    const int tiles = covered_tiles_per_layer(s) * s.layers;
-    // Flags and list per layer, then layer 0's reflective regions: dispatch arguments, flags, list.
-    const size_t regions = size_t(classify_regions(s));
-    const size_t tile_bytes = sizeof(GLuint) * (4 + 2 * size_t(tiles) + 4 + 2 * regions);
-    if (tiles_.size() < tile_bytes) tiles_ = Buffer::create(tile_bytes);
-    const GLuint header[4] = {0, 1, 1, 0};
-    tiles_.upload(header, sizeof(header));
-    const GLuint zero_flag = 0;
-    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, sizeof(header), sizeof(GLuint) * size_t(tiles), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &zero_flag);
-    const GLuint region_header[4] = {0, 1, 1, 0};  // no region listed yet; a 1 x 1 dispatch layer
-    glNamedBufferSubData(tiles_.id(), GLintptr(classify_regions_offset(s)), sizeof(region_header), region_header);
-    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, GLintptr(classify_regions_offset(s) + sizeof(region_header)),
-                              sizeof(GLuint) * regions, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_flag);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoveredTilesBinding, tiles_.id());
-    tiles_layers_ = s.layers;
-    tiles_width_ = s.width;
-    tiles_height_ = s.height;
     ctx.gpu_scene.bind_geometry();
     glBindTextureUnit(3, previous.id());
 
     const float zero[4] = {0, 0, 0, 0};
     const float clear_depth = ctx.depth.clear_depth();
-    while (int(queries_.size()) < s.layers) {
-        GLuint q = 0;
-        glGenQueries(1, &q);
-        queries_.push_back(q);
-    }
-    used_queries_ = s.layers;
     const bool scissor_deeper = ctx.gl.info().chosen == "cpu";
     const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
     std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));
@@ -197,7 +213,237 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     }
 }
 
+// The store's largest size on this device for a budget of `budget_mib` (0: the device's own
+// limit): a budget the device cannot hold is the user's error, raised before any allocation.
+uint64_t DepthPeelPass::store_limit_bytes(int budget_mib) {
+    GLint64 block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    const uint64_t device = uint64_t(std::max<GLint64>(block, 0));
+    if (budget_mib <= 0) return device;
+    const uint64_t budget = uint64_t(budget_mib) << 20;
+    if (budget > device)
+        throw std::invalid_argument("Settings.deep_gbuffer_budget = " + std::to_string(budget_mib) +
+                                    " MiB is beyond this device's largest storage buffer (GL_MAX_SHADER_STORAGE_"
+                                    "BLOCK_SIZE, " + std::to_string(device >> 20) + " MiB): lower it, or 0 for the "
+                                    "device's limit");
+    return budget;
+}
+
+bool DepthPeelPass::lists(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+    const uint64_t limit_bytes = store_limit_bytes(s.deep_gbuffer_budget);
+    const uint64_t max_fragments = limit_bytes / kFragmentBytes;
+    // The selection's slots are one storage buffer too: beyond the device's block, peel.
+    const uint64_t kept_bytes = sizeof(GLuint) * pixels * uint64_t(s.layers);
+    if (kept_bytes > store_limit_bytes(0) || max_fragments == 0) return false;
+    if (heads_.size() < sizeof(GLuint) * pixels) heads_ = Buffer::create(sizeof(GLuint) * pixels);
+    if (kept_.size() < kept_bytes) kept_ = Buffer::create(kept_bytes);
+    if (!counter_) counter_ = Buffer::create((4 + 16) * sizeof(GLuint));  // header, pixels per layer (<= 16)
+
+    // The store starts at the last frame's size (two fragments a pixel at first) and grows to
+    // the counted fragments when they did not fit: the counter counts past the capacity.
+    uint64_t capacity = std::min(max_fragments, std::max<uint64_t>(capacity_, 2 * pixels));
+    GLuint counts[4] = {0, 0, 0, 0};
+    {
+        GpuScope timer(ctx.timer, "deep_gbuffer.append");
+        append(ctx, capacity);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
+    }
+    if (counts[0] > capacity) {
+        if (counts[0] > max_fragments) {
+            list_stats_.fragments = counts[0];
+            return false;
+        }
+        // 1/8 of slack, so that a frame with slightly more fragments does not redo again.
+        capacity = std::min(max_fragments, uint64_t(counts[0]) + uint64_t(counts[0]) / 8);
+        list_stats_.redone = 1;
+        GpuScope timer(ctx.timer, "deep_gbuffer.redo");
+        append(ctx, capacity);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
+        if (counts[0] > capacity) return false;  // the geometry is the same: cannot happen
+    }
+    capacity_ = capacity;
+    list_stats_.lists = 1;
+    list_stats_.fragments = counts[0];
+    list_stats_.bytes = store_.size() + heads_.size() + kept_.size() + counter_.size();
+
+    Defines select_defines = ctx.defines;
+    select_defines["LAYERS"] = std::to_string(s.layers);
+    const GLuint select = ctx.shaders.program({"passes/deep_gbuffer_select.comp"}, select_defines);
+    {
+        GpuScope timer(ctx.timer, "deep_gbuffer.select");
+        glUseProgram(select);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 19, kept_.id());
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glDispatchCompute(GLuint((s.width + 7) / 8), GLuint((s.height + 7) / 8), 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    }
+    // The most layers any pixel holds: deeper layers are only cleared (peeling's empty layers);
+    // and the pixels each layer covers (Frame.layer_samples).
+    GLuint counted[4 + 16] = {};
+    glGetNamedBufferSubData(counter_.id(), 0, sizeof(counted), counted);
+    const int filled = std::min<int>(int(counted[2]), s.layers);
+    list_samples_.assign(counted + 4, counted + 4 + s.layers);
+
+    Texture& depth = ctx.resources.get("gbuffer.depth");
+    Texture& albedo = ctx.resources.get("gbuffer.albedo");
+    Texture& normal = ctx.resources.get("gbuffer.normal");
+    Texture& material = ctx.resources.get("gbuffer.material");
+    const GLuint write = ctx.shaders.program({"passes/deep_gbuffer_write.vert", "passes/deep_gbuffer_write.frag"},
+                                             ctx.defines);
+    GpuScope timer(ctx.timer, "deep_gbuffer.write");
+    if (!fbo_) fbo_ = Framebuffer::create();
+    if (!empty_vao_) glCreateVertexArrays(1, &empty_vao_);
+    const GLenum draw_buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glNamedFramebufferDrawBuffers(fbo_.id(), 3, draw_buffers);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, s.width, s.height);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glEnable(GL_FRAMEBUFFER_SRGB);  // as peeling's shading pass: the same conversion of the same floats
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    ctx.depth.apply_gl_state();
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glBindVertexArray(empty_vao_);
+    glUseProgram(write);
+    const GLint loc_layer = glGetUniformLocation(write, "u_layer");
+    const float zero[4] = {0, 0, 0, 0};
+    const float clear_depth = ctx.depth.clear_depth();
+    // Each layer is written over the bounding box of its covered 8x8 tiles only (the selection
+    // marked them), the rest cleared: deep layers often cover a small part of the image.
+    const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
+    std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y) * size_t(std::max(filled, 1)));
+    if (filled > 0)
+        glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * 4), GLsizeiptr(sizeof(GLuint) * flags.size()),
+                                flags.data());
+    for (int layer = 0; layer < s.layers; ++layer) {
+        fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
+        fbo_.attach(GL_COLOR_ATTACHMENT0, albedo, 0, layer);
+        fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
+        fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
+        if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
+        if (layer < filled) {
+            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
+            const GLuint* f = flags.data() + size_t(layer) * size_t(grid_x) * size_t(grid_y);
+            for (int ty = 0; ty < grid_y; ++ty)
+                for (int tx = 0; tx < grid_x; ++tx)
+                    if (f[size_t(ty * grid_x + tx)]) {
+                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
+                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
+                    }
+            const bool whole = x0 == 0 && y0 == 0 && x1 == grid_x - 1 && y1 == grid_y - 1;
+            if (!whole) {
+                for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+                glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
+                glEnable(GL_SCISSOR_TEST);
+                glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+            }
+            // Every texel within is written (the clear values where the layer has no fragment).
+            glDepthFunc(GL_ALWAYS);  // every kept fragment's depth is written as stored
+            glUniform1i(loc_layer, layer);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glDisable(GL_SCISSOR_TEST);
+        } else {
+            for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+            glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    ctx.depth.apply_gl_state();
+    ctx.gpu_scene.bind_geometry();
+    return true;
+}
+
+// The geometry pass of the lists: every fragment of every draw, shaded by the peeling's shading
+// code, appended to its pixel's list; no depth test and no attachment (the framebuffer only
+// gives the raster its size).
+void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
+    const RenderSettings& s = ctx.settings;
+    const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+    if (store_.size() < capacity * kFragmentBytes) {
+        store_.reset();  // the old store goes before the new one is allocated
+        store_ = Buffer::create(capacity * kFragmentBytes);
+    }
+    const GLuint none = 0xffffffffu;
+    glClearNamedBufferSubData(heads_.id(), GL_R32UI, 0, GLsizeiptr(sizeof(GLuint) * pixels), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &none);
+    GLuint counter[4 + 16] = {0, GLuint(capacity), 0, 0};
+    counter_.upload(counter, sizeof(counter));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, store_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 17, counter_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 18, heads_.id());
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    GLuint shade[4] = {0, 0, 0, 0};
+    for (const DrawItem& d : ctx.gpu_scene.draws()) {
+        const int kind = ctx.gpu_scene.material_features(d.material);
+        if (shade[kind]) continue;
+        Defines defines = ctx.defines;
+        defines["PEEL_DEPTH_ONLY"] = "0";
+        defines["DEEP_GBUFFER_APPEND"] = "1";
+        defines["MATERIAL_TEXTURES"] = kind & 1 ? "1" : "0";
+        defines["MATERIAL_AUTO_R"] = kind & 2 ? "1" : "0";
+        shade[kind] = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, defines);
+    }
+    if (!empty_fbo_) {
+        empty_fbo_ = Framebuffer::create();
+        glNamedFramebufferDrawBuffer(empty_fbo_.id(), GL_NONE);
+    }
+    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, s.width);
+    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, s.height);
+    glBindFramebuffer(GL_FRAMEBUFFER, empty_fbo_.id());
+    glViewport(0, 0, s.width, s.height);
+    ctx.depth.apply_gl_state();  // the clip control: the window depths peeling gets
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    if (s.backface_culling) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glFrontFace(GL_CCW);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
+    ctx.gpu_scene.bind_geometry();
+    const auto& draws = ctx.gpu_scene.draws();
+    GLuint current = 0;
+    GLint loc_object = -1, loc_draw = -1;
+    for (size_t i = 0; i < draws.size(); ++i) {
+        const DrawItem& d = draws[i];
+        const int kind = ctx.gpu_scene.material_features(d.material);
+        if (shade[kind] != current) {
+            current = shade[kind];
+            glUseProgram(current);
+            loc_object = glGetUniformLocation(current, "u_object");
+            loc_draw = glGetUniformLocation(current, "u_draw");
+        }
+        glUniform1i(loc_object, d.object);
+        glUniform1i(loc_draw, GLint(i));
+        if (kind & 1) ctx.gpu_scene.bind_material_textures(d.material);
+        glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
+                                 reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
+    }
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
 void DepthPeelPass::release() {
+    store_.reset();
+    counter_.reset();
+    heads_.reset();
+    kept_.reset();
+    capacity_ = 0;
+    if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+    empty_vao_ = 0;
+    empty_fbo_.reset();
     tiles_.reset();
     tiles_layers_ = 0;
     if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
@@ -207,6 +453,7 @@ void DepthPeelPass::release() {
 }
 
 std::vector<uint64_t> DepthPeelPass::layer_samples() {
+    if (list_stats_.lists) return list_samples_;  // the selection counted the covered pixels
     std::vector<uint64_t> out;
     for (int i = 0; i < used_queries_; ++i) {
         GLuint64 n = 0;

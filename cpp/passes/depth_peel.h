@@ -20,6 +20,16 @@
 // each layer's draws are conditionally rendered on the previous layer's sample count
 // (glBeginConditionalRender): the GPU skips the geometry of empty layers without a CPU
 // round trip. Layers are still cleared, so they read back as empty.
+//
+// Settings.deep_gbuffer "lists" builds the same textures in one geometry pass (Yang et al. 2010's
+// per-pixel linked lists; the thesis's 1.5 names the one-pass deep G-buffer as the way out of
+// peeling's cost, seed 000 4.2): the shading pass's code appends every fragment's encoded outputs
+// to its pixel's list (DEEP_GBUFFER_APPEND in depth_peel.frag), a compute pass keeps each pixel's
+// `layers` nearest distinct depths by peeling's rules (deep_gbuffer_select.comp), and one
+// full-screen draw per layer writes them through the same framebuffer formats
+// (deep_gbuffer_write.frag): bit for bit the peeled layers. Timed as deep_gbuffer.append,
+// .select and .write. The fragment store grows to the frame's fragment count within
+// Settings.deep_gbuffer_budget; a frame beyond the budget is peeled (never truncated).
 #pragma once
 
 #include "render/render_pass.h"
@@ -34,10 +44,37 @@ public:
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 
-    // Pixels (samples passing the depth test) each layer of the last frame wrote; read
-    // after the frame, when the GPU has finished.
+    // Pixels (samples passing the depth test) each layer of the last frame wrote (the lists:
+    // the pixels each layer covers); read after the frame, when the GPU has finished.
     std::vector<uint64_t> layer_samples();
     void release();  // deletes the pass's GL objects (in the current context)
+
+    // How the last run built the layers (Frame.stats): lists 1 = fragment lists, 0 = peeling;
+    // fell_back 1 where "lists" was asked for and the frame's fragments exceeded the budget;
+    // redone 1 where the store was too small and the geometry pass ran again with one that fits;
+    // fragments: the frame's fragment count; bytes: the lists' buffers (store, heads, selection).
+    struct ListStats {
+        int lists = 0, fell_back = 0, redone = 0;
+        uint64_t fragments = 0, bytes = 0;
+    };
+    const ListStats& list_stats() const { return list_stats_; }
+    // A fragment-list budget the device cannot hold is refused before anything is allocated.
+    void check_device(const RenderSettings& s) const override {
+        if (s.deep_gbuffer == DeepGBuffer::Lists) store_limit_bytes(s.deep_gbuffer_budget);
+    }
+    // Where the lists were asked for: which method built the layers, and the lists' counts.
+    void report(const RenderSettings& s, std::map<std::string, double>& stats) const override {
+        if (s.deep_gbuffer != DeepGBuffer::Lists) return;
+        stats["deep_gbuffer_lists"] = double(list_stats_.lists);
+        stats["deep_gbuffer_fell_back"] = double(list_stats_.fell_back);
+        stats["deep_gbuffer_redone"] = double(list_stats_.redone);
+        stats["deep_gbuffer_fragments"] = double(list_stats_.fragments);
+        stats["deep_gbuffer_bytes"] = double(list_stats_.bytes);
+    }
+    static constexpr size_t kFragmentBytes = 64;  // struct ListFragment, lib/fragment_lists.glsl
+    // The fragment store's largest size for Settings.deep_gbuffer_budget (0: the device's largest
+    // storage buffer); std::invalid_argument where the budget is beyond what the device can hold.
+    static uint64_t store_limit_bytes(int budget_mib);
 
     // The covered-tile buffer of the last run (shaders/lib/covered_tiles.glsl), bound as SSBO
     // kCoveredTilesBinding, or nullptr where the last run had other settings' sizes.
@@ -55,11 +92,23 @@ public:
     }
 
 private:
-    Framebuffer fbo_;
+    void prepare_tiles(FrameContext& ctx);
+    void peel(FrameContext& ctx);
+    // false: the fragments exceed the budget (nothing written; the caller peels).
+    bool lists(FrameContext& ctx);
+    void append(FrameContext& ctx, uint64_t capacity);
+
+    Framebuffer fbo_, empty_fbo_;
     std::vector<GLuint> queries_;
     int used_queries_ = 0;
     Buffer tiles_;
     int tiles_layers_ = 0, tiles_width_ = 0, tiles_height_ = 0;
+    // Fragment lists: the store, counter (appended, capacity, most layers), heads, kept slots.
+    Buffer store_, counter_, heads_, kept_;
+    uint64_t capacity_ = 0;  // fragments the store holds
+    GLuint empty_vao_ = 0;
+    ListStats list_stats_;
+    std::vector<uint64_t> list_samples_;  // pixels each layer covers, from the lists' selection
 };
 
 }  // namespace ssr

@@ -119,6 +119,9 @@ public:
     virtual bool runs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<std::string> inputs() const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
+    // Settings this device cannot hold for this pass (a buffer too large), before anything is
+    // allocated: throws std::invalid_argument naming the setting.
+    virtual void check_device(const RenderSettings& s) const {}
     // Checks of the user's input that only this pass makes, before any pass of the frame runs.
     virtual void check(const Scene& scene, const GpuScene& gpu_scene, const RenderSettings& s) {}
     virtual void execute(FrameContext& ctx) = 0;

@@ -407,6 +407,8 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
                                         " layers, beyond this device's GL_MAX_ARRAY_TEXTURE_LAYERS (" +
                                         std::to_string(max_array_layers_) + "): lower Settings.layers or rays_per_pixel");
     }
+    // Each pass's limits of this device (a buffer it would allocate), refused before anything is.
+    for (const RenderPass* p : chain) p->check_device(s);
     // On the CPU device the textures take system memory: a frame that cannot fit is refused
     // here rather than killed by the OS mid-frame (idle texture sets and scratch can be reused).
     // Asked of the system only beyond 256 MiB of new textures, not on every ordinary frame.
@@ -494,6 +496,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         ++frame->warmup_runs;
     }
     frame->timings = timer_.resolve();
+    // The deep G-buffer's construction, whatever built it (Settings.deep_gbuffer): the depth_peel
+    // pass's time; its parts are depth_peel.layer<i> (peeling) or deep_gbuffer.<part> (lists).
+    frame->timings["deep_gbuffer"] = frame->timings["depth_peel"];
     frame->layer_samples = depth_peel_.layer_samples();
     for (const RenderPass* p : chain) p->report(s, frame->stats);
     frame->stats["passes_run"] = double(chain.size());

@@ -35,6 +35,12 @@ const std::vector<std::pair<BvhShadows, std::string>>& names() {
     return n;
 }
 template <>
+const std::vector<std::pair<DeepGBuffer, std::string>>& names() {
+    static const std::vector<std::pair<DeepGBuffer, std::string>> n = {{DeepGBuffer::Peel, "peel"},
+                                                                       {DeepGBuffer::Lists, "lists"}};
+    return n;
+}
+template <>
 const std::vector<std::pair<Denoise, std::string>>& names() {
     static const std::vector<std::pair<Denoise, std::string>> n = {{Denoise::None, "none"}, {Denoise::Svgf, "svgf"}};
     return n;
@@ -125,6 +131,7 @@ std::string enum_name(E value) {
 SSR_INSTANTIATE(TraceMethod)
 SSR_INSTANTIATE(Fallback)
 SSR_INSTANTIATE(Denoise)
+SSR_INSTANTIATE(DeepGBuffer)
 SSR_INSTANTIATE(BvhShadows)
 SSR_INSTANTIATE(Sampling)
 SSR_INSTANTIATE(Noise)
@@ -142,6 +149,8 @@ void RenderSettings::validate() const {
     check(width >= 1 && width <= 16384, "Settings.width must be in [1, 16384] pixels, got " + std::to_string(width));
     check(height >= 1 && height <= 16384, "Settings.height must be in [1, 16384] pixels, got " + std::to_string(height));
     check(layers >= 1 && layers <= 16, "Settings.layers must be in [1, 16], got " + std::to_string(layers));
+    check(deep_gbuffer_budget >= 0 && deep_gbuffer_budget <= (1 << 20),
+          "Settings.deep_gbuffer_budget must be 0 (the device's limit) or in [1, 1048576] MiB, got " + std::to_string(deep_gbuffer_budget));
     check(shadow_map_size == 0 || (shadow_map_size >= 16 && shadow_map_size <= 16384),
           "Settings.shadow_map_size must be 0 (off) or in [16, 16384], got " + std::to_string(shadow_map_size));
     check(std::isfinite(shadow_normal_offset) && shadow_normal_offset >= 0.0f,

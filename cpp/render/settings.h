@@ -29,6 +29,9 @@ enum class ConeRemainder { Hit, Environment };     // order = CONE_REMAINDER_*
 enum class SpecularOcclusion { Off, Horizon, Exit };
 // Denoiser of the resolved reflection (seed 003): none, or SVGF (Schied et al. 2017).
 enum class Denoise { None, Svgf };
+// How the layered G-buffer is built: depth peeling (one geometry pass per layer) or per-pixel
+// fragment lists (one geometry pass, then a selection; Yang et al. 2010). Python resolves "auto".
+enum class DeepGBuffer { Peel, Lists };
 
 // Names <-> values, for Python and for error messages.
 template <typename E> E parse_enum(const std::string& field, const std::string& name);
@@ -43,6 +46,8 @@ struct RenderSettings {
     int layers = 1;                 // depth-peeled layers, 1..16
     bool backface_culling = false;  // off as in the thesis: back faces fill deeper layers
     DepthMode depth_mode = DepthMode::Standard;
+    DeepGBuffer deep_gbuffer = DeepGBuffer::Peel;
+    int deep_gbuffer_budget = 0;  // "lists": MiB the fragment store may take (0: the device's limit); beyond it, peel
 
     // Direct lighting
     int shadow_map_size = 2048;         // texels per side; 0 turns shadows off

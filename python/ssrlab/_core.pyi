@@ -577,6 +577,22 @@ class RenderSettings:
     def cone_stretch(self, arg0: bool) -> None:
         ...
     @property
+    def deep_gbuffer(self) -> str:
+        """
+        ssrlab.Settings.deep_gbuffer: how the layered G-buffer is built: 'peel' (depth peeling, one geometry pass per layer, seed 000 1.5.1), 'lists' (one geometry pass appending every fragment to per-pixel linked lists, Yang et al. 2010, then a selection of each pixel's `layers` nearest depths: the same layers as 'peel' bit for bit, equal depths included) or 'auto' (the exact method this device builds faster; Frame.settings holds the one the frame ran with)
+        """
+    @deep_gbuffer.setter
+    def deep_gbuffer(self, arg1: str) -> None:
+        ...
+    @property
+    def deep_gbuffer_budget(self) -> int:
+        """
+        ssrlab.Settings.deep_gbuffer_budget [MiB]: deep_gbuffer 'lists': the most memory its fragment store may take (64 bytes a fragment; 0: the device's largest storage buffer; more than that is a ValueError); a frame with more fragments is never truncated: it is built by peeling instead (Frame.stats['deep_gbuffer_fell_back'])
+        """
+    @deep_gbuffer_budget.setter
+    def deep_gbuffer_budget(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
     def denoise(self) -> str:
         """
         ssrlab.Settings.denoise: denoiser of the resolved reflection, for every method and fallback: 'svgf' (Schied et al. 2017 as seed 003 uses it: the svgf_temporal pass accumulates colour and the first and second luminance moments over a sequence's frames through the reproject pass's history and rejection; svgf_variance estimates the luminance variance, spatially (7x7, depth- and normal-guided) while the history holds fewer than 4 frames; svgf_atrous filters with svgf_iterations a-trous wavelet passes guided by depth, normal and luminance variance; the composite and frame.reflection use the result). A single render() has no history: spatial variance and the wavelet passes only. Pixels whose rays are noiseless (roughness 0 or sampling 'mirror') are left as traced. 'none': no denoiser

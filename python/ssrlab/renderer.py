@@ -85,6 +85,9 @@ class Renderer:
         self._native = _core.Renderer(device=device, shader_dir=str(folder), input_fetch=input_fetch)
         self.device = device
         self._frames: "weakref.WeakSet[Frame]" = weakref.WeakSet()
+        # Settings.deep_gbuffer 'auto': the method measured faster, per scene, size and layers.
+        self._deep_gbuffer_auto: dict[tuple, str] = {}
+        self.deep_gbuffer_measurements: dict[tuple, dict[str, float]] = {}
 
     @property
     def live_frames(self) -> list["Frame"]:
@@ -127,6 +130,7 @@ class Renderer:
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
         _warn_depth_precision(camera, settings)
+        settings = self._decide_deep_gbuffer(scene, camera, settings)
         settings = settings.resolved(self.info["device"])  # 'auto' decided for this device
         native = self._native.render(scene, camera, settings.to_native())
         frame = Frame(native, settings, renderer=self, scene=scene)
@@ -176,6 +180,8 @@ class Renderer:
         return self._sequence(scene, cameras, settings)
 
     def _sequence(self, scene, cameras, settings):
+        # deep_gbuffer 'auto' is measured before the sequence starts, on its first camera.
+        settings = self._decide_deep_gbuffer(scene, cameras[0], settings)
         sequence = self._native.begin_sequence()
         try:
             for i, camera in enumerate(cameras):
@@ -187,6 +193,54 @@ class Renderer:
                 yield frame
         finally:
             del sequence  # the history's textures go with it
+
+    def _decide_deep_gbuffer(self, scene, camera, settings: Settings) -> Settings:
+        """Settings.deep_gbuffer 'auto' made 'peel' or 'lists': the exact method that builds this
+        scene's layers faster on this device, measured once per renderer, scene (and revision),
+        image size, layer count, culling and depth mode: the G-buffer alone (no shadow map, no
+        reflections) is built 3 times with each method after a warm-up render, and the smaller
+        median of Frame.timings['deep_gbuffer'] wins (recorded in deep_gbuffer_measurements).
+        One layer is always peeled: a single geometry pass is what the lists' append is, and the
+        lists add their selection and write (benchmarks/deep_gbuffer.py: 2-5x slower at one layer
+        on every benchmark scene)."""
+        if settings.deep_gbuffer != "auto":
+            return settings
+        if settings.layers == 1:
+            return settings.replace(deep_gbuffer="peel")
+        key = (id(scene), scene.revision, settings.width, settings.height, settings.layers,
+               settings.backface_culling, settings.depth_mode)
+        if key not in self._deep_gbuffer_auto:
+            base = Settings(width=settings.width, height=settings.height, layers=settings.layers,
+                            backface_culling=settings.backface_culling, depth_mode=settings.depth_mode,
+                            method="off", shadow_map_size=0)
+            try:
+                medians = self._measure_deep_gbuffer(scene, camera, base)
+            except ValueError:
+                # Settings this device refuses (a frame beyond its memory, ...): the render
+                # itself raises its own error, naming the settings as given.
+                return settings.replace(deep_gbuffer="peel")
+            self.deep_gbuffer_measurements[key] = medians
+            self._deep_gbuffer_auto[key] = "lists" if medians["lists"] < medians["peel"] else "peel"
+        return settings.replace(deep_gbuffer=self._deep_gbuffer_auto[key])
+
+    def _measure_deep_gbuffer(self, scene, camera, base: Settings) -> dict[str, float]:
+        """Median GPU milliseconds of the G-buffer's construction with each exact method."""
+        medians = {}
+        for method in ("peel", "lists"):
+            s = base.replace(deep_gbuffer=method).resolved(self.info["device"])
+            times = []
+            for run in range(4):
+                f = Frame(self._native.render(scene, camera, s.to_native()), s, renderer=self, scene=scene)
+                if run > 0:  # the first render compiles and sizes the lists' store
+                    times.append(f.timings["deep_gbuffer"])
+                # A frame that fell back to peeling is no measurement of the lists.
+                if method == "lists" and f.stats.get("deep_gbuffer_method") != "lists":
+                    times = [float("inf")]
+                    f.release()
+                    break
+                f.release()
+            medians[method] = float(np.median(times))
+        return medians
 
     def prepare(self, settings: Settings | None = None, scene=None, camera=None) -> None:
         """Compiles and warms up every program the frame chain of `settings` uses, so that the
@@ -414,8 +468,16 @@ class Frame:
         estimated visibility is below 1/2). rays_traced and depth_fetches are summed from
         rays.sample (its weight and fetch channels, less the second trace's extra_*) when one of
         them is first read (a read-back; the trace keeps no counter): read them before
-        Frame.release()."""
+        Frame.release(). With Settings.deep_gbuffer 'lists': deep_gbuffer_method (how the layers
+        were built: 'lists', or 'peel' where the lists fell back), deep_gbuffer_fragments (the frame's fragments),
+        deep_gbuffer_bytes (the lists' buffers), deep_gbuffer_redone (1: the fragment store was
+        too small and the geometry pass ran again with one that fits) and deep_gbuffer_fell_back (1:
+        the fragments exceeded Settings.deep_gbuffer_budget and the layers were peeled)."""
         counts = {k: int(v) for k, v in self._native.stats.items()}
+        # How the deep G-buffer was built (Settings.deep_gbuffer): 'lists' or 'peel' (also where
+        # 'lists' fell back to peeling: deep_gbuffer_fell_back 1).
+        if "deep_gbuffer_lists" in counts:
+            counts["deep_gbuffer_method"] = "lists" if counts.pop("deep_gbuffer_lists") else "peel"
         traced = any(p.startswith("trace_") for p in self.passes)
         return FrameStats(counts, self if traced else None)
 

@@ -45,6 +45,18 @@ class Settings:
     depth_mode: str = _setting(
         "standard", "depth convention: 'standard' (GL, near->0, far->1) or 'reversed_z' (float, near->1, far->0)",
         choices=("standard", "reversed_z"), group="deep G-buffer")
+    deep_gbuffer: str = _setting(
+        "auto", "how the layered G-buffer is built: 'peel' (depth peeling, one geometry pass per layer, seed 000 "
+        "1.5.1), 'lists' (one geometry pass appending every fragment to per-pixel linked lists, Yang et al. "
+        "2010, then a selection of each pixel's `layers` nearest depths: the same layers as 'peel' bit for "
+        "bit, equal depths included) or 'auto' (the exact method this device builds faster: measured by the "
+        "Renderer once per scene, size and layer count, Renderer.deep_gbuffer_measurements; one layer is "
+        "peeled; Frame.settings holds the one the frame ran with)", choices=("auto", "peel", "lists"), group="deep G-buffer")
+    deep_gbuffer_budget: int = _setting(
+        0, "deep_gbuffer 'lists': the most memory its fragment store may take (64 bytes a fragment; 0: the "
+        "device's largest storage buffer; more than that is a ValueError); a frame with more fragments is never "
+        "truncated: it is built by peeling instead (Frame.stats['deep_gbuffer_fell_back'])",
+        "MiB", 1, 1 << 20, group="deep G-buffer", off=0)
 
     # -- direct lighting -------------------------------------------------------------------------
     shadow_map_size: int = _setting(
@@ -371,7 +383,10 @@ class Settings:
         Renderer on that device renders with (Frame.settings)."""
         if device not in ("cpu", "gpu"):
             raise ValueError(f"device must be 'cpu' or 'gpu', got {device!r}")
-        return self.replace(skip=device == "cpu") if self.skip == "auto" else self
+        s = self.replace(skip=device == "cpu") if self.skip == "auto" else self
+        # deep_gbuffer 'auto': a Renderer measures both methods per scene (Renderer.render);
+        # settings resolved without a renderer and scene peel (docs/deep_gbuffer.md).
+        return s.replace(deep_gbuffer=_auto_deep_gbuffer(device, s.layers)) if s.deep_gbuffer == "auto" else s
 
     def to_native(self, device: str = "cpu") -> "_core.RenderSettings":
         """The native renderer's settings; 'auto' values decided for `device` (see resolved())."""
@@ -404,6 +419,11 @@ class Settings:
             lines.append(f"  {c.rule}\n      {c.why}")
         lines.append("  (allowed) fade_camera_end <= fade_camera_start\n      switches the fade toward the camera off")
         return "\n".join(lines).lstrip("\n")
+
+
+def _auto_deep_gbuffer(device: str, layers: int) -> str:
+    """deep_gbuffer 'auto' on `device`: the exact method that builds `layers` layers faster."""
+    return "peel"
 
 
 def _suggestion(name: str) -> str:

@@ -22,6 +22,14 @@
 #ifndef MATERIAL_AUTO_R
 #define MATERIAL_AUTO_R 1
 #endif
+// The one-pass deep G-buffer (per-pixel fragment lists, Yang et al. 2010): DEEP_GBUFFER_APPEND 1
+// runs this same shading code for every fragment, without a depth test, and appends the encoded
+// outputs to the pixel's list (lib/fragment_lists.glsl) instead of writing them; the selection
+// and write passes (passes/deep_gbuffer_*.{comp,frag}) later write the kept ones through the same
+// framebuffer formats, so the layers equal peeling's bit for bit.
+#ifndef DEEP_GBUFFER_APPEND
+#define DEEP_GBUFFER_APPEND 0
+#endif
 
 // (the shader library includes a file once: includes both variants use come first)
 #include "../lib/frame_uniforms.glsl"
@@ -38,8 +46,13 @@ void main() {
 #endif
 }
 #else
+#if DEEP_GBUFFER_APPEND
+#include "../lib/fragment_lists.glsl"
+uniform int u_draw;  // the draw's index in GpuScene::draws(): the tie rule of equal depths
+#else
 // Only fragments at the depth the depth pass kept reach the shader.
 layout(early_fragment_tests) in;
+#endif
 #include "../lib/scene_data.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/normal_mapping.glsl"
@@ -63,9 +76,11 @@ in VertexOut {
     vec4 view_tangent;
 } fs;
 
+#if !DEEP_GBUFFER_APPEND
 layout(location = 0) out vec4 o_albedo_metallic;
 layout(location = 1) out vec4 o_normal_roughness;
 layout(location = 2) out vec4 o_material;
+#endif
 
 void main() {
     MaterialData m = materials[objects[u_object].material.x];
@@ -93,6 +108,12 @@ void main() {
         g.reflectivity = specular_reflectivity(specular_f0(g.albedo, g.metallic), ab);
     }
 #endif
+#if DEEP_GBUFFER_APPEND
+    vec4 albedo_metallic, normal_roughness, material;
+    gbuffer_encode(g, albedo_metallic, normal_roughness, material);
+    fragment_list_append(ivec2(gl_FragCoord.xy), gl_FragCoord.z, albedo_metallic, normal_roughness, material,
+                         uint(u_draw), uint(gl_PrimitiveID), g.reflectivity > 0.0);
+#else
     gbuffer_encode(g, o_albedo_metallic, o_normal_roughness, o_material);
     // This layer's tile holds a surface (every fragment of it stores the same value).
     ivec2 grid = covered_tile_grid();
@@ -110,5 +131,6 @@ void main() {
             covered_tile[base + 4u + uint(regions.x * regions.y) + n] = i;
         }
     }
+#endif
 }
 #endif
