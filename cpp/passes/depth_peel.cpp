@@ -23,11 +23,19 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const 
 void DepthPeelPass::execute(FrameContext& ctx) {
     list_stats_ = ListStats{};
     prepare_tiles(ctx);
-    if (ctx.settings.deep_gbuffer == DeepGBuffer::Lists) {
-        if (lists(ctx)) return;
-        list_stats_.fell_back = 1;  // beyond the budget: peeled, never truncated
+    if (ctx.settings.deep_gbuffer != DeepGBuffer::Lists || !lists(ctx)) {
+        if (ctx.settings.deep_gbuffer == DeepGBuffer::Lists) list_stats_.fell_back = 1;  // beyond the budget: peeled, never truncated
+        peel(ctx);
     }
-    peel(ctx);
+    // With skip, the later per-layer passes (Hi-Z build, traces, pre-convolution,
+    // pre-integration) work on the layers the construction filled only. Reading the counts
+    // waits for it (the lighting pass does the same).
+    if (ctx.settings.skip) {
+        const std::vector<uint64_t> samples = layer_samples();
+        int used = 0;
+        while (used < int(samples.size()) && samples[size_t(used)] > 0) ++used;
+        ctx.layers_used = used;
+    }
 }
 
 // The covered-tile flags both constructions set (shaders/lib/covered_tiles.glsl), cleared, with
@@ -202,15 +210,6 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_CULL_FACE);
     glDisable(GL_FRAMEBUFFER_SRGB);
-    // With skip, the later per-layer passes (Hi-Z build, traces, pre-convolution,
-    // pre-integration) work on the layers the peeling filled only. Reading the occlusion
-    // queries waits for the peeling (the lighting pass does the same).
-    if (s.skip) {
-        const std::vector<uint64_t> samples = layer_samples();
-        int used = 0;
-        while (used < int(samples.size()) && samples[size_t(used)] > 0) ++used;
-        ctx.layers_used = used;
-    }
 }
 
 // The store's largest size on this device for a budget of `budget_mib` (0: the device's own

@@ -579,7 +579,7 @@ class RenderSettings:
     @property
     def deep_gbuffer(self) -> str:
         """
-        ssrlab.Settings.deep_gbuffer: how the layered G-buffer is built: 'peel' (depth peeling, one geometry pass per layer, seed 000 1.5.1), 'lists' (one geometry pass appending every fragment to per-pixel linked lists, Yang et al. 2010, then a selection of each pixel's `layers` nearest depths: the same layers as 'peel' bit for bit, equal depths included) or 'auto' (the exact method this device builds faster; Frame.settings holds the one the frame ran with)
+        ssrlab.Settings.deep_gbuffer: how the layered G-buffer is built: 'peel' (depth peeling, one geometry pass per layer, seed 000 1.5.1), 'lists' (one geometry pass appending every fragment to per-pixel linked lists, Yang et al. 2010, then a selection of each pixel's `layers` nearest depths: the same layers as 'peel' bit for bit, equal depths included) or 'auto' (the exact method this device builds faster: measured by the Renderer once per scene, size and layer count, Renderer.deep_gbuffer_measurements; one layer is peeled; Frame.settings holds the one the frame ran with)
         """
     @deep_gbuffer.setter
     def deep_gbuffer(self, arg1: str) -> None:
