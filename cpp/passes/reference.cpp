@@ -1,6 +1,9 @@
 #include "passes/reference.h"
 
 #include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <vector>
 
 #include "passes/compute.h"
 
@@ -38,6 +41,7 @@ GLuint ReferencePass::program(FrameContext& ctx) const {
     d["MODE"] = per_ray_ ? "0" : "1";
     d["SHADOWS"] = shadows_ && !traced_shadows_ ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced_shadows_ ? "1" : "0";
+    d["EXTERNAL_TRACE"] = tracer_ && !per_ray_ ? "1" : "0";
     return ctx.shaders.program({"passes/reference.comp"}, d);
 }
 
@@ -74,6 +78,10 @@ void ReferencePass::execute(FrameContext& ctx) {
         bind_image_layered(0, r.get("reference.accum"), GL_READ_WRITE);
         bind_image_layered(1, r.get("reference.reflection"), GL_WRITE_ONLY);
         bind_image_layered(2, r.get("reference.direct"), GL_WRITE_ONLY);
+        if (tracer_) {
+            execute_wavefront(ctx, prog);
+            return;
+        }
         const long long per_ray = (long long)s.width * s.height;
         const int chunk = int(std::max(1LL, std::min<long long>(rays_, kRaysPerDispatch / per_ray)));
         for (int first = 0; first < rays_; first += chunk) {
@@ -82,8 +90,86 @@ void ReferencePass::execute(FrameContext& ctx) {
             glUniform1i(loc_count, count);
             glUniform1i(loc_last, first + count >= rays_);
             dispatch_2d(s.width, s.height, 1, 8, 8);
+            if (progress_ && !progress_(first + count, rays_)) {
+                completed_ = false;
+                return;
+            }
         }
     }
+}
+
+// The converged reference with its rays traced by Embree (lib/trace_external.glsl): one sample
+// round per ray index r (the GLSL loop's iteration r, so each pixel draws the same ray from the
+// same RNG stream), each run in phases until no invocation has a ray left to trace. Query 0 (the
+// camera ray through the pixel centre) is traced once and answered for every round.
+void ReferencePass::execute_wavefront(FrameContext& ctx, GLuint prog) {
+    using clock = std::chrono::steady_clock;
+    auto ms = [](clock::time_point a, clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    const RenderSettings& s = ctx.settings;
+    const size_t n = size_t(s.width) * size_t(s.height);
+    // A runaway replay (a shader making ever more queries) stops here instead of growing forever.
+    constexpr int kMaxQueries = 256;
+    Buffer queries = Buffer::create(n * sizeof(TraceQuery));
+    int slots = 8;
+    Buffer answers = Buffer::create(n * sizeof(TraceAnswer) * size_t(slots));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, queries.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, answers.id());
+    const GLint loc_known = glGetUniformLocation(prog, "u_trace_known");
+    glUniform1i(glGetUniformLocation(prog, "u_trace_stride"), int(n));
+    glUniform1i(glGetUniformLocation(prog, "u_ray_count"), 1);
+    const GLint loc_first = glGetUniformLocation(prog, "u_first_ray");
+    const GLint loc_last = glGetUniformLocation(prog, "u_last");
+    std::vector<TraceQuery> q(n);
+    std::vector<TraceAnswer> a(n);
+    double shade = 0.0, intersect = 0.0, transfer = 0.0, traced = 0.0;
+    for (int round = 0; round < rays_; ++round) {
+        glUniform1i(loc_first, round);
+        glUniform1i(loc_last, round + 1 >= rays_ ? 1 : 0);
+        for (int known = round == 0 ? 0 : 1;; ++known) {
+            if (known >= kMaxQueries)
+                throw std::runtime_error("reference: a pixel asked for more than " + std::to_string(kMaxQueries) +
+                                         " rays in one round");
+            const auto t0 = clock::now();
+            glUniform1i(loc_known, known);
+            dispatch_2d(s.width, s.height, 1, 8, 8);
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            glFinish();
+            const auto t1 = clock::now();
+            glGetNamedBufferSubData(queries.id(), 0, GLsizeiptr(n * sizeof(TraceQuery)), q.data());
+            size_t active = 0;
+            for (const TraceQuery& x : q) active += x.kind != 0;
+            const auto t2 = clock::now();
+            shade += ms(t0, t1);
+            transfer += ms(t1, t2);
+            if (active == 0) break;
+            tracer_->trace(q.data(), n, a.data());
+            const auto t3 = clock::now();
+            if (known >= slots) {  // room for more answers: keep the earlier slots
+                Buffer grown = Buffer::create(answers.size() * 2);
+                glCopyNamedBufferSubData(answers.id(), grown.id(), 0, 0, GLsizeiptr(answers.size()));
+                answers = std::move(grown);
+                slots *= 2;
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, answers.id());
+            }
+            glNamedBufferSubData(answers.id(), GLintptr(size_t(known) * n * sizeof(TraceAnswer)),
+                                 GLsizeiptr(n * sizeof(TraceAnswer)), a.data());
+            const auto t4 = clock::now();
+            intersect += ms(t2, t3);
+            transfer += ms(t3, t4);
+            traced += double(active);
+        }
+        if (progress_ && !progress_(round + 1, rays_)) {
+            completed_ = false;
+            break;
+        }
+    }
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    stage_ms_ = {{"reference.shade", shade},
+                 {"reference.intersect", intersect},
+                 {"reference.transfer", transfer},
+                 {"reference.rays_traced", traced}};
 }
 
 }  // namespace ssr

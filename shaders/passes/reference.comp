@@ -102,6 +102,9 @@ void main() {
 #else
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, ivec2(frame.viewport.xy)))) return;
+#if defined(EXTERNAL_TRACE) && EXTERNAL_TRACE
+    trace_invocation = p.y * int(frame.viewport.x) + p.x;
+#endif
     vec4 acc = u_first_ray == 0 ? vec4(0.0) : imageLoad(o_accum, p);
     GSample g = pixel_sample(p);
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
@@ -132,17 +135,14 @@ void main() {
             acc += vec4(ray.weight * s.radiance, ray.weight);
         }
     }
-    imageStore(o_accum, p, acc);
+    vec3 reflection = vec3(0.0), direct = vec3(0.0);
     if (u_last != 0) {
         vec3 v = normalize(-pos);
-        vec3 reflection = vec3(0.0);
         if (is_reflective(g))
             reflection = acc.w > 0.0 ? acc.rgb / acc.w
                                      : environment_radiance(normalize(mat3(frame.inv_view) * reflect(-v, g.normal)));
-        imageStore(o_reflection, p, vec4(reflection, 1.0));
         // The pixel's own direct light, shaded at its exact point (as the lighting pass shades
         // the G-buffer's), so that the reference's final image has exact shadows too.
-        vec3 direct = vec3(0.0);
         if (g.covered) {
             if (exact) {
                 surface_point_w = hit_point_w(primary);
@@ -153,7 +153,15 @@ void main() {
             }
             direct = shade_surface(g, pos, normalize(-pos));
         }
-        imageStore(o_direct, ivec3(p, 0), vec4(direct, 1.0));
     }
+    // (With rays traced outside the shader, only the run whose every ray was answered writes.)
+    if (trace_complete()) {
+        imageStore(o_accum, p, acc);
+        if (u_last != 0) {
+            imageStore(o_reflection, p, vec4(reflection, 1.0));
+            imageStore(o_direct, ivec3(p, 0), vec4(direct, 1.0));
+        }
+    }
+    trace_finish();
 #endif
 }
