@@ -67,7 +67,7 @@ def test_tracer_is_checked_and_auto_follows_the_device(renderer):
     with pytest.raises(ValueError, match="tracer"):
         frame.reference("converged", rays=1, tracer="optix")
     ref = frame.reference("converged", rays=1)
-    assert (ref.rays_traced is not None) == (renderer.info["device"] == "cpu")
+    assert ref.rays_traced is None  # "auto": the GLSL traversal (docs/reference_tracers.md says why)
     assert {"reference.shade", "reference.intersect"} <= set(frame.reference("converged", rays=1,
                                                                              tracer="embree").timings)
 
@@ -78,6 +78,9 @@ def test_progress_is_called_per_round_and_can_stop(renderer):
     for tracer in ("glsl", "embree"):
         seen = []
         frame.reference("converged", rays=3, tracer=tracer, progress=lambda d, t: seen.append((d, t)))
-        assert seen == [(1, 3), (2, 3), (3, 3)], tracer
+        # (the GLSL traversal reports once per dispatch, which may hold several rays)
+        assert seen[-1] == (3, 3) and seen == sorted(set(seen)), (tracer, seen)
+        if tracer == "embree":
+            assert seen == [(1, 3), (2, 3), (3, 3)]
         with pytest.raises(RuntimeError, match="stopped"):
             frame.reference("converged", rays=3, tracer=tracer, progress=lambda d, t: d < 2)

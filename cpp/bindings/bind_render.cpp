@@ -224,7 +224,7 @@ void bind_render(py::module_& m) {
             py::arg("sampling") = "vndf", py::arg("viewer") = "ray", py::arg("shadows") = "traced",
             py::arg("tracer") = "auto", py::arg("progress") = py::none(),
             "Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. "
-            "tracer: 'auto' (Embree on the CPU device, GLSL on a GPU), 'embree' or 'glsl' (the converged "
+            "tracer: 'embree' (Embree on the CPU), 'glsl' or 'auto' (for now 'glsl', the faster one measured) (the converged "
             "reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each "
             "sample round; returning False stops it with an error.")
         .def(

@@ -64,8 +64,8 @@ public:
     // rays) or converged (`rays` rays per pixel drawn with `sampling`). The textures join the
     // frame (frame.read("reference.reflection"), ...). Returns the GPU milliseconds spent.
     // tracer: "glsl" (the BVH traversal in the shader), "embree" (the converged reference's rays
-    // through Embree on the CPU, ray generation and shading still in the shader) or "auto" (Embree
-    // on the CPU device, GLSL on a GPU); the per-ray reference always traces in GLSL. progress is
+    // through Embree on the CPU, ray generation and shading still in the shader) or "auto" (for now
+    // "glsl", the faster one measured on both devices); the per-ray reference always traces in GLSL. progress is
     // called after each sample round with (done, total); returning false (or throwing) stops the
     // reference, and an error is raised: its textures are then incomplete. The timings name the
     // wavefront's stages (reference.shade, .intersect, .transfer) and its traced ray count.

@@ -519,8 +519,9 @@ class Frame:
         (isolating what SSR itself gets wrong from the shadow map's blur). Per-ray references
         trace the SSR rays as they were (from SSR's own origins).
 
-        tracer: who intersects the converged reference's rays. "auto" (default): Embree on the CPU
-        device, the GLSL BVH on a GPU; "embree" or "glsl" to choose. Ray generation and shading
+        tracer: who intersects the converged reference's rays. "embree": Embree on the CPU, "glsl":
+        the BVH traversed in the shader; "auto" (default) is "glsl" for now, the faster one on
+        both devices as measured (docs/reference_tracers.md). Ray generation and shading
         are the same GLSL either way (docs/reference_tracers.md): the two agree per pixel up to
         float rounding in the intersection. Per-ray references trace in GLSL. `timings` names the
         stages (reference.shade, reference.intersect, reference.transfer; ms) with Embree.
