@@ -105,8 +105,15 @@ void main() {
 #if defined(EXTERNAL_TRACE) && EXTERNAL_TRACE
     trace_invocation = p.y * int(frame.viewport.x) + p.x;
 #endif
-    vec4 acc = u_first_ray == 0 ? vec4(0.0) : imageLoad(o_accum, p);
     GSample g = pixel_sample(p);
+    bool mirror = g.roughness * g.roughness < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
+    // Cost that follows the work: after the first dispatch a pixel that does not reflect, or a
+    // mirror whose one ray is traced, has nothing to add until the last dispatch normalises.
+    if (u_first_ray > 0 && u_last == 0 && (!is_reflective(g) || mirror)) {
+        trace_finish();
+        return;
+    }
+    vec4 acc = u_first_ray == 0 ? vec4(0.0) : imageLoad(o_accum, p);
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
     // The pixel's surface point, exactly: the camera ray through the pixel centre. Where it
     // finds another object than the G-buffer's (a silhouette the two sample differently), the
@@ -125,7 +132,6 @@ void main() {
     // The truth reflects wherever a surface does, whatever SSR's roughness cutoff (the
     // uploaded settings set it to 1).
     if (is_reflective(g)) {
-        bool mirror = g.roughness * g.roughness < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
         for (int r = u_first_ray; r < u_first_ray + u_ray_count; ++r) {
             if (mirror && r > 0) break;  // one ray serves a mirror
             ReflectionRay ray = generate_ray(g, pos, p, r);
