@@ -77,10 +77,10 @@ def test_progress_is_called_per_round_and_can_stop(renderer):
     frame = renderer.render(scene, settings=small(width=32, height=24, method="off"))
     for tracer in ("glsl", "embree"):
         seen = []
-        frame.reference("converged", rays=3, tracer=tracer, progress=lambda d, t: seen.append((d, t)))
-        # (the GLSL traversal reports once per dispatch, which may hold several rays)
-        assert seen[-1] == (3, 3) and seen == sorted(set(seen)), (tracer, seen)
+        frame.reference("converged", rays=20, tracer=tracer, progress=lambda d, t: seen.append((d, t)))
+        # (once per dispatch, which may hold several rays: 8 for the wavefront)
+        assert seen[-1] == (20, 20) and seen == sorted(set(seen)), (tracer, seen)
         if tracer == "embree":
-            assert seen == [(1, 3), (2, 3), (3, 3)]
+            assert seen == [(8, 20), (16, 20), (20, 20)]
         with pytest.raises(RuntimeError, match="stopped"):
             frame.reference("converged", rays=3, tracer=tracer, progress=lambda d, t: d < 2)

@@ -132,6 +132,7 @@ bool trace_occluded(vec3 origin, vec3 dir, float t_min, float t_max) {
 }
 
 // Without a replay every run is complete (lib/trace_external.glsl).
+void trace_chain_begin(int chain) {}
 bool trace_complete() { return true; }
 void trace_finish() {}
 #endif

@@ -120,6 +120,7 @@ void main() {
     // G-buffer point and SSR's origin offset stand in.
     vec3 camera_w = frame.inv_view[3].xyz;
     vec3 pixel_dir_w = normalize(mat3(frame.inv_view) * normalize(view_position(vec2(p) + 0.5, 1.0)));
+    trace_chain_begin(0);  // (lib/trace_external.glsl: chain 0 the camera ray, 1.. each reflection ray, then the pixel's own light)
     TraceHit primary = trace_closest(camera_w, pixel_dir_w, 0.0, 3.4e38);
     bool exact = g.covered && primary.triangle >= 0 && floatBitsToInt(bvh_triangles[primary.triangle].v0.w) == g.object_id;
     vec3 origin_w = vec3(0.0);
@@ -134,6 +135,7 @@ void main() {
     if (is_reflective(g)) {
         for (int r = u_first_ray; r < u_first_ray + u_ray_count; ++r) {
             if (mirror && r > 0) break;  // one ray serves a mirror
+            trace_chain_begin(1 + r - u_first_ray);
             ReflectionRay ray = generate_ray(g, pos, p, r);
             if (ray.weight <= 0.0) continue;
             ShadedHit s = exact ? trace_and_shade_w(origin_w, normalize(mat3(frame.inv_view) * ray.dir), u_viewer != 0)
@@ -149,6 +151,7 @@ void main() {
                                      : environment_radiance(normalize(mat3(frame.inv_view) * reflect(-v, g.normal)));
         // The pixel's own direct light, shaded at its exact point (as the lighting pass shades
         // the G-buffer's), so that the reference's final image has exact shadows too.
+        trace_chain_begin(1 + u_ray_count);
         if (g.covered) {
             if (exact) {
                 surface_point_w = hit_point_w(primary);
