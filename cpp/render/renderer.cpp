@@ -694,9 +694,10 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     } detach{frame.resources()};
     ReferencePass pass(per_ray, shadows, traced_shadows, rays, viewer_is_ray);
     // "auto" is the GLSL traversal on every device for now: on llvmpipe the wavefront's replayed
-    // GLSL (ray generation and shading run again in every phase, docs/reference_tracers.md) costs
-    // more than Embree saves over the GLSL traversal (2.7x slower measured at 160x90, 64 rays);
-    // on a GPU the traversal is faster than a round trip through the CPU.
+    // GLSL (the pixel's set-up and the hit's shading run again in every phase,
+    // docs/reference_tracers.md) costs about what Embree saves over the GLSL traversal (measured
+    // within the shared machine's noise of it at 160x90, 64 rays); on a GPU the traversal is
+    // faster than a round trip through the CPU.
     const bool embree = !per_ray && tracer == "embree";
     pass.set_progress(std::move(progress));
     CompositePass composite(true, "reference.reflection", "reference.color", "reference.direct");
