@@ -214,19 +214,34 @@ void bind_render(py::module_& m) {
         .def(
             "reference",
             [](Renderer& r, const Scene& scene, Frame& frame, const std::string& mode, int rays, uint32_t seed,
-               const std::string& sampling, const std::string& viewer, const std::string& shadows) {
+               const std::string& sampling, const std::string& viewer, const std::string& shadows,
+               const std::string& tracer, py::object progress) {
                 if (mode != "per_ray" && mode != "converged")
                     throw std::invalid_argument("reference mode must be 'per_ray' or 'converged', got '" + mode + "'");
                 if (viewer != "camera" && viewer != "ray")
                     throw std::invalid_argument("reference viewer must be 'camera' or 'ray', got '" + viewer + "'");
                 if (shadows != "map" && shadows != "traced")
                     throw std::invalid_argument("reference shadows must be 'map' or 'traced', got '" + shadows + "'");
+                // Between sample rounds: Ctrl-C (a pending signal) and the caller's progress callback,
+                // either of which may stop the reference by raising.
+                auto between = [progress](int done, int total) {
+                    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+                    if (!progress.is_none()) {
+                        py::object go = progress(done, total);
+                        if (!go.is_none() && !go.cast<bool>()) return false;
+                    }
+                    return true;
+                };
                 return r.reference(scene, frame, mode == "per_ray", rays, seed, parse_enum<Sampling>("sampling", sampling),
-                                   viewer == "ray", shadows == "traced");
+                                   viewer == "ray", shadows == "traced", tracer, between);
             },
             py::arg("scene"), py::arg("frame"), py::arg("mode"), py::arg("rays") = 256, py::arg("seed") = 0,
             py::arg("sampling") = "vndf", py::arg("viewer") = "ray", py::arg("shadows") = "traced",
-            "Traces the reference pass for a frame ('per_ray' or 'converged'); returns its GPU milliseconds.")
+            py::arg("tracer") = "auto", py::arg("progress") = py::none(),
+            "Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. "
+            "tracer: 'embree' (Embree on the CPU), 'glsl' or 'auto' (for now 'glsl', the faster one measured) (the converged "
+            "reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each "
+            "sample round; returning False stops it with an error.")
         .def(
             "specular_albedo_table",
             [](Renderer& r) {

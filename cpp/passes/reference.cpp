@@ -1,6 +1,9 @@
 #include "passes/reference.h"
 
 #include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <vector>
 
 #include "passes/compute.h"
 
@@ -38,6 +41,7 @@ GLuint ReferencePass::program(FrameContext& ctx) const {
     d["MODE"] = per_ray_ ? "0" : "1";
     d["SHADOWS"] = shadows_ && !traced_shadows_ ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced_shadows_ ? "1" : "0";
+    d["EXTERNAL_TRACE"] = tracer_ && !per_ray_ ? "1" : "0";
     return ctx.shaders.program({"passes/reference.comp"}, d);
 }
 
@@ -74,6 +78,10 @@ void ReferencePass::execute(FrameContext& ctx) {
         bind_image_layered(0, r.get("reference.accum"), GL_READ_WRITE);
         bind_image_layered(1, r.get("reference.reflection"), GL_WRITE_ONLY);
         bind_image_layered(2, r.get("reference.direct"), GL_WRITE_ONLY);
+        if (tracer_) {
+            execute_wavefront(ctx, prog);
+            return;
+        }
         const long long per_ray = (long long)s.width * s.height;
         const int chunk = int(std::max(1LL, std::min<long long>(rays_, kRaysPerDispatch / per_ray)));
         for (int first = 0; first < rays_; first += chunk) {
@@ -82,8 +90,116 @@ void ReferencePass::execute(FrameContext& ctx) {
             glUniform1i(loc_count, count);
             glUniform1i(loc_last, first + count >= rays_);
             dispatch_2d(s.width, s.height, 1, 8, 8);
+            if (progress_ && !progress_(first + count, rays_)) {
+                completed_ = false;
+                return;
+            }
         }
     }
+}
+
+// The converged reference with its rays traced by Embree (lib/trace_external.glsl): dispatches of
+// kBatch ray indices (the GLSL loop's iterations, so each pixel draws the same rays from the same
+// RNG streams), each run in phases until no invocation has a ray left to trace. A phase traces the
+// next ray of every chain at once (each reflection ray and its shadow rays are one chain). Chain
+// 0, the camera ray through the pixel centre, is traced once, first, and answered ever after.
+void ReferencePass::execute_wavefront(FrameContext& ctx, GLuint prog) {
+    using clock = std::chrono::steady_clock;
+    auto ms = [](clock::time_point a, clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    const RenderSettings& s = ctx.settings;
+    const size_t n = size_t(s.width) * size_t(s.height);
+    // Rays per dispatch: the pixel's set-up (G-buffer, exact point) runs once per phase for all of
+    // them; more chains cost read-back bandwidth (48 bytes per chain and pixel per phase).
+    constexpr int kBatch = 8;
+    // A runaway replay (a shader making ever more queries) stops here instead of growing forever.
+    constexpr int kMaxQueries = 256;
+    const int batch = std::min(rays_, kBatch), chains = batch + 2;
+    const size_t cn = size_t(chains) * n;
+    Buffer queries = Buffer::create(cn * sizeof(TraceQuery));
+    int slots = 3;
+    Buffer answers = Buffer::create(cn * sizeof(TraceAnswer) * size_t(slots));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, queries.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, answers.id());
+    const GLint loc_known = glGetUniformLocation(prog, "u_trace_known");
+    const GLint loc_known0 = glGetUniformLocation(prog, "u_trace_known0");
+    glUniform1i(glGetUniformLocation(prog, "u_trace_stride"), int(n));
+    glUniform1i(glGetUniformLocation(prog, "u_trace_chains"), chains);
+    const GLint loc_first = glGetUniformLocation(prog, "u_first_ray");
+    const GLint loc_count = glGetUniformLocation(prog, "u_ray_count");
+    const GLint loc_last = glGetUniformLocation(prog, "u_last");
+    std::vector<TraceQuery> q(cn);
+    std::vector<TraceAnswer> a(cn);
+    double shade = 0.0, intersect = 0.0, transfer = 0.0, traced = 0.0;
+    // One phase: dispatch, read back chains [c0, chains), trace them; false when none asked.
+    auto phase = [&](size_t c0) {
+        const auto t0 = clock::now();
+        dispatch_2d(s.width, s.height, 1, 8, 8);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glFinish();
+        const auto t1 = clock::now();
+        const size_t m = (c0 == 0 ? 1 : size_t(chains) - c0) * n;
+        glGetNamedBufferSubData(queries.id(), GLintptr(c0 * n * sizeof(TraceQuery)), GLsizeiptr(m * sizeof(TraceQuery)),
+                                q.data() + c0 * n);
+        size_t active = 0;
+        for (size_t i = c0 * n; i < c0 * n + m; ++i) active += q[i].kind != 0;
+        const auto t2 = clock::now();
+        shade += ms(t0, t1);
+        transfer += ms(t1, t2);
+        if (active == 0) return size_t(0);
+        tracer_->trace(q.data() + c0 * n, m, a.data() + c0 * n);
+        intersect += ms(t2, clock::now());
+        traced += double(active);
+        return m;
+    };
+    bool primary = false;
+    for (int first = 0; first < rays_; first += batch) {
+        const int count = std::min(batch, rays_ - first);
+        glUniform1i(loc_first, first);
+        glUniform1i(loc_count, count);
+        glUniform1i(loc_last, first + count >= rays_ ? 1 : 0);
+        if (!primary) {  // chain 0 alone: every other chain starts from its hit
+            glUniform1i(loc_known0, 0);
+            glUniform1i(loc_known, 0);
+            if (phase(0)) {
+                const auto t = clock::now();
+                glNamedBufferSubData(answers.id(), 0, GLsizeiptr(n * sizeof(TraceAnswer)), a.data());
+                transfer += ms(t, clock::now());
+            }
+            primary = true;
+            glUniform1i(loc_known0, 1);
+        }
+        for (int known = 0;; ++known) {
+            if (known >= kMaxQueries)
+                throw std::runtime_error("reference: a pixel asked for more than " + std::to_string(kMaxQueries) +
+                                         " rays in one chain");
+            glUniform1i(loc_known, known);
+            const size_t m = phase(1);
+            if (m == 0) break;
+            const auto t3 = clock::now();
+            if (known >= slots) {  // room for more answers: keep the earlier slots
+                Buffer grown = Buffer::create(answers.size() * 2);
+                glCopyNamedBufferSubData(answers.id(), grown.id(), 0, 0, GLsizeiptr(answers.size()));
+                answers = std::move(grown);
+                slots *= 2;
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, answers.id());
+            }
+            // Slot `known` of chains 1.. (chain 0's answer in slot 0 stays).
+            glNamedBufferSubData(answers.id(), GLintptr((size_t(known) * cn + n) * sizeof(TraceAnswer)),
+                                 GLsizeiptr(m * sizeof(TraceAnswer)), a.data() + n);
+            transfer += ms(t3, clock::now());
+        }
+        if (progress_ && !progress_(first + count, rays_)) {
+            completed_ = false;
+            break;
+        }
+    }
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    stage_ms_ = {{"reference.shade", shade},
+                 {"reference.intersect", intersect},
+                 {"reference.transfer", transfer},
+                 {"reference.rays_traced", traced}};
 }
 
 }  // namespace ssr

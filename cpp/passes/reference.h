@@ -13,7 +13,10 @@
 // (traced_shadows: exact, the reference's default).
 #pragma once
 
+#include <functional>
+
 #include "render/render_pass.h"
+#include "scene/embree_scene.h"
 
 namespace ssr {
 
@@ -32,10 +35,25 @@ public:
     void execute(FrameContext& ctx) override;
     // Compiles the program before the timed execution.
     GLuint program(FrameContext& ctx) const;
+    // The converged reference's rays traced by `tracer` (Embree, on the CPU) instead of the GLSL
+    // BVH: a wavefront whose ray generation and shading stay in the GLSL source
+    // (lib/trace_external.glsl). nullptr: the GLSL traversal.
+    void set_tracer(const EmbreeTracer* tracer) { tracer_ = tracer; }
+    // Called after every sample round (rays done, rays asked); returning false stops the pass
+    // there (its outputs are then incomplete and must not be used).
+    void set_progress(std::function<bool(int, int)> progress) { progress_ = std::move(progress); }
+    bool completed() const { return completed_; }
+    // Wall milliseconds of the wavefront's stages (empty for the GLSL traversal).
+    const std::map<std::string, double>& stage_ms() const { return stage_ms_; }
 
 private:
+    void execute_wavefront(FrameContext& ctx, GLuint prog);
     bool per_ray_, shadows_, traced_shadows_, viewer_is_ray_;
     int rays_;
+    const EmbreeTracer* tracer_ = nullptr;
+    std::function<bool(int, int)> progress_;
+    bool completed_ = true;
+    std::map<std::string, double> stage_ms_;
 };
 
 }  // namespace ssr

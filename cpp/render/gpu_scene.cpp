@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 
 #include "render/frame_uniforms.h"
 #include "scene/bvh.h"
@@ -138,6 +139,7 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
         bvh_nodes_ = Buffer::create(bvh.nodes.size() * sizeof(BvhNode), bvh.nodes.data());
         bvh_triangles_ = Buffer::create(bvh.triangles.size() * sizeof(BvhTriangle), bvh.triangles.data());
         bvh_depth_ = bvh.depth;
+        bvh_triangle_list_ = bvh.triangles;
         std::vector<uint8_t> texels;
         std::vector<glm::ivec4> info;
         for (const Image& img : scene.images) {
@@ -155,6 +157,12 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, image_info_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, vertices_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, indices_.id());
+}
+
+const EmbreeTracer& GpuScene::embree_tracer() {
+    if (!ray_tracing_ready_) throw std::logic_error("embree_tracer: bind_ray_tracing first");
+    if (!embree_) embree_ = std::make_unique<EmbreeTracer>(bvh_triangle_list_);
+    return *embree_;
 }
 
 void GpuScene::bind_geometry() const {

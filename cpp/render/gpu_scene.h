@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/gl_resources.h"
+#include "scene/embree_scene.h"
 #include "scene/scene.h"
 
 namespace ssr {
@@ -56,6 +57,9 @@ public:
     // buffer on first use: frames that trace no reference never pay for them.
     void bind_ray_tracing(const Scene& scene);
     int bvh_depth() const { return bvh_depth_; }
+    // The same triangles (bind_ray_tracing's BVH order) in an Embree scene, for tracing the
+    // reference's rays on the CPU (built on first use; needs bind_ray_tracing first).
+    const EmbreeTracer& embree_tracer();
     // Binds the material's textures to units 0..2 (a white / flat texture when absent).
     void bind_material_textures(int material) const;
 
@@ -86,6 +90,8 @@ private:
     Texture white_, flat_normal_, environment_map_;
     Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;
     bool ray_tracing_ready_ = false;
+    std::vector<BvhTriangle> bvh_triangle_list_;  // kept for the Embree scene
+    std::unique_ptr<EmbreeTracer> embree_;
     uint64_t* bvh_builds_ = nullptr;
     int bvh_depth_ = 0;
     bool reflective_ = false;

@@ -585,7 +585,10 @@ void Renderer::check_errors() {
 
 std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& frame, bool per_ray, int rays,
                                                   uint32_t seed, Sampling sampling, bool viewer_is_ray,
-                                                  bool traced_shadows) {
+                                                  bool traced_shadows, const std::string& tracer,
+                                                  std::function<bool(int, int)> progress) {
+    if (tracer != "auto" && tracer != "embree" && tracer != "glsl")
+        throw std::invalid_argument("reference: tracer must be 'auto', 'embree' or 'glsl', got '" + tracer + "'");
     if (frame.scene_id != scene.id() || frame.scene_revision != scene.revision())
         throw std::invalid_argument("reference: this is not the scene the frame was rendered from (or it changed since)");
     if (per_ray && !frame.has("rays.direction"))
@@ -636,6 +639,13 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
         ~Detach() { r.attach_scratch(nullptr); }
     } detach{frame.resources()};
     ReferencePass pass(per_ray, shadows, traced_shadows, rays, viewer_is_ray);
+    // "auto" is the GLSL traversal on every device for now: on llvmpipe the wavefront's replayed
+    // GLSL (the pixel's set-up and the hit's shading run again in every phase,
+    // docs/reference_tracers.md) costs about what Embree saves over the GLSL traversal (measured
+    // within the shared machine's noise of it at 160x90, 64 rays); on a GPU the traversal is
+    // faster than a round trip through the CPU.
+    const bool embree = !per_ray && tracer == "embree";
+    pass.set_progress(std::move(progress));
     CompositePass composite(true, "reference.reflection", "reference.color", "reference.direct");
     std::vector<RenderPass*> chain = {&pass};
     if (!per_ray) chain.push_back(&composite);
@@ -653,6 +663,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
                     defines};
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
+    if (embree) pass.set_tracer(&gs.embree_tracer());
     // Compile before timing (timings never include compilation).
     pass.program(fc);
     if (!per_ray) shaders_->program({"passes/composite.comp"}, composite.program_defines(fc));
@@ -667,8 +678,14 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
             p->execute(fc);
         }
         check_gl(*ctx_, p->name().c_str());
+        if (!pass.completed()) {
+            timer_.resolve();
+            throw std::runtime_error("reference: stopped before its last ray; its textures are incomplete");
+        }
     }
-    return timer_.resolve();
+    std::map<std::string, double> times = timer_.resolve();
+    for (const auto& [name, value] : pass.stage_ms()) times[name] = value;
+    return times;
 }
 
 std::vector<float> Renderer::sample_reflections(const std::string& sampling, float alpha, const glm::vec3& view,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <list>
+#include <functional>
 #include <map>
 #include <set>
 #include <memory>
@@ -70,8 +71,16 @@ public:
     // Ground truth for a rendered frame (passes/reference.h): per-ray (the frame's own SSR
     // rays) or converged (`rays` rays per pixel drawn with `sampling`). The textures join the
     // frame (frame.read("reference.reflection"), ...). Returns the GPU milliseconds spent.
+    // tracer: "glsl" (the BVH traversal in the shader), "embree" (the converged reference's rays
+    // through Embree on the CPU, ray generation and shading still in the shader) or "auto" (for now
+    // "glsl", the faster one measured on both devices); the per-ray reference always traces in GLSL. progress is
+    // called after each sample round with (done, total); returning false (or throwing) stops the
+    // reference, and an error is raised: its textures are then incomplete. The timings name the
+    // wavefront's stages (reference.shade, .intersect, .transfer) and its traced ray count.
     std::map<std::string, double> reference(const Scene& scene, Frame& frame, bool per_ray, int rays, uint32_t seed,
-                                            Sampling sampling, bool viewer_is_ray, bool traced_shadows);
+                                            Sampling sampling, bool viewer_is_ray, bool traced_shadows,
+                                            const std::string& tracer = "glsl",
+                                            std::function<bool(int, int)> progress = nullptr);
     DeviceInfo info() const { return ctx_->info(); }
     // Float textures are downloaded with rows top first by the driver (GL_MESA_pack_invert).
     bool pack_invert() const { return pack_invert_; }

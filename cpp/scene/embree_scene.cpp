@@ -3,6 +3,8 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <thread>
@@ -74,6 +76,106 @@ std::vector<CpuHit> embree_intersect(const Scene& scene, const std::vector<glm::
     rtcReleaseScene(rs);
     rtcReleaseDevice(device);
     return hits;
+}
+
+EmbreeTracer::EmbreeTracer(const std::vector<BvhTriangle>& triangles) {
+    RTCDevice device = rtcNewDevice(nullptr);
+    if (!device) throw std::runtime_error("Embree: rtcNewDevice failed");
+    device_ = device;
+    RTCScene rs = rtcNewScene(device);
+    scene_ = rs;
+    // Robust: no traversal shortcuts that lose accuracy, so edges and corners are not missed
+    // (the GLSL test is watertight, Woop et al. 2013).
+    rtcSetSceneFlags(rs, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(rs, RTC_BUILD_QUALITY_HIGH);
+    if (!triangles.empty()) {
+        const size_t n = triangles.size();
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+        for (size_t i = 0; i < n; ++i) {
+            const BvhTriangle& t = triangles[i];
+            for (int k = 0; k < 3; ++k) {
+                v[9 * i + k] = t.v0[k];
+                v[9 * i + 3 + k] = t.v1[k];
+                v[9 * i + 6 + k] = t.v2[k];
+            }
+            idx[3 * i] = unsigned(3 * i);
+            idx[3 * i + 1] = unsigned(3 * i + 1);
+            idx[3 * i + 2] = unsigned(3 * i + 2);
+        }
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(rs, geom, 0);
+        rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(rs);
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
+        rtcReleaseScene(rs);
+        rtcReleaseDevice(device);
+        throw std::runtime_error("Embree: building the reference's scene failed");
+    }
+}
+
+EmbreeTracer::~EmbreeTracer() {
+    if (scene_) rtcReleaseScene(static_cast<RTCScene>(scene_));
+    if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
+}
+
+void EmbreeTracer::trace(const TraceQuery* queries, size_t n, TraceAnswer* answers) const {
+    RTCScene rs = static_cast<RTCScene>(scene_);
+    constexpr size_t kBlock = 256;
+    std::atomic<size_t> next{0};
+    auto finite = [](const float* a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); };
+    auto work = [&]() {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        for (;;) {
+            const size_t begin = next.fetch_add(kBlock);
+            if (begin >= n) break;
+            const size_t end = std::min(n, begin + kBlock);
+            for (size_t i = begin; i < end; ++i) {
+                const TraceQuery& q = queries[i];
+                TraceAnswer& a = answers[i];
+                a = TraceAnswer{q.t_max, -1, 0.0f, 0.0f};
+                // Embree asserts on NaN or infinite rays; the GLSL traversal misses them.
+                if (q.kind == 0 || !finite(q.origin) || !finite(q.dir) || !(q.t_max >= q.t_min)) continue;
+                RTCRayHit rh;
+                rh.ray.org_x = q.origin[0];
+                rh.ray.org_y = q.origin[1];
+                rh.ray.org_z = q.origin[2];
+                rh.ray.dir_x = q.dir[0];
+                rh.ray.dir_y = q.dir[1];
+                rh.ray.dir_z = q.dir[2];
+                rh.ray.tnear = q.t_min;
+                rh.ray.tfar = q.t_max;
+                rh.ray.time = 0.0f;
+                rh.ray.mask = 0xffffffffu;
+                rh.ray.id = 0;
+                rh.ray.flags = 0;
+                if (q.kind == 2) {
+                    rtcOccluded1(rs, &ctx, &rh.ray);
+                    if (rh.ray.tfar < 0.0f) a.triangle = 0;  // occluded: any triangle will do
+                    continue;
+                }
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(rs, &ctx, &rh);
+                if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                a = TraceAnswer{rh.ray.tfar, int32_t(rh.hit.primID), rh.hit.u, rh.hit.v};
+            }
+        }
+    };
+    const size_t threads = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), (n + kBlock - 1) / kBlock);
+    if (threads <= 1) {
+        work();
+        return;
+    }
+    std::vector<std::thread> pool;
+    for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (auto& th : pool) th.join();
 }
 
 }  // namespace ssr

@@ -148,6 +148,44 @@ class _FrameResult:
         return self._frame.read(name)
 
 
+def progress_callback(progress, label: str):
+    """(callback, close) for a native loop's progress(done, total): `progress` None or False gives
+    no callback, a callable is used as it is, True a bar: tqdm on a terminal, else a line on
+    stderr every 10% (logs of batch jobs stay readable)."""
+    if progress is None or progress is False:
+        return None, lambda: None
+    if callable(progress) and not isinstance(progress, bool):
+        return progress, lambda: None
+    import sys
+
+    state = {"bar": None, "shown": -1}
+    tty = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+
+    def callback(done: int, total: int):
+        if tty:
+            if state["bar"] is None:
+                try:
+                    from tqdm import tqdm
+                except ImportError:
+                    state["bar"] = False
+                else:
+                    state["bar"] = tqdm(total=total, desc=label, unit="round")
+            if state["bar"]:
+                state["bar"].update(done - state["bar"].n)
+                return True
+        tenth = done * 10 // total
+        if tenth != state["shown"]:
+            state["shown"] = tenth
+            print(f"{label}: {done}/{total} sample rounds", file=sys.stderr, flush=True)
+        return True
+
+    def close():
+        if state["bar"]:
+            state["bar"].close()
+
+    return callback, close
+
+
 class ConvergedReference(_FrameResult):
     """The converged reference of a frame: `rays_per_pixel` rays per reflective pixel (one for
     mirrors) traced against the triangles and shaded like the G-buffer."""
@@ -158,7 +196,8 @@ class ConvergedReference(_FrameResult):
     def __init__(self, frame, rays_per_pixel: int, timings: dict):
         super().__init__(frame)
         self.rays_per_pixel = rays_per_pixel
-        self.timings = timings  # GPU milliseconds of the reference passes
+        self.timings = timings  # milliseconds of the reference passes (and the wavefront's stages)
+        self.rays_traced = None  # rays Embree traced (the wavefront only)
 
     @property
     def reflection(self) -> np.ndarray:
@@ -354,10 +393,11 @@ def reference_path(scene, camera=None, settings: Settings | None = None, *, kind
 
 def reference_image(renderer, scene, camera=None, settings: Settings | None = None, *, kind: str = "converged",
                     rays: int | None = None, seed: int = 0, cache: bool = True,
-                    folder=None, shadows: str = "traced", viewer: str = "ray") -> ReferenceImage:
+                    folder=None, shadows: str = "traced", viewer: str = "ray", progress=None) -> ReferenceImage:
     """The reference image of `kind` for this scene, camera and settings (cached on disk).
     Converged only: `shadows` "traced" (exact) or "map" (the frame's shadow map); `viewer` "ray"
-    (the physical view of reflected surfaces) or "camera" (as the lit G-buffer sees them)."""
+    (the physical view of reflected surfaces) or "camera" (as the lit G-buffer sees them);
+    `progress` as Frame.reference's (Ctrl-C stops it between sample rounds, caching nothing)."""
     if kind not in KINDS:
         raise ValueError(f"reference kind must be one of {', '.join(KINDS)}, got {kind!r}")
     settings = settings if settings is not None else Settings()
@@ -376,7 +416,8 @@ def reference_image(renderer, scene, camera=None, settings: Settings | None = No
                              THESIS_GROUND_TRUTH["rays_per_pixel"])
     else:
         frame = renderer.render(scene, camera, settings.replace(method="off"))
-        converged = frame.reference("converged", rays=rays, seed=seed, shadows=shadows, viewer=viewer)
+        converged = frame.reference("converged", rays=rays, seed=seed, shadows=shadows, viewer=viewer,
+                                    progress=progress)
         ref = ReferenceImage("converged", converged.color, converged.reflection, converged.reflective,
                              converged.rays_per_pixel)
     if cache:

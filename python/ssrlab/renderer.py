@@ -610,7 +610,8 @@ class Frame:
                 "none": share(rest) if none else 0.0}
 
     def reference(self, kind: str = "converged", *, rays: int | None = None, seed: int = 0,
-                  sampling: str = "vndf", viewer: str = "ray", shadows: str = "traced"):
+                  sampling: str = "vndf", viewer: str = "ray", shadows: str = "traced", tracer: str = "auto",
+                  progress=None):
         """Ground truth for this frame, traced against the scene's triangles (ssrlab.reference).
 
         kind="converged": `rays` rays per pixel (default 256; one for mirror pixels) drawn with
@@ -628,7 +629,21 @@ class Frame:
         pixel's own included; shadows="map" uses the frame's shadow map as the lit G-buffer does
         (isolating what SSR itself gets wrong from the shadow map's blur). Per-ray references
         trace the SSR rays as they were (from SSR's own origins).
+
+        tracer: who intersects the converged reference's rays. "embree": Embree on the CPU, "glsl":
+        the BVH traversed in the shader; "auto" (default) is "glsl" for now, the faster one on
+        both devices as measured (docs/reference_tracers.md). Ray generation and shading
+        are the same GLSL either way (docs/reference_tracers.md): the two agree per pixel up to
+        float rounding in the intersection. Per-ray references trace in GLSL. `timings` names the
+        stages (reference.shade, reference.intersect, reference.transfer; ms) with Embree.
+        progress: True shows a bar (tqdm on a terminal, a line per 10% otherwise), or a callable
+        progress(done, total) called after each sample round (return False to stop). Ctrl-C
+        stops a converged reference between sample rounds (KeyboardInterrupt).
         """
+        if tracer not in ("auto", "embree", "glsl"):
+            raise ValueError(f"tracer must be 'auto', 'embree' or 'glsl', got {tracer!r}")
+        if not (progress is None or isinstance(progress, bool) or callable(progress)):
+            raise ValueError(f"progress must be None, a bool or a callable, got {progress!r}")
         if shadows not in ("traced", "map"):
             raise ValueError(f"shadows must be 'traced' or 'map', got {shadows!r}")
         if viewer not in ("camera", "ray"):
@@ -651,11 +666,22 @@ class Frame:
             return PerRayReference(self, dict(timings))
         if kind == "converged":
             rays = 256 if rays is None else int(rays)
-            timings = self._renderer._native.reference(self._scene, self._native, "converged", rays, seed, sampling,
-                                                      viewer, shadows)
-            for name in ("reference.reflection", "reference.color", "reference.accum", "reference.direct"):
-                self._cache.pop(f"{name}@0", None)
-            return ConvergedReference(self, rays, dict(timings))
+            from .reference import progress_callback
+
+            names = ("reference.reflection", "reference.color", "reference.accum", "reference.direct")
+            callback, close = progress_callback(progress, "reference")
+            try:
+                timings = self._renderer._native.reference(self._scene, self._native, "converged", rays, seed,
+                                                          sampling, viewer, shadows, tracer, callback)
+            finally:
+                close()
+                for name in names:  # also when stopped: the textures then hold a partial reference
+                    self._cache.pop(f"{name}@0", None)
+            timings = dict(timings)
+            traced = timings.pop("reference.rays_traced", None)
+            result = ConvergedReference(self, rays, timings)
+            result.rays_traced = None if traced is None else int(traced)
+            return result
         raise ValueError(f"reference kind must be 'converged' or 'per_ray', got {kind!r}")
 
     def save(self, folder, *, overwrite: bool = False, exposure: float = 1.0, extra: dict | None = None) -> list[Path]:

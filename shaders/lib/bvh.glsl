@@ -84,6 +84,9 @@ bool intersect_box(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float t_min, flo
     return enter <= leave;
 }
 
+#if defined(EXTERNAL_TRACE) && EXTERNAL_TRACE
+#include "../lib/trace_external.glsl"
+#else
 const int BVH_STACK = 64;
 
 TraceHit trace_closest(vec3 origin, vec3 dir, float t_min, float t_max) {
@@ -122,3 +125,14 @@ TraceHit trace_closest(vec3 origin, vec3 dir, float t_min, float t_max) {
     }
     return hit;
 }
+
+// Any hit in (t_min, t_max): a shadow ray.
+bool trace_occluded(vec3 origin, vec3 dir, float t_min, float t_max) {
+    return trace_closest(origin, dir, t_min, t_max).triangle >= 0;
+}
+
+// Without a replay every run is complete (lib/trace_external.glsl).
+void trace_chain_begin(int chain) {}
+bool trace_complete() { return true; }
+void trace_finish() {}
+#endif

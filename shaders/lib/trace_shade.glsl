@@ -20,8 +20,7 @@ float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, f
     if (light.direction_shadow.w <= 0.5) return 1.0;
     vec3 l_w = normalize(mat3(frame.inv_view) * l_view);
     if (dot(surface_normal_w, l_w) <= 0.0) return 0.0;  // the surface itself is in the way
-    TraceHit h = trace_closest(offset_ray_origin(surface_point_w, surface_normal_w), l_w, 0.0, light_distance);
-    return h.triangle >= 0 ? 0.0 : 1.0;
+    return trace_occluded(offset_ray_origin(surface_point_w, surface_normal_w), l_w, 0.0, light_distance) ? 0.0 : 1.0;
 }
 #else
 #include "../lib/shadow_map.glsl"

@@ -102,14 +102,25 @@ void main() {
 #else
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, ivec2(frame.viewport.xy)))) return;
-    vec4 acc = u_first_ray == 0 ? vec4(0.0) : imageLoad(o_accum, p);
+#if defined(EXTERNAL_TRACE) && EXTERNAL_TRACE
+    trace_invocation = p.y * int(frame.viewport.x) + p.x;
+#endif
     GSample g = pixel_sample(p);
+    bool mirror = g.roughness * g.roughness < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
+    // Cost that follows the work: after the first dispatch a pixel that does not reflect, or a
+    // mirror whose one ray is traced, has nothing to add until the last dispatch normalises.
+    if (u_first_ray > 0 && u_last == 0 && (!is_reflective(g) || mirror)) {
+        trace_finish();
+        return;
+    }
+    vec4 acc = u_first_ray == 0 ? vec4(0.0) : imageLoad(o_accum, p);
     vec3 pos = view_position(vec2(p) + 0.5, texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
     // The pixel's surface point, exactly: the camera ray through the pixel centre. Where it
     // finds another object than the G-buffer's (a silhouette the two sample differently), the
     // G-buffer point and SSR's origin offset stand in.
     vec3 camera_w = frame.inv_view[3].xyz;
     vec3 pixel_dir_w = normalize(mat3(frame.inv_view) * normalize(view_position(vec2(p) + 0.5, 1.0)));
+    trace_chain_begin(0);  // (lib/trace_external.glsl: chain 0 the camera ray, 1.. each reflection ray, then the pixel's own light)
     TraceHit primary = trace_closest(camera_w, pixel_dir_w, 0.0, 3.4e38);
     bool exact = g.covered && primary.triangle >= 0 && floatBitsToInt(bvh_triangles[primary.triangle].v0.w) == g.object_id;
     vec3 origin_w = vec3(0.0);
@@ -122,9 +133,9 @@ void main() {
     // The truth reflects wherever a surface does, whatever SSR's roughness cutoff (the
     // uploaded settings set it to 1).
     if (is_reflective(g)) {
-        bool mirror = g.roughness * g.roughness < 1e-4 || ssr.sampling == SAMPLING_MIRROR;
         for (int r = u_first_ray; r < u_first_ray + u_ray_count; ++r) {
             if (mirror && r > 0) break;  // one ray serves a mirror
+            trace_chain_begin(1 + r - u_first_ray);
             ReflectionRay ray = generate_ray(g, pos, p, r);
             if (ray.weight <= 0.0) continue;
             ShadedHit s = exact ? trace_and_shade_w(origin_w, normalize(mat3(frame.inv_view) * ray.dir), u_viewer != 0)
@@ -132,17 +143,15 @@ void main() {
             acc += vec4(ray.weight * s.radiance, ray.weight);
         }
     }
-    imageStore(o_accum, p, acc);
+    vec3 reflection = vec3(0.0), direct = vec3(0.0);
     if (u_last != 0) {
         vec3 v = normalize(-pos);
-        vec3 reflection = vec3(0.0);
         if (is_reflective(g))
             reflection = acc.w > 0.0 ? acc.rgb / acc.w
                                      : environment_radiance(normalize(mat3(frame.inv_view) * reflect(-v, g.normal)));
-        imageStore(o_reflection, p, vec4(reflection, 1.0));
         // The pixel's own direct light, shaded at its exact point (as the lighting pass shades
         // the G-buffer's), so that the reference's final image has exact shadows too.
-        vec3 direct = vec3(0.0);
+        trace_chain_begin(1 + u_ray_count);
         if (g.covered) {
             if (exact) {
                 surface_point_w = hit_point_w(primary);
@@ -153,7 +162,15 @@ void main() {
             }
             direct = shade_surface(g, pos, normalize(-pos));
         }
-        imageStore(o_direct, ivec3(p, 0), vec4(direct, 1.0));
     }
+    // (With rays traced outside the shader, only the run whose every ray was answered writes.)
+    if (trace_complete()) {
+        imageStore(o_accum, p, acc);
+        if (u_last != 0) {
+            imageStore(o_reflection, p, vec4(reflection, 1.0));
+            imageStore(o_direct, ivec3(p, 0), vec4(direct, 1.0));
+        }
+    }
+    trace_finish();
 #endif
 }
