@@ -137,6 +137,7 @@ reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000
              GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
              extras load so)
 double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
 *_texture    image index in the scene (-1: none); see Scene.add_image
 )doc")
         .def(py::init([](py::object base_color, float metallic, float roughness, py::object reflectivity, bool double_sided,
@@ -184,7 +185,15 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
             },
             "r in [0, 1] of the thesis's composite, or 'auto' (reflects as the metallic-roughness parameters say)")
         .def_readwrite("double_sided", &Material::double_sided, "back faces show the other side (normals flipped)")
-        .def_readwrite("emissive", &Material::emissive, "glTF emissive factor, linear RGB (read and saved, not rendered)")
+        .def_property(
+            "emissive", [](const Material& x) { return x.emissive; },
+            [](Material& x, const glm::vec3& e) {
+                if (const std::string p = radiance_problem(e, 1.0f); !p.empty())
+                    throw std::invalid_argument("Material.emissive " + p);
+                x.emissive = e;
+            },
+            "emitted radiance, linear RGB: glTF emissiveFactor x KHR_materials_emissive_strength (added to the lit "
+            "colour; emissiveTexture is not rendered)")
         .def_readwrite("normal_scale", &Material::normal_scale, "glTF normal-texture scale of the tangent-space xy")
         .def_property(
             "base_color_texture", [](const Material& x) { return x.base_color_texture.image; },

@@ -5,6 +5,7 @@
 #include <tiny_gltf.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -254,7 +255,7 @@ uint32_t read_u32(const uint8_t* p) {  // GLB is little-endian
 }
 
 const std::set<std::string>& implemented_extensions() {
-    static const std::set<std::string> names{"KHR_lights_punctual"};
+    static const std::set<std::string> names{"KHR_lights_punctual", "KHR_materials_emissive_strength"};
     return names;
 }
 
@@ -985,6 +986,19 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         m.metallic = float(pbr.metallicFactor);
         m.roughness = float(pbr.roughnessFactor);
         m.emissive = vec3_from(gm.emissiveFactor, glm::vec3(0.0f));
+        // KHR_materials_emissive_strength scales the [0, 1] factor; the product is what is
+        // emitted, and it must stay within the half-float lighting buffers (scene_limits.h).
+        if (auto it = gm.extensions.find("KHR_materials_emissive_strength");
+            it != gm.extensions.end() && it->second.Has("emissiveStrength")) {
+            const double strength = number_from_value(it->second.Get("emissiveStrength"), r,
+                                                      what + ": KHR_materials_emissive_strength.emissiveStrength", 0.0, 1e30);
+            m.emissive *= float(strength);
+            if (const std::string p = radiance_problem(m.emissive, 1.0f); !p.empty())
+                r.fail(what + ": emissiveFactor x emissiveStrength " + p);
+        }
+        if (gm.emissiveTexture.index >= 0)
+            warnings.push_back(path + ": " + what + ": emissiveTexture is not rendered (the lighting pass has no texture "
+                               "coordinates); its emissiveFactor alone is");
         m.double_sided = gm.doubleSided;
         m.base_color_texture = texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, image_base, r, what);
         m.metallic_roughness_texture = texture_ref(model, pbr.metallicRoughnessTexture.index,
@@ -1468,7 +1482,19 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         gm.pbrMetallicRoughness.baseColorFactor = {m.base_color.r, m.base_color.g, m.base_color.b, m.base_color.a};
         gm.pbrMetallicRoughness.metallicFactor = m.metallic;
         gm.pbrMetallicRoughness.roughnessFactor = m.roughness;
-        gm.emissiveFactor = {m.emissive.r, m.emissive.g, m.emissive.b};
+        // glTF bounds the factor to [0, 1]: a brighter emission is saved as its largest channel
+        // in KHR_materials_emissive_strength, which the loader multiplies back.
+        const float emissive_peak = std::max({m.emissive.r, m.emissive.g, m.emissive.b});
+        const glm::vec3 factor = emissive_peak > 1.0f ? m.emissive / emissive_peak : m.emissive;
+        gm.emissiveFactor = {factor.r, factor.g, factor.b};
+        if (emissive_peak > 1.0f) {
+            tinygltf::Value::Object strength;
+            strength["emissiveStrength"] = tinygltf::Value(double(emissive_peak));
+            gm.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(strength);
+            if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), "KHR_materials_emissive_strength") ==
+                model.extensionsUsed.end())
+                model.extensionsUsed.push_back("KHR_materials_emissive_strength");
+        }
         gm.doubleSided = m.double_sided;
         gm.pbrMetallicRoughness.baseColorTexture.index = texture(m.base_color_texture);
         gm.pbrMetallicRoughness.baseColorTexture.texCoord = m.base_color_texture.texcoord;

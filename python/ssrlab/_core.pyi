@@ -41,6 +41,7 @@ class Material:
                  GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
                  extras load so)
     double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+    emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
     *_texture    image index in the scene (-1: none); see Scene.add_image
     """
     def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
@@ -74,10 +75,10 @@ class Material:
     @property
     def emissive(self) -> tuple[float, ...]:
         """
-        glTF emissive factor, linear RGB (read and saved, not rendered)
+        emitted radiance, linear RGB: glTF emissiveFactor x KHR_materials_emissive_strength (added to the lit colour; emissiveTexture is not rendered)
         """
     @emissive.setter
-    def emissive(self, arg0: tuple[float, ...]) -> None:
+    def emissive(self, arg1: tuple[float, ...]) -> None:
         ...
     @property
     def metallic(self) -> float:
