@@ -2,7 +2,6 @@
 KHR_materials_emissive_strength) in the lit colour, in what SSR reflects and in the reference."""
 
 import json
-import warnings
 
 import numpy as np
 import pytest
@@ -91,3 +90,120 @@ def test_emissive_strength_round_trips_through_gltf(tmp_path):
         ssrlab.Scene.load(path)
     with pytest.raises(ValueError, match="Material.emissive"):
         ssrlab.Material().emissive = (2e3, 0.0, 0.0)
+
+
+def spot_floor(light):
+    """A matte floor lit by one light from above; nothing else lights it."""
+    s = ssrlab.Scene()
+    s.add_plane((0, 0, 0), (12, 12), material=ssrlab.Material(
+        base_color=(0.8, 0.8, 0.8), roughness=1.0, metallic=0.0, reflectivity=0.0))
+    s.add_light(light)
+    s.ambient = (0.0, 0.0, 0.0)
+    s.environment = ssrlab.Environment.constant((0.0, 0.0, 0.0))
+    s.camera = ssrlab.Camera(position=(0.0, 7.0, 3.0), target=(0.0, 0.0, 0.0), fov_y=60.0, near=0.1, far=50.0)
+    return s
+
+
+SPOT = dict(position=(0.5, 3.0, -0.5), direction=(-0.2, -1.0, 0.1), inner_cone=0.25, outer_cone=0.6, range=6.0)
+
+
+@pytest.mark.filterwarnings("ignore::ssrlab.NoReflectionWarning")  # a matte floor: nothing reflects
+def test_spot_cone_and_range_follow_khr_lights_punctual(renderer):
+    settings = small(width=128, height=96)
+    spot = renderer.render(spot_floor(ssrlab.spot_light(intensity=20.0, **SPOT)), settings=settings)
+    point = renderer.render(spot_floor(ssrlab.point_light(SPOT["position"], intensity=20.0)), settings=settings)
+    # Shading is linear in the light's intensity: spot / point is the cone's and the range's
+    # attenuation alone, which the extension's recommended implementation defines.
+    cam, d = pixel_rays(spot)
+    p = cam + d * (-cam[1] / d[..., 1])[..., None]
+    to_p = p - np.array(SPOT["position"])
+    dist = np.linalg.norm(to_p, axis=-1)
+    axis = np.array(SPOT["direction"]) / np.linalg.norm(SPOT["direction"])
+    cd = (to_p / dist[..., None]) @ axis
+    scale = 1.0 / max(0.001, np.cos(SPOT["inner_cone"]) - np.cos(SPOT["outer_cone"]))
+    offset = -np.cos(SPOT["outer_cone"]) * scale
+    cone = np.clip(cd * scale + offset, 0, 1) ** 2
+    window = np.clip(1 - (dist / SPOT["range"]) ** 4, 0, 1) ** 2
+    expected = cone * window
+    g = point.gbuffer
+    lit_point = point.gbuffer.lit[0][..., 1]
+    ok = g.coverage[0] & (lit_point > 1e-2)
+    ratio = spot.gbuffer.lit[0][..., 1][ok] / lit_point[ok]
+    assert ok.sum() > 5000
+    np.testing.assert_allclose(ratio, expected[ok], atol=0.01)
+    # The picture holds all three regions: the full cone, the falloff and the dark outside.
+    assert (cone[ok] == 1).sum() > 100 and ((cone[ok] > 0.05) & (cone[ok] < 0.95)).sum() > 300
+    assert (cone[ok] == 0).sum() > 300
+    assert window[ok & (cone > 0)].min() < 0.8  # the range window acts too
+
+
+def test_spot_light_round_trips_and_is_checked(tmp_path):
+    s = spot_floor(ssrlab.spot_light(intensity=20.0, **SPOT))
+    loaded = ssrlab.Scene.load(s.save(tmp_path / "spot.gltf"))
+    (l,) = loaded.lights
+    assert l.type == "spot"
+    assert (l.inner_cone, l.outer_cone, l.range) == pytest.approx((0.25, 0.6, 6.0))
+    np.testing.assert_allclose(l.direction, np.array(SPOT["direction"]) / np.linalg.norm(SPOT["direction"]), atol=1e-6)
+    with pytest.raises(ValueError, match="cone"):
+        ssrlab.spot_light((0, 1, 0), (0, -1, 0), inner_cone=0.7, outer_cone=0.5)
+
+
+def suzanne_or_skip():
+    try:
+        return ssrlab.models.find("Suzanne")
+    except FileNotFoundError:
+        pytest.skip("the glTF sample models are not installed (SSRLAB_MODELS)")
+
+
+def test_mirror_stage_reflects_suzanne(renderer):
+    scene = ssrlab.scenes.load(str(suzanne_or_skip()), stage="mirror")
+    stage = scene.object_count - 1
+    assert scene.object_name(stage) == "stage" and scene.material(stage).roughness == 0.0
+    f = renderer.render(scene, settings=small(width=128, height=96))
+    g = f.gbuffer
+    floor = g.coverage[0] & (g.object_id[0] == stage)
+    assert floor.mean() > 0.2, "the framing camera sees the stage"
+    # The floor's reflection rays that truly meet Suzanne, and SSR finding them.
+    truth = f.reference("per_ray")
+    on_suzanne = floor & (truth.object[0] >= 0) & (truth.object[0] != stage)
+    assert on_suzanne.sum() > 50
+    assert (f.rays.hit[0] & on_suzanne).sum() > 0.5 * on_suzanne.sum()
+
+
+def test_stage_options_are_checked():
+    with pytest.raises(ValueError, match="stage must be"):
+        ssrlab.scenes.load("mirror_test", stage="marble")
+    with pytest.raises(ValueError, match="glTF files only"):
+        ssrlab.scenes.load("mirror_test", stage="mirror")
+    with pytest.raises(ValueError, match="stage_roughness"):
+        ssrlab.scenes.load("x.gltf", stage="mirror", stage_roughness=0.3)
+    with pytest.raises(ValueError, match="stage_roughness"):
+        ssrlab.scenes.load("x.gltf", stage="glossy", stage_roughness=2.0)
+
+
+def test_render_cli_stage(tmp_path):
+    import subprocess
+    import sys
+
+    path = suzanne_or_skip()
+    r = subprocess.run([sys.executable, "-m", "ssrlab", "render", "--scene", str(path), "--stage", "glossy",
+                        "--stage-roughness", "0.3", "--width", "64", "--height", "48", "--out", str(tmp_path / "o")],
+                       capture_output=True, text=True, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert (tmp_path / "o" / "color.png").is_file()
+
+
+def test_unimplemented_extensions_are_named_in_one_warning(tmp_path):
+    scene, _, _ = emissive_over_mirror()
+    path = scene.save(tmp_path / "ext.gltf")
+    doc = json.loads(path.read_text())
+    doc["extensionsUsed"] = doc.get("extensionsUsed", []) + ["KHR_materials_clearcoat", "KHR_texture_transform"]
+    path.write_text(json.dumps(doc))
+    with pytest.warns(ssrlab.SceneWarning) as record:
+        ssrlab.Scene.load(path)
+    named = [str(w.message) for w in record if "not rendered (ignored)" in str(w.message)]
+    assert len(named) == 1 and "KHR_materials_clearcoat, KHR_texture_transform" in named[0]
+    doc["extensionsRequired"] = ["KHR_materials_clearcoat"]
+    path.write_text(json.dumps(doc))
+    with pytest.raises(ssrlab.SceneError, match="KHR_materials_clearcoat"):
+        ssrlab.Scene.load(path)

@@ -838,9 +838,9 @@ void check_model_values(const tinygltf::Model& model, const GltfReader& r, std::
                    " (the half-float lighting buffers would overflow)");
         if (l.range != 0.0 && !in_range(l.range, 1e-30, 1e30)) r.fail(what + ": range " + num(l.range) + " must be finite and > 0");
         if (l.type == "spot") {
-            if (!in_range(l.spot.innerConeAngle, 0.0, 1.5708) || !in_range(l.spot.outerConeAngle, 0.0, 1.5708))
-                r.fail(what + ": spot cone angles must be in [0, pi/2]");
-            warnings.push_back(file + ": " + what + " is a spot light; it is rendered as a point light (no cone)");
+            if (!in_range(l.spot.innerConeAngle, 0.0, 1.5708) || !in_range(l.spot.outerConeAngle, 1e-6, 1.5708) ||
+                !(l.spot.innerConeAngle < l.spot.outerConeAngle))
+                r.fail(what + ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2");
         }
     }
     for (size_t i = 0; i < model.materials.size(); ++i) {
@@ -951,6 +951,15 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                            " skin(s) ignored: skinned meshes are drawn in their bind pose");
     if (!model.animations.empty())
         warnings.push_back(path + ": " + std::to_string(model.animations.size()) + " animation(s) ignored");
+    {
+        // Extensions the file uses that change what it looks like but ssrlab does not implement:
+        // named together, so a user knows what the image leaves out (required ones failed above).
+        std::string ignored;
+        for (const std::string& name : model.extensionsUsed)
+            if (!implemented_extensions().count(name)) ignored += (ignored.empty() ? "" : ", ") + name;
+        if (!ignored.empty())
+            warnings.push_back(path + ": extensions not rendered (ignored): " + ignored);
+    }
 
     // Images: tinygltf keeps going when an external image is missing; we do not.
     const int image_base = int(scene.images.size());
@@ -1216,7 +1225,10 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 l.type = Light::Type::Directional;
                 l.cast_shadow = true;
             } else {
-                l.type = Light::Type::Point;  // spot lights are treated as point lights
+                l.type = gl.type == "spot" ? Light::Type::Spot : Light::Type::Point;
+                l.inner_cone = float(gl.spot.innerConeAngle);
+                l.outer_cone = float(gl.spot.outerConeAngle);
+                l.range = float(gl.range);
             }
             if (gl.extras.Has("cast_shadow")) {
                 if (!gl.extras.Get("cast_shadow").IsBool()) r.fail(lwhat + ": extras.cast_shadow is not a boolean");
@@ -1227,7 +1239,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             if (gl.extras.Has("position"))
                 l.position = vec3_from_value(gl.extras.Get("position"), l.position, r, lwhat + ": extras.position",
                                              -kMaxWorldCoordinate, kMaxWorldCoordinate);
-            if (l.type == Light::Type::Directional && !usable_direction(l.direction))
+            if (l.type != Light::Type::Point && !usable_direction(l.direction))
                 r.fail(explicit_dir ? lwhat + ": extras.direction is a zero vector"
                                     : what + ": light " + std::to_string(li) + " has no direction (its node's transform is degenerate)");
             l.direction = usable_direction(l.direction) ? glm::normalize(l.direction) : glm::vec3(0.0f, -1.0f, 0.0f);
@@ -1552,7 +1564,12 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
     for (const Light& l : scene.lights) {
         tinygltf::Light gl;
         gl.name = l.name;
-        gl.type = l.type == Light::Type::Directional ? "directional" : "point";
+        gl.type = l.type == Light::Type::Directional ? "directional" : (l.type == Light::Type::Spot ? "spot" : "point");
+        if (l.type == Light::Type::Spot) {
+            gl.spot.innerConeAngle = l.inner_cone;
+            gl.spot.outerConeAngle = l.outer_cone;
+        }
+        if (l.type != Light::Type::Directional) gl.range = l.range;
         gl.color = {l.color.r, l.color.g, l.color.b};
         gl.intensity = l.intensity;
         // The node carries the light's frame; extras keep the exact vectors for a lossless reload.

@@ -17,7 +17,7 @@ _image_codec.register()  # image files through Python packages where the extensi
 from . import bench, display, experiments, io, metrics, models, reference, scenes, transforms
 from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir
 from .sequence import CameraPath
-from .scene import Scene, SceneWarning, directional_light, point_light
+from .scene import Scene, SceneWarning, directional_light, point_light, spot_light
 from .settings import Settings
 
 
@@ -36,6 +36,6 @@ __version__ = _package_version()
 __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
     "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
-    "ShaderError", "directional_light", "models", "point_light", "scenes",
+    "ShaderError", "directional_light", "models", "point_light", "scenes", "spot_light",
     "shader_dir", "transforms", "display", "devices", "__version__",
 ]

@@ -38,6 +38,13 @@ vec3 shade_surface(GSample g, vec3 p, vec3 v) {
             l = to_light * inversesqrt(d2);
             light_distance = sqrt(d2);
             irradiance /= d2;  // inverse-square falloff of a point light's intensity
+            // KHR_lights_punctual's recommended range window, clamp(1 - (d / range)^4, 0, 1)^2.
+            float w = clamp(1.0 - d2 * d2 * light.cone.z * light.cone.z, 0.0, 1.0);
+            // Its recommended spot falloff: clamp(cos(angle to the axis) * scale + offset, 0, 1)^2
+            float spot = 1.0;
+            if (light.position_type.w == 2.0)
+                spot = clamp(dot(normalize(light.direction_shadow.xyz), -l) * light.cone.x + light.cone.y, 0.0, 1.0);
+            irradiance *= w * w * spot * spot;
         }
         float NoL = dot(n, l);
         if (NoL <= 0.0) continue;
