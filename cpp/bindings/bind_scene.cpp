@@ -19,6 +19,10 @@ namespace ssr {
 
 namespace {
 
+const char* light_type_name(const Light& l) {
+    return l.type == Light::Type::Directional ? "directional" : (l.type == Light::Type::Spot ? "spot" : "point");
+}
+
 // The last line behind ssrlab.Scene.add_mesh's own checks: forcecast would turn bool,
 // complex (dropping the imaginary part), strings and dates into numbers without a word.
 void require_real(const py::handle& obj, const char* what) {
@@ -137,6 +141,7 @@ reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000
              GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
              extras load so)
 double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
 *_texture    image index in the scene (-1: none); see Scene.add_image
 )doc")
         .def(py::init([](py::object base_color, float metallic, float roughness, py::object reflectivity, bool double_sided,
@@ -184,7 +189,15 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
             },
             "r in [0, 1] of the thesis's composite, or 'auto' (reflects as the metallic-roughness parameters say)")
         .def_readwrite("double_sided", &Material::double_sided, "back faces show the other side (normals flipped)")
-        .def_readwrite("emissive", &Material::emissive, "glTF emissive factor, linear RGB (read and saved, not rendered)")
+        .def_property(
+            "emissive", [](const Material& x) { return x.emissive; },
+            [](Material& x, const glm::vec3& e) {
+                if (const std::string p = radiance_problem(e, 1.0f); !p.empty())
+                    throw std::invalid_argument("Material.emissive " + p);
+                x.emissive = e;
+            },
+            "emitted radiance, linear RGB: glTF emissiveFactor x KHR_materials_emissive_strength (added to the lit "
+            "colour; emissiveTexture is not rendered)")
         .def_readwrite("normal_scale", &Material::normal_scale, "glTF normal-texture scale of the tangent-space xy")
         .def_property(
             "base_color_texture", [](const Material& x) { return x.base_color_texture.image; },
@@ -207,8 +220,11 @@ double_sided back faces show the other side (normals flipped), as glTF's doubleS
     py::class_<Light>(m, "Light", R"doc(
 A punctual light. Directional: `intensity` is the irradiance (W/m^2) on a surface facing the
 light, `direction` the direction the light travels. Point: `intensity` is the radiant
-intensity (W/sr) at `position`, falling off as 1/d^2. The first directional light with
-cast_shadow=True casts the shadow map.)doc")
+intensity (W/sr) at `position`, falling off as 1/d^2. Spot: a point light shining down
+`direction`, full inside `inner_cone`, nothing beyond `outer_cone` (radians), with
+KHR_lights_punctual's smooth falloff between. Point and spot lights end at `range` with the
+extension's window (0: no end). The first directional light with cast_shadow=True casts the
+shadow map.)doc")
         .def_static(
             "directional",
             [](glm::vec3 direction, glm::vec3 color, float intensity, bool cast_shadow, const std::string& name) {
@@ -239,8 +255,32 @@ cast_shadow=True casts the shadow map.)doc")
             },
             py::arg("position"), py::arg("color") = glm::vec3(1.0f), py::arg("intensity") = 10.0f,
             py::arg("name") = "point")
-        .def_property_readonly("type", [](const Light& l) { return l.type == Light::Type::Directional ? "directional" : "point"; },
-                               "'directional' or 'point'")
+        .def_static(
+            "spot",
+            [](glm::vec3 position, glm::vec3 direction, float inner_cone, float outer_cone, glm::vec3 color,
+               float intensity, float range, const std::string& name) {
+                Light l;
+                l.type = Light::Type::Spot;
+                l.position = position;
+                l.direction = direction;
+                l.inner_cone = inner_cone;
+                l.outer_cone = outer_cone;
+                l.color = color;
+                l.intensity = intensity;
+                l.range = range;
+                l.name = name;
+                if (const std::string p = light_problem(l); !p.empty()) throw std::invalid_argument("spot light: " + p);
+                l.direction = glm::normalize(direction);
+                return l;
+            },
+            py::arg("position"), py::arg("direction"), py::arg("inner_cone") = 0.0f, py::arg("outer_cone") = 0.7853982f,
+            py::arg("color") = glm::vec3(1.0f), py::arg("intensity") = 10.0f, py::arg("range") = 0.0f,
+            py::arg("name") = "spot")
+        .def_property_readonly("type", [](const Light& l) { return light_type_name(l); },
+                               "'directional', 'point' or 'spot'")
+        .def_readwrite("inner_cone", &Light::inner_cone, "spot: full intensity within this angle of direction (radians)")
+        .def_readwrite("outer_cone", &Light::outer_cone, "spot: no light beyond this angle of direction (radians)")
+        .def_readwrite("range", &Light::range, "point and spot: where the light ends (KHR_lights_punctual window); 0 = no end")
         .def_readwrite("name", &Light::name, "the light's name")
         .def_readwrite("color", &Light::color, "linear RGB colour, multiplied by intensity")
         .def_readwrite("intensity", &Light::intensity, "irradiance W/m^2 (directional) or radiant intensity W/sr (point)")
@@ -248,7 +288,7 @@ cast_shadow=True casts the shadow map.)doc")
         .def_readwrite("position", &Light::position, "world position (point lights)")
         .def_readwrite("cast_shadow", &Light::cast_shadow, "the first directional light with this set casts the shadow map")
         .def("__repr__", [](const Light& l) {
-            return std::string("Light(") + (l.type == Light::Type::Directional ? "directional" : "point") + ", '" +
+            return std::string("Light(") + light_type_name(l) + ", '" +
                    l.name + "', intensity=" + std::to_string(l.intensity) + ")";
         });
 

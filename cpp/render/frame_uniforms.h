@@ -34,6 +34,7 @@ struct GpuLight {
     glm::vec4 position_type;     // xyz position (point) ; w = 0 directional, 1 point
     glm::vec4 direction_shadow;  // xyz direction light travels (directional) ; w = 1 casts the shadow map
     glm::vec4 radiance;          // rgb = colour * intensity
+    glm::vec4 cone;              // x, y: spot angle scale, offset (0, 1: no cone); z: 1 / range^2 (0: no range)
 };
 
 }  // namespace ssr

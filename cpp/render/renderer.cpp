@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -277,10 +278,18 @@ void Renderer::upload_lights(const Scene& scene, const glm::mat4& view, int shad
         const Light& l = scene.lights[i];
         GpuLight g{};
         g.position_type = glm::vec4(glm::vec3(view * glm::vec4(l.position, 1.0f)),
-                                    l.type == Light::Type::Directional ? 0.0f : 1.0f);
+                                    l.type == Light::Type::Directional ? 0.0f : (l.type == Light::Type::Spot ? 2.0f : 1.0f));
         g.direction_shadow = glm::vec4(glm::mat3(view) * glm::normalize(l.direction),
                                        (int(i) == shadow_light) ? 1.0f : 0.0f);
         g.radiance = glm::vec4(l.color * l.intensity, 0.0f);
+        // KHR_lights_punctual's recommended spot falloff: clamp(cos * scale + offset, 0, 1)^2.
+        g.cone = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+        if (l.type == Light::Type::Spot) {
+            const float scale = 1.0f / std::max(0.001f, std::cos(l.inner_cone) - std::cos(l.outer_cone));
+            g.cone.x = scale;
+            g.cone.y = -std::cos(l.outer_cone) * scale;
+        }
+        if (l.type != Light::Type::Directional && l.range > 0.0f) g.cone.z = 1.0f / (l.range * l.range);
         lights.push_back(g);
     }
     const size_t light_bytes = std::max<size_t>(lights.size() * sizeof(GpuLight), sizeof(GpuLight));

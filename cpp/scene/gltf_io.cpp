@@ -5,6 +5,7 @@
 #include <tiny_gltf.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -254,7 +255,7 @@ uint32_t read_u32(const uint8_t* p) {  // GLB is little-endian
 }
 
 const std::set<std::string>& implemented_extensions() {
-    static const std::set<std::string> names{"KHR_lights_punctual"};
+    static const std::set<std::string> names{"KHR_lights_punctual", "KHR_materials_emissive_strength"};
     return names;
 }
 
@@ -837,9 +838,9 @@ void check_model_values(const tinygltf::Model& model, const GltfReader& r, std::
                    " (the half-float lighting buffers would overflow)");
         if (l.range != 0.0 && !in_range(l.range, 1e-30, 1e30)) r.fail(what + ": range " + num(l.range) + " must be finite and > 0");
         if (l.type == "spot") {
-            if (!in_range(l.spot.innerConeAngle, 0.0, 1.5708) || !in_range(l.spot.outerConeAngle, 0.0, 1.5708))
-                r.fail(what + ": spot cone angles must be in [0, pi/2]");
-            warnings.push_back(file + ": " + what + " is a spot light; it is rendered as a point light (no cone)");
+            if (!in_range(l.spot.innerConeAngle, 0.0, 1.5708) || !in_range(l.spot.outerConeAngle, 1e-6, 1.5708) ||
+                !(l.spot.innerConeAngle < l.spot.outerConeAngle))
+                r.fail(what + ": spot cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2");
         }
     }
     for (size_t i = 0; i < model.materials.size(); ++i) {
@@ -950,6 +951,15 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                            " skin(s) ignored: skinned meshes are drawn in their bind pose");
     if (!model.animations.empty())
         warnings.push_back(path + ": " + std::to_string(model.animations.size()) + " animation(s) ignored");
+    {
+        // Extensions the file uses that change what it looks like but ssrlab does not implement:
+        // named together, so a user knows what the image leaves out (required ones failed above).
+        std::string ignored;
+        for (const std::string& name : model.extensionsUsed)
+            if (!implemented_extensions().count(name)) ignored += (ignored.empty() ? "" : ", ") + name;
+        if (!ignored.empty())
+            warnings.push_back(path + ": extensions not rendered (ignored): " + ignored);
+    }
 
     // Images: tinygltf keeps going when an external image is missing; we do not.
     const int image_base = int(scene.images.size());
@@ -985,6 +995,19 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         m.metallic = float(pbr.metallicFactor);
         m.roughness = float(pbr.roughnessFactor);
         m.emissive = vec3_from(gm.emissiveFactor, glm::vec3(0.0f));
+        // KHR_materials_emissive_strength scales the [0, 1] factor; the product is what is
+        // emitted, and it must stay within the half-float lighting buffers (scene_limits.h).
+        if (auto it = gm.extensions.find("KHR_materials_emissive_strength");
+            it != gm.extensions.end() && it->second.Has("emissiveStrength")) {
+            const double strength = number_from_value(it->second.Get("emissiveStrength"), r,
+                                                      what + ": KHR_materials_emissive_strength.emissiveStrength", 0.0, 1e30);
+            m.emissive *= float(strength);
+            if (const std::string p = radiance_problem(m.emissive, 1.0f); !p.empty())
+                r.fail(what + ": emissiveFactor x emissiveStrength " + p);
+        }
+        if (gm.emissiveTexture.index >= 0)
+            warnings.push_back(path + ": " + what + ": emissiveTexture is not rendered (the lighting pass has no texture "
+                               "coordinates); its emissiveFactor alone is");
         m.double_sided = gm.doubleSided;
         m.base_color_texture = texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, image_base, r, what);
         m.metallic_roughness_texture = texture_ref(model, pbr.metallicRoughnessTexture.index,
@@ -1202,7 +1225,10 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 l.type = Light::Type::Directional;
                 l.cast_shadow = true;
             } else {
-                l.type = Light::Type::Point;  // spot lights are treated as point lights
+                l.type = gl.type == "spot" ? Light::Type::Spot : Light::Type::Point;
+                l.inner_cone = float(gl.spot.innerConeAngle);
+                l.outer_cone = float(gl.spot.outerConeAngle);
+                l.range = float(gl.range);
             }
             if (gl.extras.Has("cast_shadow")) {
                 if (!gl.extras.Get("cast_shadow").IsBool()) r.fail(lwhat + ": extras.cast_shadow is not a boolean");
@@ -1213,7 +1239,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             if (gl.extras.Has("position"))
                 l.position = vec3_from_value(gl.extras.Get("position"), l.position, r, lwhat + ": extras.position",
                                              -kMaxWorldCoordinate, kMaxWorldCoordinate);
-            if (l.type == Light::Type::Directional && !usable_direction(l.direction))
+            if (l.type != Light::Type::Point && !usable_direction(l.direction))
                 r.fail(explicit_dir ? lwhat + ": extras.direction is a zero vector"
                                     : what + ": light " + std::to_string(li) + " has no direction (its node's transform is degenerate)");
             l.direction = usable_direction(l.direction) ? glm::normalize(l.direction) : glm::vec3(0.0f, -1.0f, 0.0f);
@@ -1468,7 +1494,19 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         gm.pbrMetallicRoughness.baseColorFactor = {m.base_color.r, m.base_color.g, m.base_color.b, m.base_color.a};
         gm.pbrMetallicRoughness.metallicFactor = m.metallic;
         gm.pbrMetallicRoughness.roughnessFactor = m.roughness;
-        gm.emissiveFactor = {m.emissive.r, m.emissive.g, m.emissive.b};
+        // glTF bounds the factor to [0, 1]: a brighter emission is saved as its largest channel
+        // in KHR_materials_emissive_strength, which the loader multiplies back.
+        const float emissive_peak = std::max({m.emissive.r, m.emissive.g, m.emissive.b});
+        const glm::vec3 factor = emissive_peak > 1.0f ? m.emissive / emissive_peak : m.emissive;
+        gm.emissiveFactor = {factor.r, factor.g, factor.b};
+        if (emissive_peak > 1.0f) {
+            tinygltf::Value::Object strength;
+            strength["emissiveStrength"] = tinygltf::Value(double(emissive_peak));
+            gm.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(strength);
+            if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), "KHR_materials_emissive_strength") ==
+                model.extensionsUsed.end())
+                model.extensionsUsed.push_back("KHR_materials_emissive_strength");
+        }
         gm.doubleSided = m.double_sided;
         gm.pbrMetallicRoughness.baseColorTexture.index = texture(m.base_color_texture);
         gm.pbrMetallicRoughness.baseColorTexture.texCoord = m.base_color_texture.texcoord;
@@ -1526,7 +1564,12 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
     for (const Light& l : scene.lights) {
         tinygltf::Light gl;
         gl.name = l.name;
-        gl.type = l.type == Light::Type::Directional ? "directional" : "point";
+        gl.type = l.type == Light::Type::Directional ? "directional" : (l.type == Light::Type::Spot ? "spot" : "point");
+        if (l.type == Light::Type::Spot) {
+            gl.spot.innerConeAngle = l.inner_cone;
+            gl.spot.outerConeAngle = l.outer_cone;
+        }
+        if (l.type != Light::Type::Directional) gl.range = l.range;
         gl.color = {l.color.r, l.color.g, l.color.b};
         gl.intensity = l.intensity;
         // The node carries the light's frame; extras keep the exact vectors for a lossless reload.

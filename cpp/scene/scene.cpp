@@ -190,6 +190,9 @@ uint64_t Scene::content_hash() const {
         h.pod(l.direction);
         h.pod(l.position);
         h.pod(l.cast_shadow);
+        h.pod(l.inner_cone);
+        h.pod(l.outer_cone);
+        h.pod(l.range);
     }
     h.pod(ambient);
     h.pod(environment.type);

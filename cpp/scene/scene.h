@@ -70,7 +70,7 @@ struct Object {
 };
 
 struct Light {
-    enum class Type { Directional, Point };
+    enum class Type { Directional, Point, Spot };
     std::string name;
     Type type = Type::Directional;
     glm::vec3 color{1.0f};
@@ -78,7 +78,13 @@ struct Light {
     // Point: radiant intensity (W/sr); irradiance falls off as 1/d^2.
     float intensity = 1.0f;
     glm::vec3 direction{0.0f, -1.0f, 0.0f};  // directional: the direction light travels
-    glm::vec3 position{0.0f};                // point
+    glm::vec3 position{0.0f};                // point, spot
+    // Spot (KHR_lights_punctual): full intensity inside inner_cone, none beyond outer_cone
+    // (radians from `direction`), the extension's smooth falloff between.
+    float inner_cone = 0.0f, outer_cone = 0.7853982f;
+    // Point and spot: the distance where the light's influence ends (KHR_lights_punctual's
+    // recommended window); 0 = no end.
+    float range = 0.0f;
     bool cast_shadow = false;  // honoured for the first directional light that asks for it
 };
 

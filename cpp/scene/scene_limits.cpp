@@ -78,11 +78,16 @@ std::string light_problem(const Light& l) {
     if (peak > kMaxLightPower)
         return "colour x intensity " + num(peak) + " is more than " + num(kMaxLightPower) +
                " (the half-float lighting buffers would overflow)";
-    if (l.type == Light::Type::Directional) {
+    if (!std::isfinite(l.range) || l.range < 0.0f) return "range must be finite and >= 0 (0: no end)";
+    if (l.type == Light::Type::Spot &&
+        !(l.inner_cone >= 0.0f && l.outer_cone > 0.0f && l.inner_cone < l.outer_cone && l.outer_cone <= 1.5707964f))
+        return "spot cone angles must satisfy 0 <= inner_cone < outer_cone <= pi/2";
+    if (l.type != Light::Type::Point) {
         const float len = glm::length(l.direction);
         if (!finite3(l.direction) || !(len > 1e-20f) || !std::isfinite(1.0f / len))
             return "direction must be a finite, non-zero vector";
-    } else {
+    }
+    if (l.type != Light::Type::Directional) {
         if (!finite3(l.position)) return "position must be finite";
         const std::string p = world_point_problem(l.position);
         if (!p.empty()) return "position " + p;

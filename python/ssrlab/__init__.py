@@ -22,7 +22,7 @@ _image_codec.register()  # image files through Python packages where the extensi
 from . import io, metrics, models, reference, scenes, transforms  # noqa: E402
 from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir  # noqa: E402
 from .sequence import CameraPath  # noqa: E402
-from .scene import Scene, SceneWarning, directional_light, point_light  # noqa: E402
+from .scene import Scene, SceneWarning, directional_light, point_light, spot_light  # noqa: E402
 from .settings import Settings  # noqa: E402
 from . import display  # noqa: E402
 
@@ -43,6 +43,6 @@ def __getattr__(name: str):
 __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
     "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
-    "ShaderError", "directional_light", "models", "point_light", "scenes",
+    "ShaderError", "directional_light", "models", "point_light", "scenes", "spot_light",
     "shader_dir", "transforms", "display", "devices", "__version__",
 ]

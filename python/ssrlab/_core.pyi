@@ -41,6 +41,7 @@ class Material:
                  GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
                  extras load so)
     double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+    emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
     *_texture    image index in the scene (-1: none); see Scene.add_image
     """
     def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
@@ -74,10 +75,10 @@ class Material:
     @property
     def emissive(self) -> tuple[float, ...]:
         """
-        glTF emissive factor, linear RGB (read and saved, not rendered)
+        emitted radiance, linear RGB: glTF emissiveFactor x KHR_materials_emissive_strength (added to the lit colour; emissiveTexture is not rendered)
         """
     @emissive.setter
-    def emissive(self, arg0: tuple[float, ...]) -> None:
+    def emissive(self, arg1: tuple[float, ...]) -> None:
         ...
     @property
     def metallic(self) -> float:
@@ -139,14 +140,20 @@ class Light:
     """
     A punctual light. Directional: `intensity` is the irradiance (W/m^2) on a surface facing the
     light, `direction` the direction the light travels. Point: `intensity` is the radiant
-    intensity (W/sr) at `position`, falling off as 1/d^2. The first directional light with
-    cast_shadow=True casts the shadow map.
+    intensity (W/sr) at `position`, falling off as 1/d^2. Spot: a point light shining down
+    `direction`, full inside `inner_cone`, nothing beyond `outer_cone` (radians), with
+    KHR_lights_punctual's smooth falloff between. Point and spot lights end at `range` with the
+    extension's window (0: no end). The first directional light with cast_shadow=True casts the
+    shadow map.
     """
     @staticmethod
     def directional(direction: tuple[float, ...], color: tuple[float, ...] = (1.0, 1.0, 1.0), intensity: typing.SupportsFloat | typing.SupportsIndex = 3.0, cast_shadow: bool = True, name: str = 'sun') -> Light:
         ...
     @staticmethod
     def point(position: tuple[float, ...], color: tuple[float, ...] = (1.0, 1.0, 1.0), intensity: typing.SupportsFloat | typing.SupportsIndex = 10.0, name: str = 'point') -> Light:
+        ...
+    @staticmethod
+    def spot(position: tuple[float, ...], direction: tuple[float, ...], inner_cone: typing.SupportsFloat | typing.SupportsIndex = 0.0, outer_cone: typing.SupportsFloat | typing.SupportsIndex = 0.7853981852531433, color: tuple[float, ...] = (1.0, 1.0, 1.0), intensity: typing.SupportsFloat | typing.SupportsIndex = 10.0, range: typing.SupportsFloat | typing.SupportsIndex = 0.0, name: str = 'spot') -> Light:
         ...
     def __repr__(self) -> str:
         ...
@@ -175,6 +182,14 @@ class Light:
     def direction(self, arg0: tuple[float, ...]) -> None:
         ...
     @property
+    def inner_cone(self) -> float:
+        """
+        spot: full intensity within this angle of direction (radians)
+        """
+    @inner_cone.setter
+    def inner_cone(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def intensity(self) -> float:
         """
         irradiance W/m^2 (directional) or radiant intensity W/sr (point)
@@ -191,6 +206,14 @@ class Light:
     def name(self, arg0: str) -> None:
         ...
     @property
+    def outer_cone(self) -> float:
+        """
+        spot: no light beyond this angle of direction (radians)
+        """
+    @outer_cone.setter
+    def outer_cone(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def position(self) -> tuple[float, ...]:
         """
         world position (point lights)
@@ -199,9 +222,17 @@ class Light:
     def position(self, arg0: tuple[float, ...]) -> None:
         ...
     @property
+    def range(self) -> float:
+        """
+        point and spot: where the light ends (KHR_lights_punctual window); 0 = no end
+        """
+    @range.setter
+    def range(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def type(self) -> str:
         """
-        'directional' or 'point'
+        'directional', 'point' or 'spot'
         """
 class Environment:
     """

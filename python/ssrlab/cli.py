@@ -116,6 +116,8 @@ def cmd_render_sequence(args) -> int:
     out = Path(args.out) if args.out else Path("renders") / (Path(args.scene).stem + "_sequence")
     renderer = Renderer(args.device)
     kwargs = {"seed": args.seed} if args.seed is not None else {}
+    if getattr(args, "stage", None) is not None:
+        kwargs.update(stage=args.stage, stage_roughness=args.stage_roughness)
     scene = scenes.load(args.scene, **kwargs)
     path = _camera_path(args, scene)
     names = [f"frame_{i:04d}.png" for i in range(len(path))] + ["frames.gif", "timings.json"]
@@ -208,6 +210,8 @@ def cmd_render(args) -> int:
         bar.update(1)
         bar.set_postfix_str(f"building scene {args.scene}")
         kwargs = {"seed": args.seed} if args.seed is not None else {}
+        if args.stage is not None:
+            kwargs.update(stage=args.stage, stage_roughness=args.stage_roughness)
         scene = scenes.load(args.scene, **kwargs)
         bar.update(1)
         for i in range(renders):
@@ -457,6 +461,10 @@ def main(argv=None) -> int:
                                    "Never replaces a file ssrlab did not write (--overwrite to force).")
     r.add_argument("--scene", default="spheres_and_boxes", help="a procedural scene name or a .gltf/.glb file")
     r.add_argument("--seed", type=int, help="seed of a procedural scene's layout (not the rays': --set seed=N)")
+    r.add_argument("--stage", choices=["mirror", "glossy"],
+                   help="a glTF file only: put a reflective metal floor under the model (scenes.load's stage)")
+    r.add_argument("--stage-roughness", type=float,
+                   help="the glossy stage's perceptual roughness in [0, 1] (default 0.25)")
     r.add_argument("--width", type=int, help="image width in pixels (Settings.width)")
     r.add_argument("--height", type=int, help="image height in pixels (Settings.height)")
     r.add_argument("--layers", type=int, help="depth-peeled G-buffer layers (Settings.layers)")

@@ -304,6 +304,13 @@ def check_comparable(scene) -> None:
         if (m.base_color_texture >= 0 or m.metallic_roughness_texture >= 0 or m.normal_texture >= 0):
             raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) has textures; the Mitsuba "
                              "cross-check supports untextured materials only")
+        if any(float(c) > 0 for c in m.emissive):
+            raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) is emissive; the Mitsuba "
+                             "scene has no area emitters yet")
+    for k, light in enumerate(scene.lights):
+        if light.type == "spot" or light.range > 0:
+            raise ValueError(f"crosscheck: light {k} is a spot light or has a range; the Mitsuba scene has "
+                             "point and directional emitters without either yet")
 
 
 def _world_mesh(scene, i):

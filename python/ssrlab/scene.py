@@ -232,4 +232,13 @@ def point_light(position, color=(1.0, 1.0, 1.0), intensity: float = 10.0, name: 
     return Light.point(position, color, intensity, name)
 
 
-__all__ = ["Scene", "SceneWarning", "Material", "Light", "Environment", "Camera", "directional_light", "point_light"]
+def spot_light(position, direction, inner_cone: float = 0.0, outer_cone: float = 0.7853982, color=(1.0, 1.0, 1.0),
+               intensity: float = 10.0, range: float = 0.0, name: str = "spot") -> Light:
+    """A KHR_lights_punctual spot light at `position` shining down `direction`: radiant intensity
+    `intensity` (W/sr) within `inner_cone` of the axis, none beyond `outer_cone` (radians), the
+    extension's smooth falloff between; `range` > 0 ends it with the extension's window."""
+    return Light.spot(position, direction, inner_cone, outer_cone, color, intensity, range, name)
+
+
+__all__ = ["Scene", "SceneWarning", "Material", "Light", "Environment", "Camera", "directional_light", "point_light",
+           "spot_light"]

@@ -176,10 +176,27 @@ SCENES = {
 }
 
 
-def load(name_or_path: str, **kwargs) -> Scene:
+STAGES = ("mirror", "glossy")
+GLOSSY_STAGE_ROUGHNESS = 0.25
+
+
+def load(name_or_path: str, *, stage: str | None = None, stage_roughness: float | None = None, **kwargs) -> Scene:
     """A procedural scene by name (keyword arguments go to its builder), or a glTF file; a file
-    without a camera, lights or an environment gets a camera that frames it, a sun and a sky."""
+    without a camera, lights or an environment gets a camera that frames it, a sun and a sky.
+
+    `stage` ("mirror" or "glossy", glTF files only) puts a reflective metal floor under the
+    model's bounds, so that any model has something to be reflected in; `stage_roughness` is the
+    glossy floor's perceptual roughness (default 0.25; a mirror's is 0)."""
+    if stage is not None and stage not in STAGES:
+        raise ValueError(f"stage must be one of {', '.join(STAGES)} or None, got {stage!r}")
+    if stage_roughness is not None:
+        if stage != "glossy":
+            raise ValueError("stage_roughness applies to stage='glossy' only (a mirror's roughness is 0)")
+        if not 0.0 <= float(stage_roughness) <= 1.0:
+            raise ValueError(f"stage_roughness must be in [0, 1], got {stage_roughness}")
     if name_or_path in SCENES:
+        if stage is not None:
+            raise ValueError("stage applies to glTF files only (the procedural scenes have their floors)")
         return SCENES[name_or_path](**kwargs)
     from pathlib import Path
 
@@ -187,8 +204,13 @@ def load(name_or_path: str, **kwargs) -> Scene:
         if kwargs:
             raise ValueError(f"scene options {sorted(kwargs)} apply to procedural scenes only")
         scene = Scene.load(name_or_path)
+        if stage is not None:
+            model_bounds = tuple(np.asarray(b, dtype=float) for b in scene.bounds)
+            add_stage(scene, model_bounds, 0.0 if stage == "mirror" else
+                      float(GLOSSY_STAGE_ROUGHNESS if stage_roughness is None else stage_roughness))
         if scene.camera is None:
-            scene.camera = frame_camera(scene)
+            scene.camera = frame_camera(scene, bounds=model_bounds if stage is not None else None,
+                                        stage=stage is not None)
         if not scene.lights:
             scene.add_light(directional_light((-0.4, -1.0, -0.5), intensity=3.0))
         env = scene.environment
@@ -200,14 +222,31 @@ def load(name_or_path: str, **kwargs) -> Scene:
     raise ValueError(f"unknown scene {name_or_path!r}: expected one of {', '.join(SCENES)} or a .gltf/.glb file")
 
 
-def frame_camera(scene: Scene, fov_y: float = 45.0) -> Camera:
-    """A camera that sees the whole scene from the front and a little above."""
-    lo, hi = (np.asarray(b) for b in scene.bounds)
+def add_stage(scene: Scene, bounds, roughness: float) -> int:
+    """A square metal floor of perceptual `roughness` just under `bounds` (the model's (lo, hi)),
+    reaching four half-diagonals from its centre each way, reflectivity 1; returns its object index."""
+    lo, hi = (np.asarray(b, dtype=float) for b in bounds)
+    center = (lo + hi) / 2
+    radius = max(float(np.linalg.norm(hi - lo)) / 2, 1e-3)
+    # A hair below the model: a flat base lying on the floor would otherwise fight it for depth.
+    y = lo[1] - 1e-3 * radius
+    return scene.add_plane((float(center[0]), float(y), float(center[2])), (8 * radius, 8 * radius),
+                           name="stage", material=Material(base_color=(0.95, 0.95, 0.95), metallic=1.0,
+                                                           roughness=roughness, reflectivity=1.0))
+
+
+def frame_camera(scene: Scene, fov_y: float = 45.0, *, bounds=None, stage: bool = False) -> Camera:
+    """A camera that sees the whole scene (or `bounds`, (lo, hi)) from the front and a little
+    above; with `stage`, its near and far planes also take in add_stage's floor."""
+    lo, hi = (np.asarray(b) for b in (scene.bounds if bounds is None else bounds))
     if scene.object_count == 0:
         lo, hi = np.zeros(3), np.ones(3)
     center = (lo + hi) / 2
     radius = max(float(np.linalg.norm(hi - lo)) / 2, 1e-3)
     distance = radius / np.sin(np.radians(fov_y) / 2) * 1.05
     eye = center + distance * np.array([0.35, 0.45, 0.82]) / np.linalg.norm([0.35, 0.45, 0.82])
+    if stage:  # the floor reaches 4 radii from the centre, toward the camera and away
+        return Camera(position=tuple(eye), target=tuple(center), fov_y=fov_y, near=distance * 0.01,
+                      far=distance + radius * 6)
     return Camera(position=tuple(eye), target=tuple(center), fov_y=fov_y,
                   near=max(distance - radius * 1.5, distance * 0.01), far=distance + radius * 2)

@@ -2,9 +2,10 @@
 // cpp/render/frame_uniforms.h.
 
 struct LightData {
-    vec4 position_type;     // xyz position (point); w = 0 directional, 1 point
+    vec4 position_type;     // xyz position (point, spot); w = 0 directional, 1 point, 2 spot
     vec4 direction_shadow;  // xyz direction light travels (directional); w = 1 casts the shadow map
     vec4 radiance;          // rgb colour * intensity
+    vec4 cone;              // x, y: spot angle scale, offset (0, 1: no cone); z: 1 / range^2 (0: none)
 };
 
 layout(std430, binding = 3) readonly buffer Lights { LightData lights[]; };

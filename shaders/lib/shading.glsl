@@ -7,7 +7,7 @@
 // The including shader defines how much of a light reaches the point (the frame's shadow
 // map in lib/shadow_map.glsl; a traced shadow ray in the reference pass):
 //     float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance);
-// Needs frame_uniforms.glsl, brdf.glsl, lights.glsl, gbuffer.glsl.
+// Needs frame_uniforms.glsl, scene_data.glsl, brdf.glsl, lights.glsl, gbuffer.glsl.
 
 float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance);
 
@@ -19,6 +19,10 @@ vec3 shade_surface(GSample g, vec3 p, vec3 v) {
     vec3 F0 = specular_f0(g.albedo, g.metallic);
     vec3 diffuse_color = g.albedo * (1.0 - g.metallic);
     vec3 radiance = frame.ambient.rgb * g.albedo;
+    // glTF emission (emissiveFactor x KHR_materials_emissive_strength) leaves the surface
+    // whatever lights it; looked up by the object id the G-buffer already carries, so the
+    // layers need no extra channel and every caller (lit G-buffer, BVH hits, reference) agrees.
+    if (g.object_id >= 0) radiance += materials[objects[g.object_id].material.x].emissive.rgb;
 
     int count = LIGHTS_IN_FRAME;
     for (int i = 0; i < count; ++i) {
@@ -34,6 +38,13 @@ vec3 shade_surface(GSample g, vec3 p, vec3 v) {
             l = to_light * inversesqrt(d2);
             light_distance = sqrt(d2);
             irradiance /= d2;  // inverse-square falloff of a point light's intensity
+            // KHR_lights_punctual's recommended range window, clamp(1 - (d / range)^4, 0, 1)^2.
+            float w = clamp(1.0 - d2 * d2 * light.cone.z * light.cone.z, 0.0, 1.0);
+            // Its recommended spot falloff: clamp(cos(angle to the axis) * scale + offset, 0, 1)^2
+            float spot = 1.0;
+            if (light.position_type.w == 2.0)
+                spot = clamp(dot(normalize(light.direction_shadow.xyz), -l) * light.cone.x + light.cone.y, 0.0, 1.0);
+            irradiance *= w * w * spot * spot;
         }
         float NoL = dot(n, l);
         if (NoL <= 0.0) continue;

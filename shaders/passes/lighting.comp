@@ -4,6 +4,7 @@
 // layer's linear view-space depth, which the tracers and the Python readback use.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
+#include "../lib/scene_data.glsl"
 #include "../lib/gbuffer.glsl"
 #include "../lib/brdf.glsl"
 #include "../lib/lights.glsl"
