@@ -20,6 +20,21 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const 
     };
 }
 
+namespace {
+// Back faces culled as Settings.backface_culling says (counter-clockwise fronts, as glTF), for
+// peeling and the lists' one geometry pass alike.
+void apply_culling(const RenderSettings& s) {
+    if (s.backface_culling) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glFrontFace(GL_CCW);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
+}
+
+}  // namespace
+
 void DepthPeelPass::execute(FrameContext& ctx) {
     list_stats_ = ListStats{};
     prepare_tiles(ctx);
@@ -112,13 +127,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     glDisable(GL_BLEND);
     // gbuffer.albedo is sRGB storage: encode on write (and texel fetches decode on read).
     glEnable(GL_FRAMEBUFFER_SRGB);
-    if (s.backface_culling) {
-        glEnable(GL_CULL_FACE);
-        glCullFace(GL_BACK);
-        glFrontFace(GL_CCW);
-    } else {
-        glDisable(GL_CULL_FACE);
-    }
+    apply_culling(s);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);  // the clears below obey the write masks
     ctx.gpu_scene.bind_geometry();
     glBindTextureUnit(3, previous.id());
@@ -402,13 +411,7 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_BLEND);
-    if (s.backface_culling) {
-        glEnable(GL_CULL_FACE);
-        glCullFace(GL_BACK);
-        glFrontFace(GL_CCW);
-    } else {
-        glDisable(GL_CULL_FACE);
-    }
+    apply_culling(s);
     ctx.gpu_scene.bind_geometry();
     const auto& draws = ctx.gpu_scene.draws();
     GLuint current = 0;
