@@ -41,3 +41,23 @@ def test_every_ray_layer_keeps_its_own_rows(renderer):
         assert np.array_equal(traced, reflective & traced)  # never where nothing reflects
         assert traced.sum() >= 0.9 * reflective.sum() > 0  # all but surfaces seen edge-on
     assert renderer.stats["readback_bytes"] > 0
+
+
+@pytest.mark.parametrize("name", ["color", "lit", "rays.sample", "linear_depth", "gbuffer.albedo", "gbuffer.material",
+                                  "gbuffer.depth", "gbuffer.normal"])
+def test_staged_readback_equals_download(name):
+    # Renderer.readback_path 'staged' (copy pass, DMA into pinned client memory, parallel copy;
+    # the GPU default) gives exactly the driver download's values, rows and layers: a frame is
+    # read both ways from one renderer (rows of 37 texels: no power-of-two alignment).
+    r = ssrlab.Renderer("cpu")
+    f = r.render(ssrlab.scenes.spheres_and_boxes(seed=1), settings=small(width=37, height=23, layers=2))
+    r.readback_path = "download"
+    assert r.info["readback_path"] == "download"
+    a = f._native.read(name, 0)
+    r.readback_path = "staged"
+    assert r.info["readback_path"] == "staged"
+    b = f._native.read(name, 0)
+    assert a.shape == b.shape and a.dtype == b.dtype == np.float32
+    np.testing.assert_array_equal(a, b)
+    with pytest.raises(ValueError, match="readback_path"):
+        r.readback_path = "dma"

@@ -197,6 +197,11 @@ void bind_render(py::module_& m) {
             },
             py::arg("scene"), py::arg("settings"),
             "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs).")
+        .def_property("readback_path", &Renderer::readback_path, &Renderer::set_readback_path,
+                      "How textures reach numpy: 'auto' (staged on a GPU, download on the CPU device), 'download' "
+                      "(the driver's glGetTextureSubImage for float formats), or 'staged' (a copy pass into a "
+                      "buffer, a DMA copy into pinned client memory, a parallel copy into the array). All three "
+                      "give the same values.")
         .def("begin_sequence", &Renderer::begin_sequence,
              "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
              "its history is dropped with it.")
@@ -207,6 +212,7 @@ void bind_render(py::module_& m) {
                 d["readback_rows"] = r.pack_invert() ? "GL_MESA_pack_invert" : "flipped on the CPU";
                 d["max_texture_size"] = std::to_string(r.max_texture_size());
                 d["input_fetch"] = r.fetch_by_image() ? "imageLoad" : "texelFetch";
+                d["readback_path"] = r.readback_staged() ? "staged" : "download";
                 return d;
             },
             "Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first; "

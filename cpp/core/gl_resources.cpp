@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "core/errors.h"
 
@@ -77,8 +78,20 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
         reset();
         std::swap(id_, o.id_);
         size_ = o.size_;
+        std::swap(map_, o.map_);
     }
     return *this;
+}
+
+Buffer Buffer::create_readable(size_t bytes) {
+    Buffer b;
+    b.size_ = std::max<size_t>(bytes, 16);
+    const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glCreateBuffers(1, &b.id_);
+    glNamedBufferStorage(b.id_, GLsizeiptr(b.size_), nullptr, flags | GL_CLIENT_STORAGE_BIT);
+    b.map_ = glMapNamedBufferRange(b.id_, 0, GLsizeiptr(b.size_), flags);
+    if (!b.map_) throw GLError("could not map a readback buffer of " + std::to_string(b.size_) + " bytes");
+    return b;
 }
 
 Buffer Buffer::create(size_t bytes, const void* data) {
@@ -95,9 +108,10 @@ void Buffer::upload(const void* data, size_t bytes, size_t offset) {
 }
 
 void Buffer::reset() {
-    if (id_) glDeleteBuffers(1, &id_);
+    if (id_) glDeleteBuffers(1, &id_);  // unmaps a mapped buffer
     id_ = 0;
     size_ = 0;
+    map_ = nullptr;
 }
 
 Framebuffer& Framebuffer::operator=(Framebuffer&& o) noexcept {

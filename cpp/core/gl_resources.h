@@ -54,7 +54,12 @@ public:
 
     // Storage of `bytes` bytes, initialised from `data` when given; upload() may rewrite it.
     static Buffer create(size_t bytes, const void* data = nullptr);
+    // Storage in client memory, mapped for reading for its whole life (persistent, coherent): a
+    // copy into it is a DMA transfer the CPU reads once a fence has passed, without the driver's
+    // own staging copy of glGet*SubData.
+    static Buffer create_readable(size_t bytes);
     void upload(const void* data, size_t bytes, size_t offset = 0);
+    const void* mapped() const { return map_; }
 
     GLuint id() const { return id_; }
     size_t size() const { return size_; }
@@ -64,6 +69,7 @@ public:
 private:
     GLuint id_ = 0;
     size_t size_ = 0;
+    void* map_ = nullptr;
 };
 
 class Framebuffer {

@@ -1,6 +1,7 @@
 #include "passes/depth_peel.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -140,6 +141,9 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     glDisable(GL_SCISSOR_TEST);
     for (int layer = 0; layer < s.layers; ++layer) {
         GpuScope timer(ctx.timer, "depth_peel.layer" + std::to_string(layer));
+        // The parts of every layer, summed over the layers (depth_peel.setup/depth/shade): where
+        // a layer's time goes on a device, without a profiler.
+        std::optional<GpuScope> part(std::in_place, ctx.timer, "depth_peel.setup");
         if (layer > 0)
             glCopyImageSubData(depth.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer - 1, previous.id(), GL_TEXTURE_2D, 0, 0,
                                0, 0, s.width, s.height, 1);
@@ -173,6 +177,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         // Draw only if the previous layer covered something (its query counted samples).
         if (layer > 0) glBeginConditionalRender(queries_[size_t(layer - 1)], GL_QUERY_WAIT);
         // Depth pass: the samples it counts are the depth-test-passing fragments of the layer.
+        part.emplace(ctx.timer, "depth_peel.depth");
         const GLuint depth_prog = layer > 0 ? depth_peeled : depth_first;
         glUseProgram(depth_prog);
         const GLint loc_depth_object = glGetUniformLocation(depth_prog, "u_object");
@@ -191,6 +196,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         // depth the last drawn one's colour stays, where the depth test alone kept the first:
         // the draws go in reverse order, so the same object wins (triangles within one draw
         // still go in order).
+        part.emplace(ctx.timer, "depth_peel.shade");
         glNamedFramebufferDrawBuffers(fbo_.id(), 3, draw_buffers);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);

@@ -3,6 +3,7 @@
 #include "passes/compute.h"
 
 #include <algorithm>
+#include <optional>
 
 namespace ssr {
 
@@ -30,7 +31,10 @@ void LightingPass::execute(FrameContext& ctx) {
     const Buffer* tiles = peel_ ? peel_->covered_tiles(ctx.settings) : nullptr;
     tiles_ = tiles;
     const int tile_count = DepthPeelPass::covered_tiles_per_layer(ctx.settings) * ctx.settings.layers;
+    // Its parts (lighting.list/clear/shade): where the pass's time goes on a device.
+    std::optional<GpuScope> part;
     if (tiles) {
+        part.emplace(ctx.timer, "lighting.list");
         Defines dl = d;
         dl["TILE_LIST"] = "1";
         const GLuint list = ctx.shaders.program({"passes/lighting.comp"}, dl);
@@ -70,6 +74,7 @@ void LightingPass::execute(FrameContext& ctx) {
     // With the tile list every layer is cleared first: the tiles it leaves out keep the clear.
     const int cleared_from = tiles ? 0 : shaded;
     if (cleared_from < allocated) {
+        part.emplace(ctx.timer, "lighting.clear");
         const Texture& lit = r.get("lit");
         const Texture& depth = r.get("linear_depth");
         const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -80,6 +85,7 @@ void LightingPass::execute(FrameContext& ctx) {
                            GL_RED, GL_FLOAT, &far);
     }
     layers_shaded_ = shaded;
+    part.emplace(ctx.timer, "lighting.shade");
     if (tiles) {
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // the clears first
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tiles->id());

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <thread>
 #include <cmath>
 #include <cctype>
 #include <chrono>
@@ -158,6 +159,7 @@ void Renderer::destroy_gl_objects() {
     ssr_ubo_.reset();
     lights_ssbo_.reset();
     readback_ssbo_.reset();
+    readback_staging_.reset();
     specular_albedo_.reset();
     timer_.reset();
     shaders_->release();
@@ -798,6 +800,40 @@ unsigned Renderer::compile(const std::vector<std::string>& stages, const Defines
     return prog;
 }
 
+void Renderer::set_readback_path(const std::string& path) {
+    if (path != "auto" && path != "download" && path != "staged")
+        throw std::invalid_argument("Renderer.readback_path must be 'auto', 'download' or 'staged', got '" + path + "'");
+    readback_path_ = path;
+}
+
+bool Renderer::readback_staged() const {
+    if (readback_path_ == "auto") return ctx_->info().chosen != "cpu";
+    return readback_path_ == "staged";
+}
+
+namespace {
+// memcpy in up to 8 threads of at least 4 MiB each: one core's copy of a 1920x1080 RGBA32F
+// image (33 MB) takes several ms, longer than the transfer.
+void parallel_copy(float* dst, const char* src, size_t bytes) {
+    const size_t chunk_min = size_t(4) << 20;
+    const size_t threads = std::min<size_t>({8, std::max(1u, std::thread::hardware_concurrency()),
+                                             std::max<size_t>(1, bytes / chunk_min)});
+    char* out = reinterpret_cast<char*>(dst);
+    if (threads <= 1) {
+        std::memcpy(out, src, bytes);
+        return;
+    }
+    const size_t chunk = (bytes / threads + 63) & ~size_t(63);
+    std::vector<std::thread> pool;
+    for (size_t t = 1; t < threads; ++t) {
+        const size_t begin = std::min(bytes, t * chunk), end = std::min(bytes, (t + 1) * chunk);
+        if (begin < end) pool.emplace_back([=] { std::memcpy(out + begin, src + begin, end - begin); });
+    }
+    std::memcpy(out, src, std::min(bytes, chunk));
+    for (auto& th : pool) th.join();
+}
+}  // namespace
+
 Readback Renderer::read_texture(const Texture& tex, int level) {
     CurrentContext current(*ctx_);
     if (level < 0 || level >= tex.levels())
@@ -813,7 +849,7 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     const size_t layer_floats = row * size_t(out.height);
     const bool float_format =
         f == GL_RGBA32F || f == GL_RGBA16F || f == GL_RG32F || f == GL_RG16F || f == GL_R32F || f == GL_R16F;
-    if (float_format && layer_floats * sizeof(float) <= size_t(std::numeric_limits<GLsizei>::max())) {
+    if (!readback_staged() && float_format && layer_floats * sizeof(float) <= size_t(std::numeric_limits<GLsizei>::max())) {
         // Float formats, whose GL_RGBA/GL_FLOAT download is exactly what a texelFetch returns
         // (halves widen exactly; absent channels read 0, 0, 1): downloaded as stored, a layer
         // at a time (GL sizes are 32-bit), no copy pass (on llvmpipe the copy pass
@@ -852,6 +888,7 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
         return out;
     }
     if (readback_ssbo_.size() < bytes) readback_ssbo_ = Buffer::create(bytes);
+    const bool staged = readback_staged();
     Defines d;
     d["READ_ARRAY"] = tex.target() == GL_TEXTURE_2D_ARRAY ? "1" : "0";
     const GLuint prog = shaders_->program({"passes/readback.comp"}, d);
@@ -865,7 +902,25 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindSampler(0, 0);
     out.data.resize(bytes / sizeof(float));
-    glGetNamedBufferSubData(readback_ssbo_.id(), 0, GLsizeiptr(bytes), out.data.data());
+    if (staged) {
+        // A GPU's glGetBufferSubData goes through the driver's own staging copy into pageable
+        // memory; here the copy engine writes into pinned client memory and the CPU copies
+        // from it in parallel, once the fence has passed.
+        if (readback_staging_.size() < bytes) {
+            readback_staging_.reset();
+            readback_staging_ = Buffer::create_readable(bytes);
+        }
+        glCopyNamedBufferSubData(readback_ssbo_.id(), readback_staging_.id(), 0, 0, GLsizeiptr(bytes));
+        glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+        GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+        GLenum waited = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000ull);
+        while (waited == GL_TIMEOUT_EXPIRED) waited = glClientWaitSync(fence, 0, 1000000000ull);
+        glDeleteSync(fence);
+        if (waited == GL_WAIT_FAILED) throw GLError("readback: waiting for the GPU failed");
+        parallel_copy(out.data.data(), static_cast<const char*>(readback_staging_.mapped()), bytes);
+    } else {
+        glGetNamedBufferSubData(readback_ssbo_.id(), 0, GLsizeiptr(bytes), out.data.data());
+    }
     check_gl(*ctx_, "readback");
     ++readbacks_;
     readback_bytes_ += bytes;

@@ -84,6 +84,13 @@ public:
     DeviceInfo info() const { return ctx_->info(); }
     // Float textures are downloaded with rows top first by the driver (GL_MESA_pack_invert).
     bool pack_invert() const { return pack_invert_; }
+    // How textures reach the CPU (read_texture): "download" (glGetTextureSubImage of float
+    // formats, the copy pass for the others), "staged" (every format through the copy pass into
+    // a storage buffer, copied into a persistently mapped client buffer, read after a fence), or
+    // "auto": staged on a GPU, download on the CPU device.
+    const std::string& readback_path() const { return readback_path_; }
+    void set_readback_path(const std::string& path);
+    bool readback_staged() const;
     // Whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
     bool fetch_by_image() const { return fetch_by_image_; }
     int max_texture_size() const { return max_texture_size_; }
@@ -152,7 +159,8 @@ private:
     std::shared_ptr<EglContext> ctx_;  // first member: destroyed last, after every GL object
     std::unique_ptr<ShaderLibrary> shaders_;
     GpuTimer timer_;
-    Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_;
+    Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_, readback_staging_;
+    std::string readback_path_ = "auto";
     GLuint readback_sampler_ = 0;
     bool pack_invert_ = false;  // GL_MESA_pack_invert: downloads come with rows top first
     bool fetch_by_image_ = false;  // FETCH_BY_IMAGE: the CPU device (llvmpipe), see lib/input_fetch.glsl

@@ -109,6 +109,22 @@ class Renderer:
         Frame property or read() asks, once per texture and level)."""
         return {k: int(v) for k, v in self._native.stats.items()}
 
+    @property
+    def readback_path(self) -> str:
+        """How textures reach numpy: "auto" (staged on a GPU, download on the CPU device),
+        "download" (the driver's download of float formats; a copy pass decodes the others) or
+        "staged" (every format through the copy pass into a buffer, copied by the GPU into pinned
+        client memory and from there into the array by several threads). The values are the same
+        whichever path (tests/test_readback.py); benchmarks/readback.py times them."""
+        return self._native.readback_path
+
+    @readback_path.setter
+    def readback_path(self, path: str) -> None:
+        if path not in ("auto", "download", "staged"):
+            raise ValueError(f"Renderer.readback_path must be 'auto', 'download' or 'staged', got {path!r}")
+        self._native.readback_path = path
+        self.__dict__.pop("info", None)  # info["readback_path"] follows
+
     @functools.cached_property
     def info(self) -> dict:
         """Vendor, renderer, GL version and the device chosen."""
