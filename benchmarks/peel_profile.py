@@ -5,10 +5,10 @@
 Per scene and layer count: the median GPU ms (with min-max) of the peeling's parts, summed over
 the layers (`depth_peel.setup`: clears and the copy of the previous layer's depth; `.depth`: the
 depth-only peel; `.shade`: the material pass at GL_EQUAL) and of the lighting pass's parts
-(`lighting.list`, `.clear`, `.shade`), under two protocols:
-  back-to-back  renders issued one after the other (the device stays busy: clocks up)
-  paced         a 50 ms pause before each render (what a script that renders, reads back and
-                works on each frame does: a GPU may lower its clocks in the pauses)
+(`lighting.list`, `.clear`, `.shade`), for both clear paths (Renderer.clear_path "gl": glClearTexSubImage and framebuffer clears;
+"compute": image stores), the two alternating render by render with renders issued back to back,
+then the device's default path "paced": a 50 ms pause before each render (what a script that
+renders, reads back and works on each frame does: a GPU may lower its clocks in the pauses).
 Then timing-only experiments on copies of the shaders (`Renderer(shader_dir=...)`), whose images
 are not meant to be right: `no_tile_flags` drops the peeling shader's covered-tile and
 reflective-region stores (storage-buffer writes from every fragment). The ratio of each
@@ -49,15 +49,21 @@ def shader_variant(root: Path, name: str) -> Path:
     return dst
 
 
-def measure(renderer, scene, settings, repeats: int, pause: float) -> dict[str, list[float]]:
-    for _ in range(3):
-        renderer.render(scene, settings=settings).timings
-    runs = []
+def measure(renderer, scene, settings, repeats: int, pause: float, clear_paths=("auto",)) -> dict:
+    """Timings per clear path, the paths alternating render by render (an interleaved A/B)."""
+    for path in clear_paths:
+        renderer.clear_path = path
+        for _ in range(3):
+            renderer.render(scene, settings=settings).timings
+    runs = {path: [] for path in clear_paths}
     for _ in range(repeats):
-        if pause:
-            time.sleep(pause)
-        runs.append(renderer.render(scene, settings=settings).timings)
-    return {k: [r.get(k, float("nan")) for r in runs] for k in PARTS}
+        for path in clear_paths:
+            renderer.clear_path = path
+            if pause:
+                time.sleep(pause)
+            runs[path].append(renderer.render(scene, settings=settings).timings)
+    renderer.clear_path = "auto"
+    return {path: {k: [r.get(k, float("nan")) for r in rs] for k in PARTS} for path, rs in runs.items()}
 
 
 def row(label: str, samples: dict[str, list[float]]) -> str:
@@ -91,10 +97,15 @@ def main(argv=None) -> int:
                 s = ssrlab.Settings(width=args.width, height=args.height, layers=layers, method="hiz",
                                     sampling="mirror", rays_per_pixel=1, reuse_radius=1)
                 for rname, r in renderers.items():
-                    protocols = [("back-to-back", 0.0)] + ([("paced", 0.05)] if rname == "base" else [])
-                    for pname, pause in protocols:
-                        print(row(f"{scene_name} L{layers} {rname} {pname}", measure(r, scene, s, args.repeats,
-                                                                                       pause)), flush=True)
+                    if rname == "base":
+                        # the clear paths A/B, back to back, then the default path paced
+                        for path, samples in measure(r, scene, s, args.repeats, 0.0, ("gl", "compute")).items():
+                            print(row(f"{scene_name} L{layers} clear={path}", samples), flush=True)
+                        print(row(f"{scene_name} L{layers} paced", measure(r, scene, s, args.repeats, 0.05)["auto"]),
+                              flush=True)
+                    else:
+                        print(row(f"{scene_name} L{layers} {rname}", measure(r, scene, s, args.repeats, 0.0)["auto"]),
+                              flush=True)
     return 0
 
 

@@ -56,6 +56,8 @@ def git_commit() -> str:
     def git(*a):
         return subprocess.run(["git", "-C", str(HERE), *a], capture_output=True, text=True, timeout=60)
 
+    if os.environ.get("SSRLAB_COMMIT"):  # a copy of the tree without its .git (a device machine)
+        return os.environ["SSRLAB_COMMIT"]
     head = git("rev-parse", "--short=10", "HEAD")
     if head.returncode:
         return "unknown (not a git checkout)"

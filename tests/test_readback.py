@@ -49,7 +49,7 @@ def test_staged_readback_equals_download(name):
     # Renderer.readback_path 'staged' (copy pass, DMA into pinned client memory, parallel copy;
     # the GPU default) gives exactly the driver download's values, rows and layers: a frame is
     # read both ways from one renderer (rows of 37 texels: no power-of-two alignment).
-    r = ssrlab.Renderer("cpu")
+    r = ssrlab.Renderer()
     f = r.render(ssrlab.scenes.spheres_and_boxes(seed=1), settings=small(width=37, height=23, layers=2))
     r.readback_path = "download"
     assert r.info["readback_path"] == "download"

@@ -202,6 +202,10 @@ void bind_render(py::module_& m) {
                       "(the driver's glGetTextureSubImage for float formats), or 'staged' (a copy pass into a "
                       "buffer, a DMA copy into pinned client memory, a parallel copy into the array). All three "
                       "give the same values.")
+        .def_property("clear_path", &Renderer::clear_path, &Renderer::set_clear_path,
+                      "How the passes clear textures: 'auto' (compute on a GPU, gl on the CPU device), 'gl' "
+                      "(glClearTexSubImage and framebuffer clears) or 'compute' (image stores). The images are "
+                      "the same either way.")
         .def("begin_sequence", &Renderer::begin_sequence,
              "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
              "its history is dropped with it.")
@@ -213,6 +217,7 @@ void bind_render(py::module_& m) {
                 d["max_texture_size"] = std::to_string(r.max_texture_size());
                 d["input_fetch"] = r.fetch_by_image() ? "imageLoad" : "texelFetch";
                 d["readback_path"] = r.readback_staged() ? "staged" : "download";
+                d["clear_path"] = r.clear_by_compute() ? "compute" : "gl";
                 return d;
             },
             "Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first; "

@@ -73,12 +73,12 @@ void ClassifyPass::execute(FrameContext& ctx) {
     {
         GpuScope t(ctx.timer, "classify.clear");  // a part of this pass's interval, shown apart
         const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        clear_layers(r.get("rays.sample"), 0, zero);
+        clear_layers(ctx, r.get("rays.sample"), 0, zero);
         if (resolve_lists_) {
             // What a non-receiver reflects where the resolve will not run: nothing (alpha 1, as
             // the resolve writes it); the rough reflective pixels' environment is the shader's.
             const float none[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-            clear_layers(r.get("reflection"), 0, none);
+            clear_layers(ctx, r.get("reflection"), 0, none);
         }
     }
 

@@ -43,17 +43,53 @@ inline void dispatch_2d(int width, int height, int depth, int gx, int gy) {
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-// Gives layers [from, layers) of every level of the array `tex` the value a pass
-// writes for an empty layer (`value`: as many floats as the format has channels), by a clear
-// instead of a dispatch, so a skipped layer reads exactly as if the pass had run on it.
-inline void clear_layers(Texture& tex, int from, const float* value) {
-    if (from >= tex.layers()) return;
-    const GLenum fmt = tex.format() == GL_R32F || tex.format() == GL_R16F   ? GL_RED
-                       : tex.format() == GL_RG32F || tex.format() == GL_RG16F ? GL_RG
-                                                                              : GL_RGBA;
+// The image format qualifier of a format a clear by image stores can write ("" for one it
+// cannot: depth, sRGB and integer formats).
+inline const char* clear_format_qualifier(GLenum format) {
+    if (format == GL_RGBA8) return "rgba8";
+    return image_format_qualifier(format);
+}
+
+// Gives layers [from, from + count) (count < 0: to the last) of every level of the array `tex` the
+// value a pass writes for an empty layer (`value`: as many floats as the format has channels), by a
+// clear instead of a dispatch, so a skipped layer reads exactly as if the pass had run on it. By
+// image stores where FrameContext::clear_by_compute says so (shaders/passes/clear_layers.comp),
+// else by glClearTexSubImage.
+inline void clear_layers(FrameContext& ctx, Texture& tex, int from, const float* value, int count = -1) {
+    const int layers = tex.layers();
+    if (count < 0) count = layers - from;
+    count = std::min(count, layers - from);
+    if (from >= layers || count <= 0) return;
+    const int channels = tex.format() == GL_R32F || tex.format() == GL_R16F   ? 1
+                         : tex.format() == GL_RG32F || tex.format() == GL_RG16F ? 2
+                                                                                 : 4;
+    const char* qualifier = clear_format_qualifier(tex.format());
+    const bool array = tex.target() == GL_TEXTURE_2D_ARRAY;
+    if (ctx.clear_by_compute && *qualifier && (array || tex.target() == GL_TEXTURE_2D)) {
+        Defines d;
+        d["IMAGE_FORMAT"] = qualifier;
+        d["IMAGE_ARRAY"] = array ? "1" : "0";
+        const GLuint prog = ctx.shaders.program({"passes/clear_layers.comp"}, d);
+        glUseProgram(prog);
+        float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // absent channels are not stored
+        for (int c = 0; c < channels; ++c) v[c] = value[c];
+        glUniform4fv(glGetUniformLocation(prog, "u_value"), 1, v);
+        glUniform1i(glGetUniformLocation(prog, "u_first"), from);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        for (int level = 0; level < tex.levels(); ++level) {
+            const int w = std::max(tex.width() >> level, 1), h = std::max(tex.height() >> level, 1);
+            glUniform2i(glGetUniformLocation(prog, "u_size"), w, h);
+            glBindImageTexture(0, tex.id(), level, array ? GL_TRUE : GL_FALSE, 0, GL_WRITE_ONLY, tex.format());
+            glDispatchCompute(GLuint((w + 7) / 8), GLuint((h + 7) / 8), GLuint(count));
+        }
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        return;
+    }
+    const GLenum fmt = channels == 1 ? GL_RED : channels == 2 ? GL_RG : GL_RGBA;
     for (int level = 0; level < tex.levels(); ++level)
         glClearTexSubImage(tex.id(), level, 0, 0, from, std::max(tex.width() >> level, 1),
-                           std::max(tex.height() >> level, 1), tex.layers() - from, fmt, GL_FLOAT, value);
+                           std::max(tex.height() >> level, 1), count, fmt, GL_FLOAT, value);
 }
 
 // Binds a pass's declared inputs to texture units 0, 1, ... in the order it lists them (the

@@ -10,7 +10,7 @@ void HizBuildPass::execute(FrameContext& ctx) {
     // (+inf, -inf) cells at every level, what the shader writes for an uncovered pixel.
     const int layers = ctx.layers_in_use();
     const float empty[2] = {1e30f, -1e30f};  // EMPTY of hiz_build.comp
-    clear_layers(hiz, layers, empty);
+    clear_layers(ctx, hiz, layers, empty);
     layers_built_ = layers;
     if (layers == 0) return;
 

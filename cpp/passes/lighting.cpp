@@ -46,20 +46,6 @@ void LightingPass::execute(FrameContext& ctx) {
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
         d["TILED"] = "1";
     }
-    const GLuint prog = ctx.shaders.program({"passes/lighting.comp"}, d);
-    glUseProgram(prog);
-    glUniform1i(glGetUniformLocation(prog, "u_tiles"), tile_count);
-    auto& r = ctx.resources;
-    glBindTextureUnit(0, r.get("gbuffer.depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
-    bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
-    bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
-    // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
-    // depth format, which no image can bind.
-    if (ctx.fetch_by_image()) bind_input_images(r, 2, {"gbuffer.normal"});
     // Layers behind the first empty one hold nothing anywhere (peeling skipped their
     // draws), so they get exactly what the shader writes for an uncovered pixel, by a clear.
     // Reading the query results waits for the peeling (a sync point before this pass).
@@ -75,15 +61,25 @@ void LightingPass::execute(FrameContext& ctx) {
     const int cleared_from = tiles ? 0 : shaded;
     if (cleared_from < allocated) {
         part.emplace(ctx.timer, "lighting.clear");
-        const Texture& lit = r.get("lit");
-        const Texture& depth = r.get("linear_depth");
         const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        const float far = ctx.uniforms.clip.y;
-        glClearTexSubImage(lit.id(), 0, 0, 0, cleared_from, lit.width(), lit.height(), allocated - cleared_from, GL_RGBA,
-                           GL_FLOAT, zero);
-        glClearTexSubImage(depth.id(), 0, 0, 0, cleared_from, depth.width(), depth.height(), allocated - cleared_from,
-                           GL_RED, GL_FLOAT, &far);
+        const float far[4] = {ctx.uniforms.clip.y, 0.0f, 0.0f, 0.0f};
+        clear_layers(ctx, ctx.resources.get("lit"), cleared_from, zero);
+        clear_layers(ctx, ctx.resources.get("linear_depth"), cleared_from, far);
     }
+    const GLuint prog = ctx.shaders.program({"passes/lighting.comp"}, d);
+    glUseProgram(prog);
+    glUniform1i(glGetUniformLocation(prog, "u_tiles"), tile_count);
+    auto& r = ctx.resources;
+    glBindTextureUnit(0, r.get("gbuffer.depth").id());
+    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
+    glBindTextureUnit(2, r.get("gbuffer.normal").id());
+    glBindTextureUnit(3, r.get("gbuffer.material").id());
+    if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
+    bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
+    bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
+    // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
+    // depth format, which no image can bind.
+    if (ctx.fetch_by_image()) bind_input_images(r, 2, {"gbuffer.normal"});
     layers_shaded_ = shaded;
     part.emplace(ctx.timer, "lighting.shade");
     if (tiles) {

@@ -14,8 +14,8 @@ void PreconvolvePass::execute(FrameContext& ctx) {
     // Layers empty everywhere are 0 (no colour, no coverage) at every level.
     const int layers = ctx.layers_in_use();
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    clear_layers(pyramid, layers, zero);
-    clear_layers(scratch, layers, zero);
+    clear_layers(ctx, pyramid, layers, zero);
+    clear_layers(ctx, scratch, layers, zero);
     if (layers == 0) return;
 
     Defines level0 = ctx.defines;

@@ -12,7 +12,7 @@ void PreintegratePass::execute(FrameContext& ctx) {
     // Layers empty everywhere have visibility 0 at every level (the shader's value).
     const int layers = ctx.layers_in_use();
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    clear_layers(vis, layers, zero);
+    clear_layers(ctx, vis, layers, zero);
     // The cone tracer reads it trilinearly (seed 002, 4.4.5).
     vis.set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
 

@@ -89,6 +89,9 @@ struct FrameContext {
     // set by the renderer after the peeling with Settings.skip; -1 (skip off, or before the
     // peeling): every allocated layer. The per-layer passes work on these layers only.
     int layers_used = -1;
+    // Clears of float and RGBA8 textures by image stores instead of glClearTexSubImage and
+    // framebuffer clears (Renderer.clear_path; on by default on a GPU: passes/compute.h).
+    bool clear_by_compute = false;
     int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }
     // The passes read their float inputs as read-only images (FETCH_BY_IMAGE, the CPU
     // device; lib/input_fetch.glsl), bound by bind_input_images (passes/compute.h).

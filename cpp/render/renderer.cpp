@@ -462,6 +462,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     defines["FETCH_BY_IMAGE"] = fetch_by_image_ ? "1" : "0";
     add_light_count(defines, scene);
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
+    fc.clear_by_compute = clear_by_compute();
     if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
         fc.history = sequence->previous.get();
         fc.history_uniforms = &sequence->previous_uniforms;
@@ -640,6 +641,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
         Defines d;
         dc.add_defines(d);
         FrameContext sfc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, dc, frame.uniforms, scratch_, d};
+        sfc.clear_by_compute = clear_by_compute();
         shadow_map_.execute(sfc);
         check_gl(*ctx_, "shadow_map (again, for the reference)");
         scratch_owner_["shadow_map"] = frame.serial;
@@ -672,6 +674,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     add_light_count(defines, scene);
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
                     defines};
+    fc.clear_by_compute = clear_by_compute();
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
     if (embree) pass.set_tracer(&gs.embree_tracer());
@@ -804,6 +807,17 @@ void Renderer::set_readback_path(const std::string& path) {
     if (path != "auto" && path != "download" && path != "staged")
         throw std::invalid_argument("Renderer.readback_path must be 'auto', 'download' or 'staged', got '" + path + "'");
     readback_path_ = path;
+}
+
+void Renderer::set_clear_path(const std::string& path) {
+    if (path != "auto" && path != "gl" && path != "compute")
+        throw std::invalid_argument("Renderer.clear_path must be 'auto', 'gl' or 'compute', got '" + path + "'");
+    clear_path_ = path;
+}
+
+bool Renderer::clear_by_compute() const {
+    if (clear_path_ == "auto") return ctx_->info().chosen != "cpu";
+    return clear_path_ == "compute";
 }
 
 bool Renderer::readback_staged() const {

@@ -91,6 +91,12 @@ public:
     const std::string& readback_path() const { return readback_path_; }
     void set_readback_path(const std::string& path);
     bool readback_staged() const;
+    // How the passes clear textures (passes/compute.h, clear_layers): "gl" (glClearTexSubImage and
+    // framebuffer clears), "compute" (image stores, for float and RGBA8 formats) or "auto":
+    // compute on a GPU, gl on the CPU device. The images are the same either way.
+    const std::string& clear_path() const { return clear_path_; }
+    void set_clear_path(const std::string& path);
+    bool clear_by_compute() const;
     // Whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
     bool fetch_by_image() const { return fetch_by_image_; }
     int max_texture_size() const { return max_texture_size_; }
@@ -161,6 +167,7 @@ private:
     GpuTimer timer_;
     Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_, readback_staging_;
     std::string readback_path_ = "auto";
+    std::string clear_path_ = "auto";
     GLuint readback_sampler_ = 0;
     bool pack_invert_ = false;  // GL_MESA_pack_invert: downloads come with rows top first
     bool fetch_by_image_ = false;  // FETCH_BY_IMAGE: the CPU device (llvmpipe), see lib/input_fetch.glsl

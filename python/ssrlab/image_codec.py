@@ -107,7 +107,12 @@ def probe(path) -> tuple[int, int, int]:
             lo, hi = f.header()["dataWindow"]
             channels = f.header().get("channels", [])
         return int(hi[0] - lo[0] + 1), int(hi[1] - lo[1] + 1), max(1, len(channels))
-    with _pil().open(str(path)) as im:
+    PIL = _pil()
+    try:
+        im = PIL.open(str(path))
+    except PIL.UnidentifiedImageError:
+        raise ValueError(f"{path}: not an image file Pillow can read (PNG, JPEG, ...; EXR by extension)") from None
+    with im:
         return im.size[0], im.size[1], len(im.getbands())
 
 

@@ -125,6 +125,22 @@ class Renderer:
         self._native.readback_path = path
         self.__dict__.pop("info", None)  # info["readback_path"] follows
 
+    @property
+    def clear_path(self) -> str:
+        """How the passes clear textures: "auto" (image stores on a GPU, GL clears on the CPU
+        device), "gl" (glClearTexSubImage and framebuffer clears) or "compute" (image stores of a
+        compute shader; a GPU built for compute, such as NVIDIA's H100 and H200, has few raster
+        units, and its GL clears ran at a tenth of its memory bandwidth: benchmarks/peel_profile.py).
+        The images are the same either way (tests/test_readback.py)."""
+        return self._native.clear_path
+
+    @clear_path.setter
+    def clear_path(self, path: str) -> None:
+        if path not in ("auto", "gl", "compute"):
+            raise ValueError(f"Renderer.clear_path must be 'auto', 'gl' or 'compute', got {path!r}")
+        self._native.clear_path = path
+        self.__dict__.pop("info", None)
+
     @functools.cached_property
     def info(self) -> dict:
         """Vendor, renderer, GL version and the device chosen."""
