@@ -30,13 +30,13 @@ from common import benchmark_arguments, open_renderer  # noqa: E402
 TEXTURES = {"color": "direct", "lit": "direct", "gbuffer.albedo": "copy pass", "gbuffer.material": "copy pass"}
 
 
-def time_reads(native, name: str, repeats: int) -> tuple[np.ndarray, int]:
+def time_reads(frame, name: str, repeats: int) -> tuple[np.ndarray, int]:
     for _ in range(2):
-        data = native.read(name, 0)
+        data = frame.read(name, cache=False)
     ms = []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        data = native.read(name, 0)
+        data = frame.read(name, cache=False)
         ms.append((time.perf_counter() - t0) * 1e3)
     return np.asarray(ms), data.nbytes
 
@@ -57,7 +57,7 @@ def main(argv=None) -> int:
         frame = renderer.render(scene, settings=ssrlab.Settings(width=w, height=h, method="hiz", sampling="mirror"))
         per_byte = {}
         for name, path in TEXTURES.items():
-            ms, nbytes = time_reads(frame._native, name, args.repeats)
+            ms, nbytes = time_reads(frame, name, args.repeats)
             q1, med, q3 = np.percentile(ms, [25, 50, 75])
             per_byte.setdefault(path, []).append((q1 / nbytes, med / nbytes, q3 / nbytes))
             print(f"| {w}x{h} | {name} | {path} | {nbytes / 1e6:.1f} | {med:.3f} ({q1:.3f}-{q3:.3f}) | "

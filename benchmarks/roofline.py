@@ -54,6 +54,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
+from ssrlab.lab.timing import median_range as spread, paired  # noqa: E402
+
 THESIS = dict(layers=4, rays_per_pixel=4, stride=4.0, downscale=2, max_steps=250)
 # The issue's resolve-vs-trace pair: one layer, Hi-Z mirror rays, 1 ray, reuse radius 1.
 HIZ_MIRROR = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, reuse_radius=1)
@@ -66,10 +68,6 @@ PEAKS = {
     "store": ("store", 8, 0, 8),            # RGBA16F imageStore
     "bandwidth": ("bandwidth", 8, 16, 0),   # RGBA32F texelFetch, each texel once
 }
-
-
-def spread(values):
-    return statistics.median(values), min(values), max(values)
 
 
 def measure_peaks(renderer, width, height, frame_width, frame_height, repeats):
@@ -225,11 +223,6 @@ def ab_shaders(before, now, scene, settings, key, repeats, ratios):
     ratios[f"{key}: frame before / now, same run"] = paired(*per_pass["total"])
     if "resolve" in per_pass:
         ratios[f"{key}: resolve before / now, same run"] = paired(*per_pass["resolve"])
-
-
-def paired(numerators, denominators):
-    """The ratio of each repeat's pair of timings."""
-    return [a / b for a, b in zip(numerators, denominators)]
 
 
 def fmt_rate(x):

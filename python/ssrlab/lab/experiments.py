@@ -16,7 +16,7 @@ reference the thesis used.
 TAA: the thesis measured every figure with its temporal anti-aliasing on (seed 000, 2.5 and
 3.2: two alternating quarter-pixel jitters, the mean of this frame and the previous one), so
 the thesis's experiments (`layers`, `downscale_rays_stride`) default to ``taa="thesis"``: each
-configuration renders one sequence of the static camera (``bench.sweep(sequence=True)``),
+configuration renders one sequence of the static camera (``run.sweep(sequence=True)``),
 warm-up frames first (they fill the one-frame history), then the timed frames; times are the medians
 over the timed frames, per pass (reproject and taa included), and the error is the mean over
 the timed frames (each draws new rays, so one frame's error is one seed's draw; the mean is the
@@ -44,7 +44,7 @@ import os
 
 import numpy as np
 
-from . import bench
+from . import plan, run
 
 SCALES = {
     "small": dict(width=96, height=54, repeats=1, warmup=1, reference_rays=16),
@@ -177,7 +177,7 @@ def scale_parameters(scale: str | None = None) -> dict:
 
 
 def _sweeps(grid, scenes, base, p, references=REFERENCES, progress=False, executor=None, taa="off"):
-    # TAA needs a sequence: warmup + repeats frames of the static camera (bench.sweep(sequence=True)),
+    # TAA needs a sequence: warmup + repeats frames of the static camera (run.sweep(sequence=True)),
     # as many frames as the single-frame protocol renders.
     common = dict(grid=grid, scenes=scenes, base=dict(base, width=p["width"], height=p["height"], taa=taa),
                   repeats=p["repeats"], warmup=p["warmup"], progress=progress, executor=executor,
@@ -185,7 +185,7 @@ def _sweeps(grid, scenes, base, p, references=REFERENCES, progress=False, execut
     out = {}
     for ref in references:
         rays = p["reference_rays"] if ref == "converged" else None
-        out[ref] = bench.sweep(**common, reference=ref, reference_rays=rays)
+        out[ref] = run.sweep(**common, reference=ref, reference_rays=rays)
     return out
 
 
@@ -234,7 +234,7 @@ def layers(scale: str | None = None, *, progress: bool = False, executor=None, t
     grid = {"layers": list(range(1, 9))}
     rows = _sweeps(grid, LAYER_SCENES, THESIS_SETTINGS, p, progress=progress, executor=executor, taa=taa)
     thesis = rows["thesis"]
-    labels = [bench.scene_label(s) for s in LAYER_SCENES]
+    labels = [plan.scene_label(s) for s in LAYER_SCENES]
     findings = []
 
     r2s, per_layer, doubts = [], [], []
@@ -313,7 +313,7 @@ def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, e
         "stride": _sweeps({"stride": [1.0, 2.0, 4.0, 8.0, 16.0]}, [PARAMETER_SCENE], base, p, progress=progress,
                           executor=executor, taa=taa),
     }
-    label = bench.scene_label(PARAMETER_SCENE)
+    label = plan.scene_label(PARAMETER_SCENE)
     findings = []
 
     _, e = _series(sweeps["downscale"]["thesis"], label, "downscale", "thesis_error")
@@ -401,7 +401,7 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
     rays: time and error of linear (stride 1-8) and Hi-Z, and fetches per ray by ray length.
     Single frames by default: seed 002 states no TAA for these claims (see the module notes);
     the fetch counts are always of single frames (TAA does not change a trace)."""
-    from .settings import Settings
+    from ..settings import Settings
 
     p = scale_parameters(scale)
     taa = _check_taa(taa)
@@ -412,12 +412,12 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
                   executor=executor, taa=taa)  # Hi-Z ignores the stride: one configuration per scene
     conv = linear["converged"] + hiz["converged"]
     rows = {"converged": conv}
-    renderer = renderer or bench.worker_renderer()
+    renderer = renderer or run.worker_renderer()
     findings, ratios, time_ratios, err_pairs, short_ratios, long_ratios, doubts = [], [], [], [], [], [], []
-    from . import scenes as scene_builders
+    from .. import scenes as scene_builders
 
     for name in HIZ_SCENES:
-        label = bench.scene_label(name)
+        label = plan.scene_label(name)
         lin = next(r for r in conv if r["scene"] == label and r["s_method"] == "linear" and r["s_stride"] == 1.0)
         hiz = next(r for r in conv if r["scene"] == label and r["s_method"] == "hiz")
         time_ratios.append(trace_ms(lin) / trace_ms(hiz))
