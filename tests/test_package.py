@@ -162,3 +162,62 @@ def test_an_unknown_name_is_an_attribute_error():
     out = _run("import ssrlab\ntry:\n    ssrlab.nothing\nexcept AttributeError as e:\n    print(e)\n"
                "try:\n    import ssrlab.nothing\nexcept ImportError as e:\n    print(type(e).__name__)\n")
     assert out.splitlines() == ["module 'ssrlab' has no attribute 'nothing'", "ModuleNotFoundError"]
+
+
+REPO = PACKAGE.parents[1]
+
+
+def _private_uses(path: Path) -> list[str]:
+    """ssrlab names a script uses that start with an underscore (ssrlab._core, ssrlab.x._y, x._y
+    of a module imported from ssrlab), or any import from the tests."""
+    tree = ast.parse(path.read_text())
+    found, aliases = [], set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] == "ssrlab":
+            parts = node.module.split(".") + [a.name for a in node.names]
+            found += [f"from {node.module} import {a.name}" for a in node.names
+                      if any(p.startswith("_") and p != "__version__" for p in parts[:len(node.module.split("."))] + [a.name])]
+            aliases |= {a.asname or a.name for a in node.names}
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] == "ssrlab" and any(p.startswith("_") for p in a.name.split(".")):
+                    found.append(f"import {a.name}")
+                if a.name.split(".")[0] == "ssrlab":
+                    aliases.add(a.asname or a.name.split(".")[0])
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            names = [node.module or ""] if isinstance(node, ast.ImportFrom) else [a.name for a in node.names]
+            found += [f"import of the tests' {n}" for n in names if n.split(".")[0] in ("tests", "conftest", "data")]
+    for node in ast.walk(tree):  # ssrlab._core, cc._mi, ssrlab.reference._x ...
+        if isinstance(node, ast.Attribute) and node.attr.startswith("_") and not node.attr.startswith("__"):
+            base = node.value
+            while isinstance(base, ast.Attribute):
+                base = base.value
+            if isinstance(base, ast.Name) and base.id in aliases:
+                found.append(ast.unparse(node))
+    return found
+
+
+def test_benchmarks_use_the_public_api_only():
+    scripts = sorted((REPO / "benchmarks").glob("*.py"))
+    assert len(scripts) > 20
+    bad = {p.name: u for p in scripts if (u := _private_uses(p))}
+    assert not bad, bad
+
+
+def test_the_public_api_check_would_see_private_names(tmp_path):
+    script = tmp_path / "s.py"
+    script.write_text("import ssrlab\nfrom ssrlab import _core, crosscheck as cc\nfrom ssrlab.settings import _FIELDS\n"
+                      "from data.make_hostile import base\nx = cc._mi\ny = ssrlab._core\n")
+    assert sorted(_private_uses(script)) == sorted(["from ssrlab import _core", "from ssrlab.settings import _FIELDS",
+                                                    "import of the tests' data.make_hostile", "cc._mi",
+                                                    "ssrlab._core"])
+
+
+def test_tests_import_no_script_by_path():
+    bad = []
+    for path in sorted((REPO / "tests").glob("*.py")):
+        text = path.read_text()
+        for needle in ("spec_from_file_location", "runpy", "sys.path.insert", "sys.path.append"):
+            if needle in text and path.name != "test_package.py":
+                bad.append(f"{path.name}: {needle}")
+    assert not bad, bad
