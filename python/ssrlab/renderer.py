@@ -523,18 +523,18 @@ class Frame:
     def read(self, name: str, level: int = 0, *, cache: bool = True) -> np.ndarray:
         """Every layer of a texture as float32 (layers, height, width, 4), cached and read-only
         (copy it to change it: ``frame.read(name).copy()``). cache=False copies the texture from
-        the GPU again and keeps nothing (what a benchmark of the readback times)."""
+        the GPU again into a new array and keeps nothing (what a benchmark of the readback times)."""
         self._check_live(repr(name))
-        if not cache:
-            return self._native.read(name, level)
         key = f"{name}@{level}"
-        if key not in self._cache:
+        if key not in self._cache or not cache:
             data = self._native.read(name, level)
             if name in ("rays.hit", "rays.direction") and "classify" in self.passes:
                 # With skip, the GPU clears rays.sample only; a slot whose traced flag is 0 holds
                 # no ray, which reads as zeros here, as the full-screen trace writes it.
                 traced = self.read("rays.sample", level)[..., 3:4] > 0.5
                 data = np.where(traced, data, np.float32(0.0)).astype(np.float32, copy=False)
+            if not cache:
+                return data
             # Read-only: every property and result shares this one copy, so an in-place change by
             # one reader would silently change what every other reader sees.
             data.flags.writeable = False
