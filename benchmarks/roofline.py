@@ -32,7 +32,7 @@
    Each ratio is taken once per repeat, from the pair of timings measured at the same moments,
    and printed as the median with the middle half of the repeats (25th-75th percentile); the
    verdict against the issue's target is "met" or "not met" only when that middle half lies on
-   one side of it, else "too small to judge" (ssrlab.experiments.target_verdict).
+   one side of it, else "too small to judge" (ssrlab.lab.timing.target_verdict).
 4. A render call's CPU overhead: wall time of render() plus reading frame.color against the GPU
    total, and the readback alone.
 
@@ -248,7 +248,7 @@ def main(argv=None) -> int:
         args.scenes = args.scenes[:1]
 
     import ssrlab
-    from ssrlab.experiments import target_verdict
+    from ssrlab.lab.timing import target_verdict
 
     renderer = open_renderer(args)
     print(f"frame {args.width}x{args.height}, peaks at {args.micro_width}x{args.micro_height}, "

@@ -45,6 +45,7 @@ import os
 import numpy as np
 
 from . import plan, run
+from .timing import MIN_JUDGED_MS, MIN_JUDGED_REPEATS, TOO_SMALL, target_verdict, timing_doubt  # noqa: F401
 
 SCALES = {
     "small": dict(width=96, height=54, repeats=1, warmup=1, reference_rays=16),
@@ -87,77 +88,6 @@ class Experiment:
         for f in self.findings:
             lines.append(f"| {f.claim} ({f.source}) | {f.ours} | **{f.verdict}** |")
         return "\n".join(lines)
-
-
-# -- when a timing can be judged ---------------------------------------------------------------------
-TOO_SMALL = "too small to judge"
-# Fewer timed runs than this measure no usable spread (an interquartile range of 1-2 values is noise).
-MIN_JUDGED_REPEATS = 3
-# Times below this are dominated by GPU timer resolution and per-pass overheads, whatever the spread.
-MIN_JUDGED_MS = 1.0
-
-
-def _time(row: dict, keys) -> tuple[float, float | None]:
-    """(median, spread) of one time column, or of the sum of several (spreads add up); the
-    spread is the interquartile range of the repeats (None when not measured)."""
-    keys = (keys,) if isinstance(keys, str) else tuple(keys)
-    present = [k for k in keys if row.get(k) is not None]
-    median = float(sum(row[k] for k in present))
-    iqrs = [row.get(k + "_iqr") for k in present]
-    return median, (None if not present or any(v is None for v in iqrs) else float(sum(iqrs)))
-
-
-def timing_doubt(rows: list[dict], keys, *, pairwise: bool = False) -> str | None:
-    """None when the times of `rows` under `keys` (a column, or columns summed) can be judged;
-    else why not. Judged means: every row timed at least MIN_JUDGED_REPEATS times, every
-    median at least MIN_JUDGED_MS, and the medians' differences beyond the repeats' spread:
-    with pairwise=True every consecutive pair differs by more than the sum of the two IQRs (a
-    comparison); otherwise the span of the medians exceeds twice the largest IQR (a trend)."""
-    if not rows:
-        return "no timings"
-    repeats = min(int(r.get("repeats") or 1) for r in rows)
-    if repeats < MIN_JUDGED_REPEATS:
-        return (f"{repeats} timed run(s) per configuration, so no spread to tell a difference from noise; "
-                f"at least {MIN_JUDGED_REPEATS} needed")
-    times = [_time(r, keys) for r in rows]
-    if any(iqr is None for _, iqr in times):
-        return "the spread of the repeats was not recorded"
-    low = min(t for t, _ in times)
-    if low < MIN_JUDGED_MS:
-        return f"times down to {low:.2g} ms, below the {MIN_JUDGED_MS:g} ms a GPU timer resolves reliably"
-    if pairwise:
-        for (a, ia), (b, ib) in zip(times, times[1:]):
-            if abs(a - b) <= ia + ib:
-                return (f"{a:.3g} vs {b:.3g} ms differ by no more than the repeats' spread "
-                        f"(IQR {ia:.2g} + {ib:.2g} ms)")
-        return None
-    span = max(t for t, _ in times) - low
-    widest = max(i for _, i in times)
-    if span <= 2 * widest:
-        return f"the times span {span:.2g} ms, within twice the repeats' spread (IQR up to {widest:.2g} ms)"
-    return None
-
-
-def target_verdict(values, op: str, goal: float) -> str:
-    """"met", "not met", or why the repeats cannot tell, for a ratio measured once per repeat
-    (each from one pair of timings taken at the same moments) against a target `op goal`
-    (op "<=" or ">="): met when the middle half of the values (25th to 75th percentile) meets
-    it, not met when the middle half misses it, else too small to judge."""
-    if op not in ("<=", ">="):
-        raise ValueError(f"target_verdict: op must be '<=' or '>=', got {op!r}")
-    v = np.asarray([float(x) for x in values], np.float64)
-    if v.size < MIN_JUDGED_REPEATS:
-        return f"{TOO_SMALL}: {v.size} value(s), at least {MIN_JUDGED_REPEATS} needed"
-    if not np.all(np.isfinite(v)):
-        return f"{TOO_SMALL}: a repeat gave no finite value"
-    q1, q3 = (float(q) for q in np.percentile(v, [25, 75]))
-    best, worst = (q1, q3) if op == "<=" else (q3, q1)
-    meets = (lambda x: x <= goal) if op == "<=" else (lambda x: x >= goal)
-    if meets(worst):
-        return "met"
-    if not meets(best):
-        return "not met"
-    return f"{TOO_SMALL}: the middle half of the repeats, {q1:.3g}-{q3:.3g}, straddles the target"
 
 
 def _judged(ours: str, verdict: str, doubts: list[str | None]) -> tuple[str, str]:
