@@ -34,7 +34,7 @@ from . import display  # noqa: E402
 
 display.install()
 
-_LAZY = ("cli", "lab", "progress", "sequence", "truth")
+_LAZY = ("cli", "lab", "progress", "truth")
 
 
 def __getattr__(name: str):
