@@ -105,20 +105,6 @@ class Side:
         self.proc.wait(timeout=60)
 
 
-def spread(values):
-    return statistics.median(values), min(values), max(values)
-
-
-def verdict(base, cur):
-    """'faster' / 'slower' when the min-max ranges are apart, else 'undecided'."""
-    (_, blo, bhi), (_, clo, chi) = base, cur
-    if chi < blo:
-        return "faster"
-    if clo > bhi:
-        return "slower"
-    return "undecided"
-
-
 def parse_value(text: str):
     for conv in (int, float):
         try:
@@ -140,6 +126,10 @@ def main(argv=None) -> int:
     ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE", help="settings beside the thesis's")
     ap.add_argument("--passes", action="store_true", help="also print per-pass medians")
     args = ap.parse_args(argv)
+    # The driver's statistics; the workers import only their own interpreter's ssrlab (the baseline's
+    # may predate ssrlab.lab).
+    from ssrlab.lab.timing import median_range, verdict
+
     if args.frames < 1 or args.warmup < 0:
         ap.error("--frames must be >= 1 and --warmup >= 0")
     settings = dict(THESIS, width=args.width, height=args.height)
@@ -177,8 +167,8 @@ def main(argv=None) -> int:
                 print("| side | GPU total ms | wall ms (render + color) |\n|---|---|---|")
                 stats = {}
                 for n in sides:
-                    g = spread([r["gpu"] for r in res[n]])
-                    w = spread([r["wall"] for r in res[n]])
+                    g = median_range([r["gpu"] for r in res[n]])
+                    w = median_range([r["wall"] for r in res[n]])
                     stats[n] = (g, w)
                     print(f"| {n} | {g[0]:.1f} ({g[1]:.1f}-{g[2]:.1f}) | {w[0]:.1f} ({w[1]:.1f}-{w[2]:.1f}) |")
                 if args.passes:

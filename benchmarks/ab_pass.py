@@ -29,6 +29,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
+from ssrlab.lab.lanes import lane_use  # noqa: E402
+
 HIZ_MIRROR = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, reuse_radius=1)
 
 
@@ -41,32 +43,6 @@ def parse_value(text: str):
         except ValueError:
             pass
     return text
-
-
-def list_order_steps(steps: np.ndarray) -> np.ndarray:
-    """Steps of the traced pixels in classify's list order: 32x32 regions in rows, in each the 8x8
-    invocations in rows, each its 4x4 block of pixels in rows."""
-    h, w = steps.shape
-    order = []
-    for ry in range(0, h, 32):
-        for rx in range(0, w, 32):
-            region = steps[ry:ry + 32, rx:rx + 32]
-            rh, rw = region.shape
-            padded = np.zeros((32, 32))
-            padded[:rh, :rw] = region
-            blocks = padded.reshape(8, 4, 8, 4).transpose(0, 2, 1, 3).reshape(-1)
-            order.append(blocks[blocks > 0])
-    return np.concatenate(order)
-
-
-def lane_use(steps: np.ndarray) -> dict[str, float]:
-    v = list_order_steps(steps)
-    g = v[: len(v) // 64 * 64].reshape(-1, 64)
-    useful = g.sum()
-    # A vector pays 2 steps (its two rays) per iteration, as long as the longest of its 16 rays.
-    far = sum(np.maximum(g[:, 8 * k:8 * k + 8], g[:, 32 + 8 * k:40 + 8 * k]).max(axis=1).sum() for k in range(4))
-    near = sum(g[:, 16 * k:16 * k + 16].max(axis=1).sum() for k in range(4))
-    return {"entries i, i+32": useful / (16 * far), "16 consecutive entries": useful / (16 * near)}
 
 
 def main(argv=None) -> int:

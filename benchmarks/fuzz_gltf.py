@@ -2,10 +2,10 @@
 
     python benchmarks/fuzz_gltf.py --minutes 10 --out fuzz-findings [--seed 1]
 
-Mutants are made from a seed corpus (the sample models and the hostile reproducers in
-tests/data/hostile/) by changing the glTF's structure, not its bytes alone: numbers become
-huge, negative, 2^64-ish, NaN-strings or the wrong type; keys and array entries are deleted
-or duplicated; indices point past their arrays; values get nested thousands deep; uris point
+Mutants are made from a seed corpus (the sample models and the hostile reproducers of
+ssrlab.lab.hostile_gltf, the files of tests/data/hostile/) by changing the glTF's structure,
+not its bytes alone: numbers become huge, negative, 2^64-ish, NaN-strings or the wrong type;
+keys and array entries are deleted or duplicated; indices point past their arrays; values get nested thousands deep; uris point
 at /dev/zero, a FIFO, a folder, '..', absolute paths and a symlink leading out of the folder;
 primitive modes, component types and sampler enums get invalid values; GLB chunk headers
 are rewritten; a few byte-level edits (truncation, invalid UTF-8) on top.
@@ -38,8 +38,9 @@ import sys
 import time
 from pathlib import Path
 
+from ssrlab.lab import hostile_gltf
+
 REPO = Path(__file__).resolve().parents[1]
-HOSTILE = REPO / "tests" / "data" / "hostile"
 
 # Numbers that broke (or could break) size arithmetic, float conversion and ranges.
 HOSTILE_NUMBERS = [0, -1, 1, 2, 3, 4, 255, 256, 65535, 65536, 2 ** 31 - 1, 2 ** 31, 2 ** 32 - 1, 2 ** 32,
@@ -126,23 +127,22 @@ class Seed:
 
 def seed_corpus(extra: list[Path], work: Path) -> list[Seed]:
     paths: list[Path] = []
-    # The valid triangle the reproducers are made from (tests/data/make_hostile.py).
-    sys.path.insert(0, str(HOSTILE.parent))
-    import make_hostile
+    # The valid triangle the reproducers are made from, and the reproducers themselves.
     work.mkdir(parents=True, exist_ok=True)
-    (work / "base.gltf").write_text(json.dumps(make_hostile.base()))
+    (work / "base.gltf").write_text(json.dumps(hostile_gltf.base()))
+    hostile = work / "hostile"
+    manifest = hostile_gltf.write(hostile)
     paths.append(work / "base.gltf")
     for folder in models_folders():
         if folder.is_dir():
             paths += sorted(p for p in folder.rglob("*") if p.suffix in (".gltf", ".glb"))
             break
-    paths += sorted(p for p in HOSTILE.glob("*") if p.suffix in (".gltf", ".glb") and p.stat().st_size < 100_000)
+    paths += sorted(p for p in hostile.glob("*") if p.suffix in (".gltf", ".glb") and p.stat().st_size < 100_000)
     for e in extra:
         paths += sorted(e.rglob("*.gl[tb]*")) if e.is_dir() else [e]
     seeds = [Seed(p) for p in paths]
-    manifest = json.loads((HOSTILE / "manifest.json").read_text())
     for s in seeds:
-        s.valid = s.path.parent != HOSTILE or "warning" in manifest.get(s.path.name, {})
+        s.valid = s.path.parent != hostile or "warning" in manifest.get(s.path.name, {})
     return seeds
 
 

@@ -52,7 +52,7 @@ def main() -> None:
     print(f"RSS: start {start / MIB:.1f} MiB, {live} frames kept {full / MIB:.1f} MiB, "
           f"after dropping them {end / MIB:.1f} MiB ({100 * (end - start) / start:+.1f} % of the start)")
     print(f"per kept frame: Frame.gpu_bytes {per_frame_api / MIB:.3f} MiB, RSS {(full - start) / args.renders / MIB:.3f} MiB; "
-          f"renderer scratch (shared) {renderer._native.scratch_bytes / MIB:.1f} MiB, "
+          f"renderer scratch (shared) {renderer.scratch_bytes / MIB:.1f} MiB, "
           f"renderer.gpu_bytes now {renderer.gpu_bytes / MIB:.1f} MiB, live frames now {len(renderer.live_frames)}")
     ok = end <= 1.10 * start and per_frame_api < MIB and (full - start) / args.renders < MIB
     print("verdict:", "within 10 % of the start and < 1 MiB per kept frame" if ok else "NOT within the bounds")

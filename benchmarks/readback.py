@@ -32,14 +32,14 @@ TEXTURES = {"color": "direct", "lit": "direct", "gbuffer.albedo": "copy pass", "
 PATHS = ("download", "staged")
 
 
-def time_reads(renderer, native, name: str, repeats: int) -> dict[str, np.ndarray]:
+def time_reads(renderer, frame, name: str, repeats: int) -> dict[str, np.ndarray]:
     """ms per native read of `name` by each readback path, the paths interleaved read by read."""
     ms = {path: [] for path in PATHS}
     for i in range(repeats + 2):
         for path in PATHS:
             renderer.readback_path = path
             t0 = time.perf_counter()
-            data = native.read(name, 0)
+            data = frame.read(name, cache=False)
             if i >= 2:  # 2 warm-up reads per path
                 ms[path].append((time.perf_counter() - t0) * 1e3)
     renderer.readback_path = "auto"
@@ -62,7 +62,7 @@ def main(argv=None) -> int:
         w, h = (int(v) for v in size.lower().split("x"))
         frame = renderer.render(scene, settings=ssrlab.Settings(width=w, height=h, method="hiz", sampling="mirror"))
         for name, path in TEXTURES.items():
-            ms, nbytes = time_reads(renderer, frame._native, name, args.repeats)
+            ms, nbytes = time_reads(renderer, frame, name, args.repeats)
             q = {p: np.percentile(v, [25, 50, 75]) for p, v in ms.items()}
             d, st = q["download"], q["staged"]
             verdict = ("staged faster" if st[2] < d[0] else "staged slower" if st[0] > d[2]

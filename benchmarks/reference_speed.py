@@ -35,7 +35,7 @@ from ssrlab import crosscheck as cc
 
 def mitsuba_on_pixels(ms, pixels: np.ndarray, spp: np.ndarray, seed: int = 0) -> float:
     """Seconds for Mitsuba's path tracer on pixel-centre rays of `pixels` ((n, 2) x, y), spp[i] each."""
-    mi = cc._mi
+    mi = cc.load_mitsuba()  # the module, its variant already set
     import drjit as dr
 
     integrator = mi.load_dict({"type": "path", "max_depth": 3, "hide_emitters": False})

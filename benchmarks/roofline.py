@@ -32,7 +32,7 @@
    Each ratio is taken once per repeat, from the pair of timings measured at the same moments,
    and printed as the median with the middle half of the repeats (25th-75th percentile); the
    verdict against the issue's target is "met" or "not met" only when that middle half lies on
-   one side of it, else "too small to judge" (ssrlab.experiments.target_verdict).
+   one side of it, else "too small to judge" (ssrlab.lab.timing.target_verdict).
 4. A render call's CPU overhead: wall time of render() plus reading frame.color against the GPU
    total, and the readback alone.
 
@@ -54,6 +54,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
+from ssrlab.lab.timing import median_range as spread, paired  # noqa: E402
+
 THESIS = dict(layers=4, rays_per_pixel=4, stride=4.0, downscale=2, max_steps=250)
 # The issue's resolve-vs-trace pair: one layer, Hi-Z mirror rays, 1 ray, reuse radius 1.
 HIZ_MIRROR = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, reuse_radius=1)
@@ -66,10 +68,6 @@ PEAKS = {
     "store": ("store", 8, 0, 8),            # RGBA16F imageStore
     "bandwidth": ("bandwidth", 8, 16, 0),   # RGBA32F texelFetch, each texel once
 }
-
-
-def spread(values):
-    return statistics.median(values), min(values), max(values)
 
 
 def measure_peaks(renderer, width, height, frame_width, frame_height, repeats):
@@ -227,11 +225,6 @@ def ab_shaders(before, now, scene, settings, key, repeats, ratios):
         ratios[f"{key}: resolve before / now, same run"] = paired(*per_pass["resolve"])
 
 
-def paired(numerators, denominators):
-    """The ratio of each repeat's pair of timings."""
-    return [a / b for a, b in zip(numerators, denominators)]
-
-
 def fmt_rate(x):
     for unit, div in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
         if x >= div:
@@ -255,7 +248,7 @@ def main(argv=None) -> int:
         args.scenes = args.scenes[:1]
 
     import ssrlab
-    from ssrlab.experiments import target_verdict
+    from ssrlab.lab.timing import target_verdict
 
     renderer = open_renderer(args)
     print(f"frame {args.width}x{args.height}, peaks at {args.micro_width}x{args.micro_height}, "

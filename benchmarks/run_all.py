@@ -3,7 +3,9 @@
     python benchmarks/run_all.py [--device auto|gpu|cpu] [--out benchmarks/results] [--only NAME ...] [--quick]
 
 The docs' results pages (docs/gen_pages.py) are made from the run_all.json files under
-benchmarks/results/ and benchmarks/gpu-results/: commit a run's folder to publish it.
+benchmarks/results/ and benchmarks/gpu-results/: commit a run's folder to publish it. With
+--only, the named benchmarks' entries replace theirs in the device's run_all.json and the others
+stay: each entry records its own date, commit and command, which its results page shows.
 
 Runs each benchmark script below as its own process on the chosen device, one after the other
 (never side by side: they would time each other), and writes
@@ -48,6 +50,9 @@ BENCHMARKS = {
     "frame_breakdown": ([], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
     "readback": ([], ["--sizes", "96x64", "--repeats", "3"]),
     "trace_parts": ([], ["--width", "96", "--height", "64", "--repeats", "2"]),
+    "occlusion": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--reference-rays", "16"]),
+    "deep_gbuffer": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--layers", "1", "4", "8"]),
+    "metric_cost": ([], ["--repeats", "1"]),
 }
 
 
@@ -83,9 +88,18 @@ def main() -> int:
     folder = Path(args.out) / slug(f"{info['renderer']}")
     folder.mkdir(parents=True, exist_ok=True)
     print(f"device: {info['renderer']} ({info['device']}), {info['vendor']}, OpenGL {info['gl_version']}")
-    results = {"device": info, "started": datetime.datetime.now(datetime.timezone.utc).isoformat(),
-               "commit": git_commit(), "command": "python benchmarks/run_all.py " + " ".join(sys.argv[1:]),
+    started, commit = datetime.datetime.now(datetime.timezone.utc).isoformat(), git_commit()
+    command = "python benchmarks/run_all.py " + " ".join(sys.argv[1:])
+    results = {"device": info, "started": started, "commit": commit, "command": command,
                "quick": args.quick, "python": sys.version, "ssrlab": ssrlab.__version__, "benchmarks": {}}
+    earlier = folder / "run_all.json"
+    if args.only and earlier.is_file():  # the other benchmarks' entries stay, each with its own provenance
+        old = json.loads(earlier.read_text())
+        for name, entry in old.get("benchmarks", {}).items():
+            for key in ("started", "commit", "quick"):
+                entry.setdefault(key, old.get(key))
+            entry.setdefault("run_command", old.get("command"))
+            results["benchmarks"][name] = entry
     names = args.only or list(BENCHMARKS)
     for name in names:
         script = HERE / f"{name}.py"
@@ -107,7 +121,8 @@ def main() -> int:
             print(p.stderr[-4000:], file=sys.stderr)
         results["benchmarks"][name] = {"command": " ".join(["python", f"benchmarks/{name}.py", *cmd[2:]]),
                                        "exit": p.returncode, "seconds": round(seconds, 1), "output": p.stdout,
-                                       "stderr_tail": p.stderr[-4000:]}
+                                       "stderr_tail": p.stderr[-4000:], "started": started, "commit": commit,
+                                       "quick": args.quick, "run_command": command}
         (folder / "run_all.json").write_text(json.dumps(results, indent=1))
     md = [f"# Benchmarks on {info['renderer']}", "",
           f"{info['vendor']}, OpenGL {info['gl_version']}, device `{info['device']}`; "

@@ -115,8 +115,7 @@ _CHECK = """
 import sys
 import numpy as np
 import ssrlab
-from ssrlab import _core
-assert _core.image_io_backend() == "python", _core.image_io_backend()
+assert ssrlab.io.image_backend() == "python", ssrlab.io.image_backend()
 maps = open("/proc/self/maps").read()
 assert "OpenImageIO" not in maps, "OpenImageIO is loaded"
 folder = sys.argv[1]

@@ -50,7 +50,12 @@ def results() -> None:
                 lines += ["!!! warning \"A --quick run\"", "    Reduced sizes: a smoke run, not figures to quote.", ""]
             for name, b in data.get("benchmarks", {}).items():
                 lines += [f"## {name}", "", f"`{b.get('command', name)}` — exit {b.get('exit')}, "
-                          f"{b.get('seconds', 0):.0f} s", "", "```text", str(b.get("output", "")).rstrip(), "```", ""]
+                          f"{b.get('seconds', 0):.0f} s"]
+                if "started" in b:  # an entry of a later `run_all.py --only` run: its own date and commit
+                    lines[-1] += (f"; {b['started'][:16].replace('T', ' ')} UTC, commit {b.get('commit') or '?'}"
+                                  + (", a --quick run (reduced sizes: a smoke run, not figures to quote)"
+                                     if b.get("quick") else ""))
+                lines += ["", "```text", str(b.get("output", "")).rstrip(), "```", ""]
             with mkdocs_gen_files.open(f"results/{slug}.md", "w") as out:
                 out.write("\n".join(lines))
             pages.append((device.get("renderer", slug), slug, data.get("started", "?")[:10]))

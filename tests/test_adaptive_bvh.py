@@ -1,5 +1,5 @@
 """Issue 11: adaptive rays with the BVH tracer (method "bvh"), its compacted ray list (Settings.skip),
-and benchmarks/skip.py's adaptive section (its mixed-roughness scene, gallery())."""
+and benchmarks/skip.py's adaptive section (its mixed-roughness scene, ssrlab.scenes.gallery())."""
 
 import math
 import subprocess
@@ -11,9 +11,9 @@ import pytest
 
 from conftest import small
 
+from ssrlab.scenes import GALLERY_ROUGHNESS, gallery
+
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "benchmarks"))
-from skip import ADAPTIVE_ROUGHNESS, gallery  # noqa: E402
 
 W, H = 64, 36
 
@@ -35,7 +35,7 @@ def test_bvh_adaptive_rays_follow_roughness(renderer, scene):
     rough = g.roughness[0]
     per_pixel = (f.read("rays.sample")[..., 0] > 0).sum(axis=0)
     assert reflective.sum() > 0.3 * W * H and not per_pixel[~reflective].any()
-    for r in ADAPTIVE_ROUGHNESS:
+    for r in GALLERY_ROUGHNESS:
         at = reflective & (np.abs(rough - r) < 0.02)
         assert at.sum() > 20, r
         want = max(1, math.ceil(8 * r))

@@ -74,14 +74,14 @@ def test_cli_info_lists_every_device_with_its_index():
 
 
 def test_a_sweep_warns_when_two_workers_shared_one_gpu():
-    from ssrlab import bench
+    from ssrlab.lab import run
 
     rows = [{"worker": "node1:10", "device_index": "0"}, {"worker": "node1:11", "device_index": "0"},
             {"worker": "node1:12", "device_index": "1"}, {"worker": "node2:10", "device_index": "1"}]
     with pytest.warns(UserWarning, match=r"gpu:0 on node1: node1:10, node1:11"):
-        bench._warn_shared_gpus(rows)
+        run._warn_shared_gpus(rows)
     import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        bench._warn_shared_gpus(rows[2:] + [{"worker": "node1:13", "device_index": None}])
+        run._warn_shared_gpus(rows[2:] + [{"worker": "node1:13", "device_index": None}])

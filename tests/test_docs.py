@@ -52,3 +52,24 @@ def test_code_comments_say_why_not_which_issue():
                     if re.search(r"\b[Ii]ssues? \d+|\b(first|second|third|fourth|fifth|sixth) round\b", line):
                         offenders.append(f"{p.relative_to(REPO)}:{i}: {line.strip()}")
     assert not offenders, "\n".join(offenders[:20])
+
+
+def test_docs_figures_link_a_recorded_benchmark_run():
+    """A page that discusses a benchmark's figures links its section of a results page, which
+    gen_pages.py makes from a committed run_all.json: the run must be there, have succeeded and
+    name its device, date, commit and command."""
+    import json
+
+    runs = {run.parent.name: json.loads(run.read_text())
+            for folder in ("results", "gpu-results") for run in (REPO / "benchmarks" / folder).glob("*/run_all.json")}
+    links = {m for page in (REPO / "docs").rglob("*.md")
+             for m in re.findall(r"results/([\w.-]+)\.md#(\w+)", page.read_text())}
+    assert {"occlusion", "deep_gbuffer", "metric_cost", "reference_speed"} <= {name for _, name in links}
+    for slug, name in sorted(links):
+        assert slug in runs, f"docs link results/{slug}.md, but no benchmarks/*/{slug}/run_all.json"
+        run = runs[slug]
+        assert name in run["benchmarks"], f"results/{slug}.md has no {name} section"
+        entry = run["benchmarks"][name]
+        assert entry["exit"] == 0 and entry["command"].startswith(f"python benchmarks/{name}.py"), entry["command"]
+        assert run["device"]["renderer"] and (entry.get("started") or run["started"])
+        assert entry.get("commit") or run.get("commit")

@@ -53,11 +53,28 @@ def test_staged_readback_equals_download(name):
     f = r.render(ssrlab.scenes.spheres_and_boxes(seed=1), settings=small(width=37, height=23, layers=2))
     r.readback_path = "download"
     assert r.info["readback_path"] == "download"
-    a = f._native.read(name, 0)
+    a = f.read(name, cache=False)
     r.readback_path = "staged"
     assert r.info["readback_path"] == "staged"
-    b = f._native.read(name, 0)
+    b = f.read(name, cache=False)
     assert a.shape == b.shape and a.dtype == b.dtype == np.float32
     np.testing.assert_array_equal(a, b)
     with pytest.raises(ValueError, match="readback_path"):
         r.readback_path = "dma"
+
+
+def test_read_without_the_cache_downloads_again_and_keeps_nothing(renderer):
+    """What benchmarks/readback.py times: Frame.read(cache=False) copies the texture from the GPU
+    each time, into a new writable array equal to the cached one, and leaves the cache alone."""
+    f = renderer.render(ssrlab.scenes.spheres_and_boxes(seed=1), settings=small(width=64, height=48, rays_per_pixel=2))
+    before = renderer.stats["readbacks"]
+    a, b = f.read("color", cache=False), f.read("color", cache=False)
+    assert renderer.stats["readbacks"] == before + 2
+    assert a is not b and a.flags.writeable and np.array_equal(a, b)
+    cached = f.read("color")
+    assert renderer.stats["readbacks"] == before + 3 and not cached.flags.writeable
+    assert np.array_equal(a, cached) and f.read("color") is cached
+    # The rays' slots that hold no ray read as zeros either way (skip's ray list).
+    np.testing.assert_array_equal(f.read("rays.hit", cache=False), f.read("rays.hit"))
+    assert 0 < renderer.scratch_bytes <= renderer.gpu_bytes
+    assert ssrlab.io.image_backend() in ("OpenImageIO", "python")

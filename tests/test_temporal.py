@@ -152,18 +152,19 @@ def test_moving_camera_history_with_rejection_stays_within_the_ghost_margin(rend
     # accumulated reflection's error never exceeds the frame-alone error by more than
     # GHOST_MARGIN on any frame; without rejection it does (the ghost trails, measured).
     from ssrlab import sequence
+    from ssrlab.lab import temporal
     scene = scenes.hall()
     # Without specular occlusion, as these margins were measured: with it (docs/occlusion.md) the
     # frame alone drops from 0.093 to 0.068 on this path and the rejecting history, at 0.071, no
     # longer beats it (the estimate of a surface's misses changes with the view).
     base = ssrlab.Settings(width=96, height=54, shadow_map_size=512, rays_per_pixel=1, temporal_max_history=8,
                            specular_occlusion="off")
-    err = sequence.moving_camera_errors(renderer, scene, sequence.hall_path(8),
-                                        sequence.history_configurations(base), reference_rays=32)
+    err = temporal.moving_camera_errors(renderer, scene, sequence.hall_path(8),
+                                        temporal.history_configurations(base), reference_rays=32)
     excess = {k: float((v - err["no history"]).max()) for k, v in err.items()}
     print({k: np.round(v, 4).tolist() for k, v in err.items()}, excess)
-    assert excess["rejection"] <= sequence.GHOST_MARGIN
-    assert excess["no rejection"] > 4 * sequence.GHOST_MARGIN
+    assert excess["rejection"] <= temporal.GHOST_MARGIN
+    assert excess["no rejection"] > 4 * temporal.GHOST_MARGIN
     assert err["rejection"].mean() < err["no history"].mean()  # and the history still helps
 
 

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import ssrlab
+import ssrlab.lab.run
 from ssrlab import bench, experiments, metrics, scenes
 from ssrlab.reference import reference_image
 
@@ -60,7 +61,7 @@ def test_experiments_pass_their_taa_to_the_sweeps(experiment, default, monkeypat
         calls.append(kwargs)
         raise _Stop
 
-    monkeypatch.setattr(bench, "sweep", fake_sweep)
+    monkeypatch.setattr(ssrlab.lab.run, "sweep", fake_sweep)  # what the experiments call
     for taa in (None, "thesis", "off"):
         with pytest.raises(_Stop):
             experiment("small") if taa is None else experiment("small", taa=taa)

@@ -7,19 +7,25 @@
     frame.color             # (H, W, 3) float32, row 0 at the top
     frame.gbuffer.depth     # (layers, H, W) view-space depth
     frame.timings           # GPU milliseconds per pass
+
+The package has three rooms. The library, imported with the package: the renderer, settings,
+scenes, io, display and sequences (this folder). The truth (``ssrlab.truth``: references,
+analytic answers, metrics, the Mitsuba cross-check) and the lab (``ssrlab.lab``: sweeps,
+experiments, the studies of one technique, timing statistics) are imported on first use; their
+modules keep their old names too (``ssrlab.metrics`` is ``ssrlab.truth.metrics``,
+``ssrlab.bench`` gathers ``ssrlab.lab.plan``, ``run`` and ``report``). The lab uses the truth and
+the library, the truth uses the library, never the other way round.
 """
 
 from ._core import (Camera, DeviceError, Environment, GLError, Light, Material, OutputError, SceneError,
                     ShaderError)
-from ._package import __version__
+from ._package import MOVED, __version__, install_moved_modules
 from . import image_codec as _image_codec
 
 _image_codec.register()  # image files through Python packages where the extension has no OpenImageIO
+install_moved_modules(__name__)  # `import ssrlab.metrics` finds ssrlab.truth.metrics
 
-# The library (rendering) and the truth (references, metrics) are imported with the package; the
-# view (display) gives their results a Jupyter representation. The lab (sweeps, experiments, the
-# cross-check) is imported on first use: `ssrlab.bench` works, `import ssrlab` does not load it.
-from . import io, metrics, models, reference, scenes, transforms  # noqa: E402
+from . import io, models, scenes, transforms  # noqa: E402
 from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir  # noqa: E402
 from .sequence import CameraPath  # noqa: E402
 from .scene import Scene, SceneWarning, directional_light, point_light, spot_light  # noqa: E402
@@ -28,12 +34,13 @@ from . import display  # noqa: E402
 
 display.install()
 
-_LAB = ("analytic", "bench", "cli", "crosscheck", "experiments", "glossy", "hybrid", "journal", "precision",
-        "progress")
+_LAZY = ("cli", "lab", "progress", "truth")
 
 
 def __getattr__(name: str):
-    if name in _LAB:
+    # The truth, the lab and their old names are imported on first use: `ssrlab.metrics` works,
+    # `import ssrlab` does not load it.
+    if name in MOVED or name in _LAZY:
         import importlib
 
         return importlib.import_module(f".{name}", __name__)

@@ -179,7 +179,8 @@ def cmd_render(args) -> int:
     if args.frames != 1 or args.path:
         return cmd_render_sequence(args)
 
-    from . import bench, scenes
+    from . import scenes
+    from .lab import bench
     from .io import OutputFolder, write_image
     from .renderer import Renderer
 
@@ -222,7 +223,7 @@ def cmd_render(args) -> int:
                 timings.append(frame.timings)
             bar.update(1)
         if args.reference:
-            from .reference import reference_image
+            from .truth.reference import reference_image
 
             bar.set_postfix_str(f"{args.reference} reference")
             ref = reference_image(renderer, scene, None, settings, kind=args.reference, rays=args.rays)
@@ -236,8 +237,8 @@ def cmd_render(args) -> int:
                  "timings_max_ms": {k: v["max"] for k, v in stats.items()}}
         scores = None
         if ref is not None:
-            from .display import error_tile
-            from .metrics import image_metrics
+            from .truth.metrics import image_metrics
+            from .truth.views import error_tile
 
             scores = image_metrics(frame.color, ref.color, ref.reflective)
             error_rgb, error_top = error_tile(frame.color, ref.color)
@@ -302,7 +303,7 @@ def _table(rows: list[dict], columns: list[str]) -> str:
 def _bench_config(args):
     """(config, out folder) of `ssrlab bench`: from the sweep file, or with --resume from the
     folder's journal (the sweep file, when given too, must match it unless --force-mix)."""
-    from . import bench, journal
+    from .lab import bench, journal
 
     config = None
     if args.sweep_file is not None:
@@ -333,7 +334,7 @@ def _bench_config(args):
 
 
 def cmd_bench(args) -> int:
-    from . import bench
+    from .lab import bench
 
     try:
         config, out = _bench_config(args)

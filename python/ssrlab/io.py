@@ -60,6 +60,12 @@ def linear_to_srgb(linear: np.ndarray, exposure: float = 1.0) -> np.ndarray:
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055).astype(np.float32)
 
 
+def image_backend() -> str:
+    """Who reads and writes image files: "OpenImageIO" (an extension built with it) or "python"
+    (ssrlab.image_codec through the OpenEXR and Pillow packages: the wheel)."""
+    return str(_core.image_io_backend())
+
+
 def write_image(path, pixels: np.ndarray, channel_names=(), half: bool = False) -> None:
     """Writes float pixels (h, w[, c]) with OpenImageIO; the extension picks the format."""
     _core.write_image(str(path), np.ascontiguousarray(pixels, dtype=np.float32), list(channel_names), half)

@@ -79,4 +79,41 @@ def progress_bar(total: int, desc: str, unit: str, file=None, **kwargs):
     return LineProgress(total, desc=desc, unit=unit, file=file, **kwargs)
 
 
-__all__ = ["progress_bar", "LineProgress", "interactive"]
+def progress_callback(progress, label: str):
+    """(callback, close) for a native loop's progress(done, total): `progress` None or False gives
+    no callback, a callable is used as it is, True a bar: tqdm on a terminal, else a line on
+    stderr every 10% (logs of batch jobs stay readable)."""
+    if progress is None or progress is False:
+        return None, lambda: None
+    if callable(progress) and not isinstance(progress, bool):
+        return progress, lambda: None
+
+    state = {"bar": None, "shown": -1}
+    tty = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+
+    def callback(done: int, total: int):
+        if tty:
+            if state["bar"] is None:
+                try:
+                    from tqdm import tqdm
+                except ImportError:
+                    state["bar"] = False
+                else:
+                    state["bar"] = tqdm(total=total, desc=label, unit="round")
+            if state["bar"]:
+                state["bar"].update(done - state["bar"].n)
+                return True
+        tenth = done * 10 // total
+        if tenth != state["shown"]:
+            state["shown"] = tenth
+            print(f"{label}: {done}/{total} sample rounds", file=sys.stderr, flush=True)
+        return True
+
+    def close():
+        if state["bar"]:
+            state["bar"].close()
+
+    return callback, close
+
+
+__all__ = ["progress_bar", "progress_callback", "LineProgress", "interactive"]

@@ -101,6 +101,11 @@ class Renderer:
         return int(self._native.gpu_bytes)
 
     @property
+    def scratch_bytes(self) -> int:
+        """Bytes of the GPU scratch that every frame of this renderer shares (shadow map, Hi-Z)."""
+        return int(self._native.scratch_bytes)
+
+    @property
     def stats(self) -> dict[str, int]:
         """What this renderer did outside the frames' chains, counted since it was made (issue
         11): scene_uploads (GPU copies of a scene built: a new scene or changed content; a new
@@ -547,18 +552,21 @@ class Frame:
         return list(self._native.texture_names)
 
     # -- images -------------------------------------------------------------------------------
-    def read(self, name: str, level: int = 0) -> np.ndarray:
+    def read(self, name: str, level: int = 0, *, cache: bool = True) -> np.ndarray:
         """Every layer of a texture as float32 (layers, height, width, 4), cached and read-only
-        (copy it to change it: ``frame.read(name).copy()``)."""
+        (copy it to change it: ``frame.read(name).copy()``). cache=False copies the texture from
+        the GPU again into a new array and keeps nothing (what a benchmark of the readback times)."""
         self._check_live(repr(name))
         key = f"{name}@{level}"
-        if key not in self._cache:
+        if key not in self._cache or not cache:
             data = self._native.read(name, level)
             if name in ("rays.hit", "rays.direction") and "classify" in self.passes:
                 # With skip, the GPU clears rays.sample only; a slot whose traced flag is 0 holds
                 # no ray, which reads as zeros here, as the full-screen trace writes it.
                 traced = self.read("rays.sample", level)[..., 3:4] > 0.5
                 data = np.where(traced, data, np.float32(0.0)).astype(np.float32, copy=False)
+            if not cache:
+                return data
             # Read-only: every property and result shares this one copy, so an in-place change by
             # one reader would silently change what every other reader sees.
             data.flags.writeable = False
@@ -680,7 +688,7 @@ class Frame:
             raise ValueError(f"shadows must be 'traced' or 'map', got {shadows!r}")
         if viewer not in ("camera", "ray"):
             raise ValueError(f"viewer must be 'camera' or 'ray', got {viewer!r}")
-        from .reference import ConvergedReference, PerRayReference
+        from .truth.reference import ConvergedReference, PerRayReference
 
         if self._renderer is None or self._scene is None:
             raise ValueError("this frame does not know its renderer and scene")
@@ -698,7 +706,7 @@ class Frame:
             return PerRayReference(self, dict(timings))
         if kind == "converged":
             rays = 256 if rays is None else int(rays)
-            from .reference import progress_callback
+            from .progress import progress_callback
 
             names = ("reference.reflection", "reference.color", "reference.accum", "reference.direct")
             callback, close = progress_callback(progress, "reference")

@@ -12,6 +12,8 @@ hall               a floor, walls and two rows of columns: our stand-in for the 
                    cathedral of Figs. 2.7-2.9.
 mirror_test        a perfect mirror floor and a checkerboard wall of flat tiles, for
                    analytic checks (the wall's mirror image is known in closed form).
+gallery            strips of mixed roughness before a checkered wall: adaptive ray counts
+                   (not in SCENES: its options are tuples, which sweep files do not hold).
 """
 
 from __future__ import annotations
@@ -165,6 +167,53 @@ def mirror_test() -> Scene:
     s.ambient = (0.05, 0.05, 0.05)
     s.environment = Environment.constant((0.02, 0.02, 0.03))
     s.camera = Camera(position=(0.0, 2.0, 5.0), target=(0.0, 1.0, -8.0), fov_y=50.0, near=0.1, far=50.0)
+    return s
+
+
+# The floor strips' roughness of gallery(): every step from a mirror to 0.6.
+GALLERY_ROUGHNESS = (0.0, 0.1, 0.2, 0.4, 0.6)
+
+
+def gallery(roughness=GALLERY_ROUGHNESS, strips: int = 20, wall: str = "checker") -> Scene:
+    """A mixed-roughness floor in front of a checkered wall that stands in view: the scene of
+    adaptive ray counts (benchmarks/skip.py). The floor's strips (1 unit wide, running away from the camera) cycle through
+    `roughness`; the wall (matte tiles, bright and dark, so that a glossy lobe averages contrast
+    and the ray count shows in the noise) is narrower than the view and lower than its top edge,
+    and nothing else is in the scene, so what a floor ray does not hit on the wall's visible face
+    is the environment, which a screen-space miss returns too: screen space's bias stays small
+    and the error against the converged reference is mostly the rays' noise. wall="smooth": the
+    same wall with its colour varying slowly across it instead (low-frequency content: a narrow
+    lobe sees nearly one colour, a wide one a range of them)."""
+    if wall not in ("checker", "smooth"):
+        raise ValueError(f"gallery: wall must be 'checker' or 'smooth', got {wall!r}")
+    s = Scene()
+    s.name = "adaptive_gallery"
+    half = strips / 2
+    for i in range(strips):
+        x0 = -half + i
+        p = np.float32([(x0, 0, 5), (x0 + 1, 0, 5), (x0 + 1, 0, -8), (x0, 0, -8)])
+        s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name=f"strip{i}",
+                   normals=np.tile(np.float32([0, 1, 0]), (4, 1)),
+                   material=Material(base_color=(0.9, 0.9, 0.9), roughness=roughness[i % len(roughness)],
+                                     metallic=1.0, reflectivity=1.0))
+    bright = [Material(base_color=c, roughness=0.9, reflectivity=0.0)
+              for c in ((0.95, 0.85, 0.6), (0.6, 0.85, 0.95), (0.95, 0.6, 0.6))]
+    dark = Material(base_color=(0.04, 0.04, 0.05), roughness=0.9, reflectivity=0.0)
+    tile = 0.75
+    for j in range(6):
+        for i in range(16):
+            x0, y0 = -6 + i * tile, j * tile
+            p = np.float32([(x0, y0, -8), (x0 + tile, y0, -8), (x0 + tile, y0 + tile, -8), (x0, y0 + tile, -8)])
+            if wall == "checker":
+                m = bright[(i // 2 + j) % 3] if (i + j) % 2 == 0 else dark
+            else:  # a slow ramp over the wall: neighbouring tiles differ by a few percent
+                u, v = i / 15, j / 5
+                m = Material(base_color=(0.2 + 0.7 * u, 0.3 + 0.4 * v, 0.9 - 0.6 * u), roughness=0.9, reflectivity=0.0)
+            s.add_mesh(p, np.array([(0, 1, 2), (0, 2, 3)]), name=f"tile{j}_{i}",
+                       normals=np.tile(np.float32([0, 0, 1]), (4, 1)), material=m)
+    s.add_light(directional_light((0.2, -0.6, -1.0), intensity=3.0, cast_shadow=False))
+    s.environment = Environment.constant((0.2, 0.25, 0.3))
+    s.camera = Camera(position=(0.0, 1.6, 5.0), target=(0.0, 1.2, -8.0), fov_y=60.0, near=0.1, far=60.0)
     return s
 
 

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .settings import Settings
+from ..settings import Settings
 
 # The harness renders whole images of rays at once (Dr.Jit arrays), so it needs a JIT variant:
 # the LLVM one runs on any CPU with libLLVM (Mesa's llvmpipe brings it). scalar_rgb would work
@@ -496,7 +496,7 @@ def crosscheck_scene(floor_roughness: float = 0.0, floor_color=(1.0, 1.0, 1.0), 
     """The cross-check's scene: a metallic floor (reflectivity 1, `floor_roughness`, F0 =
     `floor_color`) with a back wall, boxes and spheres of ssrlab's dielectric material on it,
     lit by a shadow-casting sun; no ambient, black environment. Object 0 is the floor."""
-    from .scene import Camera, Environment, Material, Scene, directional_light
+    from ..scene import Camera, Environment, Material, Scene, directional_light
 
     s = Scene()
     s.name = f"crosscheck_floor_r{floor_roughness:g}"
@@ -552,7 +552,7 @@ def exact_options(settings: Settings) -> tuple[Settings, dict, list[str]]:
         used.append("reference_shadows='traced'")
     s = settings.replace(**changes) if changes else settings
     kwargs = {}
-    from .renderer import Frame
+    from ..renderer import Frame
 
     viewer = inspect.signature(Frame.reference).parameters.get("viewer")
     if viewer is not None and viewer.default != "ray":

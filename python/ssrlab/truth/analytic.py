@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scenes import MIRROR_TILE, MIRROR_TILES, MIRROR_WALL_Z
+from ..scenes import MIRROR_TILE, MIRROR_TILES, MIRROR_WALL_Z
 
 
 def pixel_rays(frame):

@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _core
-from .scene import Camera, Environment, Material, Scene, directional_light
-from .settings import Settings
+from .. import _core
+from ..scene import Camera, Environment, Material, Scene, directional_light
+from ..settings import Settings
 
 FAR = 1000.0
 RATIOS = (1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8)

@@ -83,36 +83,27 @@ that produced them; Pareto fronts are per device (pareto_fronts). docs/cluster.m
 from __future__ import annotations
 
 import concurrent.futures
-import csv
 import datetime
-import io as _stdio
-import itertools
 import json
-import math
 import os
 import socket
 import subprocess
-import sys
 import threading
-from dataclasses import fields
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any
 
 import numpy as np
 
+from ..settings import Settings
+from ..truth.metrics import METRIC_KEYS, image_metrics
 from .journal import Journal, config_key
-from .metrics import METRIC_KEYS, image_metrics
-from .settings import Settings
+from .plan import SETTINGS_PREFIX, _check_count, plan_sweep, scene_label, view_camera
+from .timing import time_column, with_spread
 
-SETTINGS_PREFIX = "s_"
 # Passes whose GPU time the thesis counted as the cost of reflections (trace and resolve),
 # with the Hi-Z pyramid build that Hi-Z tracing needs.
 REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve",
                      "preconvolve", "preintegrate", "cone_trace", "blur_mips")  # the glossy methods' passes
-VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
-SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
-                   "reference_rays", "device", "frames", "sequence")
-SETTINGS_FIELDS = tuple(f.name for f in fields(Settings))
 # Row columns that are times (with every gpu_<pass>_ms column).
 TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
 
@@ -121,190 +112,12 @@ TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
 VOLATILE_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms", "timestamp", "worker", "reference_rendered")
 
 
-# Suffixes of the spread columns beside every time column (see spread).
-SPREAD_SUFFIXES = ("_min", "_max", "_iqr")
-
-
-def _time_column(column: str) -> str:
-    """The time column a spread column belongs to (gpu_resolve_ms_iqr -> gpu_resolve_ms), else itself."""
-    for suffix in SPREAD_SUFFIXES:
-        if column.endswith(suffix) and column[:-len(suffix)].endswith("_ms"):
-            return column[:-len(suffix)]
-    return column
-
-
 def is_volatile(column: str) -> bool:
     """True for the columns that change from run to run of the same configuration: times and
     their spread, the timestamp, the worker and whether the reference was in the store.
     Everything else, the metrics included, is deterministic."""
-    column = _time_column(column)
+    column = time_column(column)
     return column in VOLATILE_KEYS or (column.startswith("gpu_") and column.endswith("_ms"))
-
-
-def spread(values: list[float]) -> dict[str, float | None]:
-    """min, median, max and interquartile range (75th - 25th percentile, numpy's linear
-    interpolation) of repeated timings; iqr is None for a single value (no spread measured)."""
-    v = np.asarray([float(x) for x in values], np.float64)
-    if v.size == 0:
-        raise ValueError("spread: no values")
-    iqr = float(np.percentile(v, 75) - np.percentile(v, 25)) if v.size > 1 else None
-    return {"min": float(v.min()), "median": float(np.median(v)), "max": float(v.max()), "iqr": iqr}
-
-
-def _with_spread(row: dict, column: str, values: list[float]) -> None:
-    st = spread(values)
-    row[column] = st["median"]
-    for suffix in SPREAD_SUFFIXES:
-        row[column + suffix] = st[suffix[1:]]
-
-
-# -- grid ---------------------------------------------------------------------------------------
-def expand_grid(grid: dict[str, list]) -> list[dict]:
-    """Every combination of the grid's values (cartesian product), as a list of dicts.
-
-    The order is stable: keys in the grid's order, the last key varying fastest, values in
-    their listed order. Every key must be a Settings field and every value valid for it
-    (ValueError naming the key otherwise). An empty grid gives one empty point.
-    """
-    if not isinstance(grid, dict):
-        raise ValueError(f"grid must be a dict of Settings field -> list of values, got {type(grid).__name__}")
-    axes = {}
-    for key, values in grid.items():
-        if key not in SETTINGS_FIELDS:
-            from .settings import _suggestion
-
-            raise ValueError(f"grid key {key!r} is not a Settings field{_suggestion(key)}; "
-                             f"fields: {', '.join(SETTINGS_FIELDS)}")
-        if isinstance(values, (str, bytes, dict)) or not isinstance(values, Iterable):
-            raise ValueError(f"grid[{key!r}] must be a non-empty list of values, got {values!r}")
-        axes[key] = list(values)
-        if not axes[key]:
-            raise ValueError(f"grid[{key!r}] must be a non-empty list of values, got an empty one")
-        for v in axes[key]:
-            try:
-                Settings().replace(**{key: v})
-            except ValueError as e:
-                raise ValueError(f"grid[{key!r}]: {e}") from None
-    return [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
-
-
-# -- scene and view specs ----------------------------------------------------------------------------
-def _check_scene_spec(spec, where: str = "scenes") -> Any:
-    """Validates a scene spec; returns it with a glTF path made absolute (so workers with
-    another working folder find it)."""
-    from . import scenes
-
-    if isinstance(spec, (str, os.PathLike)):
-        name, kwargs = str(spec), {}
-    elif isinstance(spec, dict):
-        if "name" not in spec or not isinstance(spec["name"], str):
-            raise ValueError(f"{where}: a scene dict needs a 'name' (a procedural scene), got {spec!r}")
-        name, kwargs = spec["name"], {k: v for k, v in spec.items() if k != "name"}
-    else:
-        raise ValueError(f"{where}: a scene spec is a scene name, a .gltf/.glb path or a dict "
-                         f"{{'name': ..., **builder options}}, got {type(spec).__name__} {spec!r}")
-    if name in scenes.SCENES:
-        import inspect
-
-        params = inspect.signature(scenes.SCENES[name]).parameters
-        unknown = sorted(set(kwargs) - set(params))
-        if unknown:
-            raise ValueError(f"{where}: scene {name!r} has no option(s) {', '.join(unknown)}; "
-                             f"options: {', '.join(params)}")
-        try:
-            json.dumps(kwargs)
-        except TypeError as e:
-            raise ValueError(f"{where}: options of scene {name!r} must be plain numbers, strings and "
-                             f"lists: {e}") from None
-        return spec
-    if Path(name).suffix.lower() in (".gltf", ".glb"):
-        if kwargs:
-            raise ValueError(f"{where}: options {sorted(kwargs)} apply to procedural scenes only, not {name}")
-        path = Path(name).expanduser()
-        if not path.is_file():
-            raise FileNotFoundError(f"{where}: scene file {path} not found")
-        return str(path.resolve())
-    raise ValueError(f"{where}: unknown scene {name!r}: expected one of {', '.join(scenes.SCENES)}, "
-                     f"a .gltf/.glb file or a dict {{'name': ..., **options}}")
-
-
-def scene_label(spec) -> str:
-    """A short readable name of a scene spec: ``box_stack``, ``hall(floor_roughness=0.3)``,
-    or a glTF file's stem."""
-    if isinstance(spec, dict):
-        options = ", ".join(f"{k}={v!r}" for k, v in spec.items() if k != "name")
-        return f"{spec['name']}({options})" if options else spec["name"]
-    name = str(spec)
-    return Path(name).stem if Path(name).suffix.lower() in (".gltf", ".glb") else name
-
-
-def _check_vector(view: dict, key: str, where: str) -> list[float]:
-    v = view[key]
-    try:
-        out = [float(x) for x in v]
-    except (TypeError, ValueError):
-        out = []
-    if len(out) != 3 or not all(math.isfinite(x) for x in out):
-        raise ValueError(f"{where}: {key} must be 3 finite numbers, got {v!r}")
-    return out
-
-
-def _check_view(view, index: int) -> Any:
-    """Validates a view spec: "default", a dict (see sweep) or an ssrlab.Camera."""
-    from ._core import Camera
-
-    where = f"views[{index}]"
-    if isinstance(view, Camera) or view == "default":
-        return view
-    if not isinstance(view, dict):
-        raise ValueError(f"{where}: a view is 'default', a dict {{name, position, target[, up, fov_y, near, "
-                         f"far]}} or an ssrlab.Camera, got {view!r}")
-    unknown = sorted(set(view) - set(VIEW_KEYS))
-    if unknown:
-        raise ValueError(f"{where}: unknown view key(s) {', '.join(unknown)}; keys: {', '.join(VIEW_KEYS)}")
-    for key in ("name", "position", "target"):
-        if key not in view:
-            raise ValueError(f"{where}: a view dict needs {key!r}")
-    if not isinstance(view["name"], str) or not view["name"]:
-        raise ValueError(f"{where}: name must be a non-empty string, got {view['name']!r}")
-    out = dict(view)
-    for key in ("position", "target", "up"):
-        if key in view:
-            out[key] = _check_vector(view, key, where)
-    for key in ("fov_y", "near", "far"):
-        if key in view:
-            v = view[key]
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
-                raise ValueError(f"{where}: {key} must be a positive number, got {v!r}")
-            out[key] = float(v)
-    if "fov_y" in out and not out["fov_y"] < 180.0:
-        raise ValueError(f"{where}: fov_y must be below 180 degrees, got {out['fov_y']!r}")
-    return out
-
-
-def view_name(view, index: int) -> str:
-    """The name a row records for a view: "default", a dict's name, or camera<index>."""
-    if isinstance(view, dict):
-        return view["name"]
-    return "default" if view == "default" else f"camera{index}"
-
-
-def view_camera(view, scene):
-    """The Camera of a view spec for `scene`. A dict's missing up, fov_y, near and far come
-    from the scene's own camera (or ssrlab.Camera's defaults when it has none)."""
-    from ._core import Camera
-
-    if isinstance(view, Camera):
-        return view
-    own = scene.camera
-    if view == "default":
-        if own is None:
-            raise ValueError(f"view 'default': scene {scene.name!r} has no camera")
-        return own
-    base = own if own is not None else Camera()
-    return Camera(position=tuple(view["position"]), target=tuple(view["target"]),
-                  up=tuple(view.get("up", base.up)), fov_y=view.get("fov_y", base.fov_y),
-                  near=view.get("near", base.near), far=view.get("far", base.far))
 
 
 # -- the worker ----------------------------------------------------------------------------------------------
@@ -342,7 +155,7 @@ def worker_renderer(device: str = "auto"):
     """
     state = _state()
     if device not in state.renderers:
-        from .renderer import Renderer
+        from ..renderer import Renderer
 
         state.renderers[device] = Renderer(device)
         _OPENED.append((os.getpid(), threading.get_ident(), device))
@@ -357,7 +170,7 @@ def opened_renderers() -> list[dict]:
 
 def _scene(spec):
     """The scene of a spec, built once per worker (building and uploading cost time)."""
-    from . import scenes
+    from .. import scenes
 
     state = _state()
     key = json.dumps(spec, sort_keys=True)
@@ -384,7 +197,7 @@ def reference_group(task: tuple) -> str:
     """What a configuration's reference depends on (scene spec, view, the reference's kind, rays
     and the settings that change it), as text: configurations with the same group share one
     reference, which a sweep renders once (prepare_reference) before them."""
-    from .reference import reference_fields
+    from ..truth.reference import reference_fields
 
     scene_spec, view, _, settings, _, _, reference, reference_rays, _, _, frames, sequence = task
     s = _reference_settings(Settings.from_dict(settings), frames, sequence)
@@ -398,7 +211,7 @@ def prepare_reference(scene_spec, view, settings: dict, reference: str, referenc
     of a cluster) unless it is there: the sweep's reference task, one per reference_group, run
     before the configurations that need it. Returns {"key", "computed" (True: rendered now),
     "worker"}."""
-    from .reference import reference_image, reference_path
+    from ..truth.reference import reference_image, reference_path
 
     renderer = worker_renderer(device)
     scene = _scene(scene_spec)
@@ -428,7 +241,7 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     Returns the row's measured columns (see the module documentation); the caller adds the
     sweep's own columns (index, provenance of the sweep).
     """
-    from .reference import reference_image, reference_path
+    from ..truth.reference import reference_image, reference_path
 
     renderer = worker_renderer(device)
     scene = _scene(scene_spec)
@@ -490,9 +303,9 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
         "frames": warmup + repeats if sequence else frames,
         "sequence": sequence,
     }
-    _with_spread(row, "time_frame_ms", [t["total"] for t in frames_timings])
-    _with_spread(row, "time_reflections_ms", reflections)
-    _with_spread(row, "wall_ms", walls)
+    with_spread(row, "time_frame_ms", [t["total"] for t in frames_timings])
+    with_spread(row, "time_reflections_ms", reflections)
+    with_spread(row, "wall_ms", walls)
     if sequence:
         for k in METRIC_KEYS:
             values = [m[k] for m in scores if m[k] is not None]
@@ -504,7 +317,7 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     row["reflective_pixels"] = int(reflective.sum())
     row["mean_fetches"] = frame.rays.mean_fetches() if "rays.hit" in frame.texture_names else None
     for k in timing_keys:
-        _with_spread(row, _timing_column(k), [t[k] for t in frames_timings if k in t])
+        with_spread(row, _timing_column(k), [t[k] for t in frames_timings if k in t])
     row.update({SETTINGS_PREFIX + k: v for k, v in s.to_dict().items()})
     info = renderer.info
     row.update(device=info.get("device", "unknown"), device_index=info.get("device_index") or None,
@@ -576,13 +389,6 @@ def check_timing_workers(workers: int, device: str = "auto") -> None:
                      f"to time with {workers} anyway (compare those times only within the sweep)")
 
 
-# -- the sweep -------------------------------------------------------------------------------------------
-def _check_count(value, name: str, lo: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < lo:
-        raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
-    return value
-
-
 def _is_dask_client(executor) -> bool:
     return type(executor).__module__.split(".")[0] == "distributed"
 
@@ -596,46 +402,6 @@ def _completed(futures: list):
 
         return as_completed(futures)
     return iter(futures)
-
-
-def plan_sweep(grid: dict[str, list], scenes: list, views: list | None = None,
-               base: dict | Settings | None = None) -> list[dict]:
-    """The configurations of a sweep, in sweep order (scenes outermost, then views, then grid
-    points), without rendering anything: dicts with scene_spec, view, view_name and
-    settings (a dict of every Settings field). Checks every argument (see sweep) and raises
-    ValueError (FileNotFoundError for a missing glTF file) naming the bad one.
-    """
-    points = expand_grid(grid)
-    if isinstance(scenes, (str, dict)) or not isinstance(scenes, (list, tuple)) or not scenes:
-        raise ValueError(f"scenes must be a non-empty list of scene specs, got {scenes!r}")
-    scene_specs = [_check_scene_spec(s, f"scenes[{i}]") for i, s in enumerate(scenes)]
-    if views is None:
-        views = ["default"]
-    if isinstance(views, (str, dict)) or not isinstance(views, (list, tuple)) or not views:
-        raise ValueError(f"views must be None or a non-empty list of views, got {views!r}")
-    view_specs = [_check_view(v, i) for i, v in enumerate(views)]
-    names = [view_name(v, i) for i, v in enumerate(view_specs)]
-    if len(set(names)) != len(names):
-        raise ValueError(f"views must have distinct names, got {names}")
-    if base is None:
-        base_settings = Settings()
-    elif isinstance(base, Settings):
-        base_settings = base
-    elif isinstance(base, dict):
-        try:
-            base_settings = Settings().replace(**base)
-        except ValueError as e:
-            raise ValueError(f"base: {e}") from None
-    else:
-        raise ValueError(f"base must be a Settings, a dict of Settings fields or None, got {type(base).__name__}")
-    settings = []
-    for point in points:
-        try:
-            settings.append(base_settings.replace(**point).to_dict())
-        except ValueError as e:
-            raise ValueError(f"grid point {point}: {e}") from None
-    return [{"scene_spec": spec, "view": view, "view_name": name, "settings": dict(point_settings)}
-            for spec in scene_specs for view, name in zip(view_specs, names) for point_settings in settings]
 
 
 def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: dict | Settings | None = None,
@@ -679,9 +445,9 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
 
     Every argument is checked before anything renders: ValueError names the bad one.
     """
-    from ._package import __version__
-    from .reference import KINDS
-    from .renderer import check_device
+    from .._package import __version__
+    from ..truth.reference import KINDS
+    from ..renderer import check_device
 
     configurations = plan_sweep(grid, scenes, views, base)
     repeats = _check_count(repeats, "repeats", 1)
@@ -712,7 +478,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
     keys = [config_key(t[:9] + t[10:]) for t in tasks]  # the store's path is no part of a configuration
     book = None
     if journal is not None:
-        from .reference import shader_sources_hash
+        from ..truth.reference import shader_sources_hash
 
         definition = dict(grid=grid, scenes=scenes, views=views,
                           base=base.to_dict() if isinstance(base, Settings) else base, repeats=repeats, warmup=warmup,
@@ -734,7 +500,7 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
             pending.append(i)
     bar = None
     if progress:
-        from .progress import progress_bar
+        from ..progress import progress_bar
 
         bar = progress_bar(total=len(tasks), initial=len(tasks) - len(pending), desc="ssrlab bench", unit="config")
 
@@ -826,334 +592,6 @@ def _warn_shared_gpus(rows: list[dict]) -> None:
                       f"SSRLAB_DEVICE=gpu:N", stacklevel=3)
 
 
-# -- Pareto front --------------------------------------------------------------------------------------
-def _number(row: dict, key: str) -> float | None:
-    v = row.get(key)
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        return None
-    return float(v)
-
-
-# Columns whose rows never share a Pareto front: a time budget only means something within
-# one scene seen from one view, timed on one device.
-FRONT_GROUP_KEYS = ("scene", "view")
-# The device a row was timed on: its OpenGL renderer string (the hardware model; several GPUs
-# of one model count as one device, their times being comparable).
-DEVICE_KEY = "gl_renderer"
-
-
-def front_group(row: dict) -> tuple:
-    """The (scene, view) a row belongs to (missing columns count as one value)."""
-    return tuple(row.get(k) for k in FRONT_GROUP_KEYS)
-
-
-def _better_direction(error_key: str) -> float:
-    """+1 where lower is better (errors), -1 for similarities (psnr, ssim)."""
-    from .metrics import HIGHER_IS_BETTER
-
-    return -1.0 if error_key in HIGHER_IS_BETTER else 1.0
-
-
-def _error_argument(error_key: str, error: str | None) -> str:
-    if error is not None:
-        if error_key != "thesis_error" and error_key != error:
-            raise ValueError(f"pass the metric as error= or error_key=, not both (got error={error!r} and "
-                             f"error_key={error_key!r})")
-        return error
-    return error_key
-
-
-def pareto_front(rows: list[dict], time_key: str = "time_frame_ms", error_key: str = "thesis_error", *,
-                 error: str | None = None) -> list[dict]:
-    """The rows no other row beats in both time and error, sorted by time: the best error
-    reachable within each time budget.
-
-    `error` (or error_key) is any metric column: errors (thesis_error, rmse, flip_ldr,
-    flip_hdr, their _reflective ones, ...) where lower is better, or the similarities of
-    ssrlab.metrics.HIGHER_IS_BETTER (psnr, ssim, ...) where higher is better.
-
-    A row is on the front when every faster-or-equal row is worse. Of rows with equal time
-    and error the first (in `rows` order) is kept. Rows without a finite number under either
-    key are left out; ValueError if no row has both. All rows must be of one scene and view,
-    timed on one device (ValueError otherwise: a front across scenes compares unlike images,
-    across devices unlike clocks; see pareto_fronts).
-    """
-    error_key = _error_argument(error_key, error)
-    groups = {front_group(r) for r in rows}
-    if len(groups) > 1:
-        raise ValueError(f"pareto_front: the rows mix {len(groups)} (scene, view) pairs "
-                         f"({', '.join(map(str, sorted(groups, key=str)))}); a front is per scene and view: "
-                         f"use pareto_fronts(rows)")
-    devices = {r.get(DEVICE_KEY) for r in rows}
-    if len(devices) > 1:
-        raise ValueError(f"pareto_front: the rows were timed on {len(devices)} devices "
-                         f"({', '.join(sorted(map(str, devices)))}); a front is per device: use pareto_fronts(rows)")
-    sign = _better_direction(error_key)
-    scored = [(t, sign * e, i) for i, r in enumerate(rows)
-              if (t := _number(r, time_key)) is not None and (e := _number(r, error_key)) is not None]
-    if not scored:
-        raise ValueError(f"pareto_front: no row has finite numbers under time_key={time_key!r} and "
-                         f"error_key={error_key!r}")
-    front, best = [], math.inf
-    for t, e, i in sorted(scored):
-        if e < best:
-            front.append(rows[i])
-            best = e
-    return front
-
-
-def pareto_fronts(rows: list[dict], time_key: str = "time_frame_ms",
-                  error_key: str = "thesis_error", *, error: str | None = None) -> dict[tuple, list[dict]]:
-    """One Pareto front (pareto_front) per (scene, view), in the rows' order of first
-    appearance: {(scene, view): front}. Where the rows were timed on several devices
-    (gl_renderer) the fronts are per (scene, view, device) and so are the keys: times of two
-    devices never share a front. Groups whose rows have no finite time and error are left
-    out; ValueError if no group has any."""
-    error_key = _error_argument(error_key, error)
-    by_device = len({r.get(DEVICE_KEY) for r in rows}) > 1
-    groups: dict[tuple, list[dict]] = {}
-    for r in rows:
-        key = front_group(r) + ((r.get(DEVICE_KEY),) if by_device else ())
-        groups.setdefault(key, []).append(r)
-    fronts = {}
-    for key, rs in groups.items():
-        if any(_number(r, time_key) is not None and _number(r, error_key) is not None for r in rs):
-            fronts[key] = pareto_front(rs, time_key, error_key)
-    if not fronts:
-        raise ValueError(f"pareto_fronts: no row has finite numbers under time_key={time_key!r} and "
-                         f"error_key={error_key!r}")
-    return fronts
-
-
-# -- writing results ------------------------------------------------------------------------------------
-def varying_settings(rows: list[dict]) -> list[str]:
-    """Settings fields (without the prefix) whose value differs between rows, in field order."""
-    out = []
-    for name in SETTINGS_FIELDS:
-        values = {json.dumps(r.get(SETTINGS_PREFIX + name)) for r in rows}
-        if len(values) > 1:
-            out.append(name)
-    return out
-
-
-def _columns(rows: list[dict]) -> list[str]:
-    """Every column of any row, in first-seen order, the gpu_<pass>_ms columns (which differ
-    between configurations, e.g. one per layer) kept together and sorted."""
-    cols: dict[str, None] = {}
-    for r in rows:
-        cols.update(dict.fromkeys(r))
-    gpu = sorted(c for c in cols if c.startswith("gpu_") and _time_column(c).endswith("_ms"))
-    out: list[str] = []
-    for c in cols:
-        if c not in gpu:
-            out.append(c)
-        elif gpu[0] not in out:  # the first timing column seen: the whole block goes here
-            out.extend(gpu)
-    return out
-
-
-def _csv_text(rows: list[dict]) -> str:
-    buf = _stdio.StringIO()
-    w = csv.DictWriter(buf, fieldnames=_columns(rows), restval="", lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: ("" if v is None else v) for k, v in r.items()})
-    return buf.getvalue()
-
-
-def _json_safe(v):
-    if isinstance(v, float) and not math.isfinite(v):
-        return None
-    return v
-
-
-def result_names(rows_or_keys) -> list[str]:
-    """The files write_results writes: rows.csv, rows.json, pareto.csv, error_vs_time.png and,
-    when exactly one setting varies, <setting>.png. Takes rows, or the list of varying keys."""
-    keys = rows_or_keys
-    if rows_or_keys and isinstance(rows_or_keys[0], dict):
-        keys = varying_settings(rows_or_keys)
-    names = ["rows.csv", "rows.json", "pareto.csv", "error_vs_time.png"]
-    if len(keys) == 1:
-        names.append(f"{keys[0]}.png")
-    return names
-
-
-# Marker shapes, one per scene (colours follow matplotlib's default cycle).
-MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*", "<", ">")
-# Above this ratio between the largest and smallest time, the time axis is logarithmic.
-LOG_TIME_SPAN = 20.0
-FIGURE_SIZE = (7.0, 4.5)  # inches
-FIGURE_DPI = 120
-
-
-def _plot_error_vs_time(path: Path, rows: list[dict], fronts: dict[tuple, list[dict]], time_key: str,
-                        error_key: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=FIGURE_SIZE, dpi=FIGURE_DPI)
-    by_device = len({r.get(DEVICE_KEY) for r in rows}) > 1
-    groups: dict[tuple, list[dict]] = {}
-    for r in rows:
-        groups.setdefault(front_group(r) + ((r.get(DEVICE_KEY),) if by_device else ()), []).append(r)
-    for k, (key, rs) in enumerate(groups.items()):
-        scene, view = key[:2]
-        label = str(scene) if view in (None, "default") else f"{scene} / {view}"
-        if by_device:
-            label += f" on {key[2]}"
-        pts = [(t, e) for r in rs if (t := _number(r, time_key)) is not None and (e := _number(r, error_key))
-               is not None]
-        if pts:
-            ax.scatter(*zip(*pts), marker=MARKERS[k % len(MARKERS)], color=f"C{k % 10}", label=label, zorder=3)
-        if key in fronts:  # each scene's (and view's) own front, in its colour
-            fx = [_number(r, time_key) for r in fronts[key]]
-            fy = [_number(r, error_key) for r in fronts[key]]
-            ax.step(fx, fy, where="post", color=f"C{k % 10}", linewidth=1.0, zorder=2,
-                    label="Pareto front of each" if k == 0 else None)
-    positive = [t for r in rows if (t := _number(r, time_key)) is not None and t > 0]
-    if positive and max(positive) / min(positive) > LOG_TIME_SPAN:
-        ax.set_xscale("log")
-    ax.set_xlabel(time_key)
-    ax.set_ylabel(error_key)
-    ax.set_title(f"{error_key} against {time_key}")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize="small")
-    fig.tight_layout()
-    fig.savefig(path, format="png")
-    plt.close(fig)
-
-
-def _plot_against_setting(path: Path, rows: list[dict], key: str, time_key: str, error_key: str) -> None:
-    """Error and time against one swept setting, one line per (scene, view): the thesis's
-    Figs. 3.3-3.10. Non-numeric settings (method, sampling) are placed at even spacing."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.ticker import MaxNLocator
-
-    column = SETTINGS_PREFIX + key
-    values = list(dict.fromkeys(r[column] for r in rows))
-    numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values)
-    position = (lambda v: v) if numeric else (lambda v: values.index(v))
-    fig, (ax_e, ax_t) = plt.subplots(1, 2, figsize=(2 * FIGURE_SIZE[0], FIGURE_SIZE[1]), dpi=FIGURE_DPI)
-    groups: dict[tuple, list[dict]] = {}
-    for r in rows:
-        groups.setdefault((r.get("scene", "?"), r.get("view", "default")), []).append(r)
-    for k, ((scene, view), rs) in enumerate(groups.items()):
-        label = scene if view == "default" else f"{scene} / {view}"
-        style = dict(marker=MARKERS[k % len(MARKERS)], color=f"C{k % 10}", label=label)
-        for ax, metric in ((ax_e, error_key), (ax_t, time_key)):
-            pts = sorted((position(r[column]), y) for r in rs if (y := _number(r, metric)) is not None)
-            if pts:
-                ax.plot(*zip(*pts), **style)
-    for ax, metric in ((ax_e, error_key), (ax_t, time_key)):
-        ax.set_xlabel(key)
-        ax.set_ylabel(metric)
-        ax.grid(True, alpha=0.3)
-        if not numeric:
-            ax.set_xticks(range(len(values)), [str(v) for v in values])
-        elif all(isinstance(v, int) for v in values):
-            ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-    ax_e.set_title(f"{error_key} against {key}")
-    ax_t.set_title(f"{time_key} against {key}")
-    ax_e.legend(fontsize="small")
-    fig.tight_layout()
-    fig.savefig(path, format="png")
-    plt.close(fig)
-
-
-def write_results(rows: list[dict], folder, *, time_key: str = "time_frame_ms", error_key: str = "thesis_error",
-                  overwrite: bool = False) -> list[Path]:
-    """Writes a sweep's results into `folder` and returns the files written:
-
-    rows.csv, rows.json    every row (the columns of the module documentation)
-    pareto.csv             the Pareto front of every (scene, view) (pareto_fronts), one after another
-    error_vs_time.png      every row, one marker and colour per scene and view, its Pareto front as a line
-    <setting>.png          when exactly one setting varies between rows: error and time against it
-
-    Never replaces a file that ssrlab did not write (ssrlab.io.OutputFolder; overwrite=True
-    to force): FileExistsError, before anything is written.
-    """
-    from .io import OutputFolder
-
-    if not rows:
-        raise ValueError("write_results: rows is empty")
-    for key, name in ((time_key, "time_key"), (error_key, "error_key")):
-        if not any(key in r for r in rows):
-            raise ValueError(f"write_results: {name}={key!r} is not a column of the rows")
-    fronts = pareto_fronts(rows, time_key, error_key)
-    front = [r for f in fronts.values() for r in f]
-    keys = varying_settings(rows)
-    names = result_names(keys)
-    out = OutputFolder(folder, overwrite=overwrite)
-    out.check(names)
-    safe_rows = [{k: _json_safe(v) for k, v in r.items()} for r in rows]
-    written = [
-        out.write("rows.csv", lambda p: p.write_text(_csv_text(rows))),
-        out.write("rows.json", lambda p: p.write_text(json.dumps(safe_rows, indent=1, allow_nan=False))),
-        out.write("pareto.csv", lambda p: p.write_text(_csv_text(front))),
-        out.write("error_vs_time.png", lambda p: _plot_error_vs_time(p, rows, fronts, time_key, error_key)),
-    ]
-    if len(keys) == 1:
-        written.append(out.write(f"{keys[0]}.png",
-                                 lambda p: _plot_against_setting(p, rows, keys[0], time_key, error_key)))
-    return written
-
-
-# -- sweep files -------------------------------------------------------------------------------------------
-def load_sweep(path) -> dict:
-    """Reads a sweep file (TOML, or JSON for a .json file) into keyword arguments of sweep().
-
-    Top-level keys: scenes (required), views, repeats, warmup, reference, reference_rays,
-    device, frames (N > 1: render N frames of a static camera, score the last), sequence (true:
-    one sequence of warmup + repeats frames, see sweep), description (free text, not passed on), and the tables base (Settings fields of
-    every run) and grid (Settings field -> list of values). Other keys raise ValueError
-    naming them. A relative glTF path is looked up beside the sweep file first.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"sweep file {path} not found")
-    try:
-        if path.suffix.lower() == ".json":
-            data = json.loads(path.read_text())
-        else:
-            if sys.version_info >= (3, 11):
-                import tomllib
-            else:
-                import tomli as tomllib
-            data = tomllib.loads(path.read_text())
-    except ValueError as e:  # json.JSONDecodeError and tomllib.TOMLDecodeError are ValueErrors
-        raise ValueError(f"sweep file {path}: {e}") from None
-    if not isinstance(data, dict):
-        raise ValueError(f"sweep file {path}: expected a table of keys at the top level")
-    unknown = sorted(set(data) - set(SWEEP_FILE_KEYS))
-    if unknown:
-        raise ValueError(f"sweep file {path}: unknown key(s) {', '.join(unknown)}; keys: {', '.join(SWEEP_FILE_KEYS)}")
-    if "scenes" not in data:
-        raise ValueError(f"sweep file {path}: 'scenes' is required")
-    for table in ("base", "grid"):
-        if table in data and not isinstance(data[table], dict):
-            raise ValueError(f"sweep file {path}: '{table}' must be a table of Settings fields")
-    scenes = data["scenes"]
-    if isinstance(scenes, list):
-        resolved = []
-        for spec in scenes:
-            if isinstance(spec, str) and Path(spec).suffix.lower() in (".gltf", ".glb") \
-                    and not Path(spec).is_absolute() and (path.parent / spec).is_file():
-                spec = str((path.parent / spec).resolve())
-            resolved.append(spec)
-        scenes = resolved
-    kwargs = {k: v for k, v in data.items() if k != "description"}
-    kwargs["scenes"] = scenes
-    kwargs.setdefault("grid", {})
-    return kwargs
-
-
-__all__ = ["expand_grid", "plan_sweep", "sweep", "run_configuration", "worker_renderer", "opened_renderers",
-           "pareto_front", "pareto_fronts", "spread", "max_timing_workers", "check_timing_workers", "write_results", "result_names", "varying_settings", "load_sweep", "scene_label",
-           "view_camera", "git_revision", "is_volatile", "METRIC_KEYS", "VOLATILE_KEYS", "SETTINGS_PREFIX",
-           "TIME_KEYS"]
+__all__ = ["REFLECTION_PASSES", "TIME_KEYS", "VOLATILE_KEYS", "METRIC_KEYS", "is_volatile", "sweep",
+           "run_configuration", "prepare_reference", "reference_group", "worker_renderer", "opened_renderers",
+           "git_revision", "render_threads", "max_timing_workers", "check_timing_workers"]

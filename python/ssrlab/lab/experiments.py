@@ -16,7 +16,7 @@ reference the thesis used.
 TAA: the thesis measured every figure with its temporal anti-aliasing on (seed 000, 2.5 and
 3.2: two alternating quarter-pixel jitters, the mean of this frame and the previous one), so
 the thesis's experiments (`layers`, `downscale_rays_stride`) default to ``taa="thesis"``: each
-configuration renders one sequence of the static camera (``bench.sweep(sequence=True)``),
+configuration renders one sequence of the static camera (``run.sweep(sequence=True)``),
 warm-up frames first (they fill the one-frame history), then the timed frames; times are the medians
 over the timed frames, per pass (reproject and taa included), and the error is the mean over
 the timed frames (each draws new rays, so one frame's error is one seed's draw; the mean is the
@@ -44,7 +44,8 @@ import os
 
 import numpy as np
 
-from . import bench
+from . import plan, run
+from .timing import MIN_JUDGED_MS, MIN_JUDGED_REPEATS, TOO_SMALL, target_verdict, timing_doubt  # noqa: F401
 
 SCALES = {
     "small": dict(width=96, height=54, repeats=1, warmup=1, reference_rays=16),
@@ -89,77 +90,6 @@ class Experiment:
         return "\n".join(lines)
 
 
-# -- when a timing can be judged ---------------------------------------------------------------------
-TOO_SMALL = "too small to judge"
-# Fewer timed runs than this measure no usable spread (an interquartile range of 1-2 values is noise).
-MIN_JUDGED_REPEATS = 3
-# Times below this are dominated by GPU timer resolution and per-pass overheads, whatever the spread.
-MIN_JUDGED_MS = 1.0
-
-
-def _time(row: dict, keys) -> tuple[float, float | None]:
-    """(median, spread) of one time column, or of the sum of several (spreads add up); the
-    spread is the interquartile range of the repeats (None when not measured)."""
-    keys = (keys,) if isinstance(keys, str) else tuple(keys)
-    present = [k for k in keys if row.get(k) is not None]
-    median = float(sum(row[k] for k in present))
-    iqrs = [row.get(k + "_iqr") for k in present]
-    return median, (None if not present or any(v is None for v in iqrs) else float(sum(iqrs)))
-
-
-def timing_doubt(rows: list[dict], keys, *, pairwise: bool = False) -> str | None:
-    """None when the times of `rows` under `keys` (a column, or columns summed) can be judged;
-    else why not. Judged means: every row timed at least MIN_JUDGED_REPEATS times, every
-    median at least MIN_JUDGED_MS, and the medians' differences beyond the repeats' spread:
-    with pairwise=True every consecutive pair differs by more than the sum of the two IQRs (a
-    comparison); otherwise the span of the medians exceeds twice the largest IQR (a trend)."""
-    if not rows:
-        return "no timings"
-    repeats = min(int(r.get("repeats") or 1) for r in rows)
-    if repeats < MIN_JUDGED_REPEATS:
-        return (f"{repeats} timed run(s) per configuration, so no spread to tell a difference from noise; "
-                f"at least {MIN_JUDGED_REPEATS} needed")
-    times = [_time(r, keys) for r in rows]
-    if any(iqr is None for _, iqr in times):
-        return "the spread of the repeats was not recorded"
-    low = min(t for t, _ in times)
-    if low < MIN_JUDGED_MS:
-        return f"times down to {low:.2g} ms, below the {MIN_JUDGED_MS:g} ms a GPU timer resolves reliably"
-    if pairwise:
-        for (a, ia), (b, ib) in zip(times, times[1:]):
-            if abs(a - b) <= ia + ib:
-                return (f"{a:.3g} vs {b:.3g} ms differ by no more than the repeats' spread "
-                        f"(IQR {ia:.2g} + {ib:.2g} ms)")
-        return None
-    span = max(t for t, _ in times) - low
-    widest = max(i for _, i in times)
-    if span <= 2 * widest:
-        return f"the times span {span:.2g} ms, within twice the repeats' spread (IQR up to {widest:.2g} ms)"
-    return None
-
-
-def target_verdict(values, op: str, goal: float) -> str:
-    """"met", "not met", or why the repeats cannot tell, for a ratio measured once per repeat
-    (each from one pair of timings taken at the same moments) against a target `op goal`
-    (op "<=" or ">="): met when the middle half of the values (25th to 75th percentile) meets
-    it, not met when the middle half misses it, else too small to judge."""
-    if op not in ("<=", ">="):
-        raise ValueError(f"target_verdict: op must be '<=' or '>=', got {op!r}")
-    v = np.asarray([float(x) for x in values], np.float64)
-    if v.size < MIN_JUDGED_REPEATS:
-        return f"{TOO_SMALL}: {v.size} value(s), at least {MIN_JUDGED_REPEATS} needed"
-    if not np.all(np.isfinite(v)):
-        return f"{TOO_SMALL}: a repeat gave no finite value"
-    q1, q3 = (float(q) for q in np.percentile(v, [25, 75]))
-    best, worst = (q1, q3) if op == "<=" else (q3, q1)
-    meets = (lambda x: x <= goal) if op == "<=" else (lambda x: x >= goal)
-    if meets(worst):
-        return "met"
-    if not meets(best):
-        return "not met"
-    return f"{TOO_SMALL}: the middle half of the repeats, {q1:.3g}-{q3:.3g}, straddles the target"
-
-
 def _judged(ours: str, verdict: str, doubts: list[str | None]) -> tuple[str, str]:
     """(ours, verdict), or (ours with the reason, TOO_SMALL) when a timing cannot be judged."""
     doubt = next((d for d in doubts if d), None)
@@ -177,7 +107,7 @@ def scale_parameters(scale: str | None = None) -> dict:
 
 
 def _sweeps(grid, scenes, base, p, references=REFERENCES, progress=False, executor=None, taa="off"):
-    # TAA needs a sequence: warmup + repeats frames of the static camera (bench.sweep(sequence=True)),
+    # TAA needs a sequence: warmup + repeats frames of the static camera (run.sweep(sequence=True)),
     # as many frames as the single-frame protocol renders.
     common = dict(grid=grid, scenes=scenes, base=dict(base, width=p["width"], height=p["height"], taa=taa),
                   repeats=p["repeats"], warmup=p["warmup"], progress=progress, executor=executor,
@@ -185,7 +115,7 @@ def _sweeps(grid, scenes, base, p, references=REFERENCES, progress=False, execut
     out = {}
     for ref in references:
         rays = p["reference_rays"] if ref == "converged" else None
-        out[ref] = bench.sweep(**common, reference=ref, reference_rays=rays)
+        out[ref] = run.sweep(**common, reference=ref, reference_rays=rays)
     return out
 
 
@@ -234,7 +164,7 @@ def layers(scale: str | None = None, *, progress: bool = False, executor=None, t
     grid = {"layers": list(range(1, 9))}
     rows = _sweeps(grid, LAYER_SCENES, THESIS_SETTINGS, p, progress=progress, executor=executor, taa=taa)
     thesis = rows["thesis"]
-    labels = [bench.scene_label(s) for s in LAYER_SCENES]
+    labels = [plan.scene_label(s) for s in LAYER_SCENES]
     findings = []
 
     r2s, per_layer, doubts = [], [], []
@@ -313,7 +243,7 @@ def downscale_rays_stride(scale: str | None = None, *, progress: bool = False, e
         "stride": _sweeps({"stride": [1.0, 2.0, 4.0, 8.0, 16.0]}, [PARAMETER_SCENE], base, p, progress=progress,
                           executor=executor, taa=taa),
     }
-    label = bench.scene_label(PARAMETER_SCENE)
+    label = plan.scene_label(PARAMETER_SCENE)
     findings = []
 
     _, e = _series(sweeps["downscale"]["thesis"], label, "downscale", "thesis_error")
@@ -401,7 +331,7 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
     rays: time and error of linear (stride 1-8) and Hi-Z, and fetches per ray by ray length.
     Single frames by default: seed 002 states no TAA for these claims (see the module notes);
     the fetch counts are always of single frames (TAA does not change a trace)."""
-    from .settings import Settings
+    from ..settings import Settings
 
     p = scale_parameters(scale)
     taa = _check_taa(taa)
@@ -412,12 +342,12 @@ def hiz_vs_linear(scale: str | None = None, *, progress: bool = False, executor=
                   executor=executor, taa=taa)  # Hi-Z ignores the stride: one configuration per scene
     conv = linear["converged"] + hiz["converged"]
     rows = {"converged": conv}
-    renderer = renderer or bench.worker_renderer()
+    renderer = renderer or run.worker_renderer()
     findings, ratios, time_ratios, err_pairs, short_ratios, long_ratios, doubts = [], [], [], [], [], [], []
-    from . import scenes as scene_builders
+    from .. import scenes as scene_builders
 
     for name in HIZ_SCENES:
-        label = bench.scene_label(name)
+        label = plan.scene_label(name)
         lin = next(r for r in conv if r["scene"] == label and r["s_method"] == "linear" and r["s_stride"] == 1.0)
         hiz = next(r for r in conv if r["scene"] == label and r["s_method"] == "hiz")
         time_ratios.append(trace_ms(lin) / trace_ms(hiz))

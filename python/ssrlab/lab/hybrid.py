@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from . import bench, experiments
-from .settings import Settings
+from ..settings import Settings
+from . import experiments, report, run
 
 SCENES = [
     {"name": "hall", "floor_roughness": 0.2},
@@ -98,7 +98,7 @@ def sweep(scale: str | None = None, *, progress: bool = False, executor=None) ->
     configs = configurations()
     rows: list[dict] = []
     for label, fields in configs.items():
-        part = bench.sweep(grid={"denoise": ["none", "svgf"]}, scenes=SCENES,
+        part = run.sweep(grid={"denoise": ["none", "svgf"]}, scenes=SCENES,
                            base=dict(BASE, **fields, width=width, height=height),
                            repeats=p["repeats"], warmup=p["warmup"], reference="converged",
                            reference_rays=p["reference_rays"], executor=executor, progress=progress, frames=frames)
@@ -109,7 +109,7 @@ def sweep(scale: str | None = None, *, progress: bool = False, executor=None) ->
     fronts, verdicts = {}, []
     for scene in dict.fromkeys(r["scene"] for r in rows):
         sel = [r for r in rows if r["scene"] == scene]
-        front = bench.pareto_front(sel, TIME, ERROR)
+        front = report.pareto_front(sel, TIME, ERROR)
         fronts[scene] = front
         # Each front point's budget is bounded by its neighbours' times: its claim stands when
         # both steps are beyond the repeats' spread (a one-point front still needs timings that

@@ -1,13 +1,14 @@
-"""Writes tests/data/hostile/: minimal glTF files that each hit one way a file used to crash,
-hang or poison the loader (issue 8), plus manifest.json saying what loading each must give.
+"""Minimal glTF files that each hit one way a file used to crash, hang or poison the loader,
+with what loading each must give: the reproducers of tests/data/hostile/ and the fuzzer's seeds
+(benchmarks/fuzz_gltf.py).
 
-    python tests/data/make_hostile.py      # rewrites tests/data/hostile/
+    python -m ssrlab.lab.hostile_gltf tests/data/hostile     # rewrites the test data
 
-Each case starts from one valid triangle (buffer inline as a data: URI, so every file stands
-alone) and changes one thing. The manifest maps each file to
-  {"error": [substrings of the SceneError]} or {"warning": [substrings of a SceneWarning]},
-optionally with "kwargs" for Scene.load. tests/test_gltf_hostile.py loads every entry, and the
-fuzzer (benchmarks/fuzz_gltf.py) uses the files as part of its seed corpus.
+Each case starts from one valid triangle (base(); buffer inline as a data: URI, so every file
+stands alone) and changes one thing. write() puts the files and manifest.json into a folder; the
+manifest maps each file to {"error": [substrings of the SceneError]} or {"warning": [substrings
+of a SceneWarning]}, optionally with "kwargs" for Scene.load. tests/test_gltf_hostile.py loads
+every entry.
 """
 
 from __future__ import annotations
@@ -18,8 +19,6 @@ import json
 import struct
 import zlib
 from pathlib import Path
-
-OUT = Path(__file__).resolve().parent / "hostile"
 
 POSITIONS = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
 INDICES = struct.pack("<3H", 0, 1, 2) + b"\0\0"
@@ -485,9 +484,12 @@ def _(d):
     return json.dumps([d]).encode()
 
 
-def main() -> None:
-    OUT.mkdir(exist_ok=True)
-    for old in OUT.iterdir():
+def write(folder) -> dict:
+    """Writes every case into `folder` (created; its earlier .gltf/.glb files removed) with
+    manifest.json; returns the manifest."""
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    for old in out.iterdir():
         if old.suffix in (".gltf", ".glb"):
             old.unlink()
     manifest = {}
@@ -495,11 +497,22 @@ def main() -> None:
         data = doc if isinstance(doc, bytes) else json.dumps(doc, indent=1).encode()
         if len(data) > 20_000 and not isinstance(doc, bytes):
             data = json.dumps(doc, separators=(",", ":")).encode()
-        (OUT / name).write_bytes(data)
+        (out / name).write_bytes(data)
         manifest[name] = expect
-    (OUT / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
-    print(f"wrote {len(manifest)} files to {OUT}")
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    return manifest
+
+
+def main(argv=None) -> int:
+    import argparse
+
+    ap = argparse.ArgumentParser(description="Writes the hostile glTF reproducers and their manifest.json.")
+    ap.add_argument("folder", type=Path, help="where to write them (tests/data/hostile in the repository)")
+    args = ap.parse_args(argv)
+    manifest = write(args.folder)
+    print(f"wrote {len(manifest)} files to {args.folder}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -27,8 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ._package import __version__, shader_dir
-from .settings import Settings
+from .._package import __version__, shader_dir
+from ..progress import progress_callback  # noqa: F401  (ssrlab.reference.progress_callback)
+from ..settings import Settings
 
 KINDS = ("converged", "thesis")
 THESIS_GROUND_TRUTH = dict(rays_per_pixel=32, layers=16, stride=1.0, method="linear", downscale=1)
@@ -146,44 +147,6 @@ class _FrameResult:
             raise ValueError(f"cannot read this {type(self).__name__}: its frame was released (Frame.release() or "
                              "the end of its with block) before the result was read; read it before releasing")
         return self._frame.read(name)
-
-
-def progress_callback(progress, label: str):
-    """(callback, close) for a native loop's progress(done, total): `progress` None or False gives
-    no callback, a callable is used as it is, True a bar: tqdm on a terminal, else a line on
-    stderr every 10% (logs of batch jobs stay readable)."""
-    if progress is None or progress is False:
-        return None, lambda: None
-    if callable(progress) and not isinstance(progress, bool):
-        return progress, lambda: None
-    import sys
-
-    state = {"bar": None, "shown": -1}
-    tty = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
-
-    def callback(done: int, total: int):
-        if tty:
-            if state["bar"] is None:
-                try:
-                    from tqdm import tqdm
-                except ImportError:
-                    state["bar"] = False
-                else:
-                    state["bar"] = tqdm(total=total, desc=label, unit="round")
-            if state["bar"]:
-                state["bar"].update(done - state["bar"].n)
-                return True
-        tenth = done * 10 // total
-        if tenth != state["shown"]:
-            state["shown"] = tenth
-            print(f"{label}: {done}/{total} sample rounds", file=sys.stderr, flush=True)
-        return True
-
-    def close():
-        if state["bar"]:
-            state["bar"].close()
-
-    return callback, close
 
 
 class ConvergedReference(_FrameResult):

@@ -3,7 +3,7 @@
 A sweep with a results folder keeps ``journal.jsonl`` there, one JSON object a line:
 
   {"type": "sweep", ...}   the header: the sweep's definition (the keyword arguments of
-                           ssrlab.bench.sweep, enough to run it again), the digest of its
+                           ssrlab.lab.run.sweep, enough to run it again), the digest of its
                            configurations, the code that runs it (ssrlab version, git revision,
                            shader digest), and when it started
   {"type": "row", "config_key": K, "row": {...}}
@@ -44,7 +44,7 @@ class SweepMismatchError(ValueError):
 
 
 def config_key(task: tuple | list) -> str:
-    """A digest of a configuration's task arguments (see ssrlab.bench.sweep): the same
+    """A digest of a configuration's task arguments (see ssrlab.lab.run.sweep): the same
     configuration always has the same key, on any machine."""
     return hashlib.sha256(json.dumps(list(task), sort_keys=True, default=str).encode()).hexdigest()[:24]
 
@@ -164,7 +164,7 @@ class Journal:
 
 
 def definition_of(folder) -> dict:
-    """The sweep definition (keyword arguments of ssrlab.bench.sweep) stored in `folder`'s
+    """The sweep definition (keyword arguments of ssrlab.lab.run.sweep) stored in `folder`'s
     journal: what ``ssrlab bench --resume FOLDER`` runs again."""
     header, _ = read(folder)
     if header is None:

@@ -166,7 +166,7 @@ def methods(scale: str | None = None, *, progress: bool = False, executor=None):
     sampling, full and half resolution) on glossy floors of roughness 0.05, 0.2 and 0.5 in `hall`
     and `spheres_and_boxes`, Hi-Z tracing: bench rows against the converged reference, and seed
     002's claims with computed verdicts (an ssrlab.experiments.Experiment)."""
-    from . import bench, experiments
+    from . import experiments, plan, run
 
     p = experiments.scale_parameters(scale)
     scenes = [{"name": n, "floor_roughness": r} for n in METHOD_SCENES for r in METHOD_ROUGHNESS]
@@ -177,10 +177,10 @@ def methods(scale: str | None = None, *, progress: bool = False, executor=None):
     for grid, extra in [({"glossy": ["cone", "blur_mips"]}, {}),
                         ({"rays_per_pixel": [1, 2, 4, 8], "sampling": ["ggx", "vndf"]}, {}),
                         ({"rays_per_pixel": [4]}, dict(sampling="vndf", downscale=2))]:
-        rows += bench.sweep(grid, base=dict(base, **extra), **common)
+        rows += run.sweep(grid, base=dict(base, **extra), **common)
     for r in rows:
         r["glossy_method"] = method_label(r)
-        r["floor_roughness"] = next(s["floor_roughness"] for s in scenes if bench.scene_label(s) == r["scene"])
+        r["floor_roughness"] = next(s["floor_roughness"] for s in scenes if plan.scene_label(s) == r["scene"])
         r["scene_name"] = r["scene"].split("(")[0]
 
     def pick(scene, rough, label):
@@ -222,7 +222,7 @@ def methods(scale: str | None = None, *, progress: bool = False, executor=None):
 if __name__ == "__main__":  # regenerate the table: python -m ssrlab.glossy [repository root]
     import sys
 
-    from .renderer import Renderer
+    from ..renderer import Renderer
 
     root = Path(sys.argv[1]) if len(sys.argv) > 1 else Path.cwd()
     t = compute_table(Renderer())

@@ -219,7 +219,7 @@ def ssim_map(image, reference) -> np.ndarray | None:
     a, b = _rgb(a, "image"), _rgb(b, "reference")
     if min(a.shape[:2]) < SSIM_WINDOW:
         return None
-    from .io import linear_to_srgb
+    from ..io import linear_to_srgb
 
     _, full = skm.structural_similarity(linear_to_srgb(a).astype(np.float64), linear_to_srgb(b).astype(np.float64),
                                         channel_axis=2, data_range=1.0, gaussian_weights=True, sigma=SSIM_SIGMA,
