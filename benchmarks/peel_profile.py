@@ -7,7 +7,8 @@ the layers (`depth_peel.setup`: clears and the copy of the previous layer's dept
 depth-only peel; `.shade`: the material pass at GL_EQUAL) and of the lighting pass's parts
 (`lighting.list`, `.clear`, `.shade`), for both clear paths (Renderer.clear_path "gl": glClearTexSubImage and framebuffer clears;
 "compute": image stores), the two alternating render by render with renders issued back to back,
-then the device's default path "paced": a 50 ms pause before each render (what a script that
+(with --fresh also with every frame kept alive, so that each render allocates new textures and
+the costs of a texture's first use show), then the device's default path "paced": a 50 ms pause before each render (what a script that
 renders, reads back and works on each frame does: a GPU may lower its clocks in the pauses).
 Then timing-only experiments on copies of the shaders (`Renderer(shader_dir=...)`), whose images
 are not meant to be right: `no_tile_flags` drops the peeling shader's covered-tile and
@@ -49,8 +50,11 @@ def shader_variant(root: Path, name: str) -> Path:
     return dst
 
 
-def measure(renderer, scene, settings, repeats: int, pause: float, clear_paths=("auto",)) -> dict:
-    """Timings per clear path, the paths alternating render by render (an interleaved A/B)."""
+def measure(renderer, scene, settings, repeats: int, pause: float, clear_paths=("auto",), keep: bool = False) -> dict:
+    """Timings per clear path, the paths alternating render by render (an interleaved A/B).
+    keep: every frame is kept alive until the end, so each render allocates new textures (what a
+    script that keeps its frames does): costs of a texture's first use show."""
+    kept = []
     for path in clear_paths:
         renderer.clear_path = path
         for _ in range(3):
@@ -61,7 +65,10 @@ def measure(renderer, scene, settings, repeats: int, pause: float, clear_paths=(
             renderer.clear_path = path
             if pause:
                 time.sleep(pause)
-            runs[path].append(renderer.render(scene, settings=settings).timings)
+            frame = renderer.render(scene, settings=settings)
+            runs[path].append(frame.timings)
+            if keep:
+                kept.append(frame)
     renderer.clear_path = "auto"
     return {path: {k: [r.get(k, float("nan")) for r in rs] for k in PARTS} for path, rs in runs.items()}
 
@@ -79,6 +86,8 @@ def main(argv=None) -> int:
     ap.set_defaults(width=1920, height=1080, scenes=["hall", "spheres_and_boxes"])
     ap.add_argument("--layers", type=int, nargs="+", default=[1, 4])
     ap.add_argument("--no-experiments", action="store_true")
+    ap.add_argument("--fresh", action="store_true",
+                    help="also with every frame kept alive (new textures each render: first-use costs show)")
     args = ap.parse_args(argv)
     import ssrlab
 
@@ -103,6 +112,10 @@ def main(argv=None) -> int:
                             print(row(f"{scene_name} L{layers} clear={path}", samples), flush=True)
                         print(row(f"{scene_name} L{layers} paced", measure(r, scene, s, args.repeats, 0.05)["auto"]),
                               flush=True)
+                        if args.fresh:
+                            for path, samples in measure(r, scene, s, args.repeats, 0.0, ("gl", "compute"),
+                                                         keep=True).items():
+                                print(row(f"{scene_name} L{layers} kept clear={path}", samples), flush=True)
                     else:
                         print(row(f"{scene_name} L{layers} {rname}", measure(r, scene, s, args.repeats, 0.0)["auto"]),
                               flush=True)

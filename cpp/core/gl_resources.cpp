@@ -43,19 +43,6 @@ Texture Texture::create_2d(GLenum fmt, int w, int h, int levels) {
     return t;
 }
 
-Texture Texture::view(const Texture& source, GLenum fmt) {
-    Texture t;
-    t.target_ = source.target_;
-    t.format_ = fmt;
-    t.width_ = source.width_;
-    t.height_ = source.height_;
-    t.layers_ = source.layers_;
-    t.levels_ = source.levels_;
-    glGenTextures(1, &t.id_);  // a view needs a name never bound (glCreateTextures binds)
-    glTextureView(t.id_, t.target_, source.id_, fmt, 0, GLuint(t.levels_), 0, GLuint(t.layers_));
-    return t;
-}
-
 Texture Texture::create_2d_array(GLenum fmt, int w, int h, int layers, int levels) {
     Texture t;
     t.target_ = GL_TEXTURE_2D_ARRAY;

@@ -23,9 +23,6 @@ public:
     // Immutable storage (glTextureStorage*): levels = 0 means a full mip chain.
     static Texture create_2d(GLenum internal_format, int width, int height, int levels = 1);
     static Texture create_2d_array(GLenum internal_format, int width, int height, int layers, int levels = 1);
-    // A view of all of `source`'s storage in another format of its class (glTextureView), e.g.
-    // an sRGB texture as RGBA8 for image stores, which sRGB formats cannot take.
-    static Texture view(const Texture& source, GLenum internal_format);
 
     GLuint id() const { return id_; }
     GLenum target() const { return target_; }

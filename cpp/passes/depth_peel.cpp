@@ -1,7 +1,5 @@
 #include "passes/depth_peel.h"
 
-#include "passes/compute.h"
-
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
@@ -137,16 +135,10 @@ void DepthPeelPass::peel(FrameContext& ctx) {
 
     const float zero[4] = {0, 0, 0, 0};
     const float clear_depth = ctx.depth.clear_depth();
-    // Where clears run by image stores (a GPU), the colour layers are cleared all at once here
-    // (albedo through an RGBA8 view: sRGB formats take no image stores; 0 is 0 in both), and
-    // each layer below clears its depth only.
-    const bool colour_cleared = ctx.clear_by_compute;
-    if (colour_cleared) {
-        Texture albedo_rgba8 = Texture::view(albedo, GL_RGBA8);
-        clear_layers(ctx, albedo_rgba8, 0, zero);
-        clear_layers(ctx, normal, 0, zero);
-        clear_layers(ctx, material, 0, zero);
-    }
+    // The colour layers keep framebuffer clears even where the other passes clear by image
+    // stores (FrameContext::clear_by_compute): on an NVIDIA H200 the first image store into a
+    // new render-target texture cost 25-140 ms (a frame's new textures at 1920x1080,
+    // benchmarks/peel_profile.py --fresh), where the framebuffer clears cost under 1 ms per layer.
     const bool scissor_deeper = ctx.gl.info().chosen == "cpu";
     const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
     std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));
@@ -164,8 +156,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
         if (layer == 0) fbo_.check_complete("depth_peel");
-        if (!colour_cleared)
-            for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+        for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
         // On the CPU device, layer i > 0 rasterises only the bounding box of layer i-1's covered
         // tiles (where alone a fragment can be behind it): llvmpipe bins and runs the peel test

@@ -136,7 +136,9 @@ class Renderer:
         device), "gl" (glClearTexSubImage and framebuffer clears) or "compute" (image stores of a
         compute shader; a GPU built for compute, such as NVIDIA's H100 and H200, has few raster
         units, and its GL clears ran at a tenth of its memory bandwidth: benchmarks/peel_profile.py).
-        The images are the same either way (tests/test_readback.py)."""
+        The G-buffer's layers, which are render targets, keep framebuffer clears on every path (the
+        first image store into a new render target cost far more there). The images are the same
+        either way (tests/test_clear_path.py)."""
         return self._native.clear_path
 
     @clear_path.setter
