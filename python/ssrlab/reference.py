@@ -34,10 +34,9 @@ KINDS = ("converged", "thesis")
 THESIS_GROUND_TRUTH = dict(rays_per_pixel=32, layers=16, stride=1.0, method="linear", downscale=1)
 DEFAULT_ROUGH_RAYS = 256
 
-# Settings that change a converged reference (the tracer's own parameters do not).
-_CONVERGED_KEY_FIELDS = ("width", "height", "depth_mode", "backface_culling", "shadow_map_size",
-                         "shadow_normal_offset", "shadow_pcf_radius", "roughness_cutoff", "origin_bias",
-                         "max_distance", "composite")
+# Settings that change a converged reference (the tracer's own parameters do not): those
+# cpp/render/settings_fields.def flags kReference.
+_CONVERGED_KEY_FIELDS = tuple(f.name for f in dataclasses.fields(Settings) if f.metadata["reference"])
 
 
 def thesis_ground_truth_settings(settings: Settings) -> Settings:
