@@ -137,6 +137,30 @@ class Settings:
         return "\n".join(lines).lstrip("\n")
 
 
+def fields_markdown() -> str:
+    """Every field as Markdown tables, one per group: default, unit, range, where the renderer
+    reads it and meaning (the docs' generated settings reference, docs/gen_pages.py)."""
+    def cell(text) -> str:
+        return str(text).replace("|", "\\|")
+
+    lines, group = [], None
+    for f in fields(Settings):
+        m = f.metadata
+        if m["group"] != group:
+            group = m["group"]
+            lines += ["", f"## {group}", "", "| field | default | unit | range | read by | meaning |",
+                      "|---|---|---|---|---|---|"]
+        if m["choices"]:
+            rng = ("`True`, `False`, " if f.type == "bool | str" else "") + ", ".join(f"`{c!r}`" for c in m["choices"])
+        elif m["lo"] is not None:
+            rng = f"[{m['lo']}, {m['hi']}]" + (f" or {m['off']} (off)" if m["off"] is not None else "")
+        else:
+            rng = "`True`, `False`"
+        where = "shaders (`ssr.{}`)".format(f.name) if m["place"] == "uniform" else "passes"
+        lines.append(f"| `{f.name}` | `{f.default!r}` | {cell(m['unit'])} | {cell(rng)} | {where} | {cell(m['doc'])} |")
+    return "\n".join(lines).lstrip("\n") + "\n"
+
+
 def _auto_deep_gbuffer(device: str, layers: int) -> str:
     """deep_gbuffer 'auto' on `device`: the exact method that builds `layers` layers faster."""
     return "peel"
