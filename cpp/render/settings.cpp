@@ -160,7 +160,7 @@ SSR_INSTANTIATE(SpecularOcclusion)
 #undef SSR_INSTANTIATE
 
 namespace {
-// A number as Python prints it (shortest round trip), for messages that quote Settings' bounds.
+// A bound or value in a message: a whole number as an integer, others in their shortest round-trip form.
 std::string number(double v, bool is_float) {
     if (!is_float && std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e18)
         return std::to_string((long long)v);

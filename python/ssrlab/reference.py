@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _core
 from ._package import __version__, shader_dir
 from .settings import Settings
 
@@ -87,6 +88,8 @@ def shader_sources_hash() -> str:
     for f in sorted(p for p in root.rglob("*") if p.is_file()):
         h.update(str(f.relative_to(root)).encode())
         h.update(f.read_bytes())
+    # The settings' uniform block is generated from cpp/render/settings_fields.def, not a file.
+    h.update(_core.ssr_settings_glsl().encode())
     return h.hexdigest()[:16]
 
 
