@@ -1,6 +1,8 @@
 """Pages made when the docs are built (mkdocs-gen-files), so that none can go stale by hand:
 
 - notebooks/: every notebook under notebooks/, shown with its saved outputs (not executed);
+- api/settings-fields.md: every setting, from the one declaration (cpp/render/settings_fields.def,
+  read through ssrlab.settings.fields_markdown());
 - results/: one page per device from the files a benchmark run wrote (run_all.json: the device,
   the date, the commit and each benchmark's command and printed tables), never copied by hand.
 
@@ -69,5 +71,18 @@ def results() -> None:
             out.write("No benchmark run has been committed yet.\n")
 
 
+def settings_fields() -> None:
+    from ssrlab.settings import fields_markdown
+
+    with mkdocs_gen_files.open("api/settings-fields.md", "w") as out:
+        out.write("# Settings, field by field\n\nEvery field of `ssrlab.Settings` as "
+                  "`cpp/render/settings_fields.def` declares it (this page is made from it when the docs are "
+                  "built). *read by*: `shaders` for the members of the reflection passes' uniform block, "
+                  "`passes` for the settings the C++ passes read. Rules between fields: "
+                  "`ssrlab.settings.CONSTRAINTS`, printed by `ssrlab settings`.\n\n")
+        out.write(fields_markdown())
+
+
 notebooks()
+settings_fields()
 results()

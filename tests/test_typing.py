@@ -37,7 +37,12 @@ def test_stubs_name_every_public_class_function_method_and_property():
             # A bound constructor (classes built only by factories or the renderer have none).
             if init is not None and type(init).__name__ != "wrapper_descriptor" and not issubclass(obj, Exception):
                 members.append("__init__")
+            # RenderSettings' properties are made from cpp/render/settings_fields.def, one per
+            # setting; its stub covers them with a typed __getattr__ (ssrlab.Settings is the typed face).
+            schema = {e["name"] for e in _core.settings_schema()} if name == "RenderSettings" else set()
             for member in members:
+                if member in schema and "__getattr__" in stub_members:
+                    continue
                 assert member in stub_members, f"{name}.{member} missing from the stubs; {hint}"
         elif callable(obj):
             assert name in functions, f"function {name} missing from the stubs; {hint}"

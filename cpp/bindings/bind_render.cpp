@@ -1,6 +1,10 @@
 #include "bindings/bindings.h"
 #include "core/egl_context.h"
 #include "render/renderer.h"
+#include "render/ssr_uniforms.h"
+
+#include <cctype>
+#include <deque>
 
 namespace py = pybind11;
 
@@ -25,6 +29,93 @@ auto enum_getter(E RenderSettings::*field) {
 template <typename E>
 auto enum_setter(const char* name, E RenderSettings::*field) {
     return [name, field](RenderSettings& s, const std::string& v) { s.*field = parse_enum<E>(name, v); };
+}
+
+py::dict entry(const char* type, py::object def, py::object native_def, py::object lo, py::object hi,
+                const char* name, const char* unit, const char* place, unsigned flags, const char* group,
+                const char* doc, py::object choices) {
+    py::dict e;
+    e["name"] = name;
+    e["type"] = type;
+    e["default"] = def;
+    e["native_default"] = native_def;
+    e["lo"] = lo;
+    e["hi"] = hi;
+    e["off"] = (flags & kOffAtZero) ? py::object(py::int_(0)) : py::object(py::none());
+    e["unit"] = unit;
+    e["choices"] = choices;
+    e["group"] = group;
+    e["doc"] = doc;
+    std::string where = place;
+    for (char& c : where) c = char(std::tolower(static_cast<unsigned char>(c)));
+    e["place"] = where;
+    e["reference"] = bool(flags & kReference);
+    return e;
+}
+
+// A row of settings_fields.def as ssrlab.Settings sees it, one function per kind.
+py::dict int_entry(const char* name, long long def, long long lo, long long hi, const char* unit, const char* place,
+                   unsigned flags, const char* group, const char* doc) {
+    return entry("int", py::int_(def), py::int_(def), py::int_(lo), py::int_(hi), name, unit, place, flags, group,
+                 doc, py::none());
+}
+py::dict float_entry(const char* name, double def, double lo, double hi, const char* unit, const char* place,
+                     unsigned flags, const char* group, const char* doc) {
+    // The declared double, not its float32 rounding: Settings' default 0.002 stays 0.002.
+    return entry("float", py::float_(def), py::float_(double(float(def))), py::float_(lo), py::float_(hi), name,
+                 unit, place, flags, group, doc, py::none());
+}
+py::dict bool_entry(const char* name, bool def, int, int, const char* unit, const char* place, unsigned flags,
+                    const char* group, const char* doc) {
+    if (flags & kAuto)
+        return entry("bool | str", py::str("auto"), py::bool_(def), py::none(), py::none(), name, unit, place, flags,
+                     group, doc, py::make_tuple("auto"));
+    return entry("bool", py::bool_(def), py::bool_(def), py::none(), py::none(), name, unit, place, flags, group, doc,
+                 py::none());
+}
+template <typename E>
+py::dict enum_entry(const char* name, E def, int, int, const char* unit, const char* place, unsigned flags,
+                    const char* group, const char* doc) {
+    py::list choices;
+    if (flags & kAuto) choices.append("auto");
+    for (const auto& [value, n] : enum_names<E>()) choices.append(n);
+    const py::object python_def = (flags & kAuto) ? py::str("auto") : py::str(enum_name(def));
+    return entry("str", python_def, py::str(enum_name(def)), py::none(), py::none(), name, unit, place, flags, group,
+                 doc, py::tuple(choices));
+}
+
+py::list settings_schema() {
+    py::list out;
+#define SSR_SCHEMA_INT int_entry
+#define SSR_SCHEMA_UINT int_entry
+#define SSR_SCHEMA_FLOAT float_entry
+#define SSR_SCHEMA_BOOL bool_entry
+#define SSR_SCHEMA_ENUM enum_entry
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) \
+    out.append(SSR_SCHEMA_##kind(#name, def, lo, hi, unit, #place, flags, group, doc));
+#include "render/settings_fields.def"
+#undef SSR_SCHEMA_INT
+#undef SSR_SCHEMA_UINT
+#undef SSR_SCHEMA_FLOAT
+#undef SSR_SCHEMA_BOOL
+#undef SSR_SCHEMA_ENUM
+    return out;
+}
+
+// "ssrlab.Settings.name [unit]: meaning (default d; range)": a native property's docstring.
+std::string property_doc(const py::dict& e) {
+    const std::string unit = e["unit"].cast<std::string>();
+    std::string range;
+    if (!e["choices"].is_none()) {
+        for (const auto& c : e["choices"]) range += (range.empty() ? "one of " : ", ") + py::repr(c).cast<std::string>();
+        if (e["type"].cast<std::string>() == "bool | str") range = "True, False or " + range.substr(7);
+    } else if (!e["lo"].is_none()) {
+        range = "range [" + py::repr(e["lo"]).cast<std::string>() + ", " + py::repr(e["hi"]).cast<std::string>() + "]";
+        if (!e["off"].is_none()) range += " or " + py::repr(e["off"]).cast<std::string>() + " (off)";
+    }
+    return "ssrlab.Settings." + e["name"].cast<std::string>() + (unit.empty() ? "" : " [" + unit + "]") + ": " +
+           e["doc"].cast<std::string>() + " (default " + py::repr(e["default"]).cast<std::string>() +
+           (range.empty() ? "" : "; " + range) + ")";
 }
 
 }  // namespace
@@ -53,94 +144,39 @@ void bind_render(py::module_& m) {
         py::arg("probe") = true,
         "Every EGL device: hardware ones numbered in enumeration order (device='gpu:N'), then software ones; "
         "with probe, each one's OpenGL vendor and renderer from a context made and destroyed at once.");
-    py::class_<RenderSettings>(m, "RenderSettings", "Native settings; build them with ssrlab.Settings.")
-        .def(py::init<>())
-        .def_readwrite("width", &RenderSettings::width)
-        .def_readwrite("height", &RenderSettings::height)
-        .def_readwrite("layers", &RenderSettings::layers)
-        .def_readwrite("backface_culling", &RenderSettings::backface_culling)
-        .def_property(
-            "depth_mode", [](const RenderSettings& s) { return depth_mode_name(s.depth_mode); },
-            [](RenderSettings& s, const std::string& v) { s.depth_mode = parse_depth_mode(v); })
-        .def_property("deep_gbuffer", enum_getter(&RenderSettings::deep_gbuffer),
-                      enum_setter("deep_gbuffer", &RenderSettings::deep_gbuffer))
-        .def_readwrite("deep_gbuffer_budget", &RenderSettings::deep_gbuffer_budget)
-        .def_readwrite("shadow_map_size", &RenderSettings::shadow_map_size)
-        .def_readwrite("shadow_normal_offset", &RenderSettings::shadow_normal_offset)
-        .def_readwrite("shadow_pcf_radius", &RenderSettings::shadow_pcf_radius)
-        .def_readwrite("rays_per_pixel", &RenderSettings::rays_per_pixel)
-        .def_readwrite("hammersley", &RenderSettings::hammersley)
-        .def_readwrite("seed", &RenderSettings::seed)
-        .def_readwrite("stride", &RenderSettings::stride)
-        .def_readwrite("jitter", &RenderSettings::jitter)
-        .def_readwrite("max_steps", &RenderSettings::max_steps)
-        .def_readwrite("max_distance", &RenderSettings::max_distance)
-        .def_readwrite("origin_bias", &RenderSettings::origin_bias)
-        .def_readwrite("thickness", &RenderSettings::thickness)
-        .def_readwrite("thickness_scale", &RenderSettings::thickness_scale)
-        .def_readwrite("refine_steps", &RenderSettings::refine_steps)
-        .def_readwrite("hiz_start_level", &RenderSettings::hiz_start_level)
-        .def_readwrite("hiz_stop_level", &RenderSettings::hiz_stop_level)
-        .def_readwrite("hiz_max_level", &RenderSettings::hiz_max_level)
-        .def_readwrite("hiz_linear_steps", &RenderSettings::hiz_linear_steps)
-        .def_readwrite("hiz_use_max", &RenderSettings::hiz_use_max)
-        .def_readwrite("hiz_crossing_offset", &RenderSettings::hiz_crossing_offset)
-        .def_readwrite("downscale", &RenderSettings::downscale)
-        .def_readwrite("reuse_radius", &RenderSettings::reuse_radius)
-        .def_readwrite("edge_aware", &RenderSettings::edge_aware)
-        .def_readwrite("edge_depth_sigma", &RenderSettings::edge_depth_sigma)
-        .def_readwrite("edge_normal_power", &RenderSettings::edge_normal_power)
-        .def_readwrite("fade_border", &RenderSettings::fade_border)
-        .def_readwrite("fade_camera_start", &RenderSettings::fade_camera_start)
-        .def_readwrite("fade_camera_end", &RenderSettings::fade_camera_end)
-        .def_readwrite("fade_distance_start", &RenderSettings::fade_distance_start)
-        .def_readwrite("fade_distance_end", &RenderSettings::fade_distance_end)
-        .def_readwrite("roughness_cutoff", &RenderSettings::roughness_cutoff)
-        .def_readwrite("temporal_reflections", &RenderSettings::temporal_reflections)
-        .def_readwrite("temporal_ray_reuse", &RenderSettings::temporal_ray_reuse)
-        .def_readwrite("skip", &RenderSettings::skip)
-        .def_readwrite("classify_facing", &RenderSettings::classify_facing)
-        .def_readwrite("adaptive_rays", &RenderSettings::adaptive_rays)
-        .def_readwrite("variance_rays", &RenderSettings::variance_rays)
-        .def_readwrite("variance_threshold", &RenderSettings::variance_threshold)
-        .def_readwrite("temporal_max_history", &RenderSettings::temporal_max_history)
-        .def_readwrite("reject_depth", &RenderSettings::reject_depth)
-        .def_readwrite("reject_normal", &RenderSettings::reject_normal)
-        .def_readwrite("temporal_clamp", &RenderSettings::temporal_clamp)
-        .def_readwrite("reject_offscreen", &RenderSettings::reject_offscreen)
-        .def_readwrite("taa_history_weight", &RenderSettings::taa_history_weight)
-        .def_property("taa", enum_getter(&RenderSettings::taa), enum_setter("taa", &RenderSettings::taa))
-        .def_property("bounces", enum_getter(&RenderSettings::bounces), enum_setter("bounces", &RenderSettings::bounces))
-        .def_property("method", enum_getter(&RenderSettings::method), enum_setter("method", &RenderSettings::method))
-        .def_property("fallback", enum_getter(&RenderSettings::fallback), enum_setter("fallback", &RenderSettings::fallback))
-        .def_readwrite("fallback_confidence", &RenderSettings::fallback_confidence)
-        .def_property("denoise", enum_getter(&RenderSettings::denoise), enum_setter("denoise", &RenderSettings::denoise))
-        .def_readwrite("svgf_max_history", &RenderSettings::svgf_max_history)
-        .def_readwrite("svgf_iterations", &RenderSettings::svgf_iterations)
-        .def_readwrite("svgf_sigma_depth", &RenderSettings::svgf_sigma_depth)
-        .def_readwrite("svgf_sigma_normal", &RenderSettings::svgf_sigma_normal)
-        .def_readwrite("svgf_sigma_luminance", &RenderSettings::svgf_sigma_luminance)
-        .def_property("bvh_shadows", enum_getter(&RenderSettings::bvh_shadows),
-                      enum_setter("bvh_shadows", &RenderSettings::bvh_shadows))
-        .def_readwrite("probe_size", &RenderSettings::probe_size)
-        .def_readwrite("probe_grid", &RenderSettings::probe_grid)
-        .def_property("sampling", enum_getter(&RenderSettings::sampling), enum_setter("sampling", &RenderSettings::sampling))
-        .def_property("noise", enum_getter(&RenderSettings::noise), enum_setter("noise", &RenderSettings::noise))
-        .def_property("thickness_mode", enum_getter(&RenderSettings::thickness_mode),
-                      enum_setter("thickness_mode", &RenderSettings::thickness_mode))
-        .def_property("reuse_weighting", enum_getter(&RenderSettings::reuse_weighting),
-                      enum_setter("reuse_weighting", &RenderSettings::reuse_weighting))
-        .def_property("composite", enum_getter(&RenderSettings::composite),
-                      enum_setter("composite", &RenderSettings::composite))
-        .def_property("glossy", enum_getter(&RenderSettings::glossy), enum_setter("glossy", &RenderSettings::glossy))
-        .def_readwrite("cone_max_samples", &RenderSettings::cone_max_samples)
-        .def_readwrite("cone_level_bias", &RenderSettings::cone_level_bias)
-        .def_readwrite("cone_stretch", &RenderSettings::cone_stretch)
-        .def_property("cone_remainder", enum_getter(&RenderSettings::cone_remainder),
-                      enum_setter("cone_remainder", &RenderSettings::cone_remainder))
-        .def_property("specular_occlusion", enum_getter(&RenderSettings::specular_occlusion),
-                      enum_setter("specular_occlusion", &RenderSettings::specular_occlusion))
-        .def("validate", &RenderSettings::validate);
+    py::class_<RenderSettings> settings(m, "RenderSettings", "Native settings; build them with ssrlab.Settings.");
+    settings.def(py::init<>()).def("validate", &RenderSettings::validate,
+                                   "Raises ValueError naming the first field out of its range or rule.");
+    // One property per settings_fields.def row, documented from the same row.
+    static std::deque<std::string> docs;  // pybind11 keeps the pointers
+    const py::list schema = settings_schema();
+    size_t row = 0;
+#define SSR_BIND_INT(name) settings.def_readwrite(#name, &RenderSettings::name, docs.back().c_str());
+#define SSR_BIND_UINT SSR_BIND_INT
+#define SSR_BIND_FLOAT SSR_BIND_INT
+#define SSR_BIND_BOOL SSR_BIND_INT
+#define SSR_BIND_ENUM(name)                                                                                  \
+    settings.def_property(#name, enum_getter(&RenderSettings::name), enum_setter(#name, &RenderSettings::name), \
+                          docs.back().c_str());
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) \
+    docs.push_back(property_doc(schema[row++].cast<py::dict>()));                 \
+    SSR_BIND_##kind(name)
+#include "render/settings_fields.def"
+#undef SSR_BIND_INT
+#undef SSR_BIND_UINT
+#undef SSR_BIND_FLOAT
+#undef SSR_BIND_BOOL
+#undef SSR_BIND_ENUM
+    m.def("settings_schema", &settings_schema,
+          "Every setting as declared once in cpp/render/settings_fields.def, in order: a dict per field with "
+          "name, type (as ssrlab.Settings annotates it), default (ssrlab.Settings' default; 'auto' where it "
+          "takes one), native_default, lo, hi (None for bool and str), off (the value outside [lo, hi] that "
+          "switches the feature off, or None), unit, choices (a tuple of names, or None), group, doc, place "
+          "('uniform': in the shaders' SsrSettings block; 'pass': read by the C++ passes) and reference "
+          "(True: it changes a converged reference). ssrlab.Settings is made from it.");
+    m.def("ssr_settings_glsl", &ssr_settings_glsl,
+          "The GLSL the shaders include as lib/ssr_settings.glsl: the SsrSettings uniform block (the settings "
+          "whose place is 'uniform', derived members first) and an int constant per enum value.");
 
     py::class_<Sequence, std::shared_ptr<Sequence>>(m, "Sequence", "The history of a sequence of frames.")
         .def_readonly("frames", &Sequence::frames, "frames rendered in this sequence so far")

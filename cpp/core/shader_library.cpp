@@ -63,7 +63,8 @@ void ShaderLibrary::append_file(const fs::path& file, const fs::path& display, P
     out.files.push_back(name);
     stack.push_back(name);
 
-    std::istringstream in(read_text(file));
+    const auto generated = generated_.find(name);
+    std::istringstream in(generated != generated_.end() ? generated->second : read_text(file));
     std::string line;
     int line_no = 0;
     out.text += "#line 1 " + std::to_string(index) + "\n";
@@ -80,6 +81,11 @@ void ShaderLibrary::append_file(const fs::path& file, const fs::path& display, P
         }
         if (std::regex_match(line, m, include_re())) {
             const std::string target = m[1].str();
+            if (generated_.count(target)) {
+                append_file(fs::path(target), fs::path(target), out, stack);
+                out.text += "#line " + std::to_string(line_no + 1) + " " + std::to_string(index) + "\n";
+                continue;
+            }
             fs::path resolved = file.parent_path() / target;
             fs::path shown = display.parent_path() / target;
             if (!fs::exists(resolved)) {

@@ -3,7 +3,8 @@
 // A stage file starts with `#version 450 core`; it may `#include "lib/name.glsl"` shared
 // function files (resolved relative to the including file, then to the shader root, each
 // file at most once per stage). Variants are chosen by #defines, inserted after #version.
-// Compiled programs are cached per (stage files, defines). Every file gets its own GLSL
+// Compiled programs are cached per (stage files, defines). A generated file (add_generated)
+// is included by its name, as if it lay under the shader root. Every file gets its own GLSL
 // source-string number through `#line`, so compiler messages are translated back to
 // "shaders/<file>:<line>" and raised as ShaderError.
 #pragma once
@@ -33,6 +34,9 @@ public:
     GLuint program(const std::vector<std::string>& stages, const Defines& defines = {});
 
     const std::filesystem::path& root() const { return root_; }
+    // A file made by the program rather than read from the shader folder: `#include "name"`
+    // reads `text` (before any program is built; error messages show the file as `name`).
+    void add_generated(const std::string& name, std::string text) { generated_[name] = std::move(text); }
     void release();  // deletes every cached program (in the current context)
     size_t cached_programs() const { return cache_.size(); }
 
@@ -50,6 +54,7 @@ private:
 
     std::filesystem::path root_;
     std::map<std::string, GLuint> cache_;
+    std::map<std::string, std::string> generated_;
 };
 
 // Turns a driver's info log into "file:line: message" lines (Mesa and NVIDIA formats).

@@ -107,6 +107,8 @@ std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std:
 Renderer::Renderer(const std::string& device, const std::string& shader_dir, const std::string& input_fetch)
     : ctx_(std::make_shared<EglContext>(parse_device_kind(device), parse_device_index(device))),
       shaders_(std::make_unique<ShaderLibrary>(shader_dir)) {
+    // The reflection settings' block, declared once in settings_fields.def (lib/ssr_settings.glsl).
+    shaders_->add_generated(kSsrSettingsGlslName, ssr_settings_glsl());
     CurrentContext current(*ctx_);
     frame_ubo_ = Buffer::create(sizeof(FrameUniforms));
     glCreateSamplers(1, &readback_sampler_);

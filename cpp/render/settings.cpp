@@ -1,5 +1,6 @@
 #include "render/settings.h"
 
+#include <charconv>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -18,7 +19,13 @@ const std::vector<std::pair<E, std::string>>& names();
 template <>
 const std::vector<std::pair<TraceMethod, std::string>>& names() {
     static const std::vector<std::pair<TraceMethod, std::string>> n = {
-        {TraceMethod::Off, "off"}, {TraceMethod::Linear, "linear"}, {TraceMethod::Hiz, "hiz"}, {TraceMethod::Bvh, "bvh"}};
+        {TraceMethod::Linear, "linear"}, {TraceMethod::Hiz, "hiz"}, {TraceMethod::Bvh, "bvh"}, {TraceMethod::Off, "off"}};
+    return n;
+}
+template <>
+const std::vector<std::pair<DepthMode, std::string>>& names() {
+    static const std::vector<std::pair<DepthMode, std::string>> n = {{DepthMode::Standard, "standard"},
+                                                                     {DepthMode::ReversedZ, "reversed_z"}};
     return n;
 }
 template <>
@@ -125,9 +132,16 @@ std::string enum_name(E value) {
     return "?";
 }
 
+template <typename E>
+const std::vector<std::pair<E, std::string>>& enum_names() {
+    return names<E>();
+}
+
 #define SSR_INSTANTIATE(E) \
     template E parse_enum<E>(const std::string&, const std::string&); \
-    template std::string enum_name<E>(E);
+    template std::string enum_name<E>(E); \
+    template const std::vector<std::pair<E, std::string>>& enum_names<E>();
+SSR_INSTANTIATE(DepthMode)
 SSR_INSTANTIATE(TraceMethod)
 SSR_INSTANTIATE(Fallback)
 SSR_INSTANTIATE(Denoise)
@@ -145,78 +159,59 @@ SSR_INSTANTIATE(ConeRemainder)
 SSR_INSTANTIATE(SpecularOcclusion)
 #undef SSR_INSTANTIATE
 
+namespace {
+// A bound or value in a message: a whole number as an integer, others in their shortest round-trip form.
+std::string number(double v, bool is_float) {
+    if (!is_float && std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e18)
+        return std::to_string((long long)v);
+    char buf[64];
+    const auto r = is_float ? std::to_chars(buf, buf + sizeof buf, float(v)) : std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
+// The range of a numeric field, as settings_fields.def declares it. The fields are float32 while
+// the declared bounds are decimal doubles: 1e-6 as a float is 9.99999997e-7 < 1e-6, so comparing
+// in double would reject the declared lower bounds themselves. Bounds are rounded to the field's
+// precision first.
+void check_range(double v, double lo, double hi, bool is_float, const char* unit, unsigned flags, const char* name) {
+    if ((flags & kOffAtZero) && v == 0.0) return;
+    const double lo_f = is_float ? double(float(lo)) : lo, hi_f = is_float ? double(float(hi)) : hi;
+    if (std::isfinite(v) && v >= lo_f && v <= hi_f) return;
+    std::string msg = std::string("Settings.") + name + " must be in [" + number(lo, false) + ", " + number(hi, false) + "]";
+    if (*unit) msg += std::string(" ") + unit;
+    if (flags & kOffAtZero) msg += " (or 0: off)";
+    throw std::invalid_argument(msg + ", got " + number(v, is_float));
+}
+}  // namespace
+
 void RenderSettings::validate() const {
-    check(width >= 1 && width <= 16384, "Settings.width must be in [1, 16384] pixels, got " + std::to_string(width));
-    check(height >= 1 && height <= 16384, "Settings.height must be in [1, 16384] pixels, got " + std::to_string(height));
-    check(layers >= 1 && layers <= 16, "Settings.layers must be in [1, 16], got " + std::to_string(layers));
-    check(deep_gbuffer_budget >= 0 && deep_gbuffer_budget <= (1 << 20),
-          "Settings.deep_gbuffer_budget must be 0 (the device's limit) or in [1, 1048576] MiB, got " + std::to_string(deep_gbuffer_budget));
-    check(shadow_map_size == 0 || (shadow_map_size >= 16 && shadow_map_size <= 16384),
-          "Settings.shadow_map_size must be 0 (off) or in [16, 16384], got " + std::to_string(shadow_map_size));
-    check(std::isfinite(shadow_normal_offset) && shadow_normal_offset >= 0.0f,
-          "Settings.shadow_normal_offset must be finite and >= 0");
-    check(shadow_pcf_radius >= 0 && shadow_pcf_radius <= 4,
-          "Settings.shadow_pcf_radius must be in [0, 4], got " + std::to_string(shadow_pcf_radius));
-    // The fields are float32 while the documented bounds are decimal doubles: 1e-6 as a float
-    // is 9.99999997e-7 < 1e-6, so comparing in double rejected the documented lower bounds
-    // themselves. Bounds are rounded to float first, the precision of the field.
-    auto range = [](double v, double lo_d, double hi_d, const char* name) {
-        const double lo = double(float(lo_d)), hi = double(float(hi_d));
-        check(std::isfinite(v) && v >= lo && v <= hi,
-              std::string("Settings.") + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                  "], got " + std::to_string(v));
-    };
-    range(rays_per_pixel, 1, 32, "rays_per_pixel");
-    range(stride, 1, 64, "stride");
-    range(jitter, 0, 1, "jitter");
-    range(max_steps, 1, 100000, "max_steps");
-    range(max_distance, 1e-3, 1e7, "max_distance");
-    range(origin_bias, 0, 1, "origin_bias");
-    range(thickness, 0, 1e6, "thickness");
-    range(thickness_scale, 0, 1e3, "thickness_scale");
-    range(refine_steps, 0, 16, "refine_steps");
-    range(hiz_start_level, 0, 15, "hiz_start_level");
-    range(hiz_stop_level, 0, 15, "hiz_stop_level");
-    range(hiz_max_level, 0, 15, "hiz_max_level");
+    // Every numeric field's range (settings_fields.def).
+#define SSR_CHECK_INT(name, lo, hi, unit, flags) check_range(double(name), lo, hi, false, unit, flags, #name);
+#define SSR_CHECK_UINT SSR_CHECK_INT
+#define SSR_CHECK_FLOAT(name, lo, hi, unit, flags) check_range(double(name), lo, hi, true, unit, flags, #name);
+#define SSR_CHECK_BOOL(name, lo, hi, unit, flags)
+#define SSR_CHECK_ENUM(name, lo, hi, unit, flags)
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) SSR_CHECK_##kind(name, lo, hi, unit, flags)
+#include "render/settings_fields.def"
+#undef SSR_CHECK_INT
+#undef SSR_CHECK_UINT
+#undef SSR_CHECK_FLOAT
+#undef SSR_CHECK_BOOL
+#undef SSR_CHECK_ENUM
+
+    // Rules between fields, and values a range cannot say.
+    check(downscale == 1 || downscale == 2 || downscale == 4,
+          "Settings.downscale must be 1, 2 or 4, got " + std::to_string(downscale));
     check(hiz_stop_level <= hiz_max_level,
           "Settings.hiz_stop_level (" + std::to_string(hiz_stop_level) + ") must be <= Settings.hiz_max_level (" +
               std::to_string(hiz_max_level) + ")");
-    range(hiz_linear_steps, 0, 64, "hiz_linear_steps");
-    range(hiz_crossing_offset, 1e-5, 0.5, "hiz_crossing_offset");
-    check(downscale == 1 || downscale == 2 || downscale == 4,
-          "Settings.downscale must be 1, 2 or 4, got " + std::to_string(downscale));
-    range(reuse_radius, 0, 2, "reuse_radius");
-    range(edge_depth_sigma, 1e-6, 1e3, "edge_depth_sigma");
-    range(edge_normal_power, 0, 1024, "edge_normal_power");
-    range(fade_border, 0, 0.5, "fade_border");
-    range(fade_camera_start, -1, 1, "fade_camera_start");
-    range(fade_camera_end, -1, 1, "fade_camera_end");
-    range(fade_distance_start, 0, 1e7, "fade_distance_start");
-    range(fade_distance_end, 0, 1e7, "fade_distance_end");
-    range(roughness_cutoff, 0, 1, "roughness_cutoff");
-    range(classify_facing, 0, 1, "classify_facing");
-    range(variance_threshold, 0, 1e3, "variance_threshold");
     check(!variance_rays || (adaptive_rays && glossy == Glossy::Stochastic &&
                              (method == TraceMethod::Linear || method == TraceMethod::Hiz)),
           "Settings.variance_rays adds the rays adaptive_rays left out, for the screen-space tracers' stochastic "
           "rays: it needs adaptive_rays=True, glossy='stochastic' and method 'linear' or 'hiz'");
-    range(temporal_max_history, 1, 1024, "temporal_max_history");
-    range(reject_depth, 0, 10, "reject_depth");
-    range(reject_normal, -1, 1, "reject_normal");
-    range(temporal_clamp, 0, 16, "temporal_clamp");
-    range(taa_history_weight, 0, 0.99, "taa_history_weight");
-    range(cone_max_samples, 1, 64, "cone_max_samples");
-    range(cone_level_bias, -4, 4, "cone_level_bias");
-    range(svgf_max_history, 1, 1024, "svgf_max_history");
-    range(svgf_iterations, 0, 8, "svgf_iterations");
-    range(svgf_sigma_depth, 1e-3, 1e3, "svgf_sigma_depth");
-    range(svgf_sigma_normal, 0, 1024, "svgf_sigma_normal");
-    range(svgf_sigma_luminance, 1e-3, 1e3, "svgf_sigma_luminance");
     // SVGF accumulates its own history; a second accumulation after it would only add lag.
     check(denoise != Denoise::Svgf || !temporal_reflections,
           "Settings.denoise 'svgf' accumulates its own history: it needs Settings.temporal_reflections off");
-    range(probe_size, 8, 1024, "probe_size");
-    range(probe_grid, 1, 4, "probe_grid");
     // The BVH tracer and the BVH fallback hand their radiance to the resolve.
     check(method != TraceMethod::Bvh || glossy == Glossy::Stochastic,
           "Settings.method 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");

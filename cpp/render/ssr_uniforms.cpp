@@ -1,55 +1,81 @@
 #include "render/ssr_uniforms.h"
 
+#include <cctype>
+#include <sstream>
+
 #include "render/settings.h"
 
 namespace ssr {
 
-SsrUniforms ssr_uniforms(const RenderSettings& s) {
-    SsrUniforms su{};
-    su.trace_width = s.trace_width();
-    su.trace_height = s.trace_height();
-    su.downscale = s.downscale;
-    su.rays_per_pixel = s.rays_per_pixel;
-    su.sampling = int(s.sampling);
-    su.noise = int(s.noise);
-    su.hammersley = s.hammersley;
-    su.seed = s.seed;
-    su.layers = s.layers;
-    su.max_steps = s.max_steps;
-    su.stride = s.stride;
-    su.jitter = s.jitter;
-    su.max_distance = s.max_distance;
-    su.origin_bias = s.origin_bias;
-    su.thickness = s.thickness;
-    su.thickness_scale = s.thickness_scale;
-    su.thickness_mode = int(s.thickness_mode);
-    su.refine_steps = s.refine_steps;
-    su.hiz_start_level = s.hiz_start_level;
-    su.hiz_stop_level = s.hiz_stop_level;
-    su.hiz_max_level = s.hiz_max_level;
-    su.hiz_linear_steps = s.hiz_linear_steps;
-    su.hiz_use_max = s.hiz_use_max;
-    su.hiz_crossing_offset = s.hiz_crossing_offset;
-    su.fade_border = s.fade_border;
-    su.fade_camera_start = s.fade_camera_start;
-    su.fade_camera_end = s.fade_camera_end;
-    su.fade_distance_start = s.fade_distance_start;
-    su.fade_distance_end = s.fade_distance_end;
-    su.roughness_cutoff = s.roughness_cutoff;
-    su.edge_depth_sigma = s.edge_depth_sigma;
-    su.edge_normal_power = s.edge_normal_power;
-    su.reuse_radius = s.reuse_radius;
-    su.reuse_weighting = int(s.reuse_weighting);
-    su.edge_aware = s.edge_aware;
-    su.cone_max_samples = s.cone_max_samples;
-    su.cone_level_bias = s.cone_level_bias;
-    su.cone_remainder = int(s.cone_remainder);
-    su.cone_stretch = s.cone_stretch;
+SsrUniforms ssr_uniforms(const RenderSettings& settings) {
+    RenderSettings s = settings;
     if (s.glossy != Glossy::Stochastic) {  // one mirror ray per pixel; the cone or the mip blurs it
-        su.rays_per_pixel = 1;
-        su.sampling = int(Sampling::Mirror);
+        s.rays_per_pixel = 1;
+        s.sampling = Sampling::Mirror;
     }
+    SsrUniforms su{};
+#define SSR_UNIFORM_COPY_UNIFORM(kind, name) su.name = SSR_GPU_TYPE_##kind(s.name);
+#define SSR_UNIFORM_COPY_PASS(kind, name)
+#define SSR_DERIVED(kind, name, expr, doc) su.name = SSR_GPU_TYPE_##kind(expr);
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) SSR_UNIFORM_COPY_##place(kind, name)
+#include "render/settings_fields.def"
+#undef SSR_UNIFORM_COPY_UNIFORM
+#undef SSR_UNIFORM_COPY_PASS
     return su;
+}
+
+namespace {
+
+std::string upper(const std::string& s) {
+    std::string u = s;
+    for (char& c : u) c = char(std::toupper(static_cast<unsigned char>(c)));
+    return u;
+}
+
+// One line of a member's meaning: its first sentence or clause, cut at 90 characters.
+std::string gist(const std::string& unit, const std::string& doc) {
+    std::string d = doc.substr(0, doc.find("; "));
+    if (d.size() > 90) d = d.substr(0, 87) + "...";
+    return (unit.empty() ? "" : "[" + unit + "] ") + d;
+}
+
+template <typename E>
+void enum_constants(std::ostringstream& out, const char* field) {
+    for (const auto& [value, name] : enum_names<E>())
+        out << "const int " << upper(field) << "_" << upper(name) << " = " << int(value) << ";\n";
+}
+
+}  // namespace
+
+std::string ssr_settings_glsl() {
+    std::ostringstream out;
+    out << "// Generated from cpp/render/settings_fields.def (ssr::ssr_settings_glsl): the settings whose\n"
+           "// place is UNIFORM, in the layout of SsrUniforms (std140, 4-byte scalars).\n"
+           "layout(std140, binding = " << kSsrSettingsBinding << ") uniform SsrSettings {\n";
+#define SSR_GLSL_TYPE_INT "int"
+#define SSR_GLSL_TYPE_UINT "uint"
+#define SSR_GLSL_TYPE_FLOAT "float"
+#define SSR_GLSL_TYPE_BOOL "int"
+#define SSR_GLSL_TYPE_ENUM "int"
+#define SSR_GLSL_MEMBER_UNIFORM(kind, name, unit, doc) \
+    out << "    " SSR_GLSL_TYPE_##kind " " #name ";  // " << gist(unit, doc) << "\n";
+#define SSR_GLSL_MEMBER_PASS(kind, name, unit, doc)
+#define SSR_DERIVED(kind, name, expr, doc) SSR_GLSL_MEMBER_UNIFORM(kind, name, "", doc)
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) \
+    SSR_GLSL_MEMBER_##place(kind, name, unit, doc)
+#include "render/settings_fields.def"
+    out << "} ssr;\n\n";
+    // The names of the enum settings in the block, valued as the C++ enums.
+#define SSR_ENUM_CONSTANTS_UNIFORM(ctype, name) enum_constants<ctype>(out, #name);
+#define SSR_ENUM_CONSTANTS_PASS(ctype, name)
+#define SSR_CONSTANTS_INT(ctype, name, place)
+#define SSR_CONSTANTS_UINT(ctype, name, place)
+#define SSR_CONSTANTS_FLOAT(ctype, name, place)
+#define SSR_CONSTANTS_BOOL(ctype, name, place)
+#define SSR_CONSTANTS_ENUM(ctype, name, place) SSR_ENUM_CONSTANTS_##place(ctype, name)
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) SSR_CONSTANTS_##kind(ctype, name, place)
+#include "render/settings_fields.def"
+    return out.str();
 }
 
 }  // namespace ssr

@@ -1,32 +1,42 @@
-// Screen-space reflection settings as the shaders see them (uniform buffer binding 4,
-// std140 with scalars only). Mirrored field by field in shaders/lib/ssr_settings.glsl.
+// Screen-space reflection settings as the shaders see them (uniform buffer binding 4, std140
+// with scalars only). The members, their upload and the GLSL block the shaders include
+// (shaders/lib/ssr_settings.glsl) are all made from cpp/render/settings_fields.def: the
+// settings whose place is UNIFORM, after the derived members.
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 namespace ssr {
 
 constexpr int kSsrSettingsBinding = 4;
 
-struct SsrUniforms {
-    int32_t trace_width, trace_height, downscale, rays_per_pixel;
-    int32_t sampling, noise, hammersley;
-    uint32_t seed;
-    int32_t layers, max_steps;
-    float stride, jitter;
-    float max_distance, origin_bias, thickness, thickness_scale;
-    int32_t thickness_mode, refine_steps, hiz_start_level, hiz_stop_level;
-    int32_t hiz_max_level, hiz_linear_steps, hiz_use_max;
-    float hiz_crossing_offset;
-    float fade_border, fade_camera_start, fade_camera_end, fade_distance_start;
-    float fade_distance_end, roughness_cutoff, edge_depth_sigma, edge_normal_power;
-    int32_t reuse_radius, reuse_weighting, edge_aware, cone_max_samples;
-    float cone_level_bias;
-    int32_t cone_remainder, cone_stretch, pad0;
+// The member type of each kind of setting (bool and enum travel as int).
+#define SSR_GPU_TYPE_INT int32_t
+#define SSR_GPU_TYPE_UINT uint32_t
+#define SSR_GPU_TYPE_FLOAT float
+#define SSR_GPU_TYPE_BOOL int32_t
+#define SSR_GPU_TYPE_ENUM int32_t
+#define SSR_UNIFORM_MEMBER_UNIFORM(kind, name) SSR_GPU_TYPE_##kind name;
+#define SSR_UNIFORM_MEMBER_PASS(kind, name)
+
+// std140 with 4-byte scalars only: each member at the next 4 bytes, in declaration order; the
+// block's size rounds up to 16 bytes, as alignas does here.
+struct alignas(16) SsrUniforms {
+#define SSR_DERIVED(kind, name, expr, doc) SSR_GPU_TYPE_##kind name;
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) \
+    SSR_UNIFORM_MEMBER_##place(kind, name)
+#include "render/settings_fields.def"
 };
-static_assert(sizeof(SsrUniforms) == 40 * 4, "std140 layout of SsrUniforms");
+static_assert(sizeof(SsrUniforms) % 16 == 0, "std140 size of SsrUniforms");
 
 struct RenderSettings;
 SsrUniforms ssr_uniforms(const RenderSettings& s);
+
+// The GLSL declaration of the SsrSettings block matching SsrUniforms, and an int constant per
+// name of every enum setting in it (e.g. SAMPLING_VNDF); shaders include it through
+// lib/ssr_settings.glsl (ShaderLibrary's generated file kSsrSettingsGlslName).
+std::string ssr_settings_glsl();
+constexpr const char* kSsrSettingsGlslName = "generated/ssr_settings_block.glsl";
 
 }  // namespace ssr

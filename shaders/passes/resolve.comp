@@ -254,7 +254,7 @@ void main() {
                 // BRDF weights: a neighbour's ray by this pixel's BRDF toward the ray's hit point
                 // (along its direction if it missed) over its pdf; mirror rays (pdf 0) keep their
                 // weight at reduced resolution and only serve their own pixel at full resolution.
-                bool reweigh = g_reuse_weighting == REUSE_BRDF && !own;
+                bool reweigh = g_reuse_weighting == REUSE_WEIGHTING_BRDF && !own;
                 for (int k = 0; k < rays; ++k) {
 #if RESOLVE_SHARED_TILE
                     int slot = k * entries + e;
@@ -314,7 +314,7 @@ void main() {
                         hit_pos = (u_previous_view_to_view * vec4(h_prev, 1.0)).xyz;
                     }
                     float w = smp.x;
-                    if (g_reuse_weighting == REUSE_BRDF && !own) {
+                    if (g_reuse_weighting == REUSE_WEIGHTING_BRDF && !own) {
                         if (smp.y > 0.0 && !mirror_receiver) {
                             vec3 l = hits ? normalize(hit_pos - p) : dir;
                             w = brdf_cosine(v_local, transpose(tbn) * l, alpha) / smp.y;

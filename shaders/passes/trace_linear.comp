@@ -145,7 +145,7 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         float z_next = -(qz + half_step * dqz) / (k + half_step * dk);
         float lo = min(z_prev, z_next), hi = max(z_prev, z_next);
         z_prev = z_next;
-        thick = g_thickness_mode == THICKNESS_RAY_STEP ? max(g_thickness, g_thickness_scale * (hi - lo)) : g_thickness;
+        thick = g_thickness_mode == THICKNESS_MODE_RAY_STEP ? max(g_thickness, g_thickness_scale * (hi - lo)) : g_thickness;
         pixel = clamp(ivec2(floor(permute ? p.yx : p)), ivec2(0), last_pixel);
         layer = layer_hit(pixel, lo, hi, thick, surface);
         if (layer >= 0) break;

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import _core
 from .._package import __version__, shader_dir
 from ..progress import progress_callback  # noqa: F401  (ssrlab.reference.progress_callback)
 from ..settings import Settings
@@ -35,10 +36,9 @@ KINDS = ("converged", "thesis")
 THESIS_GROUND_TRUTH = dict(rays_per_pixel=32, layers=16, stride=1.0, method="linear", downscale=1)
 DEFAULT_ROUGH_RAYS = 256
 
-# Settings that change a converged reference (the tracer's own parameters do not).
-_CONVERGED_KEY_FIELDS = ("width", "height", "depth_mode", "backface_culling", "shadow_map_size",
-                         "shadow_normal_offset", "shadow_pcf_radius", "roughness_cutoff", "origin_bias",
-                         "max_distance", "composite")
+# Settings that change a converged reference (the tracer's own parameters do not): those
+# cpp/render/settings_fields.def flags kReference.
+_CONVERGED_KEY_FIELDS = tuple(f.name for f in dataclasses.fields(Settings) if f.metadata["reference"])
 
 
 def thesis_ground_truth_settings(settings: Settings) -> Settings:
@@ -89,6 +89,8 @@ def shader_sources_hash() -> str:
     for f in sorted(p for p in root.rglob("*") if p.is_file()):
         h.update(str(f.relative_to(root)).encode())
         h.update(f.read_bytes())
+    # The settings' uniform block is generated from cpp/render/settings_fields.def, not a file.
+    h.update(_core.ssr_settings_glsl().encode())
     return h.hexdigest()[:16]
 
 
