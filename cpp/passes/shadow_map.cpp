@@ -46,6 +46,19 @@ void ShadowMapPass::execute(FrameContext& ctx) {
     glUseProgram(prog);
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_light_view_proj"), 1, GL_FALSE, &setup_.light_view_proj[0][0]);
     const GLint loc_object = glGetUniformLocation(prog, "u_object");
+    // Alpha-tested materials (glTF MASK/BLEND) with a fragment stage that discards their holes.
+    GLuint alpha_prog = 0;
+    GLint loc_alpha_object = -1;
+    for (const DrawItem& d : ctx.gpu_scene.draws())
+        if (ctx.gpu_scene.alpha_tested(d.material)) {
+            alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, ctx.defines);
+            glUseProgram(alpha_prog);
+            glUniformMatrix4fv(glGetUniformLocation(alpha_prog, "u_light_view_proj"), 1, GL_FALSE,
+                               &setup_.light_view_proj[0][0]);
+            loc_alpha_object = glGetUniformLocation(alpha_prog, "u_object");
+            glUseProgram(prog);
+            break;
+        }
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, map.width(), map.height());
@@ -61,8 +74,13 @@ void ShadowMapPass::execute(FrameContext& ctx) {
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &one);
 
     ctx.gpu_scene.bind_geometry();
+    GLuint current = prog;
     for (const DrawItem& d : ctx.gpu_scene.draws()) {
-        glUniform1i(loc_object, d.object);
+        const bool alpha = ctx.gpu_scene.alpha_tested(d.material);
+        const GLuint want = alpha ? alpha_prog : prog;
+        if (want != current) glUseProgram(current = want);
+        glUniform1i(alpha ? loc_alpha_object : loc_object, d.object);
+        if (alpha) ctx.gpu_scene.bind_material_textures(d.material);
         glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                                  reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
     }

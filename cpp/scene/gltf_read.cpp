@@ -503,6 +503,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
 
     // Materials.
     const int material_base = int(scene.materials.size());
+    std::string blended;  // the BLEND materials, named in one warning
     for (size_t i = 0; i < model.materials.size(); ++i) {
         const auto& gm = model.materials[i];
         const std::string what = "material " + std::to_string(i) + " ('" + gm.name + "')";
@@ -529,6 +530,15 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             warnings.push_back(path + ": " + what + ": emissiveTexture is not rendered (the lighting pass has no texture "
                                "coordinates); its emissiveFactor alone is");
         m.double_sided = gm.doubleSided;
+        if (gm.alphaMode == "MASK") {
+            m.alpha_mode = Material::AlphaMode::Mask;
+            m.alpha_cutoff = float(gm.alphaCutoff);
+        } else if (gm.alphaMode == "BLEND") {
+            m.alpha_mode = Material::AlphaMode::Blend;
+            blended += (blended.empty() ? "" : ", ") + what;
+        } else if (gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty()) {
+            r.fail(what + ": alphaMode '" + gm.alphaMode + "' is not OPAQUE, MASK or BLEND");
+        }
         m.base_color_texture = texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, image_base, r, what);
         m.metallic_roughness_texture = texture_ref(model, pbr.metallicRoughnessTexture.index,
                                                    pbr.metallicRoughnessTexture.texCoord, image_base, r, what);
@@ -540,6 +550,9 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         if (gm.extras.Has("reflectivity")) m.reflectivity = float(gm.extras.Get("reflectivity").GetNumberAsDouble());
         scene.materials.push_back(m);
     }
+    if (!blended.empty())
+        warnings.push_back(path + ": alphaMode BLEND drawn as MASK at alpha 0.5 (a hole below, opaque above; no "
+                           "translucent layer): " + blended);
     int default_material = -1;  // glTF's default material, added only when a primitive needs it
 
     // Meshes: one ssr::Mesh per glTF primitive, shared by every node that instances it.

@@ -195,6 +195,10 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
                 model.extensionsUsed.push_back("KHR_materials_emissive_strength");
         }
         gm.doubleSided = m.double_sided;
+        if (m.alpha_mode != Material::AlphaMode::Opaque) {
+            gm.alphaMode = m.alpha_mode == Material::AlphaMode::Mask ? "MASK" : "BLEND";
+            gm.alphaCutoff = m.alpha_cutoff;
+        }
         gm.pbrMetallicRoughness.baseColorTexture.index = texture(m.base_color_texture);
         gm.pbrMetallicRoughness.baseColorTexture.texCoord = m.base_color_texture.texcoord;
         gm.pbrMetallicRoughness.metallicRoughnessTexture.index = texture(m.metallic_roughness_texture);

@@ -172,6 +172,8 @@ uint64_t Scene::content_hash() const {
         }
         h.pod(m.normal_scale);
         h.pod(m.double_sided);
+        h.pod(m.alpha_mode);
+        h.pod(m.alpha_cutoff);
     }
     for (const Image& i : images) {
         h.pod(i.width);

@@ -50,6 +50,19 @@ struct Material {
     TextureRef normal_texture;              // linear, tangent space
     float normal_scale = 1.0f;
     bool double_sided = false;   // back faces get flipped normals (glTF doubleSided)
+    // glTF alphaMode: alpha = base_color.a x the base colour texture's alpha. MASK: a texel
+    // with alpha below alpha_cutoff is a hole in every pass that decides visibility (the
+    // G-buffer's constructions, the shadow map, the BVH traversals), so SSR and its truth see
+    // the same holes. BLEND is tested the same way at 0.5 (visibility_cutoff): the deep
+    // G-buffer keeps one opaque surface per layer and the reference traces opaque surfaces, so
+    // a translucent layer would exist in neither; the loader says so in a SceneWarning.
+    enum class AlphaMode { Opaque, Mask, Blend };
+    AlphaMode alpha_mode = AlphaMode::Opaque;
+    float alpha_cutoff = 0.5f;
+    // The alpha below which a texel is a hole, or -1 for an opaque material.
+    float visibility_cutoff() const {
+        return alpha_mode == AlphaMode::Opaque ? -1.0f : (alpha_mode == AlphaMode::Mask ? alpha_cutoff : 0.5f);
+    }
 };
 
 struct Mesh {

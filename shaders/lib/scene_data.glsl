@@ -10,7 +10,7 @@ struct ObjectData {
 struct MaterialData {
     vec4 base_color;  // linear RGB, alpha
     vec4 params;      // (metallic, roughness, reflectivity, normal scale)
-    vec4 emissive;    // rgb
+    vec4 emissive;    // rgb; w: alpha below which a texel is a hole (glTF MASK/BLEND), -1 opaque
     ivec4 flags;      // (base colour texture, metallic-roughness texture, normal texture, double sided)
     ivec4 images;     // image index of each texture, -1 for none (for scene_textures.glsl)
     ivec4 wraps;      // wrap_s | wrap_t << 16 of each texture

@@ -13,6 +13,12 @@
 #ifndef PEEL_TEST
 #define PEEL_TEST 0
 #endif
+// PEEL_ALPHA_TEST 1: the depth pass of an alpha-tested material (glTF MASK/BLEND) discards the
+// texels the shading pass would, so the depth it keeps is the surface seen through the holes
+// (the shading pass, with GL_EQUAL and early tests, cannot discard what the depth already hides).
+#ifndef PEEL_ALPHA_TEST
+#define PEEL_ALPHA_TEST 0
+#endif
 // The shading pass is compiled per material kind (GpuScene::material_features), as
 // llvmpipe runs the texture samples of a branch no lane takes: MATERIAL_TEXTURES 0 for a
 // material without textures, MATERIAL_AUTO_R 0 for one with an explicit reflectivity.
@@ -34,12 +40,30 @@
 // (the shader library includes a file once: includes both variants use come first)
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
+#include "../lib/scene_data.glsl"
 
 #if PEEL_DEPTH_ONLY
 
 layout(binding = 3) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
 
+#if PEEL_ALPHA_TEST
+layout(binding = 0) uniform sampler2D u_base_color_texture;  // sRGB; alpha is linear
+uniform int u_object;
+in VertexOut {
+    vec3 view_position;
+    vec3 view_normal;
+    vec2 uv;
+    vec4 view_tangent;
+} fs;
+#endif
+
 void main() {
+#if PEEL_ALPHA_TEST
+    // The same test as material_alpha_hole (lib/material.glsl), on the same texture sample.
+    MaterialData m = materials[objects[u_object].material.x];
+    float alpha = m.base_color.a * (m.flags.x != 0 ? texture(u_base_color_texture, fs.uv).a : 1.0);
+    if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
+#endif
 #if PEEL_TEST
     float previous = texelFetch(u_previous_layer_depth, ivec2(gl_FragCoord.xy), 0).r;
     if (!is_farther(gl_FragCoord.z, previous)) discard;
@@ -93,9 +117,14 @@ void main() {
                     tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), dFdx(fs.uv),
                                                  dFdy(fs.uv), t, b);
     }
-    GSample g = material_sample(m, texture(u_base_color_texture, fs.uv), texture(u_metallic_roughness_texture, fs.uv),
+    vec4 base_texel = texture(u_base_color_texture, fs.uv);
+    // A hole of an alpha-tested material: the lists must not append it (peeling's depth pass
+    // already discarded it, so here it only guards against a coplanar surface's equal depth).
+    if (material_alpha_hole(m, base_texel)) discard;
+    GSample g = material_sample(m, base_texel, texture(u_metallic_roughness_texture, fs.uv),
                                 texture(u_normal_texture, fs.uv).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
 #else
+    if (material_alpha_hole(m, vec4(1.0))) discard;
     // No texture: material_sample ignores the texel values (its flags are 0).
     GSample g = material_sample(m, vec4(1.0), vec4(1.0), vec3(0.5, 0.5, 1.0), n, t, b, false, gl_FrontFacing, u_object);
 #endif
