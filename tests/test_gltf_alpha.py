@@ -4,6 +4,7 @@ the BVH traversals (per-ray truth, converged reference on the GLSL tracer and on
 shadow map."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -192,3 +193,43 @@ def test_blend_is_a_mask_at_half_and_alpha_round_trips(tmp_path):
         ssrlab.Material(alpha_mode="CUTOUT")
     with pytest.raises(ValueError, match="alpha_cutoff"):
         ssrlab.Material().alpha_cutoff = -0.5
+
+
+def test_texture_transform_moves_the_holes(tmp_path):
+    """KHR_texture_transform on the mask: an offset of one checker cell swaps holes and cells, in
+    the G-buffer, the per-ray truth and Embree's converged reference alike; it survives a save."""
+    r = ssrlab.Renderer("auto")
+    scene, floor, wall, quad = masked_scene()
+    path = scene.save(tmp_path / "masked.gltf")
+    doc = json.loads(path.read_text())
+    (m,) = [m for m in doc["materials"] if m.get("name") == "masked"]
+    m["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"offset": [1.0 / CELLS, 0.0]}}
+    doc.setdefault("extensionsUsed", []).append("KHR_texture_transform")
+    path.write_text(json.dumps(doc))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ssrlab.SceneWarning)  # the extension is rendered: not named
+        loaded = ssrlab.Scene.load(path)
+    again = json.loads(loaded.save(tmp_path / "again.gltf").read_text())
+    (m2,) = [m for m in again["materials"] if m.get("name") == "masked"]
+    t = m2["pbrMetallicRoughness"]["baseColorTexture"]["extensions"]["KHR_texture_transform"]
+    np.testing.assert_allclose(t["offset"], [1.0 / CELLS, 0.0], atol=1e-7)
+    np.testing.assert_allclose(t["scale"], [1.0, 1.0], atol=1e-7)
+    assert t["rotation"] == pytest.approx(0.0, abs=1e-7)
+
+    f = r.render(loaded, settings=small(width=160, height=120, layers=2, deep_gbuffer="peel"))
+    cam, d = pixel_rays(f)
+    cls = classify(cam, d)
+    g = f.gbuffer
+    # The untransformed pattern's holes now hold opaque cells and vice versa.
+    assert (g.object_id[0][cls == 1] == wall).mean() > 0.99
+    assert (g.object_id[0][cls == 0] == quad).mean() > 0.99
+    p, rd, ahead = floor_mirror_rays(f)
+    on_floor = ahead & g.coverage[0] & (g.object_id[0] == floor)
+    mirrored = np.where(on_floor, classify(p, rd), -1)
+    truth = f.reference("per_ray")
+    assert (truth.object[0][mirrored == 1] == wall).mean() > 0.99
+    assert (truth.object[0][mirrored == 0] == quad).mean() > 0.99
+    refl = f.reference("converged", rays=1, tracer="embree").reflection
+    assert (refl[mirrored == 1][:, 1] > refl[mirrored == 1][:, 0]).mean() > 0.9
+    assert (refl[mirrored == 0][:, 0] > refl[mirrored == 0][:, 1]).mean() > 0.9

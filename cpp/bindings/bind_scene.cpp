@@ -124,6 +124,13 @@ void validate_material(const Material& m, const Scene* scene) {
     unit(m.metallic, "metallic");
     unit(m.roughness, "roughness");
     if (!m.auto_reflectivity()) unit(m.reflectivity, "reflectivity");
+    if (!(m.ior == 0.0f || (m.ior >= 1.0f && m.ior <= 1e6f)))
+        throw std::invalid_argument("Material.ior must be 0 or in [1, 1e6] (KHR_materials_ior), got " + std::to_string(m.ior));
+    unit(m.specular, "specular");
+    for (int i = 0; i < 3; ++i)
+        if (!(m.specular_color[i] >= 0.0f && m.specular_color[i] <= 1e6f))
+            throw std::invalid_argument("Material.specular_color components must be in [0, 1e6], got " +
+                                        std::to_string(m.specular_color[i]));
     if (!(m.alpha_cutoff >= 0.0f && std::isfinite(m.alpha_cutoff)))
         throw std::invalid_argument("Material.alpha_cutoff must be finite and >= 0, got " + std::to_string(m.alpha_cutoff));
     if (scene) {
@@ -155,6 +162,9 @@ reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000
              GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
              extras load so)
 double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+ior, specular, specular_color
+             KHR_materials_ior / KHR_materials_specular: a dielectric's F0 is
+             min(((ior - 1) / (ior + 1))^2 x specular_color, 1) x specular (0.04 by default)
 alpha_mode   glTF alphaMode: 'OPAQUE', 'MASK' (alpha = base_color[3] x texture alpha below
              alpha_cutoff is a hole in every pass) or 'BLEND' (tested as MASK at 0.5)
 emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
@@ -214,6 +224,36 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
             "glTF alphaMode: 'OPAQUE', 'MASK' (texels with alpha below alpha_cutoff are holes in every "
             "visibility pass) or 'BLEND' (tested as MASK at 0.5)")
         .def_property(
+            "ior", [](const Material& x) { return x.ior; },
+            [](Material& x, float v) {
+                Material t = x;
+                t.ior = v;
+                validate_material(t, nullptr);
+                x.ior = v;
+            },
+            "index of refraction (KHR_materials_ior; 1.5 gives glTF's dielectric F0 0.04)")
+        .def_property(
+            "specular", [](const Material& x) { return x.specular; },
+            [](Material& x, float v) {
+                Material t = x;
+                t.specular = v;
+                validate_material(t, nullptr);
+                x.specular = v;
+            },
+            "KHR_materials_specular specularFactor in [0, 1]: scales a dielectric's F0")
+        .def_property(
+            "specular_color", [](const Material& x) { return x.specular_color; },
+            [](Material& x, const glm::vec3& v) {
+                Material t = x;
+                t.specular_color = v;
+                validate_material(t, nullptr);
+                x.specular_color = v;
+            },
+            "KHR_materials_specular specularColorFactor (linear RGB, >= 0): tints a dielectric's F0")
+        .def_property_readonly(
+            "dielectric_f0", [](const Material& x) { return x.dielectric_f0(); },
+            "a dielectric's specular reflectance at normal incidence from ior, specular and specular_color")
+        .def_property(
             "alpha_cutoff", [](const Material& x) { return x.alpha_cutoff; },
             [](Material& x, float c) {
                 if (!(c >= 0.0f && std::isfinite(c)))
@@ -256,8 +296,8 @@ light, `direction` the direction the light travels. Point: `intensity` is the ra
 intensity (W/sr) at `position`, falling off as 1/d^2. Spot: a point light shining down
 `direction`, full inside `inner_cone`, nothing beyond `outer_cone` (radians), with
 KHR_lights_punctual's smooth falloff between. Point and spot lights end at `range` with the
-extension's window (0: no end). The first directional light with cast_shadow=True casts the
-shadow map.)doc")
+extension's window (0: no end). The first directional or spot light with cast_shadow=True casts
+the shadow map (a spot light's is a perspective map of its cone); point lights cast none.)doc")
         .def_static(
             "directional",
             [](glm::vec3 direction, glm::vec3 color, float intensity, bool cast_shadow, const std::string& name) {
@@ -319,7 +359,7 @@ shadow map.)doc")
         .def_readwrite("intensity", &Light::intensity, "irradiance W/m^2 (directional) or radiant intensity W/sr (point)")
         .def_readwrite("direction", &Light::direction, "world direction the light travels (directional lights)")
         .def_readwrite("position", &Light::position, "world position (point lights)")
-        .def_readwrite("cast_shadow", &Light::cast_shadow, "the first directional light with this set casts the shadow map")
+        .def_readwrite("cast_shadow", &Light::cast_shadow, "the first directional or spot light with this set casts the shadow map (point lights cast none)")
         .def("__repr__", [](const Light& l) {
             return std::string("Light(") + light_type_name(l) + ", '" +
                    l.name + "', intensity=" + std::to_string(l.intensity) + ")";

@@ -72,6 +72,12 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
         auto wrap = [](const TextureRef& t) { return t.wrap_s | (t.wrap_t << 16); };
         g.images = glm::ivec4(m.base_color_texture.image, m.metallic_roughness_texture.image, m.normal_texture.image, -1);
         g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture), 0);
+        g.dielectric_f0 = glm::vec4(m.dielectric_f0(), 0.0f);
+        const TextureRef* refs[3] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture};
+        for (int k = 0; k < 3; ++k) {
+            g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, 0.0f);
+            g.uv_transform[2 * k + 1] = glm::vec4(refs[k]->transform_v, 0.0f);
+        }
         mats.push_back(g);
         material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
                                       texture_for(scene, m.metallic_roughness_texture, false),

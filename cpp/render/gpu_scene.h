@@ -36,6 +36,8 @@ struct GpuMaterial {
     glm::ivec4 flags;    // (has base colour tex, has metal-rough tex, has normal tex, double sided)
     glm::ivec4 images;   // image index of each texture (-1: none), for shaders/lib/scene_textures.glsl
     glm::ivec4 wraps;    // wrap_s | wrap_t << 16 of each texture
+    glm::vec4 dielectric_f0;  // rgb: Material::dielectric_f0 (KHR_materials_ior / _specular)
+    glm::vec4 uv_transform[6];  // per texture (base, metal-rough, normal): TextureRef::transform_u, _v
 };
 
 struct DrawItem {

@@ -68,12 +68,13 @@ AlphaMasks::AlphaMasks(const Scene& scene, const std::vector<BvhTriangle>& trian
         t.wrap_s = ref.wrap_s;
         t.wrap_t = ref.wrap_t;
         // Without texture coordinates the GPU reads uv (0, 0) (the vertex buffer's zero fill).
-        if (!mesh.uvs.empty())
-            for (int k = 0; k < 3; ++k) {
-                const glm::vec2 uv = mesh.uvs[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]];
-                t.uv[2 * k] = uv.x;
-                t.uv[2 * k + 1] = uv.y;
-            }
+        for (int k = 0; k < 3; ++k) {
+            // The transform is affine: applied at the vertices, it interpolates as at the hit.
+            const glm::vec2 uv = ref.apply(
+                mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]]);
+            t.uv[2 * k] = uv.x;
+            t.uv[2 * k + 1] = uv.y;
+        }
     }
 }
 

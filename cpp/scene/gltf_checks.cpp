@@ -232,7 +232,8 @@ std::string check_json_text(std::string_view text) {
 }
 
 const std::set<std::string>& implemented_extensions() {
-    static const std::set<std::string> names{"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+    static const std::set<std::string> names{"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                             "KHR_materials_ior", "KHR_materials_specular", "KHR_texture_transform"};
     return names;
 }
 

@@ -251,9 +251,38 @@ std::vector<uint32_t> to_triangle_list(const std::vector<uint32_t>& idx, int mod
 }
 
 TextureRef texture_ref(const tinygltf::Model& model, int texture_index, int texcoord, int image_base,
-                       const GltfReader& r, const std::string& what) {
+                       const GltfReader& r, const std::string& what, const tinygltf::ExtensionMap& extensions = {}) {
     TextureRef ref;
     if (texture_index < 0) return ref;
+    // KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv, as its specification
+    // writes the matrices (rotation counter-clockwise in uv space), and an optional texCoord.
+    if (auto it = extensions.find("KHR_texture_transform"); it != extensions.end()) {
+        const std::string ext = what + ": KHR_texture_transform";
+        const tinygltf::Value& v = it->second;
+        glm::vec2 offset(0.0f), scale(1.0f);
+        float rotation = 0.0f;
+        auto vec2_of = [&](const char* key, glm::vec2 fallback) {
+            if (!v.Has(key)) return fallback;
+            const tinygltf::Value& a = v.Get(key);
+            if (!a.IsArray() || a.ArrayLen() != 2) r.fail(ext + "." + key + " must be an array of 2 numbers");
+            glm::vec2 out;
+            for (int i = 0; i < 2; ++i) {
+                const tinygltf::Value& x = a.Get(i);
+                if (!x.IsNumber() && !x.IsInt()) r.fail(ext + "." + key + " must be an array of 2 numbers");
+                const double d = x.GetNumberAsDouble();
+                if (!in_range(d, -1e6, 1e6)) r.fail(ext + "." + key + " holds " + num(d) + ", outside [-1e6, 1e6]");
+                out[i] = float(d);
+            }
+            return out;
+        };
+        offset = vec2_of("offset", offset);
+        scale = vec2_of("scale", scale);
+        if (v.Has("rotation")) rotation = float(number_from_value(v.Get("rotation"), r, ext + ".rotation", -1e6, 1e6));
+        if (v.Has("texCoord")) texcoord = int(number_from_value(v.Get("texCoord"), r, ext + ".texCoord", 0, 7));
+        const float c = std::cos(rotation), s = std::sin(rotation);
+        ref.transform_u = glm::vec3(c * scale.x, s * scale.y, offset.x);
+        ref.transform_v = glm::vec3(-s * scale.x, c * scale.y, offset.y);
+    }
     if (texture_index >= int(model.textures.size()))
         r.fail(what + ": texture index " + std::to_string(texture_index) + " is out of range (the file has " +
                std::to_string(model.textures.size()) + " textures)");
@@ -529,6 +558,23 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         if (gm.emissiveTexture.index >= 0)
             warnings.push_back(path + ": " + what + ": emissiveTexture is not rendered (the lighting pass has no texture "
                                "coordinates); its emissiveFactor alone is");
+        // KHR_materials_ior and KHR_materials_specular: the dielectric F0 (Material::dielectric_f0).
+        if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end() && it->second.Has("ior")) {
+            m.ior = float(number_from_value(it->second.Get("ior"), r, what + ": KHR_materials_ior.ior", 0.0, 1e6));
+            if (m.ior > 0.0f && m.ior < 1.0f)
+                r.fail(what + ": KHR_materials_ior.ior " + num(m.ior) + " must be 0 or at least 1");
+        }
+        if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end()) {
+            const std::string ext = what + ": KHR_materials_specular";
+            if (it->second.Has("specularFactor"))
+                m.specular = float(number_from_value(it->second.Get("specularFactor"), r, ext + ".specularFactor", 0.0, 1.0));
+            if (it->second.Has("specularColorFactor"))
+                m.specular_color = vec3_from_value(it->second.Get("specularColorFactor"), glm::vec3(1.0f), r,
+                                                   ext + ".specularColorFactor", 0.0, 1e6);
+            for (const char* t : {"specularTexture", "specularColorTexture"})
+                if (it->second.Has(t))
+                    warnings.push_back(path + ": " + ext + "." + t + " is not rendered; its factors are");
+        }
         m.double_sided = gm.doubleSided;
         if (gm.alphaMode == "MASK") {
             m.alpha_mode = Material::AlphaMode::Mask;
@@ -539,10 +585,13 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         } else if (gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty()) {
             r.fail(what + ": alphaMode '" + gm.alphaMode + "' is not OPAQUE, MASK or BLEND");
         }
-        m.base_color_texture = texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, image_base, r, what);
-        m.metallic_roughness_texture = texture_ref(model, pbr.metallicRoughnessTexture.index,
-                                                   pbr.metallicRoughnessTexture.texCoord, image_base, r, what);
-        m.normal_texture = texture_ref(model, gm.normalTexture.index, gm.normalTexture.texCoord, image_base, r, what);
+        m.base_color_texture = texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, image_base, r,
+                                           what + ": baseColorTexture", pbr.baseColorTexture.extensions);
+        m.metallic_roughness_texture =
+            texture_ref(model, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, image_base, r,
+                        what + ": metallicRoughnessTexture", pbr.metallicRoughnessTexture.extensions);
+        m.normal_texture = texture_ref(model, gm.normalTexture.index, gm.normalTexture.texCoord, image_base, r,
+                                       what + ": normalTexture", gm.normalTexture.extensions);
         m.normal_scale = float(gm.normalTexture.scale);
         // The thesis's explicit reflectivity where ssrlab wrote it; otherwise the material
         // reflects as its metallic-roughness parameters say (kAutoReflectivity).
@@ -762,6 +811,9 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 l.inner_cone = float(gl.spot.innerConeAngle);
                 l.outer_cone = float(gl.spot.outerConeAngle);
                 l.range = float(gl.range);
+                // A spot light casts a shadow like the sun (the first of them gets the shadow map);
+                // a point light's would need a cube map and is not drawn.
+                l.cast_shadow = l.type == Light::Type::Spot;
             }
             if (gl.extras.Has("cast_shadow")) {
                 if (!gl.extras.Get("cast_shadow").IsBool()) r.fail(lwhat + ": extras.cast_shadow is not a boolean");

@@ -195,10 +195,45 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
                 model.extensionsUsed.push_back("KHR_materials_emissive_strength");
         }
         gm.doubleSided = m.double_sided;
+        auto use_extension = [&](const char* name) {
+            if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), name) == model.extensionsUsed.end())
+                model.extensionsUsed.push_back(name);
+        };
+        if (m.ior != 1.5f) {
+            tinygltf::Value::Object ior;
+            ior["ior"] = tinygltf::Value(double(m.ior));
+            gm.extensions["KHR_materials_ior"] = tinygltf::Value(ior);
+            use_extension("KHR_materials_ior");
+        }
+        if (m.specular != 1.0f || m.specular_color != glm::vec3(1.0f)) {
+            tinygltf::Value::Object spec;
+            spec["specularFactor"] = tinygltf::Value(double(m.specular));
+            spec["specularColorFactor"] = vec3_value(m.specular_color);
+            gm.extensions["KHR_materials_specular"] = tinygltf::Value(spec);
+            use_extension("KHR_materials_specular");
+        }
         if (m.alpha_mode != Material::AlphaMode::Opaque) {
             gm.alphaMode = m.alpha_mode == Material::AlphaMode::Mask ? "MASK" : "BLEND";
             gm.alphaCutoff = m.alpha_cutoff;
         }
+        // KHR_texture_transform back from the affine rows: its first column is scale.x times the
+        // rotation's first column, the second scale.y times its second.
+        auto transform = [&](const TextureRef& ref, tinygltf::ExtensionMap& ext) {
+            if (!ref.valid() || !ref.transformed()) return;
+            const float a = ref.transform_u.x, b = ref.transform_u.y, d = ref.transform_v.x, e = ref.transform_v.y;
+            const float rotation = std::atan2(-d, a);
+            const float sx = std::sqrt(a * a + d * d), sy = b * std::sin(rotation) + e * std::cos(rotation);
+            tinygltf::Value::Object t;
+            t["offset"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(ref.transform_u.z)),
+                                                                 tinygltf::Value(double(ref.transform_v.z))});
+            t["rotation"] = tinygltf::Value(double(rotation));
+            t["scale"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(sx)), tinygltf::Value(double(sy))});
+            ext["KHR_texture_transform"] = tinygltf::Value(t);
+            use_extension("KHR_texture_transform");
+        };
+        transform(m.base_color_texture, gm.pbrMetallicRoughness.baseColorTexture.extensions);
+        transform(m.metallic_roughness_texture, gm.pbrMetallicRoughness.metallicRoughnessTexture.extensions);
+        transform(m.normal_texture, gm.normalTexture.extensions);
         gm.pbrMetallicRoughness.baseColorTexture.index = texture(m.base_color_texture);
         gm.pbrMetallicRoughness.baseColorTexture.texCoord = m.base_color_texture.texcoord;
         gm.pbrMetallicRoughness.metallicRoughnessTexture.index = texture(m.metallic_roughness_texture);

@@ -96,7 +96,7 @@ bool bvh_alpha_hole(BvhTriangle tri, float b1, float b2) {
     vec4 base_texel = vec4(1.0);
     if (m.flags.x != 0) {
         SurfaceAttributes s = triangle_attributes(o, floatBitsToInt(tri.v1.w), b1, b2);
-        base_texel = sample_image(m.images.x, s.uv, m.wraps.x, false);
+        base_texel = sample_image(m.images.x, texture_uv(m, 0, s.uv), m.wraps.x, false);
     }
     float alpha = m.base_color.a * base_texel.a;
     return m.emissive.w >= 0.0 && alpha < m.emissive.w;

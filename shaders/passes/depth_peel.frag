@@ -61,7 +61,7 @@ void main() {
 #if PEEL_ALPHA_TEST
     // The same test as material_alpha_hole (lib/material.glsl), on the same texture sample.
     MaterialData m = materials[objects[u_object].material.x];
-    float alpha = m.base_color.a * (m.flags.x != 0 ? texture(u_base_color_texture, fs.uv).a : 1.0);
+    float alpha = m.base_color.a * (m.flags.x != 0 ? texture(u_base_color_texture, texture_uv(m, 0, fs.uv)).a : 1.0);
     if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
 #endif
 #if PEEL_TEST
@@ -112,17 +112,19 @@ void main() {
     vec3 t = vec3(0.0), b = vec3(0.0);
     bool has_frame = false;
 #if MATERIAL_TEXTURES
+    // Each texture at its own coordinates (KHR_texture_transform; the identity without it).
+    vec2 uv_base = texture_uv(m, 0, fs.uv), uv_mr = texture_uv(m, 1, fs.uv), uv_normal = texture_uv(m, 2, fs.uv);
     if (m.flags.z != 0) {
         has_frame = tangent_frame_from_vertex(n, fs.view_tangent, t, b) ||
-                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), dFdx(fs.uv),
-                                                 dFdy(fs.uv), t, b);
+                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), dFdx(uv_normal),
+                                                 dFdy(uv_normal), t, b);
     }
-    vec4 base_texel = texture(u_base_color_texture, fs.uv);
+    vec4 base_texel = texture(u_base_color_texture, uv_base);
     // A hole of an alpha-tested material: the lists must not append it (peeling's depth pass
     // already discarded it, so here it only guards against a coplanar surface's equal depth).
     if (material_alpha_hole(m, base_texel)) discard;
-    GSample g = material_sample(m, base_texel, texture(u_metallic_roughness_texture, fs.uv),
-                                texture(u_normal_texture, fs.uv).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
+    GSample g = material_sample(m, base_texel, texture(u_metallic_roughness_texture, uv_mr),
+                                texture(u_normal_texture, uv_normal).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
 #else
     if (material_alpha_hole(m, vec4(1.0))) discard;
     // No texture: material_sample ignores the texel values (its flags are 0).
@@ -134,7 +136,7 @@ void main() {
         // the share of light its GGX lobe does at this view angle, E = F0 A + B.
         float NoV = max(dot(g.normal, normalize(-fs.view_position)), 0.0);
         vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
-        g.reflectivity = specular_reflectivity(specular_f0(g.albedo, g.metallic), ab);
+        g.reflectivity = specular_reflectivity(surface_f0(g.object_id, g.albedo, g.metallic), ab);
     }
 #endif
 #if DEEP_GBUFFER_APPEND
