@@ -250,6 +250,8 @@ std::vector<uint32_t> to_triangle_list(const std::vector<uint32_t>& idx, int mod
     return out;
 }
 
+double number_from_value(const tinygltf::Value& v, const GltfReader& r, const std::string& what, double lo, double hi);
+
 TextureRef texture_ref(const tinygltf::Model& model, int texture_index, int texcoord, int image_base,
                        const GltfReader& r, const std::string& what, const tinygltf::ExtensionMap& extensions = {}) {
     TextureRef ref;

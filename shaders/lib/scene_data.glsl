@@ -27,6 +27,16 @@ vec2 texture_uv(MaterialData m, int k, vec2 uv) {
     return vec2(dot(m.uv_transform[2 * k].xyz, vec3(uv, 1.0)), dot(m.uv_transform[2 * k + 1].xyz, vec3(uv, 1.0)));
 }
 
+// Texture k of material m in a rasterised pass, at the surface's coordinates uv with their screen
+// derivatives, the transform applied to both (its linear part to the derivatives). Explicit
+// gradients: an implicit derivative of a computed coordinate is undefined in non-uniform control
+// flow (GLSL 4.50, 8.9), and on llvmpipe the alpha test's branch then sampled wrong mip levels.
+vec4 sample_material_texture(sampler2D tex, MaterialData m, int k, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
+    mat2 linear = mat2(m.uv_transform[2 * k].x, m.uv_transform[2 * k + 1].x,   // column 0
+                       m.uv_transform[2 * k].y, m.uv_transform[2 * k + 1].y);  // column 1
+    return textureGrad(tex, texture_uv(m, k, uv), linear * duv_dx, linear * duv_dy);
+}
+
 // Specular reflectance at normal incidence of object `object_id`'s surface (glTF metallic
 // workflow): the material's dielectric F0 (KHR_materials_ior, KHR_materials_specular; 0.04 at
 // their defaults) for the non-metal part, the base colour for the metal part.

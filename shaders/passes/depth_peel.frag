@@ -61,7 +61,8 @@ void main() {
 #if PEEL_ALPHA_TEST
     // The same test as material_alpha_hole (lib/material.glsl), on the same texture sample.
     MaterialData m = materials[objects[u_object].material.x];
-    float alpha = m.base_color.a * (m.flags.x != 0 ? texture(u_base_color_texture, texture_uv(m, 0, fs.uv)).a : 1.0);
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, dFdx(fs.uv), dFdy(fs.uv));
+    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0);
     if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
 #endif
 #if PEEL_TEST
@@ -113,18 +114,22 @@ void main() {
     bool has_frame = false;
 #if MATERIAL_TEXTURES
     // Each texture at its own coordinates (KHR_texture_transform; the identity without it).
-    vec2 uv_base = texture_uv(m, 0, fs.uv), uv_mr = texture_uv(m, 1, fs.uv), uv_normal = texture_uv(m, 2, fs.uv);
+    vec2 duv_dx = dFdx(fs.uv), duv_dy = dFdy(fs.uv);
     if (m.flags.z != 0) {
+        // The normal texture's coordinates' derivatives: the transform's linear part of the
+        // surface's (texture_uv of a derivative minus texture_uv of 0 drops the offset).
+        vec2 n_dx = texture_uv(m, 2, duv_dx) - texture_uv(m, 2, vec2(0.0));
+        vec2 n_dy = texture_uv(m, 2, duv_dy) - texture_uv(m, 2, vec2(0.0));
         has_frame = tangent_frame_from_vertex(n, fs.view_tangent, t, b) ||
-                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), dFdx(uv_normal),
-                                                 dFdy(uv_normal), t, b);
+                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), n_dx, n_dy, t, b);
     }
-    vec4 base_texel = texture(u_base_color_texture, uv_base);
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, duv_dx, duv_dy);
     // A hole of an alpha-tested material: the lists must not append it (peeling's depth pass
     // already discarded it, so here it only guards against a coplanar surface's equal depth).
     if (material_alpha_hole(m, base_texel)) discard;
-    GSample g = material_sample(m, base_texel, texture(u_metallic_roughness_texture, uv_mr),
-                                texture(u_normal_texture, uv_normal).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
+    GSample g = material_sample(m, base_texel, sample_material_texture(u_metallic_roughness_texture, m, 1, fs.uv, duv_dx, duv_dy),
+                                sample_material_texture(u_normal_texture, m, 2, fs.uv, duv_dx, duv_dy).xyz, n, t, b,
+                                has_frame, gl_FrontFacing, u_object);
 #else
     if (material_alpha_hole(m, vec4(1.0))) discard;
     // No texture: material_sample ignores the texel values (its flags are 0).

@@ -11,6 +11,7 @@ in vec2 v_uv;
 
 void main() {
     MaterialData m = materials[objects[u_object].material.x];
-    float alpha = m.base_color.a * (m.flags.x != 0 ? texture(u_base_color_texture, texture_uv(m, 0, v_uv)).a : 1.0);
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, v_uv, dFdx(v_uv), dFdy(v_uv));
+    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0);
     if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
 }
