@@ -132,6 +132,8 @@ def test_reflections_see_the_holes_in_ssr_bvh_and_references(frame_and_ids):
     assert (truth.object[0][solid] == quad).mean() > 0.99
     # SSR finds what the truth finds (the wall behind a hole from the deep G-buffer).
     ssr = ssr_hit_object(f)
+    print(f"mirror pixels through holes {holes.sum()}, on cells {solid.sum()}; SSR finds the wall through "
+          f"{(ssr[holes] == wall).mean():.3f} of the holes, the quad on {(ssr[solid] == quad).mean():.3f} of the cells")
     assert (ssr[holes] == wall).mean() > 0.9, (ssr[holes] == wall).mean()
     assert (ssr[solid] == quad).mean() > 0.9, (ssr[solid] == quad).mean()
     # method="bvh" traces the same BVH for every ray.
@@ -139,6 +141,8 @@ def test_reflections_see_the_holes_in_ssr_bvh_and_references(frame_and_ids):
     for name, refl in [("SSR", f.reflection), ("method=bvh", bvh.reflection),
                        ("reference glsl", f.reference("converged", rays=1, tracer="glsl").reflection),
                        ("reference embree", f.reference("converged", rays=1, tracer="embree").reflection)]:
+        print(f"{name}: green through {(refl[holes][:, 1] > refl[holes][:, 0]).mean():.3f} of the holes, red on "
+              f"{(refl[solid][:, 0] > refl[solid][:, 1]).mean():.3f} of the cells")
         assert (refl[holes][:, 1] > refl[holes][:, 0]).mean() > 0.9, f"{name}: the wall through the holes"
         assert (refl[solid][:, 0] > refl[solid][:, 1]).mean() > 0.9, f"{name}: the quad's opaque cells"
 
