@@ -21,6 +21,12 @@ What is the same in both:
   ``alpha = max(roughness, 0.03)^2``; surfaces with ``roughness^2 < 1e-4`` are ideal mirrors
   with Schlick's F (the reference traces one mirror ray for them).
 
+* **alpha masks** (glTF MASK/BLEND with a base colour texture of one colour whose alphas are 0
+  or 255, :func:`mask_rgb`): Mitsuba's ``mask`` BSDF with a nearest-neighbour opacity bitmap,
+  rendered with ``volpath`` (see :func:`render_mitsuba`);
+* **emission**: an ``area`` emitter of the material's radiance, accepted only beside ideal
+  metallic mirrors (ssrlab's emission lights nothing; see :func:`check_comparable`).
+
 What ssrlab has and physics has not, so the comparable scene leaves it out (checked by
 :func:`check_comparable`): the **ambient** term (``ambient * albedo`` added to every surface)
 must be 0, and the **environment** black: ssrlab shows its environment in reflections and
