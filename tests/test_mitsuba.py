@@ -120,6 +120,30 @@ def test_glossy_floor_within_noise(renderer, mitsuba):
     assert abs(ratio - 1.0) <= 0.01 + 4 * err
 
 
+@pytest.mark.parametrize("case", ["masked", "emissive"])
+def test_mask_and_emission_cases(renderer, mitsuba, case):
+    """glTF alphaMode MASK (a checkerboard alpha mask on a quad, Mitsuba's mask BSDF through
+    volpath, so that holes pass light in its shadow rays too) and emission (an area emitter in
+    Mitsuba) on a mirror floor: >= 40 dB on the floor pixels, default reference options."""
+    scene = cc.masked_crosscheck_scene() if case == "masked" else cc.emissive_crosscheck_scene()
+    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    mit = cc.render_mitsuba(ms, spp=1)
+    frame, truth = cc.ssrlab_reference(renderer, scene, _settings())
+    floor = cc.floor_pixels(frame) & ~cc.reflected_silhouettes(ms)
+    assert floor.sum() > 600
+    # The feature is in view: the mirror shows holes and cells, or the emission.
+    if case == "masked":
+        seen = cc.mirror_objects(ms)[floor]
+        assert (seen == 1).sum() > 50 and (seen == 2).sum() > 50
+    else:
+        assert (truth.color[floor].max(axis=-1) > 1.0).sum() > 50
+    value = cc.floor_psnr(truth.color, mit, floor)
+    # (metrics.psnr reports 100 dB for images equal to float precision: the largest difference says more)
+    print(f"{case}: {value:.1f} dB, largest difference {np.abs(truth.color[floor] - mit[floor]).max():.2e} "
+          f"over {floor.sum()} floor pixels")
+    assert value >= 40.0
+
+
 def test_incomparable_scenes_are_refused(mitsuba):
     scene = cc.crosscheck_scene(0.0)
     scene.ambient = (0.1, 0.1, 0.1)
@@ -128,6 +152,19 @@ def test_incomparable_scenes_are_refused(mitsuba):
     scene = cc.crosscheck_scene(0.0)
     scene.environment = ssrlab.Environment.sky()
     with pytest.raises(ValueError, match="environment"):
+        cc.mitsuba_scene(scene, width=W, height=H)
+    scene = cc.emissive_crosscheck_scene()
+    scene.add_box((2, 0.5, -3), (1, 1, 1), material=ssrlab.Material(base_color=(0.5, 0.5, 0.5)))
+    with pytest.raises(ValueError, match="lit by the emissive"):
+        cc.mitsuba_scene(scene, width=W, height=H)
+    scene = cc.masked_crosscheck_scene()
+    img = np.zeros((4, 4, 4), np.uint8)
+    img[..., 3] = 128
+    quad = scene.object_count - 1
+    m = scene.material(quad)
+    m.base_color_texture = scene.add_image(img)
+    scene.set_material(quad, m)
+    with pytest.raises(ValueError, match="alpha mask"):
         cc.mitsuba_scene(scene, width=W, height=H)
     with pytest.raises(ValueError, match="spp"):
         cc.render_mitsuba(cc.mitsuba_scene(cc.crosscheck_scene(0.0), width=8, height=8), spp=0)

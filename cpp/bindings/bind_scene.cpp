@@ -98,6 +98,18 @@ float reflectivity_from_python(const py::object& v) {
     return r;
 }
 
+// Material.alpha_mode from Python: glTF's names.
+Material::AlphaMode alpha_mode_from_python(const std::string& v) {
+    if (v == "OPAQUE") return Material::AlphaMode::Opaque;
+    if (v == "MASK") return Material::AlphaMode::Mask;
+    if (v == "BLEND") return Material::AlphaMode::Blend;
+    throw std::invalid_argument("Material.alpha_mode must be 'OPAQUE', 'MASK' or 'BLEND', got '" + v + "'");
+}
+
+const char* alpha_mode_name(Material::AlphaMode m) {
+    return m == Material::AlphaMode::Mask ? "MASK" : (m == Material::AlphaMode::Blend ? "BLEND" : "OPAQUE");
+}
+
 void validate_material(const Material& m, const Scene* scene) {
     auto unit = [](float v, const char* name) {
         if (!(v >= 0.0f && v <= 1.0f))
@@ -112,6 +124,15 @@ void validate_material(const Material& m, const Scene* scene) {
     unit(m.metallic, "metallic");
     unit(m.roughness, "roughness");
     if (!m.auto_reflectivity()) unit(m.reflectivity, "reflectivity");
+    if (!(m.ior == 0.0f || (m.ior >= 1.0f && m.ior <= 1e6f)))
+        throw std::invalid_argument("Material.ior must be 0 or in [1, 1e6] (KHR_materials_ior), got " + std::to_string(m.ior));
+    unit(m.specular, "specular");
+    for (int i = 0; i < 3; ++i)
+        if (!(m.specular_color[i] >= 0.0f && m.specular_color[i] <= 1e6f))
+            throw std::invalid_argument("Material.specular_color components must be in [0, 1e6], got " +
+                                        std::to_string(m.specular_color[i]));
+    if (!(m.alpha_cutoff >= 0.0f && std::isfinite(m.alpha_cutoff)))
+        throw std::invalid_argument("Material.alpha_cutoff must be finite and >= 0, got " + std::to_string(m.alpha_cutoff));
     if (scene) {
         for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture})
             if (t->image >= int(scene->images.size()))
@@ -141,12 +162,17 @@ reflectivity 0..1: r in the thesis's composite c = r*c_r + (1 - r)*c_d (seed 000
              GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
              extras load so)
 double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+ior, specular, specular_color
+             KHR_materials_ior / KHR_materials_specular: a dielectric's F0 is
+             min(((ior - 1) / (ior + 1))^2 x specular_color, 1) x specular (0.04 by default)
+alpha_mode   glTF alphaMode: 'OPAQUE', 'MASK' (alpha = base_color[3] x texture alpha below
+             alpha_cutoff is a hole in every pass) or 'BLEND' (tested as MASK at 0.5)
 emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
 *_texture    image index in the scene (-1: none); see Scene.add_image
 )doc")
         .def(py::init([](py::object base_color, float metallic, float roughness, py::object reflectivity, bool double_sided,
                          const std::string& name, int base_color_texture, int metallic_roughness_texture,
-                         int normal_texture, float normal_scale) {
+                         int normal_texture, float normal_scale, const std::string& alpha_mode, float alpha_cutoff) {
                  Material mat;
                  if (!base_color.is_none()) {
                      auto seq = py::cast<std::vector<float>>(base_color);
@@ -163,13 +189,16 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
                  mat.metallic_roughness_texture.image = metallic_roughness_texture;
                  mat.normal_texture.image = normal_texture;
                  mat.normal_scale = normal_scale;
+                 mat.alpha_mode = alpha_mode_from_python(alpha_mode);
+                 mat.alpha_cutoff = alpha_cutoff;
                  validate_material(mat, nullptr);
                  return mat;
              }),
              py::kw_only(), py::arg("base_color") = py::none(), py::arg("metallic") = 0.0f,
              py::arg("roughness") = 0.5f, py::arg("reflectivity") = 0.0f, py::arg("double_sided") = false,
              py::arg("name") = "", py::arg("base_color_texture") = -1, py::arg("metallic_roughness_texture") = -1,
-             py::arg("normal_texture") = -1, py::arg("normal_scale") = 1.0f)
+             py::arg("normal_texture") = -1, py::arg("normal_scale") = 1.0f, py::arg("alpha_mode") = "OPAQUE",
+             py::arg("alpha_cutoff") = 0.5f)
         .def_readwrite("name", &Material::name, "the material's name (glTF material name)")
         .def_readwrite("base_color", &Material::base_color, "linear RGBA base colour, each >= 0")
         .def_readwrite("metallic", &Material::metallic, "glTF metalness, 0..1")
@@ -189,6 +218,50 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
             },
             "r in [0, 1] of the thesis's composite, or 'auto' (reflects as the metallic-roughness parameters say)")
         .def_readwrite("double_sided", &Material::double_sided, "back faces show the other side (normals flipped)")
+        .def_property(
+            "alpha_mode", [](const Material& x) { return std::string(alpha_mode_name(x.alpha_mode)); },
+            [](Material& x, const std::string& v) { x.alpha_mode = alpha_mode_from_python(v); },
+            "glTF alphaMode: 'OPAQUE', 'MASK' (texels with alpha below alpha_cutoff are holes in every "
+            "visibility pass) or 'BLEND' (tested as MASK at 0.5)")
+        .def_property(
+            "ior", [](const Material& x) { return x.ior; },
+            [](Material& x, float v) {
+                Material t = x;
+                t.ior = v;
+                validate_material(t, nullptr);
+                x.ior = v;
+            },
+            "index of refraction (KHR_materials_ior; 1.5 gives glTF's dielectric F0 0.04)")
+        .def_property(
+            "specular", [](const Material& x) { return x.specular; },
+            [](Material& x, float v) {
+                Material t = x;
+                t.specular = v;
+                validate_material(t, nullptr);
+                x.specular = v;
+            },
+            "KHR_materials_specular specularFactor in [0, 1]: scales a dielectric's F0")
+        .def_property(
+            "specular_color", [](const Material& x) { return x.specular_color; },
+            [](Material& x, const glm::vec3& v) {
+                Material t = x;
+                t.specular_color = v;
+                validate_material(t, nullptr);
+                x.specular_color = v;
+            },
+            "KHR_materials_specular specularColorFactor (linear RGB, >= 0): tints a dielectric's F0")
+        .def_property_readonly(
+            "dielectric_f0", [](const Material& x) { return x.dielectric_f0(); },
+            "a dielectric's specular reflectance at normal incidence from ior, specular and specular_color")
+        .def_property(
+            "alpha_cutoff", [](const Material& x) { return x.alpha_cutoff; },
+            [](Material& x, float c) {
+                if (!(c >= 0.0f && std::isfinite(c)))
+                    throw std::invalid_argument("Material.alpha_cutoff must be finite and >= 0, got " +
+                                                std::to_string(c));
+                x.alpha_cutoff = c;
+            },
+            "glTF alphaCutoff of a MASK material: alpha = base_color[3] x base colour texture alpha")
         .def_property(
             "emissive", [](const Material& x) { return x.emissive; },
             [](Material& x, const glm::vec3& e) {
@@ -223,8 +296,8 @@ light, `direction` the direction the light travels. Point: `intensity` is the ra
 intensity (W/sr) at `position`, falling off as 1/d^2. Spot: a point light shining down
 `direction`, full inside `inner_cone`, nothing beyond `outer_cone` (radians), with
 KHR_lights_punctual's smooth falloff between. Point and spot lights end at `range` with the
-extension's window (0: no end). The first directional light with cast_shadow=True casts the
-shadow map.)doc")
+extension's window (0: no end). The first directional or spot light with cast_shadow=True casts
+the shadow map (a spot light's is a perspective map of its cone); point lights cast none.)doc")
         .def_static(
             "directional",
             [](glm::vec3 direction, glm::vec3 color, float intensity, bool cast_shadow, const std::string& name) {
@@ -286,7 +359,7 @@ shadow map.)doc")
         .def_readwrite("intensity", &Light::intensity, "irradiance W/m^2 (directional) or radiant intensity W/sr (point)")
         .def_readwrite("direction", &Light::direction, "world direction the light travels (directional lights)")
         .def_readwrite("position", &Light::position, "world position (point lights)")
-        .def_readwrite("cast_shadow", &Light::cast_shadow, "the first directional light with this set casts the shadow map")
+        .def_readwrite("cast_shadow", &Light::cast_shadow, "the first directional or spot light with this set casts the shadow map (point lights cast none)")
         .def("__repr__", [](const Light& l) {
             return std::string("Light(") + light_type_name(l) + ", '" +
                    l.name + "', intensity=" + std::to_string(l.intensity) + ")";
@@ -549,6 +622,18 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
             },
             py::arg("rgba"), py::arg("name") = "image",
             "Adds an 8-bit image (row 0 = top, uv (0,0) = top-left as in glTF); returns its index for Material textures.")
+        .def(
+            "image",
+            [](const Scene& s, int i) {
+                if (i < 0 || i >= int(s.images.size()))
+                    throw std::out_of_range("Scene.image: index " + std::to_string(i) + " is out of range (the scene has " +
+                                            std::to_string(s.images.size()) + " images)");
+                const Image& img = s.images[size_t(i)];
+                py::array_t<uint8_t> out({img.height, img.width, 4});
+                std::memcpy(out.mutable_data(), img.rgba.data(), img.rgba.size());
+                return out;
+            },
+            py::arg("index"), "A copy of image `index` as (h, w, 4) uint8 RGBA, row 0 = top.")
         .def(
             "load_image",
             [](Scene& s, const std::string& path) {

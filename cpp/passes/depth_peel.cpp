@@ -105,6 +105,18 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     const GLuint depth_first = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
     peel_defines["PEEL_TEST"] = "1";
     const GLuint depth_peeled = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+    // Alpha-tested materials' depth pass samples the base colour's alpha and discards the holes
+    // (compiled only when the scene has such a material: a discard costs the others early tests).
+    GLuint depth_first_alpha = 0, depth_peeled_alpha = 0;
+    for (const DrawItem& d : ctx.gpu_scene.draws())
+        if (ctx.gpu_scene.alpha_tested(d.material)) {
+            peel_defines["PEEL_ALPHA_TEST"] = "1";
+            peel_defines["PEEL_TEST"] = "0";
+            depth_first_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+            peel_defines["PEEL_TEST"] = "1";
+            depth_peeled_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+            break;
+        }
     // The shading pass per material kind (bit 0: textures, bit 1: auto reflectivity).
     GLuint shade[4] = {0, 0, 0, 0};
     for (const DrawItem& d : ctx.gpu_scene.draws()) {
@@ -183,15 +195,22 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         // Depth pass: the samples it counts are the depth-test-passing fragments of the layer.
         part.emplace(ctx.timer, "depth_peel.depth");
         const GLuint depth_prog = layer > 0 ? depth_peeled : depth_first;
+        const GLuint depth_alpha_prog = layer > 0 ? depth_peeled_alpha : depth_first_alpha;
         glUseProgram(depth_prog);
         const GLint loc_depth_object = glGetUniformLocation(depth_prog, "u_object");
+        const GLint loc_alpha_object = depth_alpha_prog ? glGetUniformLocation(depth_alpha_prog, "u_object") : -1;
         // No colour attachment drawn at all (a colour mask alone left llvmpipe a colour stage).
         glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
         glDepthMask(GL_TRUE);
         ctx.depth.apply_gl_state();
         glBeginQuery(GL_SAMPLES_PASSED, queries_[size_t(layer)]);
+        GLuint depth_current = depth_prog;
         for (const DrawItem& d : ctx.gpu_scene.draws()) {
-            glUniform1i(loc_depth_object, d.object);
+            const bool alpha = ctx.gpu_scene.alpha_tested(d.material);
+            const GLuint want = alpha ? depth_alpha_prog : depth_prog;
+            if (want != depth_current) glUseProgram(depth_current = want);
+            glUniform1i(alpha ? loc_alpha_object : loc_depth_object, d.object);
+            if (alpha) ctx.gpu_scene.bind_material_textures(d.material);
             glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                                      reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
         }

@@ -66,12 +66,18 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
         GpuMaterial g{};
         g.base_color = m.base_color;
         g.params = glm::vec4(m.metallic, m.roughness, m.reflectivity, m.normal_scale);
-        g.emissive = glm::vec4(m.emissive, 0.0f);
+        g.emissive = glm::vec4(m.emissive, m.visibility_cutoff());
         g.flags = glm::ivec4(m.base_color_texture.valid(), m.metallic_roughness_texture.valid(),
                              m.normal_texture.valid(), m.double_sided);
         auto wrap = [](const TextureRef& t) { return t.wrap_s | (t.wrap_t << 16); };
         g.images = glm::ivec4(m.base_color_texture.image, m.metallic_roughness_texture.image, m.normal_texture.image, -1);
         g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture), 0);
+        g.dielectric_f0 = glm::vec4(m.dielectric_f0(), 0.0f);
+        const TextureRef* refs[3] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture};
+        for (int k = 0; k < 3; ++k) {
+            g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, 0.0f);
+            g.uv_transform[2 * k + 1] = glm::vec4(refs[k]->transform_v, 0.0f);
+        }
         mats.push_back(g);
         material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
                                       texture_for(scene, m.metallic_roughness_texture, false),
@@ -81,6 +87,7 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
                                           ? 1
                                           : 0) |
                                      (m.auto_reflectivity() ? 2 : 0));
+        alpha_tested_.push_back(m.visibility_cutoff() >= 0.0f);
     }
     materials_ = Buffer::create(mats.size() * sizeof(GpuMaterial), mats.data());
 
@@ -140,6 +147,7 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
         bvh_triangles_ = Buffer::create(bvh.triangles.size() * sizeof(BvhTriangle), bvh.triangles.data());
         bvh_depth_ = bvh.depth;
         bvh_triangle_list_ = bvh.triangles;
+        alpha_masks_ = AlphaMasks(scene, bvh.triangles);
         std::vector<uint8_t> texels;
         std::vector<glm::ivec4> info;
         for (const Image& img : scene.images) {
@@ -161,7 +169,7 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
 
 const EmbreeTracer& GpuScene::embree_tracer() {
     if (!ray_tracing_ready_) throw std::logic_error("embree_tracer: bind_ray_tracing first");
-    if (!embree_) embree_ = std::make_unique<EmbreeTracer>(bvh_triangle_list_);
+    if (!embree_) embree_ = std::make_unique<EmbreeTracer>(bvh_triangle_list_, alpha_masks_);
     return *embree_;
 }
 

@@ -32,10 +32,12 @@ struct GpuObject {
 struct GpuMaterial {
     glm::vec4 base_color;
     glm::vec4 params;    // (metallic, roughness, reflectivity, normal_scale)
-    glm::vec4 emissive;  // rgb
+    glm::vec4 emissive;  // rgb; w: alpha cutoff (Material::visibility_cutoff, -1 opaque)
     glm::ivec4 flags;    // (has base colour tex, has metal-rough tex, has normal tex, double sided)
     glm::ivec4 images;   // image index of each texture (-1: none), for shaders/lib/scene_textures.glsl
     glm::ivec4 wraps;    // wrap_s | wrap_t << 16 of each texture
+    glm::vec4 dielectric_f0;  // rgb: Material::dielectric_f0 (KHR_materials_ior / _specular)
+    glm::vec4 uv_transform[6];  // per texture (base, metal-rough, normal): TextureRef::transform_u, _v
 };
 
 struct DrawItem {
@@ -67,6 +69,9 @@ public:
     // What a material's G-buffer shading needs beyond its factors (the peeling compiles
     // a variant per combination): bit 0 (1) it has a texture, bit 1 (2) its reflectivity is "auto".
     int material_features(int material) const { return material_features_[size_t(material)]; }
+    // Whether the material's alpha makes holes (glTF MASK, BLEND tested at 0.5): the passes that
+    // decide visibility test it (Material::visibility_cutoff).
+    bool alpha_tested(int material) const { return alpha_tested_[size_t(material)] != 0; }
     // True when some object's material has reflectivity > 0: without one, no ray is traced.
     bool has_reflective_surfaces() const { return reflective_; }
     // The equirectangular environment map (0 when the environment is not a map).
@@ -87,10 +92,12 @@ private:
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
     std::vector<std::array<GLuint, 3>> material_textures_;
     std::vector<int> material_features_;  // per material: bit 0 any texture, bit 1 auto reflectivity
+    std::vector<uint8_t> alpha_tested_;   // per material
     Texture white_, flat_normal_, environment_map_;
     Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;
     bool ray_tracing_ready_ = false;
     std::vector<BvhTriangle> bvh_triangle_list_;  // kept for the Embree scene
+    AlphaMasks alpha_masks_;                      // and its alpha test
     std::unique_ptr<EmbreeTracer> embree_;
     uint64_t* bvh_builds_ = nullptr;
     int bvh_depth_ = 0;

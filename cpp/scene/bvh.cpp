@@ -84,6 +84,7 @@ Bvh build_bvh(const Scene& scene) {
             }
             tri.object = int32_t(o);
             tri.primitive = int32_t(t);
+            tri.alpha_tested = obj.material >= 0 && scene.materials[size_t(obj.material)].visibility_cutoff() >= 0.0f;
             tris.push_back(tri);
         }
     }

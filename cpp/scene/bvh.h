@@ -24,7 +24,7 @@ struct BvhTriangle {
     float v1[3];
     int32_t primitive;  // triangle index within the object's mesh
     float v2[3];
-    int32_t pad;
+    int32_t alpha_tested;  // 1: its material is MASK or BLEND (the traversals test its alpha)
 };
 
 struct Bvh {

@@ -11,6 +11,97 @@
 
 namespace ssr {
 
+namespace {
+
+// scene_textures.glsl's wrap_coordinate (glTF / GL wrap enums).
+int wrap_coordinate(int i, int n, int mode) {
+    auto floor_mod = [](int a, int m) { return a >= 0 ? a % m : (m - 1) - ((-(a + 1)) % m); };
+    if (mode == 33071) return std::clamp(i, 0, n - 1);  // CLAMP_TO_EDGE
+    if (mode == 33648) {                                // MIRRORED_REPEAT
+        const int j = floor_mod(i, 2 * n);
+        return j < n ? j : 2 * n - 1 - j;
+    }
+    return floor_mod(i, n);  // REPEAT
+}
+
+// Embree's filter for intersect and occluded queries alike: a hole's hit is rejected.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* masks = static_cast<const AlphaMasks*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        if (masks->hole(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))) args->valid[i] = 0;
+    }
+}
+
+}  // namespace
+
+AlphaMasks::AlphaMasks(const Scene& scene, const std::vector<BvhTriangle>& triangles) {
+    bool any = false;
+    for (const BvhTriangle& t : triangles) any = any || t.alpha_tested;
+    if (!any) return;
+    std::vector<int> image_slot(scene.images.size(), -1);
+    triangles_.resize(triangles.size());
+    for (size_t i = 0; i < triangles.size(); ++i) {
+        const BvhTriangle& bt = triangles[i];
+        if (!bt.alpha_tested) continue;
+        const Object& obj = scene.objects[size_t(bt.object)];
+        const Material& m = scene.materials[size_t(obj.material)];
+        const Mesh& mesh = scene.meshes[size_t(obj.mesh)];
+        Triangle& t = triangles_[i];
+        t.cutoff = m.visibility_cutoff();
+        t.factor = m.base_color.a;
+        const TextureRef& ref = m.base_color_texture;
+        if (!ref.valid()) continue;
+        int& slot = image_slot[size_t(ref.image)];
+        if (slot < 0) {  // each image's alpha copied once
+            const Image& img = scene.images[size_t(ref.image)];
+            AlphaImage a;
+            a.width = img.width;
+            a.height = img.height;
+            a.alpha.resize(size_t(img.width) * size_t(img.height));
+            for (size_t p = 0; p < a.alpha.size(); ++p) a.alpha[p] = img.rgba[4 * p + 3];
+            slot = int(images_.size());
+            images_.push_back(std::move(a));
+        }
+        t.image = slot;
+        t.wrap_s = ref.wrap_s;
+        t.wrap_t = ref.wrap_t;
+        // Without texture coordinates the GPU reads uv (0, 0) (the vertex buffer's zero fill).
+        for (int k = 0; k < 3; ++k) {
+            // The transform is affine: applied at the vertices, it interpolates as at the hit.
+            const glm::vec2 uv = ref.apply(
+                mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]]);
+            t.uv[2 * k] = uv.x;
+            t.uv[2 * k + 1] = uv.y;
+        }
+    }
+}
+
+bool AlphaMasks::hole(size_t triangle, float b1, float b2) const {
+    if (triangle >= triangles_.size()) return false;
+    const Triangle& t = triangles_[triangle];
+    if (t.cutoff < 0.0f) return false;
+    float alpha = t.factor;
+    if (t.image >= 0) {
+        const AlphaImage& img = images_[size_t(t.image)];
+        const float b0 = 1.0f - b1 - b2;
+        const float u = b0 * t.uv[0] + b1 * t.uv[2] + b2 * t.uv[4];
+        const float v = b0 * t.uv[1] + b1 * t.uv[3] + b2 * t.uv[5];
+        const float x = u * float(img.width) - 0.5f, y = v * float(img.height) - 0.5f;
+        const float fx0 = std::floor(x), fy0 = std::floor(y);
+        const float fx = x - fx0, fy = y - fy0;
+        const int ix = int(fx0), iy = int(fy0);
+        const int x0 = wrap_coordinate(ix, img.width, t.wrap_s), x1 = wrap_coordinate(ix + 1, img.width, t.wrap_s);
+        const int y0 = wrap_coordinate(iy, img.height, t.wrap_t), y1 = wrap_coordinate(iy + 1, img.height, t.wrap_t);
+        auto at = [&](int px, int py) { return float(img.alpha[size_t(py) * size_t(img.width) + size_t(px)]) / 255.0f; };
+        const float top = at(x0, y0) + (at(x1, y0) - at(x0, y0)) * fx;
+        const float bottom = at(x0, y1) + (at(x1, y1) - at(x0, y1)) * fx;
+        alpha *= top + (bottom - top) * fy;
+    }
+    return alpha < t.cutoff;
+}
+
 std::vector<CpuHit> embree_intersect(const Scene& scene, const std::vector<glm::vec3>& origins,
                                      const std::vector<glm::vec3>& directions, float t_min, float t_max) {
     if (origins.size() != directions.size()) throw std::invalid_argument("origins and directions differ in length");
@@ -78,7 +169,7 @@ std::vector<CpuHit> embree_intersect(const Scene& scene, const std::vector<glm::
     return hits;
 }
 
-EmbreeTracer::EmbreeTracer(const std::vector<BvhTriangle>& triangles) {
+EmbreeTracer::EmbreeTracer(const std::vector<BvhTriangle>& triangles, AlphaMasks masks) : masks_(std::move(masks)) {
     RTCDevice device = rtcNewDevice(nullptr);
     if (!device) throw std::runtime_error("Embree: rtcNewDevice failed");
     device_ = device;
@@ -105,6 +196,11 @@ EmbreeTracer::EmbreeTracer(const std::vector<BvhTriangle>& triangles) {
             idx[3 * i] = unsigned(3 * i);
             idx[3 * i + 1] = unsigned(3 * i + 1);
             idx[3 * i + 2] = unsigned(3 * i + 2);
+        }
+        if (!masks_.empty()) {
+            rtcSetGeometryUserData(geom, &masks_);
+            rtcSetGeometryIntersectFilterFunction(geom, alpha_filter);
+            rtcSetGeometryOccludedFilterFunction(geom, alpha_filter);
         }
         rtcCommitGeometry(geom);
         rtcAttachGeometryByID(rs, geom, 0);

@@ -42,13 +42,44 @@ struct TraceAnswer {
     float b1, b2;
 };
 
+// The alpha test of glTF MASK materials (BLEND at 0.5) on the CPU, as lib/bvh.glsl's
+// bvh_alpha_hole does it: alpha = factor x the base colour texture's alpha, sampled bilinearly at
+// level 0 with the texture's wrap modes (scene_textures.glsl's sample_image); below the cutoff
+// the hit is a hole and the ray goes on. Copies what it needs, so the Scene may change after.
+class AlphaMasks {
+public:
+    AlphaMasks() = default;
+    // For the BVH's triangles (Bvh::triangles order); empty when no triangle is alpha-tested.
+    AlphaMasks(const Scene& scene, const std::vector<BvhTriangle>& triangles);
+    bool empty() const { return triangles_.empty(); }
+    // Whether the hit at barycentrics (b1, b2) of BVH triangle `triangle` is a hole.
+    bool hole(size_t triangle, float b1, float b2) const;
+
+private:
+    struct AlphaImage {
+        int width = 0, height = 0;
+        std::vector<uint8_t> alpha;  // rows top-first, as Image::rgba
+    };
+    struct Triangle {
+        float cutoff = -1.0f;  // -1: opaque
+        float factor = 1.0f;   // base_color.a
+        int image = -1;        // into images_, -1: no texture
+        int wrap_s = 10497, wrap_t = 10497;
+        float uv[6] = {};  // the vertices' texture coordinates, KHR_texture_transform applied
+
+    };
+    std::vector<AlphaImage> images_;
+    std::vector<Triangle> triangles_;
+};
+
 // The BVH's own triangle list (Bvh::triangles, world space, in leaf order) in an Embree scene,
 // one geometry whose primitive IDs are those indices, so that Embree's hits name the very
 // triangles the GLSL traversal would (and the shading code finds them in bvh_triangles).
 // Embree's barycentrics (u, v) weigh v1 and v2, as the GLSL test's b1, b2 do.
 class EmbreeTracer {
 public:
-    explicit EmbreeTracer(const std::vector<BvhTriangle>& triangles);
+    // `masks`: the alpha test of alpha-tested triangles (an Embree filter function), or empty.
+    explicit EmbreeTracer(const std::vector<BvhTriangle>& triangles, AlphaMasks masks = {});
     ~EmbreeTracer();
     EmbreeTracer(const EmbreeTracer&) = delete;
     EmbreeTracer& operator=(const EmbreeTracer&) = delete;
@@ -59,6 +90,7 @@ public:
 private:
     void* device_ = nullptr;  // RTCDevice
     void* scene_ = nullptr;   // RTCScene
+    AlphaMasks masks_;        // the filter's user data: lives as long as the scene
 };
 
 }  // namespace ssr

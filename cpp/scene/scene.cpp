@@ -169,9 +169,16 @@ uint64_t Scene::content_hash() const {
             h.pod(t->image);
             h.pod(t->wrap_s);
             h.pod(t->wrap_t);
+            h.pod(t->transform_u);
+            h.pod(t->transform_v);
         }
         h.pod(m.normal_scale);
         h.pod(m.double_sided);
+        h.pod(m.alpha_mode);
+        h.pod(m.alpha_cutoff);
+        h.pod(m.ior);
+        h.pod(m.specular);
+        h.pod(m.specular_color);
     }
     for (const Image& i : images) {
         h.pod(i.width);

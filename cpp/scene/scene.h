@@ -27,6 +27,14 @@ struct TextureRef {
     int image = -1;                 // index into Scene::images, -1 = none
     int wrap_s = 10497, wrap_t = 10497;  // glTF/GL wrap modes (REPEAT)
     int texcoord = 0;
+    // KHR_texture_transform: the texture is sampled at (dot(transform_u, (u, v, 1)),
+    // dot(transform_v, (u, v, 1))), the extension's offset x rotation x scale (identity without it).
+    glm::vec3 transform_u{1.0f, 0.0f, 0.0f};
+    glm::vec3 transform_v{0.0f, 1.0f, 0.0f};
+    bool transformed() const { return transform_u != glm::vec3(1, 0, 0) || transform_v != glm::vec3(0, 1, 0); }
+    glm::vec2 apply(const glm::vec2& uv) const {
+        return {glm::dot(transform_u, glm::vec3(uv, 1.0f)), glm::dot(transform_v, glm::vec3(uv, 1.0f))};
+    }
     bool valid() const { return image >= 0; }
 };
 
@@ -50,6 +58,29 @@ struct Material {
     TextureRef normal_texture;              // linear, tangent space
     float normal_scale = 1.0f;
     bool double_sided = false;   // back faces get flipped normals (glTF doubleSided)
+    // glTF alphaMode: alpha = base_color.a x the base colour texture's alpha. MASK: a texel
+    // with alpha below alpha_cutoff is a hole in every pass that decides visibility (the
+    // G-buffer's constructions, the shadow map, the BVH traversals), so SSR and its truth see
+    // the same holes. BLEND is tested the same way at 0.5 (visibility_cutoff): the deep
+    // G-buffer keeps one opaque surface per layer and the reference traces opaque surfaces, so
+    // a translucent layer would exist in neither; the loader says so in a SceneWarning.
+    enum class AlphaMode { Opaque, Mask, Blend };
+    AlphaMode alpha_mode = AlphaMode::Opaque;
+    float alpha_cutoff = 0.5f;
+    // KHR_materials_ior and KHR_materials_specular: a dielectric's specular reflectance at normal
+    // incidence is min(((ior - 1) / (ior + 1))^2 x specular_color, 1) x specular (0.04 at the
+    // defaults, glTF's core value); metals keep their base colour (F0 = mix(this, base, metallic)).
+    float ior = 1.5f;
+    float specular = 1.0f;
+    glm::vec3 specular_color{1.0f};
+    glm::vec3 dielectric_f0() const {
+        const float r = (ior - 1.0f) / (ior + 1.0f);
+        return glm::min(r * r * specular_color, glm::vec3(1.0f)) * specular;
+    }
+    // The alpha below which a texel is a hole, or -1 for an opaque material.
+    float visibility_cutoff() const {
+        return alpha_mode == AlphaMode::Opaque ? -1.0f : (alpha_mode == AlphaMode::Mask ? alpha_cutoff : 0.5f);
+    }
 };
 
 struct Mesh {
@@ -85,7 +116,7 @@ struct Light {
     // Point and spot: the distance where the light's influence ends (KHR_lights_punctual's
     // recommended window); 0 = no end.
     float range = 0.0f;
-    bool cast_shadow = false;  // honoured for the first directional light that asks for it
+    bool cast_shadow = false;  // honoured for the first directional or spot light that asks for it
 };
 
 // What a reflection ray that leaves the screen (or is faded) sees.

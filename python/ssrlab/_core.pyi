@@ -41,12 +41,33 @@ class Material:
                  GGX specular albedo F0 A + B at the pixel's view angle; glTF files without ssrlab's
                  extras load so)
     double_sided back faces show the other side (normals flipped), as glTF's doubleSided
+    ior, specular, specular_color
+                 KHR_materials_ior / KHR_materials_specular: a dielectric's F0 is
+                 min(((ior - 1) / (ior + 1))^2 x specular_color, 1) x specular (0.04 by default)
+    alpha_mode   glTF alphaMode: 'OPAQUE', 'MASK' (alpha = base_color[3] x texture alpha below
+                 alpha_cutoff is a hole in every pass) or 'BLEND' (tested as MASK at 0.5)
     emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
     *_texture    image index in the scene (-1: none); see Scene.add_image
     """
-    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> None:
+    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0, alpha_mode: str = 'OPAQUE', alpha_cutoff: typing.SupportsFloat | typing.SupportsIndex = 0.5) -> None:
         ...
     def __repr__(self) -> str:
+        ...
+    @property
+    def alpha_cutoff(self) -> float:
+        """
+        glTF alphaCutoff of a MASK material: alpha = base_color[3] x base colour texture alpha
+        """
+    @alpha_cutoff.setter
+    def alpha_cutoff(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def alpha_mode(self) -> str:
+        """
+        glTF alphaMode: 'OPAQUE', 'MASK' (texels with alpha below alpha_cutoff are holes in every visibility pass) or 'BLEND' (tested as MASK at 0.5)
+        """
+    @alpha_mode.setter
+    def alpha_mode(self, arg1: str) -> None:
         ...
     @property
     def base_color(self) -> tuple[float, ...]:
@@ -65,6 +86,11 @@ class Material:
     def base_color_texture(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
+    def dielectric_f0(self) -> tuple[float, ...]:
+        """
+        a dielectric's specular reflectance at normal incidence from ior, specular and specular_color
+        """
+    @property
     def double_sided(self) -> bool:
         """
         back faces show the other side (normals flipped)
@@ -79,6 +105,14 @@ class Material:
         """
     @emissive.setter
     def emissive(self, arg1: tuple[float, ...]) -> None:
+        ...
+    @property
+    def ior(self) -> float:
+        """
+        index of refraction (KHR_materials_ior; 1.5 gives glTF's dielectric F0 0.04)
+        """
+    @ior.setter
+    def ior(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def metallic(self) -> float:
@@ -135,6 +169,22 @@ class Material:
         """
     @roughness.setter
     def roughness(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def specular(self) -> float:
+        """
+        KHR_materials_specular specularFactor in [0, 1]: scales a dielectric's F0
+        """
+    @specular.setter
+    def specular(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def specular_color(self) -> tuple[float, ...]:
+        """
+        KHR_materials_specular specularColorFactor (linear RGB, >= 0): tints a dielectric's F0
+        """
+    @specular_color.setter
+    def specular_color(self, arg1: tuple[float, ...]) -> None:
         ...
 class Light:
     """
@@ -410,6 +460,10 @@ class Scene:
     def content_hash(self) -> str:
         """
         A hex digest of everything that changes an image of the scene (cache key).
+        """
+    def image(self, index: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.uint8]:
+        """
+        A copy of image `index` as (h, w, 4) uint8 RGBA, row 0 = top.
         """
     def load_image(self, path: str) -> int:
         """

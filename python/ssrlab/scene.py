@@ -57,6 +57,15 @@ def _vertex_rows(value, what: str, columns: int, vertices: int | None = None) ->
     return f
 
 
+def _warn_unshadowed(light, where: str, stacklevel: int) -> None:
+    # The frame has one 2D shadow map (a directional light's or a spot light's): what a point
+    # light sees in every direction would need a cube map, which is left out.
+    if light.type == "point" and light.cast_shadow:
+        warnings.warn(f"{where}point light {light.name!r} asks for a shadow (cast_shadow=True) but point lights cast "
+                      "none (the shadow map is a directional or spot light's): it is lit unshadowed",
+                      SceneWarning, stacklevel=stacklevel)
+
+
 def _index_array(value, vertices: int) -> np.ndarray:
     """A uint32 index array of shape (m, 3) or (3m,), every value an existing vertex."""
     a = _as_array(value, "indices")
@@ -114,10 +123,19 @@ class Scene(_core.Scene):
         """Adds the default scene of a glTF file, every node's transform premultiplied by `transform`
         (see `load` for `allow_external_files`, errors and warnings)."""
         # The path as the OS spells it (bytes): a name that is not valid UTF-8 still opens.
+        first_light = len(self.lights)
         ids, messages = self._add_gltf(os.fsencode(os.fspath(path)), _matrix(transform), bool(allow_external_files))
         for message in messages:
             warnings.warn(message, SceneWarning, stacklevel=2)
+        for light in self.lights[first_light:]:
+            _warn_unshadowed(light, f"{os.fspath(path)}: ", stacklevel=3)
         return list(ids)
+
+    def add_light(self, light) -> int:
+        """Adds a copy of a light; returns its index. A point light that asks for a shadow
+        (cast_shadow=True) is lit unshadowed, with a SceneWarning saying so."""
+        _warn_unshadowed(light, "", stacklevel=3)
+        return super().add_light(light)
 
     def add_mesh(self, positions, indices=None, *, normals=None, uvs=None, tangents=None,
                  material: Material | None = None, transform=None, name: str = "mesh") -> int:

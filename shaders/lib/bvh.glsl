@@ -12,7 +12,7 @@ struct BvhNode {
 struct BvhTriangle {
     vec4 v0;  // world-space vertices; v0.w: object index (int bits)
     vec4 v1;  // v1.w: triangle index within its object's mesh (int bits)
-    vec4 v2;
+    vec4 v2;  // v2.w: 1 when its material is alpha-tested (int bits)
 };
 
 layout(std430, binding = 5) readonly buffer BvhNodes { BvhNode bvh_nodes[]; };
@@ -84,6 +84,24 @@ bool intersect_box(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float t_min, flo
     return enter <= leave;
 }
 
+// glTF alphaMode MASK (BLEND at 0.5): a hit on a hole of an alpha-tested material is no hit,
+// the ray goes on, as the rasterised passes discard the same texels (lib/material.glsl's
+// material_alpha_hole, on the base colour texture's level 0 here). Needs scene_data.glsl.
+#include "../lib/scene_geometry.glsl"
+#include "../lib/scene_textures.glsl"
+
+bool bvh_alpha_hole(BvhTriangle tri, float b1, float b2) {
+    ObjectData o = objects[floatBitsToInt(tri.v0.w)];
+    MaterialData m = materials[o.material.x];
+    vec4 base_texel = vec4(1.0);
+    if (m.flags.x != 0) {
+        SurfaceAttributes s = triangle_attributes(o, floatBitsToInt(tri.v1.w), b1, b2);
+        base_texel = sample_image(m.images.x, texture_uv(m, 0, s.uv), m.wraps.x, false);
+    }
+    float alpha = m.base_color.a * base_texel.a;
+    return m.emissive.w >= 0.0 && alpha < m.emissive.w;
+}
+
 #if defined(EXTERNAL_TRACE) && EXTERNAL_TRACE
 #include "../lib/trace_external.glsl"
 #else
@@ -111,7 +129,8 @@ TraceHit trace_closest(vec3 origin, vec3 dir, float t_min, float t_max) {
             for (int i = first; i < first - second; ++i) {
                 BvhTriangle tri = bvh_triangles[i];
                 float t, b1, b2;
-                if (intersect_triangle(sr, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, t_min, hit.t, t, b1, b2)) {
+                if (intersect_triangle(sr, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, t_min, hit.t, t, b1, b2) &&
+                    (floatBitsToInt(tri.v2.w) == 0 || !bvh_alpha_hole(tri, b1, b2))) {
                     hit.t = t;
                     hit.triangle = i;
                     hit.b1 = b1;

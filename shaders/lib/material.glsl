@@ -3,6 +3,15 @@
 // reference tracer at level 0) and passes the texel values; unused ones may be anything.
 // Needs scene_data.glsl, gbuffer.glsl, normal_mapping.glsl.
 
+// glTF alphaMode MASK (BLEND tested alike at 0.5, Material::visibility_cutoff): the surface's
+// alpha, base colour factor x texture alpha, below the material's cutoff makes the texel a hole
+// (emissive.w < 0 for an opaque material). The rasterised passes discard it and the BVH
+// traversals step through it, so the G-buffer, the shadow map and the reference agree.
+bool material_alpha_hole(MaterialData m, vec4 base_texel) {
+    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0);
+    return m.emissive.w >= 0.0 && alpha < m.emissive.w;
+}
+
 // n: interpolated unit normal (view space); t, b: tangent frame (valid when has_frame);
 // front_facing: the camera sees the side the normal points to.
 GSample material_sample(MaterialData m, vec4 base_texel, vec4 metallic_roughness_texel, vec3 normal_texel,

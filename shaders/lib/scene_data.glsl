@@ -10,11 +10,37 @@ struct ObjectData {
 struct MaterialData {
     vec4 base_color;  // linear RGB, alpha
     vec4 params;      // (metallic, roughness, reflectivity, normal scale)
-    vec4 emissive;    // rgb
+    vec4 emissive;    // rgb; w: alpha below which a texel is a hole (glTF MASK/BLEND), -1 opaque
     ivec4 flags;      // (base colour texture, metallic-roughness texture, normal texture, double sided)
     ivec4 images;     // image index of each texture, -1 for none (for scene_textures.glsl)
     ivec4 wraps;      // wrap_s | wrap_t << 16 of each texture
+    vec4 dielectric_f0;  // rgb: a dielectric's F0 from KHR_materials_ior / _specular (0.04 by default)
+    vec4 uv_transform[6];  // KHR_texture_transform of texture k (0 base colour, 1 metal-rough, 2 normal): rows 2k, 2k+1
 };
 
 layout(std430, binding = 1) readonly buffer Objects { ObjectData objects[]; };
 layout(std430, binding = 2) readonly buffer Materials { MaterialData materials[]; };
+
+// Where texture k (0 base colour, 1 metallic-roughness, 2 normal) of material m is sampled for
+// the surface's texture coordinates: KHR_texture_transform's offset x rotation x scale.
+vec2 texture_uv(MaterialData m, int k, vec2 uv) {
+    return vec2(dot(m.uv_transform[2 * k].xyz, vec3(uv, 1.0)), dot(m.uv_transform[2 * k + 1].xyz, vec3(uv, 1.0)));
+}
+
+// Texture k of material m in a rasterised pass, at the surface's coordinates uv with their screen
+// derivatives, the transform applied to both (its linear part to the derivatives). Explicit
+// gradients: an implicit derivative of a computed coordinate is undefined in non-uniform control
+// flow (GLSL 4.50, 8.9), and on llvmpipe the alpha test's branch then sampled wrong mip levels.
+vec4 sample_material_texture(sampler2D tex, MaterialData m, int k, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
+    mat2 linear = mat2(m.uv_transform[2 * k].x, m.uv_transform[2 * k + 1].x,   // column 0
+                       m.uv_transform[2 * k].y, m.uv_transform[2 * k + 1].y);  // column 1
+    return textureGrad(tex, texture_uv(m, k, uv), linear * duv_dx, linear * duv_dy);
+}
+
+// Specular reflectance at normal incidence of object `object_id`'s surface (glTF metallic
+// workflow): the material's dielectric F0 (KHR_materials_ior, KHR_materials_specular; 0.04 at
+// their defaults) for the non-metal part, the base colour for the metal part.
+vec3 surface_f0(int object_id, vec3 base_color, float metallic) {
+    vec3 dielectric = object_id >= 0 ? materials[objects[object_id].material.x].dielectric_f0.rgb : vec3(0.04);
+    return mix(dielectric, base_color, metallic);
+}

@@ -16,7 +16,7 @@ vec3 shade_surface(GSample g, vec3 p, vec3 v) {
     vec3 n = g.normal;
     float NoV = max(dot(n, v), 1e-4);
     float alpha = ggx_alpha(g.roughness);
-    vec3 F0 = specular_f0(g.albedo, g.metallic);
+    vec3 F0 = surface_f0(g.object_id, g.albedo, g.metallic);
     vec3 diffuse_color = g.albedo * (1.0 - g.metallic);
     vec3 radiance = frame.ambient.rgb * g.albedo;
     // glTF emission (emissiveFactor x KHR_materials_emissive_strength) leaves the surface

@@ -1,6 +1,7 @@
 // shading.glsl's light_visibility() from the frame's shadow map: percentage-closer filtering
-// of the directional light's shadow map at a view-space point, offset along its normal
-// against acne, for the light that casts it; every other light is unshadowed.
+// of the shadow-casting light's map (a directional light's orthographic one or a spot light's
+// perspective one) at a view-space point, offset along its normal against acne, for the light
+// that casts it; every other light is unshadowed.
 // Needs frame_uniforms.glsl, lights.glsl; the including shader declares
 //     layout(binding = N) uniform sampler2DShadow u_shadow_map;
 // and defines SHADOWS (0 or 1).
@@ -13,7 +14,9 @@
 // (w0, w1 -> fraction w1 / (w0 + w1), tap weight w0 + w1): 4 taps instead of 9 for r = 1.
 float shadow_visibility(vec3 p_view, vec3 n_view) {
     vec3 p = p_view + n_view * (frame.shadow.y * frame.shadow.z);  // texel size x offset in texels
-    vec3 s = (frame.view_to_shadow * vec4(p, 1.0)).xyz;
+    vec4 s4 = frame.view_to_shadow * vec4(p, 1.0);  // w = 1 for a directional light's orthographic map
+    if (s4.w <= 0.0) return 1.0;                      // behind a spot light: its cone lights nothing there
+    vec3 s = s4.xyz / s4.w;
     if (any(lessThan(s, vec3(0.0))) || any(greaterThan(s, vec3(1.0)))) return 1.0;
 #ifdef SHADOW_PCF_RADIUS
     const int r = SHADOW_PCF_RADIUS;  // compiled in (passes/lighting.cpp): the loops unroll

@@ -103,11 +103,13 @@ ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w, bool viewer_is_ray) {
     if (m.flags.z != 0) {
         has_frame = tangent_frame_from_vertex(n, vec4(model_view * a.tangent.xyz, a.tangent.w), t, b) ||
                     tangent_frame_from_gradients(n, model_view * (a.p1 - a.p0), model_view * (a.p2 - a.p0),
-                                                 a.uv1 - a.uv0, a.uv2 - a.uv0, t, b);
+                                                 texture_uv(m, 2, a.uv1) - texture_uv(m, 2, a.uv0),
+                                                 texture_uv(m, 2, a.uv2) - texture_uv(m, 2, a.uv0), t, b);
     }
-    GSample g = material_sample(m, sample_image(m.images.x, a.uv, m.wraps.x, true),
-                                sample_image(m.images.y, a.uv, m.wraps.y, false),
-                                sample_image(m.images.z, a.uv, m.wraps.z, false).xyz, n, t, b, has_frame,
+    // Each texture at its own coordinates (KHR_texture_transform), as the G-buffer samples them.
+    GSample g = material_sample(m, sample_image(m.images.x, texture_uv(m, 0, a.uv), m.wraps.x, true),
+                                sample_image(m.images.y, texture_uv(m, 1, a.uv), m.wraps.y, false),
+                                sample_image(m.images.z, texture_uv(m, 2, a.uv), m.wraps.z, false).xyz, n, t, b, has_frame,
                                 front_facing, s.object);
     vec3 viewer = !viewer_is_ray ? normalize(-s.position) : -normalize(mat3(frame.view) * dir_w);
     s.radiance = shade_surface(g, s.position, viewer);

@@ -82,7 +82,7 @@ void main() {
                 float NoV = max(dot(g.normal, normalize(-pos)), 0.0);
                 vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
                 bool auto_r = g.object_id >= 0 && materials[objects[g.object_id].material.x].params.z < 0.0;
-                c += (auto_r ? 1.0 : r) * specular_albedo(specular_f0(g.albedo, g.metallic), ab) * reflection;
+                c += (auto_r ? 1.0 : r) * specular_albedo(surface_f0(g.object_id, g.albedo, g.metallic), ab) * reflection;
             }
 #endif
         }

@@ -13,6 +13,12 @@
 #ifndef PEEL_TEST
 #define PEEL_TEST 0
 #endif
+// PEEL_ALPHA_TEST 1: the depth pass of an alpha-tested material (glTF MASK/BLEND) discards the
+// texels the shading pass would, so the depth it keeps is the surface seen through the holes
+// (the shading pass, with GL_EQUAL and early tests, cannot discard what the depth already hides).
+#ifndef PEEL_ALPHA_TEST
+#define PEEL_ALPHA_TEST 0
+#endif
 // The shading pass is compiled per material kind (GpuScene::material_features), as
 // llvmpipe runs the texture samples of a branch no lane takes: MATERIAL_TEXTURES 0 for a
 // material without textures, MATERIAL_AUTO_R 0 for one with an explicit reflectivity.
@@ -34,12 +40,31 @@
 // (the shader library includes a file once: includes both variants use come first)
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
+#include "../lib/scene_data.glsl"
 
 #if PEEL_DEPTH_ONLY
 
 layout(binding = 3) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
 
+#if PEEL_ALPHA_TEST
+layout(binding = 0) uniform sampler2D u_base_color_texture;  // sRGB; alpha is linear
+uniform int u_object;
+in VertexOut {
+    vec3 view_position;
+    vec3 view_normal;
+    vec2 uv;
+    vec4 view_tangent;
+} fs;
+#endif
+
 void main() {
+#if PEEL_ALPHA_TEST
+    // The same test as material_alpha_hole (lib/material.glsl), on the same texture sample.
+    MaterialData m = materials[objects[u_object].material.x];
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, dFdx(fs.uv), dFdy(fs.uv));
+    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0);
+    if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
+#endif
 #if PEEL_TEST
     float previous = texelFetch(u_previous_layer_depth, ivec2(gl_FragCoord.xy), 0).r;
     if (!is_farther(gl_FragCoord.z, previous)) discard;
@@ -88,14 +113,25 @@ void main() {
     vec3 t = vec3(0.0), b = vec3(0.0);
     bool has_frame = false;
 #if MATERIAL_TEXTURES
+    // Each texture at its own coordinates (KHR_texture_transform; the identity without it).
+    vec2 duv_dx = dFdx(fs.uv), duv_dy = dFdy(fs.uv);
     if (m.flags.z != 0) {
+        // The normal texture's coordinates' derivatives: the transform's linear part of the
+        // surface's (texture_uv of a derivative minus texture_uv of 0 drops the offset).
+        vec2 n_dx = texture_uv(m, 2, duv_dx) - texture_uv(m, 2, vec2(0.0));
+        vec2 n_dy = texture_uv(m, 2, duv_dy) - texture_uv(m, 2, vec2(0.0));
         has_frame = tangent_frame_from_vertex(n, fs.view_tangent, t, b) ||
-                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), dFdx(fs.uv),
-                                                 dFdy(fs.uv), t, b);
+                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), n_dx, n_dy, t, b);
     }
-    GSample g = material_sample(m, texture(u_base_color_texture, fs.uv), texture(u_metallic_roughness_texture, fs.uv),
-                                texture(u_normal_texture, fs.uv).xyz, n, t, b, has_frame, gl_FrontFacing, u_object);
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, duv_dx, duv_dy);
+    // A hole of an alpha-tested material: the lists must not append it (peeling's depth pass
+    // already discarded it, so here it only guards against a coplanar surface's equal depth).
+    if (material_alpha_hole(m, base_texel)) discard;
+    GSample g = material_sample(m, base_texel, sample_material_texture(u_metallic_roughness_texture, m, 1, fs.uv, duv_dx, duv_dy),
+                                sample_material_texture(u_normal_texture, m, 2, fs.uv, duv_dx, duv_dy).xyz, n, t, b,
+                                has_frame, gl_FrontFacing, u_object);
 #else
+    if (material_alpha_hole(m, vec4(1.0))) discard;
     // No texture: material_sample ignores the texel values (its flags are 0).
     GSample g = material_sample(m, vec4(1.0), vec4(1.0), vec3(0.5, 0.5, 1.0), n, t, b, false, gl_FrontFacing, u_object);
 #endif
@@ -105,7 +141,7 @@ void main() {
         // the share of light its GGX lobe does at this view angle, E = F0 A + B.
         float NoV = max(dot(g.normal, normalize(-fs.view_position)), 0.0);
         vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
-        g.reflectivity = specular_reflectivity(specular_f0(g.albedo, g.metallic), ab);
+        g.reflectivity = specular_reflectivity(surface_f0(g.object_id, g.albedo, g.metallic), ab);
     }
 #endif
 #if DEEP_GBUFFER_APPEND

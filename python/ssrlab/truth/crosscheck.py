@@ -16,9 +16,16 @@ What is the same in both:
 * **BSDF**: ssrlab's material model, written out again here in Dr.Jit as a Mitsuba BSDF
   plugin (:class:`SsrlabBSDF`, from ``shaders/lib/shading.glsl`` and ``brdf.glsl``): Lambert
   diffuse ``(1 - F) (1 - metallic) base / pi`` plus GGX specular ``F D G / (4 NoL NoV)``
-  with separable Smith G, Schlick's F from ``F0 = mix(0.04, base, metallic)`` and
+  with separable Smith G, Schlick's F from ``F0 = mix(dielectric_f0, base, metallic)`` (0.04
+  unless the material's ``ior``/``specular``/``specular_color`` say otherwise) and
   ``alpha = max(roughness, 0.03)^2``; surfaces with ``roughness^2 < 1e-4`` are ideal mirrors
   with Schlick's F (the reference traces one mirror ray for them).
+
+* **alpha masks** (glTF MASK/BLEND with a base colour texture of one colour whose alphas are 0
+  or 255, :func:`mask_rgb`): Mitsuba's ``mask`` BSDF with a nearest-neighbour opacity bitmap,
+  rendered with ``volpath`` (see :func:`render_mitsuba`);
+* **emission**: an ``area`` emitter of the material's radiance, accepted only beside ideal
+  metallic mirrors (ssrlab's emission lights nothing; see :func:`check_comparable`).
 
 What ssrlab has and physics has not, so the comparable scene leaves it out (checked by
 :func:`check_comparable`): the **ambient** term (``ambient * albedo`` added to every surface)
@@ -138,14 +145,14 @@ def _register():
             mi.BSDF.__init__(self, props if props is not None else mi.Properties())
             self.configure((0.8, 0.8, 0.8), 0.0, 0.5)
 
-        def configure(self, base, metallic: float, roughness: float):
+        def configure(self, base, metallic: float, roughness: float, dielectric_f0=(0.04, 0.04, 0.04)):
             self.base = [float(c) for c in base[:3]]
             self.metallic = float(np.clip(metallic, 0.0, 1.0))
             self.roughness = float(np.clip(roughness, 0.0, 1.0))
             self.mirror = self.roughness * self.roughness < MIRROR_ROUGHNESS2
             r = max(self.roughness, ALPHA_FLOOR)
             self.alpha = r * r
-            self.f0 = [0.04 + (b - 0.04) * self.metallic for b in self.base]
+            self.f0 = [float(d) + (b - float(d)) * self.metallic for b, d in zip(self.base, dielectric_f0)]
             self.diffuse = [b * (1.0 - self.metallic) for b in self.base]
             self.has_diffuse = max(self.diffuse) > 0.0
             # Probability of sampling the specular lobe (the diffuse lobe gets the rest).
@@ -299,18 +306,62 @@ def check_comparable(scene) -> None:
         raise ValueError(f"crosscheck: scene.environment is {env!r}; ssrlab shows the environment in reflections "
                          "but lights no surface with it, a Mitsuba emitter would light every surface: use "
                          "Environment.constant((0, 0, 0))")
+    emissive = [i for i in range(scene.object_count) if any(float(c) > 0 for c in scene.material(i).emissive)]
     for i in range(scene.object_count):
         m = scene.material(i)
-        if (m.base_color_texture >= 0 or m.metallic_roughness_texture >= 0 or m.normal_texture >= 0):
+        if m.metallic_roughness_texture >= 0 or m.normal_texture >= 0:
             raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) has textures; the Mitsuba "
-                             "cross-check supports untextured materials only")
-        if any(float(c) > 0 for c in m.emissive):
-            raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) is emissive; the Mitsuba "
-                             "scene has no area emitters yet")
+                             "cross-check supports untextured materials only (and a base colour texture "
+                             "that holds an alpha mask)")
+        if m.base_color_texture >= 0:
+            mask_rgb(scene, i)  # raises unless it is an alpha mask of one colour
+        if emissive and i not in emissive and not (m.metallic == 1.0 and m.roughness ** 2 < MIRROR_ROUGHNESS2):
+            # ssrlab's emission is seen (in the lit colour and in reflections) but lights nothing;
+            # a Mitsuba area emitter lights every surface it sees. Only an ideal metallic mirror
+            # (a delta lobe: no light sampling, nothing diffuse) receives the same from both.
+            raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) would be lit by the emissive "
+                             f"object(s) {emissive} in Mitsuba but not in ssrlab (emission lights nothing "
+                             "there): beside emitters, only ideal metallic mirrors are comparable")
     for k, light in enumerate(scene.lights):
         if light.type == "spot" or light.range > 0:
             raise ValueError(f"crosscheck: light {k} is a spot light or has a range; the Mitsuba scene has "
                              "point and directional emitters without either yet")
+
+
+def mask_rgb(scene, i) -> tuple:
+    """The one texel colour (linear RGB) of object `i`'s base colour texture, which the
+    cross-check accepts only as an alpha mask: a MASK or BLEND material whose texture has one
+    RGB value everywhere and alphas of 0 or 255 only. Where alpha only jumps between 0 and 1,
+    ssrlab's bilinear filtering thresholded at any cutoff in (0, 1) puts the edge halfway between
+    texel centres, exactly where Mitsuba's nearest-neighbour opacity puts it. Raises ValueError."""
+    m = scene.material(i)
+    img = scene.image(m.base_color_texture)
+    name = f"crosscheck: object {i} ({scene.object_name(i)!r})"
+    if m.alpha_mode == "OPAQUE":
+        raise ValueError(f"{name} has a base colour texture; the Mitsuba cross-check supports one only as an "
+                         "alpha mask (alpha_mode 'MASK' or 'BLEND')")
+    rgb = img[..., :3].reshape(-1, 3)
+    if np.any(rgb != rgb[0]):
+        raise ValueError(f"{name}: its base colour texture varies in colour; the Mitsuba cross-check supports one "
+                         "only as an alpha mask of one colour")
+    if not np.all((img[..., 3] == 0) | (img[..., 3] == 255)):
+        raise ValueError(f"{name}: its alpha mask holds values other than 0 and 255 (filtered edges threshold "
+                         "differently from Mitsuba's opacity)")
+    cutoff = m.alpha_cutoff if m.alpha_mode == "MASK" else 0.5
+    a = m.base_color[3]
+    if not (0.0 < cutoff <= a):
+        raise ValueError(f"{name}: base_color alpha {a} and cutoff {cutoff} make every texel a hole or none")
+    c = rgb[0] / 255.0
+    return tuple(np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4))
+
+
+def _alpha_opacity(scene, i):
+    """Object i's alpha mask as a Mitsuba opacity bitmap (0 or 1, nearest texel, glTF's wrap)."""
+    m = scene.material(i)
+    img = scene.image(m.base_color_texture)
+    opaque = np.ascontiguousarray((img[..., 3:4] == 255).astype(np.float32))
+    return {"type": "bitmap", "bitmap": _mi.Bitmap(opaque), "filter_type": "nearest", "raw": True,
+            "wrap_mode": "repeat"}
 
 
 def _world_mesh(scene, i):
@@ -338,6 +389,7 @@ class MitsubaScene:
     height: int
     shape_object: dict = field(default_factory=dict)
     bsdfs: list = field(default_factory=list)  # keeps the Python BSDFs alive
+    masked: bool = False  # some object has an alpha mask (render_mitsuba then uses volpath)
 
 
 def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> MitsubaScene:
@@ -351,20 +403,39 @@ def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> Mi
         raise ValueError("crosscheck: the scene has no default camera; pass camera=")
     d = {"type": "scene"}
     bsdfs = []
+    any_mask = False
     for i in range(scene.object_count):
         p, n, idx = _world_mesh(scene, i)
         if len(idx) == 0:
             continue
         m = scene.material(i)
-        bsdf = SsrlabBSDF().configure(tuple(m.base_color), m.metallic, m.roughness)
+        base = tuple(m.base_color)
+        if m.base_color_texture >= 0:
+            base = tuple(float(b) * float(c) for b, c in zip(base, mask_rgb(scene, i)))
+        bsdf = SsrlabBSDF().configure(base, m.metallic, m.roughness, tuple(m.dielectric_f0))
         bsdfs.append(bsdf)
         props = mi.Properties()
-        props["bsdf"] = bsdf
-        mesh = mi.Mesh(f"object{i:05d}", len(p), len(idx), props=props, has_vertex_normals=n is not None)
+        masked = m.base_color_texture >= 0
+        any_mask = any_mask or masked
+        if masked:
+            # glTF MASK: Mitsuba's mask BSDF, a null (pass-through) interaction where the opacity is 0.
+            props["bsdf"] = mi.load_dict({"type": "mask", "opacity": _alpha_opacity(scene, i), "bsdf": bsdf})
+        else:
+            props["bsdf"] = bsdf
+        if any(float(c) > 0 for c in m.emissive):
+            props["emitter"] = mi.load_dict({"type": "area", "radiance": {
+                "type": "rgb", "value": [float(c) for c in m.emissive]}})
+        uv = scene.object_mesh(i).get("uvs") if masked else None
+        has_uv = uv is not None and len(uv) == len(p)
+        mesh = mi.Mesh(f"object{i:05d}", len(p), len(idx), props=props, has_vertex_normals=n is not None,
+                       has_vertex_texcoords=has_uv)
         params = mi.traverse(mesh)
         params["vertex_positions"] = dr.ravel(mi.Point3f(p[:, 0], p[:, 1], p[:, 2]))
         if n is not None:
             params["vertex_normals"] = dr.ravel(mi.Normal3f(n[:, 0], n[:, 1], n[:, 2]))
+        if has_uv:
+            uv = np.asarray(uv, np.float32)
+            params["vertex_texcoords"] = dr.ravel(mi.Point2f(uv[:, 0], uv[:, 1]))
         params["faces"] = dr.ravel(mi.Vector3u(idx[:, 0], idx[:, 1], idx[:, 2]))
         params.update()
         d[f"object{i:05d}"] = mesh
@@ -389,7 +460,7 @@ def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> Mi
     shape_object = {}
     for k, shape in enumerate(ms.shapes()):
         shape_object[k] = int(shape.id()[len("object"):]) if shape.id().startswith("object") else -1
-    return MitsubaScene(ms, ms.sensors()[0], int(width), int(height), shape_object, bsdfs)
+    return MitsubaScene(ms, ms.sensors()[0], int(width), int(height), shape_object, bsdfs, any_mask)
 
 
 def _pixel_centre_rays(ms: MitsubaScene, spp: int):
@@ -409,14 +480,22 @@ def _pixel_centre_rays(ms: MitsubaScene, spp: int):
 def render_mitsuba(ms: MitsubaScene, spp: int = 1, seed: int = 0, max_depth: int = 3,
                    batch_paths: int = 1 << 22) -> np.ndarray:
     """(H, W, 3) float32: Mitsuba's path integrator (max_depth 3: camera, floor, object,
-    light) on rays through every pixel centre, `spp` of them averaged per pixel."""
+    light) on rays through every pixel centre, `spp` of them averaged per pixel.
+
+    With an alpha mask in the scene (``ms.masked``) it is ``volpath`` with one more bounce:
+    ``path`` tests its shadow rays against the masked triangles as opaque, where ``volpath``
+    multiplies in the mask's null transmission (so holes let the light through, as ssrlab's
+    traced shadows do), and stepping through a hole is a bounce of its own in either. The extra
+    bounce also admits paths with two diffuse bounces, which ssrlab does not trace: a masked
+    comparison needs a scene without them (``masked_crosscheck_scene``)."""
     mi = _mi
     import drjit as dr
 
     if spp < 1:
         raise ValueError(f"render_mitsuba: spp must be >= 1, got {spp}")
     W, H = ms.width, ms.height
-    integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth), "hide_emitters": False})
+    integrator = mi.load_dict({"type": "volpath" if ms.masked else "path",
+                               "max_depth": int(max_depth) + (1 if ms.masked else 0), "hide_emitters": False})
     out = np.zeros((H * W, 3), np.float32)
     rows_per_batch = max(1, batch_paths // max(W * spp, 1))
     for y0 in range(0, H, rows_per_batch):
@@ -513,6 +592,59 @@ def crosscheck_scene(floor_roughness: float = 0.0, floor_color=(1.0, 1.0, 1.0), 
     s.add_sphere((-0.2, 0.35, -4.2), 0.35, segments=48, name="yellow_sphere", material=Material(
         base_color=(0.85, 0.75, 0.2), roughness=0.3, reflectivity=0.0))
     s.add_light(directional_light((0.45, -0.75, -0.5), intensity=sun_irradiance, cast_shadow=shadows))
+    s.ambient = (0.0, 0.0, 0.0)
+    s.environment = Environment.constant((0.0, 0.0, 0.0))
+    s.camera = Camera(position=(0.0, 1.3, 3.2), target=(0.0, 0.35, -2.5), fov_y=45.0, near=0.1, far=50.0)
+    return s
+
+
+def masked_crosscheck_scene(cells: int = 4, texels_per_cell: int = 4):
+    """glTF alphaMode MASK: a mirror floor, a sun-lit matte wall and between them a red quad
+    whose alpha mask is a `cells` x `cells` checkerboard (even cells opaque), casting a holed
+    shadow on the wall. No surface sees another diffuse one that the sun lights (the quad's
+    front faces away from the wall, the floor is a mirror), so the one bounce ``volpath`` adds
+    for stepping through a hole brings no light that ssrlab leaves out. Object 0 is the floor."""
+    from .scene import Camera, Environment, Material, Scene, directional_light
+
+    s = Scene()
+    s.name = "crosscheck_masked"
+    s.add_plane((0, 0, -2.0), (14, 14), name="floor", material=Material(
+        base_color=(1.0, 1.0, 1.0), metallic=1.0, roughness=0.0, reflectivity=1.0))
+    s.add_plane((0, 2.0, -5.0), (12, 4), normal=(0, 0, 1), name="wall", material=Material(
+        base_color=(0.2, 0.6, 0.25), roughness=0.9, reflectivity=0.0))
+    n = cells * texels_per_cell
+    c = np.arange(n) // texels_per_cell
+    img = np.zeros((n, n, 4), np.uint8)
+    img[..., :3] = (200, 40, 30)
+    img[..., 3] = np.where((c[:, None] + c[None, :]) % 2 == 0, 255, 0)
+    tex = s.add_image(img, name="checker_mask")
+    y0, y1, z = 0.4, 2.0, -2.5
+    s.add_mesh([(-1.2, y0, z), (1.2, y0, z), (1.2, y1, z), (-1.2, y1, z)], [(0, 1, 2), (0, 2, 3)],
+               uvs=[(0, 1), (1, 1), (1, 0), (0, 0)], name="masked_quad", material=Material(
+                   base_color=(1.0, 1.0, 1.0), roughness=0.7, reflectivity=0.0, base_color_texture=tex,
+                   double_sided=True, alpha_mode="MASK", alpha_cutoff=0.5))
+    s.add_light(directional_light((0.3, -0.55, -0.8), intensity=3.0, cast_shadow=True))
+    s.ambient = (0.0, 0.0, 0.0)
+    s.environment = Environment.constant((0.0, 0.0, 0.0))
+    s.camera = Camera(position=(0.0, 1.3, 3.2), target=(0.0, 0.5, -2.5), fov_y=45.0, near=0.1, far=50.0)
+    return s
+
+
+def emissive_crosscheck_scene(emission=(4.0, 2.0, 0.8)):
+    """Emission: a mirror floor and an emissive box (black base colour, so what it shows is its
+    emission plus the sun's highlight on its dielectric specular) lit by the sun. Mitsuba makes the
+    box an area emitter; the floor, an ideal metallic mirror, receives from it only what it
+    reflects, as in ssrlab (whose emission lights nothing). Object 0 is the floor."""
+    from .scene import Camera, Environment, Material, Scene, directional_light
+
+    s = Scene()
+    s.name = "crosscheck_emissive"
+    s.add_plane((0, 0, -2.0), (14, 14), name="floor", material=Material(
+        base_color=(1.0, 1.0, 1.0), metallic=1.0, roughness=0.0, reflectivity=1.0))
+    lamp = Material(base_color=(0.0, 0.0, 0.0), roughness=0.6, reflectivity=0.0)
+    lamp.emissive = tuple(float(e) for e in emission)
+    s.add_box((0.2, 0.8, -3.0), (1.6, 1.6, 1.2), rotation_y=20.0, name="lamp", material=lamp)
+    s.add_light(directional_light((0.45, -0.75, -0.5), intensity=3.0, cast_shadow=True))
     s.ambient = (0.0, 0.0, 0.0)
     s.environment = Environment.constant((0.0, 0.0, 0.0))
     s.camera = Camera(position=(0.0, 1.3, 3.2), target=(0.0, 0.35, -2.5), fov_y=45.0, near=0.1, far=50.0)

@@ -1,3 +1,6 @@
+// Reading glTF into a Scene: tinygltf parses what the checks (gltf_checks.cpp) let through;
+// every value is checked again where it is used.
+
 #include "scene/gltf_io.h"
 
 #include <fcntl.h>
@@ -24,498 +27,15 @@
 #include "scene/image_io.h"
 #include "scene/scene_limits.h"
 
+#include "scene/gltf_internal.h"
+
 namespace fs = std::filesystem;
 
 namespace ssr {
 
+using namespace gltf_detail;
+
 namespace {
-
-constexpr int kModeTriangles = 4, kModeStrip = 5, kModeFan = 6;
-
-// ---------------------------------------------------------------------------------------
-// Reading hostile files. Everything the file says is checked where it is read: sizes and
-// offsets with overflow-checked arithmetic, JSON nesting before any parser sees it (the
-// parsers recurse), file references against the model's folder and for being regular
-// files before anything is opened for reading, numbers for being finite and in range.
-// ---------------------------------------------------------------------------------------
-
-constexpr uint64_t kMaxFileBytes = uint64_t(1) << 30;  // per file read: the model, each buffer, each image
-constexpr int kMaxJsonDepth = 64;                      // real files nest ~8 deep; extras rarely more
-constexpr int kMaxNodeDepth = 1000;                    // node hierarchy levels
-
-bool checked_add(uint64_t a, uint64_t b, uint64_t* out) { return !__builtin_add_overflow(a, b, out); }
-bool checked_mul(uint64_t a, uint64_t b, uint64_t* out) { return !__builtin_mul_overflow(a, b, out); }
-
-// Length of the well-formed UTF-8 sequence at p[0..n) (RFC 3629: no overlong forms, no
-// surrogates, nothing above U+10FFFF), or 0 when it is not one.
-size_t utf8_sequence(const unsigned char* p, size_t n) {
-    const unsigned c = p[0];
-    if (c < 0x80) return 1;
-    size_t len;
-    unsigned lo = 0x80, hi = 0xBF;
-    if (c >= 0xC2 && c <= 0xDF) len = 2;
-    else if (c == 0xE0) len = 3, lo = 0xA0;
-    else if (c == 0xED) len = 3, hi = 0x9F;
-    else if (c >= 0xE1 && c <= 0xEF) len = 3;
-    else if (c == 0xF0) len = 4, lo = 0x90;
-    else if (c >= 0xF1 && c <= 0xF3) len = 4;
-    else if (c == 0xF4) len = 4, hi = 0x8F;
-    else return 0;
-    if (n < len) return 0;
-    if (p[1] < lo || p[1] > hi) return 0;
-    for (size_t i = 2; i < len; ++i)
-        if (p[i] < 0x80 || p[i] > 0xBF) return 0;
-    return len;
-}
-
-// A message Python can always decode: bytes that are not UTF-8, and control characters,
-// become \xNN (a file name or a JSON parser's excerpt can hold anything).
-std::string printable(std::string_view s) {
-    static const char* hex = "0123456789abcdef";
-    std::string out;
-    out.reserve(s.size());
-    const auto* p = reinterpret_cast<const unsigned char*>(s.data());
-    for (size_t i = 0; i < s.size();) {
-        const size_t len = utf8_sequence(p + i, s.size() - i);
-        if (len == 0 || (p[i] < 0x20 && p[i] != '\n' && p[i] != '\t') || p[i] == 0x7F) {
-            out += "\\x";
-            out += hex[p[i] >> 4];
-            out += hex[p[i] & 15];
-            ++i;
-        } else {
-            out.append(s.data() + i, len);
-            i += len;
-        }
-    }
-    return out;
-}
-
-// A short excerpt of a JSON value for a message.
-std::string excerpt(const nlohmann::json& v) {
-    std::string s = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
-}
-
-// Reads a regular file of at most kMaxFileBytes. The type is checked with stat before the
-// file is opened, and again on the open descriptor (O_NONBLOCK: opening a FIFO does not wait
-// for a writer), so devices, FIFOs and folders are refused before a single byte is read.
-std::vector<uint8_t> read_regular_file(const std::string& path, const std::string& what) {
-    struct stat st {};
-    if (::stat(path.c_str(), &st) != 0) throw SceneError(what + ": cannot read '" + path + "': " + std::strerror(errno));
-    if (!S_ISREG(st.st_mode))
-        throw SceneError(what + ": '" + path + "' is not a regular file (a folder, device, FIFO or socket)");
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) throw SceneError(what + ": cannot open '" + path + "': " + std::strerror(errno));
-    struct Closer {
-        int fd;
-        ~Closer() { ::close(fd); }
-    } closer{fd};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode))
-        throw SceneError(what + ": '" + path + "' is not a regular file");
-    if (uint64_t(st.st_size) > kMaxFileBytes)
-        throw SceneError(what + ": '" + path + "' is " + std::to_string(st.st_size) + " bytes, more than the " +
-                         std::to_string(kMaxFileBytes >> 20) + " MiB limit");
-    std::vector<uint8_t> data(size_t(st.st_size));
-    size_t got = 0;
-    while (got < data.size()) {
-        const ssize_t n = ::read(fd, data.data() + got, data.size() - got);
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) throw SceneError(what + ": error reading '" + path + "': " + std::strerror(errno));
-        if (n == 0) break;  // the file shrank while we read it
-        got += size_t(n);
-    }
-    data.resize(got);
-    return data;
-}
-
-// Where a model may read files from.
-struct PathPolicy {
-    std::string file;      // the model, for messages
-    fs::path dir;          // its folder (absolute)
-    fs::path dir_real;     // the same with symlinks resolved
-    bool allow_external = false;
-};
-
-// Resolves a file the model refers to (a buffer or image uri, an environment map) and checks
-// that it may be read: relative, inside the model's folder once symlinks are resolved (unless
-// the caller allowed external files), a regular file, not too large. Returns the real path.
-fs::path resolve_reference(const PathPolicy& pol, const std::string& ref, const std::string& what) {
-    const std::string fail_prefix = pol.file + ": " + what + ": ";
-    const std::string opt_in = "; pass allow_external_files=True to allow files outside the model's folder";
-    if (ref.empty()) throw SceneError(fail_prefix + "the uri is empty");
-    if (ref.find('\0') != std::string::npos) throw SceneError(fail_prefix + "the uri contains a NUL character");
-    const fs::path p(ref);
-    if (p.is_absolute() && !pol.allow_external)
-        throw SceneError(fail_prefix + "uri '" + ref + "' is an absolute path" + opt_in);
-    const fs::path full = p.is_absolute() ? p : pol.dir / p;
-    struct stat st {};
-    if (::stat(full.c_str(), &st) != 0)
-        throw SceneError(fail_prefix + "file not found (looked for " + full.string() + ")");
-    std::error_code ec;
-    const fs::path real = fs::canonical(full, ec);
-    if (ec) throw SceneError(fail_prefix + "cannot resolve '" + full.string() + "': " + ec.message());
-    if (!pol.allow_external) {
-        const fs::path rel = real.lexically_relative(pol.dir_real);
-        if (rel.empty() || *rel.begin() == "..")
-            throw SceneError(fail_prefix + "uri '" + ref + "' leads outside the model's folder (to " + real.string() +
-                             ")" + opt_in);
-    }
-    if (!S_ISREG(st.st_mode))
-        throw SceneError(fail_prefix + "'" + ref + "' is not a regular file (a folder, device, FIFO or socket)");
-    if (uint64_t(st.st_size) > kMaxFileBytes)
-        throw SceneError(fail_prefix + "'" + ref + "' is " + std::to_string(st.st_size) + " bytes, more than the " +
-                         std::to_string(kMaxFileBytes >> 20) + " MiB limit");
-    return real;
-}
-
-// tinygltf's percent-decoding of uris (dlib's urldecode), so our check sees the path it opens.
-std::string uri_decode(const std::string& s) {
-    auto hexval = [](unsigned char c) -> unsigned {
-        if (c >= '0' && c <= '9') return c - '0';
-        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-        return 0;
-    };
-    std::string out;
-    for (size_t i = 0; i < s.size(); ++i) {
-        if (s[i] == '+') out += ' ';
-        else if (s[i] == '%' && s.size() > i + 2) {
-            out += char((hexval(uint8_t(s[i + 1])) << 4) | hexval(uint8_t(s[i + 2])));
-            i += 2;
-        } else out += s[i];
-    }
-    return out;
-}
-
-std::string join_path(const std::string& a, const std::string& b) {  // tinygltf's JoinPath
-    if (a.empty()) return b;
-    return a.back() == '/' ? a + b : a + "/" + b;
-}
-
-// tinygltf opens external files only through these: a path the pre-check approved (keyed by
-// the path tinygltf builds) is read from its checked real location; anything else is refused.
-struct FsContext {
-    std::map<std::string, std::string> approved;
-};
-
-bool fs_exists(const std::string& path, void* user) { return static_cast<FsContext*>(user)->approved.count(path) > 0; }
-std::string fs_expand(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
-bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
-    const auto* ctx = static_cast<FsContext*>(user);
-    const auto it = ctx->approved.find(path);
-    if (it == ctx->approved.end()) {
-        if (err) *err += "refused: not a checked file reference";
-        return false;
-    }
-    try {
-        *out = read_regular_file(it->second, path);
-        return true;
-    } catch (const std::exception& e) {
-        if (err) *err += e.what();
-        return false;
-    }
-}
-bool fs_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
-    if (err) *err += "writing is disabled while loading";
-    return false;
-}
-
-// Checks the JSON text before a parser sees it: valid UTF-8, and nesting of arrays and
-// objects (outside strings) no deeper than kMaxJsonDepth. Returns an empty string or the problem.
-std::string check_json_text(std::string_view text) {
-    const auto* p = reinterpret_cast<const unsigned char*>(text.data());
-    for (size_t i = 0; i < text.size();) {
-        const size_t len = utf8_sequence(p + i, text.size() - i);
-        if (len == 0) return "the JSON is not valid UTF-8 (byte " + std::to_string(i) + ")";
-        i += len;
-    }
-    int depth = 0;
-    bool in_string = false, escaped = false;
-    for (size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (in_string) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') in_string = false;
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > kMaxJsonDepth)
-                return "the JSON nests arrays and objects deeper than " + std::to_string(kMaxJsonDepth) +
-                       " levels (at byte " + std::to_string(i) + ")";
-        } else if (c == ']' || c == '}') {
-            --depth;
-        }
-    }
-    return {};
-}
-
-uint32_t read_u32(const uint8_t* p) {  // GLB is little-endian
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-const std::set<std::string>& implemented_extensions() {
-    static const std::set<std::string> names{"KHR_lights_punctual", "KHR_materials_emissive_strength"};
-    return names;
-}
-
-// Checks what tinygltf would otherwise trust: array types, buffer/bufferView/accessor sizes
-// and offsets (overflow-checked; tinygltf indexes buffers with them unchecked), file references,
-// required extensions, the default scene. Approves the external files tinygltf may then read.
-void precheck_json(const nlohmann::json& j, const PathPolicy& pol, const std::string& base_dir, bool glb,
-                   uint64_t glb_bin_size, FsContext* ctx) {
-    const std::string& file = pol.file;
-    auto fail = [&](const std::string& what) { throw SceneError(file + ": " + what); };
-    if (!j.is_object()) fail("the JSON's top level is not an object");
-    auto array = [&](const char* key) -> const nlohmann::json* {
-        const auto it = j.find(key);
-        if (it == j.end()) return nullptr;
-        if (!it->is_array()) fail(std::string("'") + key + "' is not an array");
-        return &*it;
-    };
-    auto object = [&](const nlohmann::json& v, const std::string& what) {
-        if (!v.is_object()) fail(what + " is not a JSON object");
-    };
-    // A non-negative integer field (glTF's integer: JSON numbers like 4 or 4.0).
-    auto uint_field = [&](const nlohmann::json& o, const char* key, const std::string& what, bool required,
-                          uint64_t fallback) -> uint64_t {
-        const auto it = o.find(key);
-        if (it == o.end()) {
-            if (required) fail(what + ": '" + key + "' is missing");
-            return fallback;
-        }
-        if (it->is_number_unsigned()) return it->get<uint64_t>();
-        if (it->is_number_float()) {
-            const double d = it->get<double>();
-            if (std::isfinite(d) && d >= 0.0 && d <= 9007199254740992.0 && d == std::floor(d)) return uint64_t(d);
-        }
-        fail(what + ": " + key + " must be a non-negative integer below 2^53, got " + excerpt(*it));
-        return 0;
-    };
-    auto index_field = [&](const nlohmann::json& o, const char* key, const std::string& what, size_t count,
-                           const char* target) -> int64_t {
-        if (!o.contains(key)) return -1;
-        const uint64_t v = uint_field(o, key, what, false, 0);
-        if (v >= count)
-            fail(what + ": " + key + " " + std::to_string(v) + " is out of range (the file has " + std::to_string(count) +
-                 " " + target + ")");
-        return int64_t(v);
-    };
-
-    if (const auto it = j.find("extensionsRequired"); it != j.end()) {
-        if (!it->is_array()) fail("'extensionsRequired' is not an array");
-        for (const auto& e : *it) {
-            if (!e.is_string()) fail("extensionsRequired holds a non-string " + excerpt(e));
-            const std::string name = e.get<std::string>();
-            if (!implemented_extensions().count(name))
-                fail("the file requires extension '" + name + "', which ssrlab does not implement");
-        }
-    }
-    const auto* scenes = array("scenes");
-    if (j.contains("scene")) {
-        const size_t n = scenes ? scenes->size() : 0;
-        if (n == 0) fail("'scene' names a default scene but the file has no 'scenes' array");
-        index_field(j, "scene", "the default scene", n, "scenes");
-    }
-
-    std::vector<uint64_t> buffer_bytes;
-    if (const auto* buffers = array("buffers")) {
-        for (size_t i = 0; i < buffers->size(); ++i) {
-            const std::string what = "buffer " + std::to_string(i);
-            const auto& b = (*buffers)[i];
-            object(b, what);
-            const uint64_t len = uint_field(b, "byteLength", what, true, 0);
-            if (len == 0) fail(what + ": byteLength is 0");
-            if (len > kMaxFileBytes)
-                fail(what + ": byteLength " + std::to_string(len) + " is more than the " +
-                     std::to_string(kMaxFileBytes >> 20) + " MiB limit");
-            if (const auto u = b.find("uri"); u != b.end()) {
-                if (!u->is_string()) fail(what + ": uri is not a string");
-                const std::string uri = u->get<std::string>();
-                if (uri.rfind("data:", 0) != 0) {
-                    const std::string decoded = uri_decode(uri);
-                    ctx->approved[join_path(base_dir, decoded)] =
-                        resolve_reference(pol, decoded, what + " ('" + uri + "')").string();
-                }
-            } else if (!(glb && i == 0)) {
-                fail(what + " has no uri (only a GLB file's first buffer is stored in the file)");
-            } else if (len > glb_bin_size) {
-                fail(what + ": byteLength " + std::to_string(len) + " is more than the GLB's BIN chunk (" +
-                     std::to_string(glb_bin_size) + " bytes)");
-            }
-            buffer_bytes.push_back(len);
-        }
-    }
-    std::vector<std::pair<uint64_t, uint64_t>> views;  // (buffer, byteLength)
-    if (const auto* bvs = array("bufferViews")) {
-        for (size_t i = 0; i < bvs->size(); ++i) {
-            const std::string what = "bufferView " + std::to_string(i);
-            const auto& v = (*bvs)[i];
-            object(v, what);
-            const uint64_t b = uint_field(v, "buffer", what, true, 0);
-            if (b >= buffer_bytes.size())
-                fail(what + ": buffer " + std::to_string(b) + " is out of range (the file has " +
-                     std::to_string(buffer_bytes.size()) + " buffers)");
-            const uint64_t off = uint_field(v, "byteOffset", what, false, 0);
-            const uint64_t len = uint_field(v, "byteLength", what, true, 0);
-            uint64_t end = 0;
-            if (len == 0) fail(what + ": byteLength is 0");
-            if (!checked_add(off, len, &end) || end > buffer_bytes[b])
-                fail(what + ": byteOffset " + std::to_string(off) + " + byteLength " + std::to_string(len) +
-                     " lies outside buffer " + std::to_string(b) + " (" + std::to_string(buffer_bytes[b]) + " bytes)");
-            if (v.contains("byteStride")) {
-                const uint64_t s = uint_field(v, "byteStride", what, false, 0);
-                if (s < 4 || s > 252 || s % 4 != 0)
-                    fail(what + ": byteStride " + std::to_string(s) + " is not a multiple of 4 in [4, 252]");
-            }
-            views.emplace_back(b, len);
-        }
-    }
-    if (const auto* images = array("images")) {
-        for (size_t i = 0; i < images->size(); ++i) {
-            const std::string what = "image " + std::to_string(i);
-            const auto& im = (*images)[i];
-            object(im, what);
-            index_field(im, "bufferView", what, views.size(), "bufferViews");
-            if (const auto u = im.find("uri"); u != im.end()) {
-                if (!u->is_string()) fail(what + ": uri is not a string");
-                const std::string uri = u->get<std::string>();
-                if (uri.rfind("data:", 0) != 0) {
-                    const std::string decoded = uri_decode(uri);
-                    ctx->approved[join_path(base_dir, decoded)] =
-                        resolve_reference(pol, decoded, what + " ('" + uri + "')").string();
-                }
-            } else if (!im.contains("bufferView")) {
-                fail(what + " has neither a uri nor a bufferView");
-            }
-        }
-    }
-    if (const auto* accessors = array("accessors")) {
-        for (size_t i = 0; i < accessors->size(); ++i) {
-            const std::string what = "accessor " + std::to_string(i);
-            const auto& a = (*accessors)[i];
-            object(a, what);
-            const uint64_t count = uint_field(a, "count", what, true, 0);
-            if (count == 0) fail(what + ": count is 0");
-            uint_field(a, "byteOffset", what, false, 0);
-            index_field(a, "bufferView", what, views.size(), "bufferViews");
-        }
-    }
-    // The object arrays tinygltf walks: each must be an array of objects.
-    for (const char* key : {"nodes", "meshes", "materials", "textures", "samplers", "cameras", "skins", "animations"}) {
-        if (const auto* arr = array(key))
-            for (size_t i = 0; i < arr->size(); ++i) object((*arr)[i], std::string(key) + "[" + std::to_string(i) + "]");
-    }
-    if (scenes)
-        for (size_t i = 0; i < scenes->size(); ++i) object((*scenes)[i], "scene " + std::to_string(i));
-
-    // Every index into another array: tinygltf silently drops a primitive whose attribute is
-    // not an integer, ignores non-integer indices and truncates large ones to int.
-    auto count_of = [&](const char* key) -> size_t {
-        const auto it = j.find(key);
-        return it != j.end() && it->is_array() ? it->size() : 0;
-    };
-    const size_t n_accessors = count_of("accessors"), n_images = count_of("images"), n_samplers = count_of("samplers"),
-                 n_textures = count_of("textures"), n_materials = count_of("materials"), n_meshes = count_of("meshes"),
-                 n_nodes = count_of("nodes"), n_cameras = count_of("cameras"), n_skins = count_of("skins");
-    auto index_list = [&](const nlohmann::json& o, const char* key, const std::string& what, size_t count,
-                          const char* target) {
-        const auto it = o.find(key);
-        if (it == o.end()) return;
-        if (!it->is_array()) fail(what + ": " + key + " is not an array");
-        for (size_t k = 0; k < it->size(); ++k) {
-            const nlohmann::json wrapper{{key, (*it)[k]}};
-            index_field(wrapper, key, what + " " + key + "[" + std::to_string(k) + "]", count, target);
-        }
-    };
-    auto sub_object = [&](const nlohmann::json& o, const char* key, const std::string& what) -> const nlohmann::json* {
-        const auto it = o.find(key);
-        if (it == o.end()) return nullptr;
-        object(*it, what + ": " + key);
-        return &*it;
-    };
-    auto small_int = [&](const nlohmann::json& o, const char* key, const std::string& what) {
-        if (o.contains(key) && uint_field(o, key, what, false, 0) > 0x7FFFFFFF)
-            fail(what + ": " + key + " " + excerpt(o[key]) + " is out of range");
-    };
-    if (n_textures)
-        for (size_t i = 0; i < n_textures; ++i) {
-            const auto& t = j["textures"][i];
-            const std::string what = "texture " + std::to_string(i);
-            index_field(t, "source", what, n_images, "images");
-            index_field(t, "sampler", what, n_samplers, "samplers");
-        }
-    for (size_t i = 0; i < n_materials; ++i) {
-        const auto& m = j["materials"][i];
-        const std::string what = "material " + std::to_string(i);
-        auto texture_info = [&](const nlohmann::json& parent, const char* key) {
-            if (const auto* t = sub_object(parent, key, what)) {
-                index_field(*t, "index", what + " " + key, n_textures, "textures");
-                small_int(*t, "texCoord", what + " " + key);
-            }
-        };
-        if (const auto* pbr = sub_object(m, "pbrMetallicRoughness", what)) {
-            texture_info(*pbr, "baseColorTexture");
-            texture_info(*pbr, "metallicRoughnessTexture");
-        }
-        for (const char* key : {"normalTexture", "occlusionTexture", "emissiveTexture"}) texture_info(m, key);
-    }
-    for (size_t i = 0; i < n_meshes; ++i) {
-        const auto& mesh = j["meshes"][i];
-        const auto prims = mesh.find("primitives");
-        if (prims == mesh.end()) continue;
-        if (!prims->is_array()) fail("mesh " + std::to_string(i) + ": primitives is not an array");
-        for (size_t p = 0; p < prims->size(); ++p) {
-            const std::string what = "mesh " + std::to_string(i) + " primitive " + std::to_string(p);
-            const auto& prim = (*prims)[p];
-            object(prim, what);
-            if (const auto* attrs = sub_object(prim, "attributes", what))
-                for (const auto& [name, value] : attrs->items())
-                    index_field(nlohmann::json{{"accessor", value}}, "accessor", what + " attribute " + name, n_accessors,
-                                "accessors");
-            index_field(prim, "indices", what, n_accessors, "accessors");
-            index_field(prim, "material", what, n_materials, "materials");
-            small_int(prim, "mode", what);
-            if (const auto it = prim.find("targets"); it != prim.end()) {
-                if (!it->is_array()) fail(what + ": targets is not an array");
-                for (size_t t = 0; t < it->size(); ++t) {
-                    object((*it)[t], what + " target " + std::to_string(t));
-                    for (const auto& [name, value] : (*it)[t].items())
-                        index_field(nlohmann::json{{"accessor", value}}, "accessor",
-                                    what + " target " + std::to_string(t) + " " + name, n_accessors, "accessors");
-                }
-            }
-        }
-    }
-    size_t n_lights = 0;
-    if (const auto ext = j.find("extensions"); ext != j.end() && ext->is_object())
-        if (const auto lp = ext->find("KHR_lights_punctual"); lp != ext->end() && lp->is_object())
-            if (const auto lights = lp->find("lights"); lights != lp->end()) {
-                if (!lights->is_array()) fail("KHR_lights_punctual.lights is not an array");
-                n_lights = lights->size();
-                for (size_t i = 0; i < n_lights; ++i) object((*lights)[i], "light " + std::to_string(i));
-            }
-    for (size_t i = 0; i < n_nodes; ++i) {
-        const auto& n = j["nodes"][i];
-        const std::string what = "node " + std::to_string(i);
-        index_field(n, "mesh", what, n_meshes, "meshes");
-        index_field(n, "camera", what, n_cameras, "cameras");
-        index_field(n, "skin", what, n_skins, "skins");
-        index_list(n, "children", what, n_nodes, "nodes");
-        if (const auto* ext = sub_object(n, "extensions", what))
-            if (const auto* lp = sub_object(*ext, "KHR_lights_punctual", what + " extensions"))
-                index_field(*lp, "light", what + " KHR_lights_punctual", n_lights, "lights");
-    }
-    if (scenes)
-        for (size_t i = 0; i < scenes->size(); ++i) index_list((*scenes)[i], "nodes", "scene " + std::to_string(i), n_nodes, "nodes");
-    for (size_t i = 0; i < n_skins; ++i) {
-        const auto& sk = j["skins"][i];
-        const std::string what = "skin " + std::to_string(i);
-        index_list(sk, "joints", what, n_nodes, "nodes");
-        index_field(sk, "skeleton", what, n_nodes, "nodes");
-        index_field(sk, "inverseBindMatrices", what, n_accessors, "accessors");
-    }
-}
 
 // Decodes every image through OpenImageIO rather than tinygltf's stb_image.
 bool decode_with_oiio(tinygltf::Image* image, const int index, std::string* err, std::string* /*warn*/,
@@ -730,10 +250,41 @@ std::vector<uint32_t> to_triangle_list(const std::vector<uint32_t>& idx, int mod
     return out;
 }
 
+double number_from_value(const tinygltf::Value& v, const GltfReader& r, const std::string& what, double lo, double hi);
+
 TextureRef texture_ref(const tinygltf::Model& model, int texture_index, int texcoord, int image_base,
-                       const GltfReader& r, const std::string& what) {
+                       const GltfReader& r, const std::string& what, const tinygltf::ExtensionMap& extensions = {}) {
     TextureRef ref;
     if (texture_index < 0) return ref;
+    // KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv, as its specification
+    // writes the matrices (rotation counter-clockwise in uv space), and an optional texCoord.
+    if (auto it = extensions.find("KHR_texture_transform"); it != extensions.end()) {
+        const std::string ext = what + ": KHR_texture_transform";
+        const tinygltf::Value& v = it->second;
+        glm::vec2 offset(0.0f), scale(1.0f);
+        float rotation = 0.0f;
+        auto vec2_of = [&](const char* key, glm::vec2 fallback) {
+            if (!v.Has(key)) return fallback;
+            const tinygltf::Value& a = v.Get(key);
+            if (!a.IsArray() || a.ArrayLen() != 2) r.fail(ext + "." + key + " must be an array of 2 numbers");
+            glm::vec2 out;
+            for (int i = 0; i < 2; ++i) {
+                const tinygltf::Value& x = a.Get(i);
+                if (!x.IsNumber() && !x.IsInt()) r.fail(ext + "." + key + " must be an array of 2 numbers");
+                const double d = x.GetNumberAsDouble();
+                if (!in_range(d, -1e6, 1e6)) r.fail(ext + "." + key + " holds " + num(d) + ", outside [-1e6, 1e6]");
+                out[i] = float(d);
+            }
+            return out;
+        };
+        offset = vec2_of("offset", offset);
+        scale = vec2_of("scale", scale);
+        if (v.Has("rotation")) rotation = float(number_from_value(v.Get("rotation"), r, ext + ".rotation", -1e6, 1e6));
+        if (v.Has("texCoord")) texcoord = int(number_from_value(v.Get("texCoord"), r, ext + ".texCoord", 0, 7));
+        const float c = std::cos(rotation), s = std::sin(rotation);
+        ref.transform_u = glm::vec3(c * scale.x, s * scale.y, offset.x);
+        ref.transform_v = glm::vec3(-s * scale.x, c * scale.y, offset.y);
+    }
     if (texture_index >= int(model.textures.size()))
         r.fail(what + ": texture index " + std::to_string(texture_index) + " is out of range (the file has " +
                std::to_string(model.textures.size()) + " textures)");
@@ -983,6 +534,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
 
     // Materials.
     const int material_base = int(scene.materials.size());
+    std::string blended;  // the BLEND materials, named in one warning
     for (size_t i = 0; i < model.materials.size(); ++i) {
         const auto& gm = model.materials[i];
         const std::string what = "material " + std::to_string(i) + " ('" + gm.name + "')";
@@ -1008,11 +560,40 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         if (gm.emissiveTexture.index >= 0)
             warnings.push_back(path + ": " + what + ": emissiveTexture is not rendered (the lighting pass has no texture "
                                "coordinates); its emissiveFactor alone is");
+        // KHR_materials_ior and KHR_materials_specular: the dielectric F0 (Material::dielectric_f0).
+        if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end() && it->second.Has("ior")) {
+            m.ior = float(number_from_value(it->second.Get("ior"), r, what + ": KHR_materials_ior.ior", 0.0, 1e6));
+            if (m.ior > 0.0f && m.ior < 1.0f)
+                r.fail(what + ": KHR_materials_ior.ior " + num(m.ior) + " must be 0 or at least 1");
+        }
+        if (auto it = gm.extensions.find("KHR_materials_specular"); it != gm.extensions.end()) {
+            const std::string ext = what + ": KHR_materials_specular";
+            if (it->second.Has("specularFactor"))
+                m.specular = float(number_from_value(it->second.Get("specularFactor"), r, ext + ".specularFactor", 0.0, 1.0));
+            if (it->second.Has("specularColorFactor"))
+                m.specular_color = vec3_from_value(it->second.Get("specularColorFactor"), glm::vec3(1.0f), r,
+                                                   ext + ".specularColorFactor", 0.0, 1e6);
+            for (const char* t : {"specularTexture", "specularColorTexture"})
+                if (it->second.Has(t))
+                    warnings.push_back(path + ": " + ext + "." + t + " is not rendered; its factors are");
+        }
         m.double_sided = gm.doubleSided;
-        m.base_color_texture = texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, image_base, r, what);
-        m.metallic_roughness_texture = texture_ref(model, pbr.metallicRoughnessTexture.index,
-                                                   pbr.metallicRoughnessTexture.texCoord, image_base, r, what);
-        m.normal_texture = texture_ref(model, gm.normalTexture.index, gm.normalTexture.texCoord, image_base, r, what);
+        if (gm.alphaMode == "MASK") {
+            m.alpha_mode = Material::AlphaMode::Mask;
+            m.alpha_cutoff = float(gm.alphaCutoff);
+        } else if (gm.alphaMode == "BLEND") {
+            m.alpha_mode = Material::AlphaMode::Blend;
+            blended += (blended.empty() ? "" : ", ") + what;
+        } else if (gm.alphaMode != "OPAQUE" && !gm.alphaMode.empty()) {
+            r.fail(what + ": alphaMode '" + gm.alphaMode + "' is not OPAQUE, MASK or BLEND");
+        }
+        m.base_color_texture = texture_ref(model, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, image_base, r,
+                                           what + ": baseColorTexture", pbr.baseColorTexture.extensions);
+        m.metallic_roughness_texture =
+            texture_ref(model, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, image_base, r,
+                        what + ": metallicRoughnessTexture", pbr.metallicRoughnessTexture.extensions);
+        m.normal_texture = texture_ref(model, gm.normalTexture.index, gm.normalTexture.texCoord, image_base, r,
+                                       what + ": normalTexture", gm.normalTexture.extensions);
         m.normal_scale = float(gm.normalTexture.scale);
         // The thesis's explicit reflectivity where ssrlab wrote it; otherwise the material
         // reflects as its metallic-roughness parameters say (kAutoReflectivity).
@@ -1020,6 +601,9 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         if (gm.extras.Has("reflectivity")) m.reflectivity = float(gm.extras.Get("reflectivity").GetNumberAsDouble());
         scene.materials.push_back(m);
     }
+    if (!blended.empty())
+        warnings.push_back(path + ": alphaMode BLEND drawn as MASK at alpha 0.5 (a hole below, opaque above; no "
+                           "translucent layer): " + blended);
     int default_material = -1;  // glTF's default material, added only when a primitive needs it
 
     // Meshes: one ssr::Mesh per glTF primitive, shared by every node that instances it.
@@ -1229,6 +813,9 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 l.inner_cone = float(gl.spot.innerConeAngle);
                 l.outer_cone = float(gl.spot.outerConeAngle);
                 l.range = float(gl.range);
+                // A spot light casts a shadow like the sun (the first of them gets the shadow map);
+                // a point light's would need a cube map and is not drawn.
+                l.cast_shadow = l.type == Light::Type::Spot;
             }
             if (gl.extras.Has("cast_shadow")) {
                 if (!gl.extras.Get("cast_shadow").IsBool()) r.fail(lwhat + ": extras.cast_shadow is not a boolean");
@@ -1345,322 +932,6 @@ int load_gltf(Scene& scene, const std::string& path, const glm::mat4& transform,
     } catch (const fs::filesystem_error& e) {
         throw SceneError(printable(path) + ": " + printable(e.what()));
     }
-}
-
-// ---------------------------------------------------------------------------------------
-// Writing
-// ---------------------------------------------------------------------------------------
-
-namespace {
-
-class GltfBuilder {
-public:
-    tinygltf::Model model;
-
-    GltfBuilder() {
-        model.asset.version = "2.0";
-        model.asset.generator = "ssrlab";
-        model.buffers.emplace_back();
-    }
-
-    int add_view(const void* data, size_t bytes, int target) {
-        auto& buf = model.buffers[0].data;
-        while (buf.size() % 4) buf.push_back(0);  // glTF alignment
-        tinygltf::BufferView bv;
-        bv.buffer = 0;
-        bv.byteOffset = buf.size();
-        bv.byteLength = bytes;
-        bv.target = target;
-        const auto* p = static_cast<const uint8_t*>(data);
-        buf.insert(buf.end(), p, p + bytes);
-        model.bufferViews.push_back(bv);
-        return int(model.bufferViews.size()) - 1;
-    }
-
-    template <typename V>
-    int add_float_accessor(const std::vector<V>& values, int type, bool with_bounds) {
-        tinygltf::Accessor acc;
-        acc.bufferView = add_view(values.data(), values.size() * sizeof(V), TINYGLTF_TARGET_ARRAY_BUFFER);
-        acc.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-        acc.count = values.size();
-        acc.type = type;
-        if (with_bounds) {  // glTF requires min/max on POSITION
-            constexpr int n = V::length();
-            acc.minValues.assign(n, 1e300);
-            acc.maxValues.assign(n, -1e300);
-            for (const auto& v : values)
-                for (int c = 0; c < n; ++c) {
-                    acc.minValues[size_t(c)] = std::min(acc.minValues[size_t(c)], double(v[c]));
-                    acc.maxValues[size_t(c)] = std::max(acc.maxValues[size_t(c)], double(v[c]));
-                }
-        }
-        model.accessors.push_back(acc);
-        return int(model.accessors.size()) - 1;
-    }
-
-    int add_index_accessor(const std::vector<uint32_t>& idx) {
-        tinygltf::Accessor acc;
-        acc.bufferView = add_view(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-        acc.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-        acc.count = idx.size();
-        acc.type = TINYGLTF_TYPE_SCALAR;
-        model.accessors.push_back(acc);
-        return int(model.accessors.size()) - 1;
-    }
-};
-
-tinygltf::Value vec3_value(const glm::vec3& v) {
-    return tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(v.x)), tinygltf::Value(double(v.y)),
-                                                  tinygltf::Value(double(v.z))});
-}
-
-std::vector<double> matrix_values(const glm::mat4& m) {
-    std::vector<double> out(16);
-    for (int i = 0; i < 16; ++i) out[size_t(i)] = double(glm::value_ptr(m)[i]);
-    return out;
-}
-
-}  // namespace
-
-// Writes `bytes` to `path` and makes sure they reached the file system: every write, the
-// fsync and the close are checked, and a failure is an OutputError with its errno.
-static void write_file_checked(const std::string& path, const std::string& bytes) {
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-    if (fd < 0) throw OutputError(path, errno, std::string("cannot open for writing: ") + std::strerror(errno));
-    size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            const int err = n < 0 ? errno : EIO;
-            ::close(fd);
-            throw OutputError(path, err, std::string("cannot write the glTF file: ") + std::strerror(err));
-        }
-        done += size_t(n);
-    }
-    if (::fsync(fd) != 0 && errno != EINVAL) {
-        const int err = errno;
-        ::close(fd);
-        throw OutputError(path, err, std::string("cannot write the glTF file: ") + std::strerror(err));
-    }
-    if (::close(fd) != 0) throw OutputError(path, errno, std::string("cannot finish the glTF file: ") + std::strerror(errno));
-}
-
-void save_gltf(const Scene& scene, const std::string& path, const std::string& folder) {
-    const fs::path out(path);
-    const std::string ext = out.extension().string();
-    if (ext != ".gltf" && ext != ".glb")
-        throw SceneError(path + ": the file name must end in .gltf or .glb");
-    if (!out.parent_path().empty() && !fs::is_directory(out.parent_path()))
-        throw FileNotFound("folder not found: " + out.parent_path().string());
-    const bool binary = ext == ".glb";
-
-    GltfBuilder b;
-    auto& model = b.model;
-
-    // Images (PNG in the buffer) and their textures.
-    std::map<std::tuple<int, int, int>, int> texture_of;  // (image, wrap_s, wrap_t) -> texture
-    std::vector<int> image_index(scene.images.size(), -1);
-    auto texture = [&](const TextureRef& ref) -> int {
-        if (!ref.valid()) return -1;
-        if (image_index[size_t(ref.image)] < 0) {
-            const Image& img = scene.images[size_t(ref.image)];
-            const std::vector<uint8_t> png = encode_png(img);
-            tinygltf::Image gi;
-            gi.name = img.name;
-            gi.mimeType = "image/png";
-            gi.bufferView = b.add_view(png.data(), png.size(), 0);
-            model.images.push_back(gi);
-            image_index[size_t(ref.image)] = int(model.images.size()) - 1;
-        }
-        auto key = std::make_tuple(image_index[size_t(ref.image)], ref.wrap_s, ref.wrap_t);
-        if (auto it = texture_of.find(key); it != texture_of.end()) return it->second;
-        tinygltf::Sampler s;
-        s.wrapS = ref.wrap_s;
-        s.wrapT = ref.wrap_t;
-        s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
-        s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-        model.samplers.push_back(s);
-        tinygltf::Texture t;
-        t.source = image_index[size_t(ref.image)];
-        t.sampler = int(model.samplers.size()) - 1;
-        model.textures.push_back(t);
-        return texture_of[key] = int(model.textures.size()) - 1;
-    };
-
-    for (const Material& m : scene.materials) {
-        tinygltf::Material gm;
-        gm.name = m.name;
-        gm.pbrMetallicRoughness.baseColorFactor = {m.base_color.r, m.base_color.g, m.base_color.b, m.base_color.a};
-        gm.pbrMetallicRoughness.metallicFactor = m.metallic;
-        gm.pbrMetallicRoughness.roughnessFactor = m.roughness;
-        // glTF bounds the factor to [0, 1]: a brighter emission is saved as its largest channel
-        // in KHR_materials_emissive_strength, which the loader multiplies back.
-        const float emissive_peak = std::max({m.emissive.r, m.emissive.g, m.emissive.b});
-        const glm::vec3 factor = emissive_peak > 1.0f ? m.emissive / emissive_peak : m.emissive;
-        gm.emissiveFactor = {factor.r, factor.g, factor.b};
-        if (emissive_peak > 1.0f) {
-            tinygltf::Value::Object strength;
-            strength["emissiveStrength"] = tinygltf::Value(double(emissive_peak));
-            gm.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(strength);
-            if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), "KHR_materials_emissive_strength") ==
-                model.extensionsUsed.end())
-                model.extensionsUsed.push_back("KHR_materials_emissive_strength");
-        }
-        gm.doubleSided = m.double_sided;
-        gm.pbrMetallicRoughness.baseColorTexture.index = texture(m.base_color_texture);
-        gm.pbrMetallicRoughness.baseColorTexture.texCoord = m.base_color_texture.texcoord;
-        gm.pbrMetallicRoughness.metallicRoughnessTexture.index = texture(m.metallic_roughness_texture);
-        gm.pbrMetallicRoughness.metallicRoughnessTexture.texCoord = m.metallic_roughness_texture.texcoord;
-        gm.normalTexture.index = texture(m.normal_texture);
-        gm.normalTexture.texCoord = m.normal_texture.texcoord;
-        gm.normalTexture.scale = m.normal_scale;
-        if (!m.auto_reflectivity())
-            gm.extras = tinygltf::Value(tinygltf::Value::Object{{"reflectivity", tinygltf::Value(double(m.reflectivity))}});
-        model.materials.push_back(gm);
-    }
-
-    // Accessors once per mesh; a glTF mesh per (mesh, material) pair that objects use.
-    struct Attribs { int pos, nrm, uv, tan, idx; };
-    std::vector<Attribs> attribs;
-    for (const Mesh& m : scene.meshes) {
-        Attribs a{};
-        a.pos = b.add_float_accessor(m.positions, TINYGLTF_TYPE_VEC3, true);
-        a.nrm = b.add_float_accessor(m.normals, TINYGLTF_TYPE_VEC3, false);
-        a.uv = m.uvs.empty() ? -1 : b.add_float_accessor(m.uvs, TINYGLTF_TYPE_VEC2, false);
-        a.tan = m.tangents.empty() ? -1 : b.add_float_accessor(m.tangents, TINYGLTF_TYPE_VEC4, false);
-        a.idx = b.add_index_accessor(m.indices);
-        attribs.push_back(a);
-    }
-    std::map<std::pair<int, int>, int> gltf_mesh;
-    tinygltf::Scene gs;
-    gs.name = scene.name;
-    for (const Object& o : scene.objects) {
-        auto key = std::make_pair(o.mesh, o.material);
-        if (!gltf_mesh.count(key)) {
-            const Attribs& a = attribs[size_t(o.mesh)];
-            tinygltf::Primitive p;
-            p.attributes["POSITION"] = a.pos;
-            p.attributes["NORMAL"] = a.nrm;
-            if (a.uv >= 0) p.attributes["TEXCOORD_0"] = a.uv;
-            if (a.tan >= 0) p.attributes["TANGENT"] = a.tan;
-            p.indices = a.idx;
-            p.material = o.material;
-            p.mode = kModeTriangles;
-            tinygltf::Mesh gm;
-            gm.name = scene.meshes[size_t(o.mesh)].name;
-            gm.primitives.push_back(p);
-            model.meshes.push_back(gm);
-            gltf_mesh[key] = int(model.meshes.size()) - 1;
-        }
-        tinygltf::Node n;
-        n.name = o.name;
-        n.mesh = gltf_mesh[key];
-        n.matrix = matrix_values(o.transform);
-        model.nodes.push_back(n);
-        gs.nodes.push_back(int(model.nodes.size()) - 1);
-    }
-
-    for (const Light& l : scene.lights) {
-        tinygltf::Light gl;
-        gl.name = l.name;
-        gl.type = l.type == Light::Type::Directional ? "directional" : (l.type == Light::Type::Spot ? "spot" : "point");
-        if (l.type == Light::Type::Spot) {
-            gl.spot.innerConeAngle = l.inner_cone;
-            gl.spot.outerConeAngle = l.outer_cone;
-        }
-        if (l.type != Light::Type::Directional) gl.range = l.range;
-        gl.color = {l.color.r, l.color.g, l.color.b};
-        gl.intensity = l.intensity;
-        // The node carries the light's frame; extras keep the exact vectors for a lossless reload.
-        gl.extras = tinygltf::Value(tinygltf::Value::Object{{"cast_shadow", tinygltf::Value(l.cast_shadow)},
-                                                            {"direction", vec3_value(l.direction)},
-                                                            {"position", vec3_value(l.position)}});
-        model.lights.push_back(gl);
-        // A light shines down its node's -z: build a frame whose -z is the light direction.
-        glm::vec3 z = -glm::normalize(l.direction);
-        glm::vec3 up = std::abs(z.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-        glm::vec3 x = glm::normalize(glm::cross(up, z)), y = glm::cross(z, x);
-        glm::mat4 m(glm::vec4(x, 0), glm::vec4(y, 0), glm::vec4(z, 0), glm::vec4(l.position, 1));
-        tinygltf::Node n;
-        n.name = l.name.empty() ? "light" + std::to_string(model.lights.size() - 1) : l.name;
-        n.matrix = matrix_values(m);
-        n.extensions["KHR_lights_punctual"] =
-            tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(int(model.lights.size()) - 1)}});
-        model.nodes.push_back(n);
-        gs.nodes.push_back(int(model.nodes.size()) - 1);
-    }
-    if (!scene.lights.empty()) model.extensionsUsed.push_back("KHR_lights_punctual");
-
-    if (scene.camera) {
-        const CameraDesc& c = *scene.camera;
-        tinygltf::Camera gc;
-        gc.type = "perspective";
-        gc.perspective.yfov = glm::radians(double(c.fov_y_degrees));
-        gc.perspective.znear = c.near_plane;
-        gc.perspective.zfar = c.far_plane;
-        gc.perspective.aspectRatio = 0.0;  // from the image
-        model.cameras.push_back(gc);
-        tinygltf::Node n;
-        n.name = "camera";
-        n.camera = 0;
-        n.matrix = matrix_values(glm::inverse(glm::lookAt(c.position, c.target, c.up)));
-        model.nodes.push_back(n);
-        gs.nodes.push_back(int(model.nodes.size()) - 1);
-    }
-
-    const Environment& env = scene.environment;
-    tinygltf::Value::Object env_obj{
-        {"type", tinygltf::Value(std::string(env.type == Environment::Type::Sky ? "sky"
-                                             : env.type == Environment::Type::Map ? "map" : "constant"))},
-        {"color", vec3_value(env.color)},
-        {"zenith", vec3_value(env.sky_zenith)},
-        {"horizon", vec3_value(env.sky_horizon)},
-        {"ground", vec3_value(env.ground)},
-        {"intensity", tinygltf::Value(double(env.intensity))}};
-    if (env.type == Environment::Type::Map) {
-        // Relative to the saved file when the map lies in its folder, so the pair can be moved
-        // and loaded without allow_external_files; absolute otherwise.
-        std::error_code ec;
-        const fs::path map = fs::weakly_canonical(fs::absolute(env.map_path), ec);
-        const fs::path dir = fs::weakly_canonical(fs::absolute(folder.empty() ? out.parent_path() : fs::path(folder)), ec);
-        const fs::path rel = map.lexically_relative(dir);
-        const bool inside = !ec && !rel.empty() && *rel.begin() != "..";
-        env_obj["map"] = tinygltf::Value(inside ? rel.generic_string() : fs::absolute(env.map_path).string());
-    }
-    tinygltf::Value::Object ssr_obj{{"ambient", vec3_value(scene.ambient)},
-                                    {"name", tinygltf::Value(scene.name)},
-                                    {"environment", tinygltf::Value(env_obj)}};
-    if (scene.camera) {  // the camera node holds the view; extras keep the exact look-at for a lossless reload
-        const CameraDesc& c = *scene.camera;
-        ssr_obj["camera"] = tinygltf::Value(tinygltf::Value::Object{
-            {"position", vec3_value(c.position)}, {"target", vec3_value(c.target)}, {"up", vec3_value(c.up)},
-            {"fov_y", tinygltf::Value(double(c.fov_y_degrees))}, {"near", tinygltf::Value(double(c.near_plane))},
-            {"far", tinygltf::Value(double(c.far_plane))}});
-    }
-    gs.extras = tinygltf::Value(tinygltf::Value::Object{{"ssrlab", tinygltf::Value(ssr_obj)}});
-    model.scenes.push_back(gs);
-    model.defaultScene = 0;
-
-    // tinygltf's file writers leave a stream's close unchecked (a full disk gives a silently
-    // truncated file): the model is serialised in memory and every file written and checked here.
-    tinygltf::TinyGLTF writer;
-    std::ostringstream text;
-    if (binary || model.buffers.empty() || model.buffers[0].data.empty()) {
-        if (!model.buffers.empty() && model.buffers[0].data.empty()) model.buffers.clear(), model.bufferViews.clear();
-        writer.WriteGltfSceneToStream(&model, text, /*prettyPrint=*/true, /*writeBinary=*/binary);
-        write_file_checked(path, text.str());
-        return;
-    }
-    // .gltf + .bin: the buffer goes to its own file, and the JSON names it (not a data URI).
-    const std::vector<unsigned char> bin = std::move(model.buffers[0].data);
-    model.buffers[0].data.clear();
-    writer.WriteGltfSceneToStream(&model, text, /*prettyPrint=*/true, /*writeBinary=*/false);
-    nlohmann::json doc = nlohmann::json::parse(text.str());
-    const std::string bin_name = out.stem().string() + ".bin";
-    doc["buffers"][0] = nlohmann::json{{"byteLength", bin.size()}, {"uri", bin_name}};
-    write_file_checked((out.parent_path() / bin_name).string(), std::string(bin.begin(), bin.end()));
-    write_file_checked(path, doc.dump(2) + "\n");
 }
 
 }  // namespace ssr
