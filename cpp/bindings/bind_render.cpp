@@ -65,6 +65,7 @@ void bind_render(py::module_& m) {
         .def_property("deep_gbuffer", enum_getter(&RenderSettings::deep_gbuffer),
                       enum_setter("deep_gbuffer", &RenderSettings::deep_gbuffer))
         .def_readwrite("deep_gbuffer_budget", &RenderSettings::deep_gbuffer_budget)
+        .def_readwrite("min_separation", &RenderSettings::min_separation)
         .def_readwrite("shadow_map_size", &RenderSettings::shadow_map_size)
         .def_readwrite("shadow_normal_offset", &RenderSettings::shadow_normal_offset)
         .def_readwrite("shadow_pcf_radius", &RenderSettings::shadow_pcf_radius)

@@ -151,6 +151,8 @@ void RenderSettings::validate() const {
     check(layers >= 1 && layers <= 16, "Settings.layers must be in [1, 16], got " + std::to_string(layers));
     check(deep_gbuffer_budget >= 0 && deep_gbuffer_budget <= (1 << 20),
           "Settings.deep_gbuffer_budget must be 0 (the device's limit) or in [1, 1048576] MiB, got " + std::to_string(deep_gbuffer_budget));
+    check(std::isfinite(min_separation) && min_separation >= 0.0f && min_separation <= 1e6f,
+          "Settings.min_separation must be finite and in [0, 1e6] world units, got " + std::to_string(min_separation));
     check(shadow_map_size == 0 || (shadow_map_size >= 16 && shadow_map_size <= 16384),
           "Settings.shadow_map_size must be 0 (off) or in [16, 16384], got " + std::to_string(shadow_map_size));
     check(std::isfinite(shadow_normal_offset) && shadow_normal_offset >= 0.0f,

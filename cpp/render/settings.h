@@ -48,6 +48,7 @@ struct RenderSettings {
     DepthMode depth_mode = DepthMode::Standard;
     DeepGBuffer deep_gbuffer = DeepGBuffer::Peel;
     int deep_gbuffer_budget = 0;  // "lists": MiB the fragment store may take (0: the device's limit); beyond it, peel
+    float min_separation = 0.0f;  // layer i+1 at least this far (view depth, world units) behind layer i; 0: strictly behind
 
     // Direct lighting
     int shadow_map_size = 2048;         // texels per side; 0 turns shadows off

@@ -840,6 +840,14 @@ class RenderSettings:
     def method(self, arg1: str) -> None:
         ...
     @property
+    def min_separation(self) -> float:
+        """
+        ssrlab.Settings.min_separation [world units]: minimum separation between layers (Mara, McGuire, Nowrouzezahrai and Luebke 2016): layer i+1 holds the nearest surface at least this far behind layer i in view depth, skipping the surfaces just behind it (the back of a thin wall, coplanar geometry); the same layers with 'peel' and 'lists'. 0: the nearest surface strictly behind (depth peeling's layers)
+        """
+    @min_separation.setter
+    def min_separation(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def noise(self) -> str:
         """
         ssrlab.Settings.noise: random numbers: 'pcg' (PCG hash) or 'thesis_hash' (fract(sin(..)*43758.5453), thesis 2.3.4)

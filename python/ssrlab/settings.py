@@ -57,6 +57,11 @@ class Settings:
         "device's largest storage buffer; more than that is a ValueError); a frame with more fragments is never "
         "truncated: it is built by peeling instead (Frame.stats['deep_gbuffer_fell_back'])",
         "MiB", 1, 1 << 20, group="deep G-buffer", off=0)
+    min_separation: float = _setting(
+        0.0, "minimum separation between layers (Mara, McGuire, Nowrouzezahrai and Luebke 2016): layer i+1 holds "
+        "the nearest surface at least this far behind layer i in view depth, skipping the surfaces just behind "
+        "it (the back of a thin wall, coplanar geometry); the same layers with 'peel' and 'lists'. 0: the "
+        "nearest surface strictly behind (depth peeling's layers)", "world units", 0.0, 1e6, group="deep G-buffer")
 
     # -- direct lighting -------------------------------------------------------------------------
     shadow_map_size: int = _setting(
