@@ -10,7 +10,9 @@ the construction (Frame.timings['deep_gbuffer']: median and the spread min-max o
 renders, after 2 warm-up renders), its ratio to ONE peeled layer of the same scene measured in
 the same run, the lists' parts (append / select / write), their fragment count, and the extra
 memory each method takes beside the G-buffer textures both write (peeling: its previous-layer
-depth copy; lists: fragment store, heads, selection). Configurations are interleaved round by
+depth copy; lists: fragment store, heads, selection), and the CPU time this process spent in the
+whole render call with its ratio to the 1-layer peeled frame's (on llvmpipe the work its threads
+did: the GPU timer measures wall time, which other jobs on a shared machine inflate). Configurations are interleaved round by
 round, so that a slow spell of a shared machine falls on every configuration alike.
 The frames render the G-buffer and the lighting only (method 'off', no shadow map): the other
 passes do not depend on how the layers were built.
@@ -19,6 +21,7 @@ passes do not depend on how the layers were built.
 from __future__ import annotations
 
 import statistics
+import time
 
 import ssrlab
 from common import benchmark_arguments, open_renderer
@@ -53,18 +56,22 @@ def main() -> None:
         settings = {c: ssrlab.Settings(width=args.width, height=args.height, layers=c[1], deep_gbuffer=c[0],
                                        method="off", shadow_map_size=0) for c in configs}
         runs = {c: [] for c in configs}
+        cpu = {c: [] for c in configs}
         for rnd in range(2 + args.repeats):
             for c in configs:
+                cpu0 = time.process_time()
                 f = renderer.render(scene, settings=settings[c])
                 if rnd >= 2:
+                    cpu[c].append(1000.0 * (time.process_time() - cpu0))
                     runs[c].append((dict(f.timings), dict(f.stats)))
                 f.release()
         med = {c: statistics.median(t["deep_gbuffer"] for t, _ in runs[c]) for c in configs}
         base_key = ("peel", 1) if ("peel", 1) in med else configs[0]
         base = med[base_key]
+        cpu_base = statistics.median(cpu[base_key])
         print(f"{name} ({scene.triangle_count} triangles): 1 peeled layer = {base:.2f} ms")
         print(f"  {'method':<6} {'layers':>6} {'used':>4} {'ms':>8} {'[min - max]':>17} {'x 1 peel':>8} "
-              f"{'append':>7} {'select':>7} {'write':>7} {'fragments':>10} {'extra MiB':>9}")
+              f"{'append':>7} {'select':>7} {'write':>7} {'fragments':>10} {'extra MiB':>9} {'cpu ms':>7} {'x 1 peel':>8}")
         for c in configs:
             ts = [t["deep_gbuffer"] for t, _ in runs[c]]
             t0, st = runs[c][-1]
@@ -80,7 +87,8 @@ def main() -> None:
                 frags = f"{'':>10}"
             how = c[0] if st.get("deep_gbuffer_method", c[0]) == c[0] else f"{c[0]}->{st['deep_gbuffer_method']}"
             print(f"  {how:<6} {c[1]:>6} {st['layers_used']:>4} {med[c]:>8.2f} [{min(ts):>7.2f} - {max(ts):>7.2f}] "
-                  f"{med[c] / base:>8.2f} {parts} {frags} {extra:>9.1f}")
+                  f"{med[c] / base:>8.2f} {parts} {frags} {extra:>9.1f} {statistics.median(cpu[c]):>7.1f} "
+                  f"{statistics.median(cpu[c]) / cpu_base:>8.2f}")
             summary.append((name, c, med[c] / base))
         print()
     print("goal: 8 exact layers in at most 2x the time of one peeled layer")

@@ -51,8 +51,10 @@ BENCHMARKS = {
     "readback": ([], ["--sizes", "96x64", "--repeats", "3"]),
     "trace_parts": ([], ["--width", "96", "--height", "64", "--repeats", "2"]),
     "occlusion": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--reference-rays", "16"]),
-    "deep_gbuffer": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--layers", "1", "4", "8"]),
     "metric_cost": ([], ["--repeats", "1"]),
+    "deep_gbuffer": (["--repeats", "5"], ["--width", "160", "--height", "90", "--repeats", "3", "--layers", "1", "8"]),
+    "min_separation": ([], ["--width", "96", "--height", "54", "--frames", "2", "--reference-rays", "8"]),
+    "layers_vs_rays": ([], ["--width", "96", "--height", "54", "--repeats", "3", "--reference-rays", "8"]),
 }
 
 

@@ -227,3 +227,70 @@ def test_coplanar_triangles_of_one_draw_keep_peelings_winner(renderer):
     n = f.read("gbuffer.normal")[0, 16, 24, :3]
     assert f.gbuffer.coverage[:, 16, 24].tolist() == [True, False]
     np.testing.assert_allclose(n, [0.6, 0, 0.8], atol=2e-3)
+
+
+# -- Settings.min_separation (Mara, McGuire, Nowrouzezahrai and Luebke 2016) ------------------------
+def slab_scene() -> tuple[ssrlab.Scene, dict]:
+    """A thin slab (2 cm) with a decal 5 mm in front of it, and a wall 2 m behind: the surfaces a
+    minimum separation skips, and the one it keeps."""
+    s = ssrlab.Scene()
+    ids = {
+        "decal": s.add_plane((0, 0, 0.015), (1.0, 1.0), normal=(0, 0, 1), material=ssrlab.Material(base_color=(1, 1, 0))),
+        "slab": s.add_box((0, 0, 0), (2.0, 2.0, 0.02), material=ssrlab.Material(base_color=(1, 0, 0))),
+        "wall": s.add_box((0, 0, -2.0), (6.0, 6.0, 0.2), material=ssrlab.Material(base_color=(0, 0, 1))),
+    }
+    return s, ids
+
+
+SLAB_CAMERA = ssrlab.Camera(position=(0.2, 0.3, 4), target=(0, 0, 0), fov_y=40, near=0.5, far=20)
+
+
+@pytest.mark.parametrize("depth_mode", ["standard", "reversed_z"])
+def test_min_separation_skips_the_surfaces_just_behind_a_layer(renderer, depth_mode):
+    """Without a separation layer 1 is the slab's front 5 mm behind the decal and layer 2 its back;
+    with 0.1 m both are skipped and layer 1 is the wall. Every pixel's layers lie at least the
+    separation apart, and the lists keep the same layers as peeling."""
+    scene, ids = slab_scene()
+    centre = (16, 24)  # (y, x): on the decal
+    plain = assert_same_layers(renderer, scene, SLAB_CAMERA, "slab", layers=3, depth_mode=depth_mode)
+    g = plain.gbuffer
+    assert [int(g.object_id[k][centre]) for k in range(3)] == [ids["decal"], ids["slab"], ids["slab"]]
+    gap = g.depth[1][centre] - g.depth[0][centre]
+    assert 0.002 < gap < 0.02, gap
+
+    sep = 0.1
+    f = assert_same_layers(renderer, scene, SLAB_CAMERA, "slab", layers=3, depth_mode=depth_mode,
+                           min_separation=sep)
+    g = f.gbuffer
+    assert int(g.object_id[0][centre]) == ids["decal"]
+    assert int(g.object_id[1][centre]) == ids["wall"]  # the slab's two faces are skipped
+    both = g.coverage[0] & g.coverage[1]
+    assert both.sum() > 0.5 * both.size
+    gaps = (g.depth[1] - g.depth[0])[both]
+    assert gaps.min() > sep * (1 - 1e-3), gaps.min()
+    deeper = g.coverage[1] & g.coverage[2]
+    assert ((g.depth[2] - g.depth[1])[deeper] > sep * (1 - 1e-3)).all()
+    # Layer 0 does not depend on the separation.
+    for name in TEXTURES:
+        np.testing.assert_array_equal(bits(f.read(name))[0], bits(plain.read(name))[0], err_msg=name)
+
+
+@pytest.mark.parametrize("name", ["spheres_and_boxes", "box_stack", "hall", "model:Suzanne"])
+def test_min_separation_lists_equal_peeling_bit_for_bit(renderer, name):
+    """With a minimum separation both constructions keep the same layers, culling on and off."""
+    scene = load(name)
+    changed = False
+    for culling in (False, True):
+        for layers, sep in ((2, 0.05), (4, 0.5)):
+            f = assert_same_layers(renderer, scene, None, name, layers=layers, backface_culling=culling,
+                                   min_separation=sep)
+            plain = renderer.render(scene, None, tiny(deep_gbuffer="peel", layers=layers, backface_culling=culling))
+            changed |= not np.array_equal(bits(f.read("gbuffer.depth")), bits(plain.read("gbuffer.depth")))
+    assert changed, "the separation changed no layer: the comparison would not test it"
+
+
+def test_min_separation_is_checked(renderer):
+    for bad in (-0.1, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="min_separation"):
+            ssrlab.Settings(min_separation=bad)
+    assert ssrlab.Settings().min_separation == 0.0

@@ -96,7 +96,8 @@ def test_the_expected_verdicts_name_every_kind_of_verdict():
 
 
 @pytest.mark.parametrize("name, figures", [
-    ("thesis_layers", ["thesis_layers.png", "thesis_layers_pareto.png", "thesis_layers_pareto_flip.png"]),
+    ("thesis_layers", ["thesis_layers.png", "thesis_layers_pareto.png", "thesis_layers_pareto_flip.png",
+                       "thesis_layers_construction.png"]),
     ("thesis_downscale_rays_stride", ["thesis_downscale_rays_stride.png"]),
     ("hiz_vs_linear", ["hiz_vs_linear.png"]),
     ("glossy_methods", ["glossy_methods.png"]),

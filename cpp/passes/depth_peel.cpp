@@ -34,6 +34,18 @@ void apply_culling(const RenderSettings& s) {
     }
 }
 
+// Settings.min_separation (Mara et al. 2016) for the peel test and the selection alike
+// (shaders/lib/layer_separation.glsl): 0 compiles the plain "strictly behind" test, so the
+// default builds exactly the layers it built before the setting existed.
+void set_min_separation(const RenderSettings& s, Defines& defines) {
+    if (s.min_separation > 0.0f) defines["MIN_SEPARATION"] = "1";
+}
+
+void set_min_separation(const RenderSettings& s, GLuint program) {
+    if (s.min_separation > 0.0f)
+        glProgramUniform1f(program, glGetUniformLocation(program, "u_min_separation"), s.min_separation);
+}
+
 }  // namespace
 
 void DepthPeelPass::execute(FrameContext& ctx) {
@@ -104,7 +116,9 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     peel_defines["PEEL_TEST"] = "0";
     const GLuint depth_first = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
     peel_defines["PEEL_TEST"] = "1";
+    set_min_separation(s, peel_defines);
     const GLuint depth_peeled = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+    set_min_separation(s, depth_peeled);
     // Alpha-tested materials' depth pass samples the base colour's alpha and discards the holes
     // (compiled only when the scene has such a material: a discard costs the others early tests).
     GLuint depth_first_alpha = 0, depth_peeled_alpha = 0;
@@ -117,6 +131,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
             depth_peeled_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
             break;
         }
+    if (depth_peeled_alpha) set_min_separation(s, depth_peeled_alpha);
     // The shading pass per material kind (bit 0: textures, bit 1: auto reflectivity).
     GLuint shade[4] = {0, 0, 0, 0};
     for (const DrawItem& d : ctx.gpu_scene.draws()) {
@@ -309,7 +324,9 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
 
     Defines select_defines = ctx.defines;
     select_defines["LAYERS"] = std::to_string(s.layers);
+    set_min_separation(s, select_defines);
     const GLuint select = ctx.shaders.program({"passes/deep_gbuffer_select.comp"}, select_defines);
+    set_min_separation(s, select);
     {
         GpuScope timer(ctx.timer, "deep_gbuffer.select");
         glUseProgram(select);

@@ -236,7 +236,7 @@ class Renderer:
     def _decide_deep_gbuffer(self, scene, camera, settings: Settings) -> Settings:
         """Settings.deep_gbuffer 'auto' made 'peel' or 'lists': the exact method that builds this
         scene's layers faster on this device, measured once per renderer, scene (and revision),
-        image size, layer count, culling and depth mode: the G-buffer alone (no shadow map, no
+        image size, layer count, culling, depth mode and minimum separation: the G-buffer alone (no shadow map, no
         reflections) is built 3 times with each method after a warm-up render, and the smaller
         median of Frame.timings['deep_gbuffer'] wins (recorded in deep_gbuffer_measurements).
         One layer is always peeled: a single geometry pass is what the lists' append is, and the
@@ -247,11 +247,12 @@ class Renderer:
         if settings.layers == 1:
             return settings.replace(deep_gbuffer="peel")
         key = (id(scene), scene.revision, settings.width, settings.height, settings.layers,
-               settings.backface_culling, settings.depth_mode)
+               settings.backface_culling, settings.depth_mode, settings.min_separation)
         if key not in self._deep_gbuffer_auto:
+            # With a minimum separation the lists' selection walks each list once per layer.
             base = Settings(width=settings.width, height=settings.height, layers=settings.layers,
                             backface_culling=settings.backface_culling, depth_mode=settings.depth_mode,
-                            method="off", shadow_map_size=0)
+                            min_separation=settings.min_separation, method="off", shadow_map_size=0)
             try:
                 medians = self._measure_deep_gbuffer(scene, camera, base)
             except ValueError:

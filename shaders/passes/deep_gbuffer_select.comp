@@ -6,7 +6,10 @@
 // (Everitt 2001), so fragments at equal depth make one layer. Of several fragments at a kept
 // depth, the one peeling's shading pass writes last stays: it draws the draws in reverse order
 // and each draw's triangles in order, so the lowest draw index wins, and within it the highest
-// primitive.
+// primitive. With MIN_SEPARATION 1 (Settings.min_separation > 0) layer i+1 is instead the nearest
+// depth behind layer i by the minimum separation (lib/layer_separation.glsl, the test peeling's
+// depth pass applies): it depends on layer i itself, so the list is walked once per layer, as
+// peeling draws once per layer.
 //   output: kept[layer * width * height + pixel] = the kept fragment's slot, or FRAGMENT_NONE;
 //           fragment_counter.z = the most layers any pixel holds; layer_pixels[k] = the pixels
 //           layer k covers (Frame.layer_samples); the covered tiles of every layer and layer 0's
@@ -17,6 +20,7 @@
 #include "../lib/depth_convention.glsl"
 #include "../lib/fragment_lists.glsl"
 #include "../lib/covered_tiles.glsl"
+#include "../lib/layer_separation.glsl"
 
 #ifndef LAYERS
 #define LAYERS 1
@@ -47,7 +51,34 @@ void main() {
         uint pixel = uint(p.y * size.x + p.x);
         float depth[LAYERS];
         uint slot[LAYERS], draw[LAYERS], prim[LAYERS];
-        uint i = fragment_head[pixel];
+        uint head = fragment_head[pixel];
+#if MIN_SEPARATION
+        for (int k = 0; k < LAYERS; ++k) {
+            // The nearest depth behind layer k-1 (layer 0: nearer than the clear value), and of
+            // the fragments at it the one peeling's shading pass writes last.
+            float best = DEPTH_CLEAR;
+            uint best_slot = FRAGMENT_NONE, best_draw = 0u, best_prim = 0u;
+            for (uint i = head; i != FRAGMENT_NONE; i = fragments[i].next) {
+                float z = fragments[i].depth;
+                if (!is_farther(DEPTH_CLEAR, z)) continue;
+                if (k > 0 && !behind_layer(z, depth[k - 1])) continue;
+                uint d = fragments[i].draw_flags & 0x7fffffffu;
+                uint pr = fragments[i].primitive;
+                if (best_slot == FRAGMENT_NONE || is_farther(best, z) ||
+                    (z == best && wins(d, pr, best_draw, best_prim))) {
+                    best = z;
+                    best_slot = i;
+                    best_draw = d;
+                    best_prim = pr;
+                }
+            }
+            if (best_slot == FRAGMENT_NONE) break;
+            depth[k] = best;
+            slot[k] = best_slot;
+            count = k + 1;
+        }
+#else
+        uint i = head;
         while (i != FRAGMENT_NONE) {
             float z = fragments[i].depth;
             uint d = fragments[i].draw_flags & 0x7fffffffu;
@@ -79,6 +110,7 @@ void main() {
             prim[j] = pr;
             count = min(count + 1, LAYERS);
         }
+#endif
         uint plane = uint(size.x * size.y);
         for (int k = 0; k < LAYERS; ++k) kept[uint(k) * plane + pixel] = k < count ? slot[k] : FRAGMENT_NONE;
         if (count > 0) {

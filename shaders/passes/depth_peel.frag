@@ -1,7 +1,8 @@
 #version 450 core
 // Geometry pass with depth peeling (seed 000, 1.5.1 and 2.2): fragment stage.
 // Layer 0 is the ordinary G-buffer; layer i > 0 keeps only fragments strictly behind
-// layer i-1 at the same pixel (Everitt 2001), and the depth test keeps the nearest of them.
+// layer i-1 at the same pixel (Everitt 2001; with Settings.min_separation also that far behind
+// it, lib/layer_separation.glsl), and the depth test keeps the nearest of them.
 // Two variants (passes/depth_peel.cpp): PEEL_DEPTH_ONLY 1 is the depth pass, which
 // only peels (PEEL_TEST: layer i > 0) and writes the layer's depth; PEEL_DEPTH_ONLY 0 shades
 // the G-buffer afterwards with the depth test EQUAL and early fragment tests, so the material
@@ -43,6 +44,7 @@
 #include "../lib/scene_data.glsl"
 
 #if PEEL_DEPTH_ONLY
+#include "../lib/layer_separation.glsl"
 
 layout(binding = 3) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
 
@@ -67,7 +69,7 @@ void main() {
 #endif
 #if PEEL_TEST
     float previous = texelFetch(u_previous_layer_depth, ivec2(gl_FragCoord.xy), 0).r;
-    if (!is_farther(gl_FragCoord.z, previous)) discard;
+    if (!behind_layer(gl_FragCoord.z, previous)) discard;
 #endif
 }
 #else

@@ -1,0 +1,214 @@
+"""Seed 000, 4.2 re-judged: is frame time better spent on deep G-buffer layers or on rays?
+
+    python benchmarks/layers_vs_rays.py [--width 320 --height 180 --repeats 5 --reference-rays 64
+                                         --scenes occluder box_stack hall]
+
+The thesis found that extra layers improve the reflections but that "the time spent
+constructing the deep G-buffers is better spent on other parts of rendering" (seed 000, 4.2),
+with layers built by depth peeling (one geometry pass each). Here the layers can also be built
+in one geometry pass (Settings.deep_gbuffer 'lists'), and the same frame time can go to the
+rays instead. From the thesis's configuration with one layer (seed 000, 3.2: 4 rays a pixel,
+stride 4, half resolution, 250 steps; the plain G-buffer, peeled) three ways to spend more time:
+
+  layers (lists)   2, 3, 4 layers built by the fragment lists (one geometry pass)
+  layers (peel)    2, 3, 4 layers built by depth peeling (the thesis's construction)
+  rays             8, 16 rays a pixel, or rays traced at full resolution (1 layer)
+  steps            stride 2, 1: more, shorter steps per ray (1 layer)
+
+Every configuration renders `repeats` single frames, with seeds 0..repeats-1, after 2 warm-up
+renders, configurations interleaved round by round. Time: the median GPU time of the whole
+frame (timings['total']) and its interquartile range; on llvmpipe also the CPU time the process
+spent in the render call (its rasteriser threads included): llvmpipe's GPU timer measures wall
+time, which a machine shared with other jobs inflates (most at each CPU-GPU synchronisation, and
+the lists synchronise more often than peeling), while the CPU time counts the work done. Each
+clock gets its own verdict. Error: thesis_error_reflective against the
+converged reference (ssrlab.reference, `reference-rays` rays a pixel), mean over the seeds.
+For each configuration: the error removed against the 1-layer start (paired by seed, with its
+standard error), the time added, and their ratio, the error removed per millisecond. A gain is
+"measured" where it exceeds twice its standard error and the time added exceeds the two
+configurations' IQRs summed (and 1 ms); otherwise it is noise. Per scene the verdict compares the
+best measured ratio of layers (lists) with the best measured ratio of rays or steps: the one
+whose ratio is higher by more than twice the combined standard error of the two ratios wins
+(the ratio's error counts the error's noise; the time counts only once beyond its noise). A side
+none of whose configurations removed error beyond noise loses to a side with a measured ratio;
+where a side removed error but its time could not be told from noise, or the ratios are within
+their errors, the verdict says the data is too noisy to tell. The same for the thesis's
+construction (peel), for the comparison with the thesis's verdict.
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+import time
+
+import numpy as np
+
+import ssrlab
+from common import benchmark_arguments, open_renderer
+from ssrlab.experiments import MIN_JUDGED_MS, THESIS_SETTINGS
+from ssrlab.metrics import image_metrics
+from ssrlab.reference import reference_image
+
+SCENES = {
+    "occluder": ("spheres_and_boxes(with_suzanne=True)",
+                 lambda: ssrlab.scenes.load("spheres_and_boxes", with_suzanne=True)),
+    "spheres_and_boxes": ("spheres_and_boxes", lambda: ssrlab.scenes.load("spheres_and_boxes")),
+    "box_stack": ("box_stack", lambda: ssrlab.scenes.load("box_stack")),
+    "hall": ("hall", lambda: ssrlab.scenes.load("hall")),
+}
+ERROR = "thesis_error_reflective"
+CLOCKS = {
+    "gpu": "gpu = the GPU timer of the whole frame (timings['total'])",
+    # llvmpipe's timer measures wall time, which on a shared machine includes the waits for a
+    # core (longest at every CPU-GPU synchronisation); the process's CPU time counts the work its
+    # rasteriser threads did, whatever else runs.
+    "cpu": "cpu = the CPU time this process (llvmpipe's threads included) spent in the render call",
+}
+TOO_NOISY = "too noisy to tell"
+
+
+def configurations(base: ssrlab.Settings) -> dict[tuple[str, str], ssrlab.Settings]:
+    """(series, label) -> settings; the start is ("start", "1 layer")."""
+    start = base.replace(layers=1, deep_gbuffer="peel")
+    out = {("start", "1 layer"): start}
+    for layers in (2, 3, 4):
+        out[("layers (lists)", f"{layers} layers")] = base.replace(layers=layers, deep_gbuffer="lists")
+    for layers in (2, 3, 4):
+        out[("layers (peel)", f"{layers} layers")] = base.replace(layers=layers, deep_gbuffer="peel")
+    for rays in (8, 16):
+        out[("rays", f"{rays} rays")] = start.replace(rays_per_pixel=rays)
+    out[("rays", "full res")] = start.replace(downscale=1)  # rays traced for every pixel: 4x the rays
+    for stride in (2.0, 1.0):
+        out[("steps", f"stride {stride:g}")] = start.replace(stride=stride)
+    return out
+
+
+def iqr(values) -> float:
+    q1, q3 = np.percentile(np.asarray(values, float), [25, 75])
+    return float(q3 - q1)
+
+
+def judge(a, b, name_a: str, name_b: str) -> str:
+    """Which series removes more error per millisecond (see the module notes). a and b are a
+    series' best measured configuration as (ratio, standard error of the ratio, label), or
+    "no gain" (no configuration of it removed error beyond noise), or "noisy" (one removed
+    error, but its added time was within the times' noise)."""
+    if isinstance(a, tuple) and isinstance(b, tuple):
+        (ra, sa, la), (rb, sb, lb) = a, b
+        margin = 2 * math.hypot(sa, sb)
+        if abs(ra - rb) <= margin:
+            return (f"{TOO_NOISY}: {name_a} ({la}) {ra:.2e} vs {name_b} ({lb}) {rb:.2e} error/ms differ by no "
+                    f"more than twice their standard error ({margin:.1e})")
+        (wn, wl, wr), (ln, ll, lr) = ((name_a, la, ra), (name_b, lb, rb)) if ra > rb else ((name_b, lb, rb),
+                                                                                       (name_a, la, ra))
+        return f"{wn} ({wl}: {wr:.2e} error/ms, {wr / lr:.1f}x {ln}'s best, {ll}: {lr:.2e})"
+    if isinstance(a, tuple) and b == "no gain":
+        return f"{name_a} ({a[2]}: {a[0]:.2e} error/ms; {name_b} removed no error beyond noise)"
+    if isinstance(b, tuple) and a == "no gain":
+        return f"{name_b} ({b[2]}: {b[0]:.2e} error/ms; {name_a} removed no error beyond noise)"
+    if a == "no gain" and b == "no gain":
+        return f"neither: no configuration of {name_a} or {name_b} removed error beyond noise"
+    noisy = [n for n, v in ((name_a, a), (name_b, b)) if v == "noisy"]
+    return f"{TOO_NOISY}: the time {' and '.join(noisy)} added is within the times' noise"
+
+
+def series_result(results: list) -> tuple | str:
+    """A series' configurations, (ratio, ratio s.e., label, gain measured, time measured) each,
+    summed up for judge()."""
+    measured = [r[:3] for r in results if r[3] and r[4]]
+    if measured:
+        return max(measured, key=lambda r: r[0])
+    return "noisy" if any(r[3] for r in results) else "no gain"
+
+
+def main() -> None:
+    ap = benchmark_arguments(__doc__, repeats=5)
+    ap.set_defaults(width=320, height=180, scenes=["occluder", "box_stack", "hall"])
+    ap.add_argument("--reference-rays", type=int, default=64)
+    args = ap.parse_args()
+    if args.repeats < 3:
+        ap.error("--repeats must be at least 3 (the spread of times and errors is measured over them)")
+    unknown = [s for s in args.scenes if s not in SCENES]
+    if unknown:
+        ap.error(f"--scenes: unknown {unknown}; choose from {list(SCENES)}")
+    renderer = open_renderer(args)
+    base = ssrlab.Settings(width=args.width, height=args.height, **THESIS_SETTINGS)
+    configs = configurations(base)
+    clocks = ["gpu"] + (["cpu"] if renderer.info["device"] == "cpu" else [])
+    print(f"{args.width}x{args.height}, from the thesis settings {THESIS_SETTINGS} with 1 layer; {args.repeats} "
+          f"frames per configuration (seeds 0-{args.repeats - 1}) after 2 warm-ups, interleaved; error: {ERROR} "
+          f"against {args.reference_rays}-ray converged references, mean over the seeds; time, median [IQR]: "
+          + "; ".join(CLOCKS[c] for c in clocks) + "\n")
+    summary = []
+    for key in args.scenes:
+        label, make = SCENES[key]
+        scene = make()
+        ref = reference_image(renderer, scene, scene.camera, base, kind="converged", rays=args.reference_rays)
+        times = {(clock, c): [] for clock in clocks for c in configs}
+        errors = {c: [] for c in configs}
+        used = {c: None for c in configs}
+        for rnd in range(2 + args.repeats):
+            for c, s in configs.items():
+                seed = max(rnd - 2, 0)
+                cpu0 = time.process_time()
+                f = renderer.render(scene, settings=s.replace(seed=seed))
+                cpu = 1000.0 * (time.process_time() - cpu0)
+                if rnd >= 2:
+                    times[("gpu", c)].append(f.timings["total"])
+                    if "cpu" in clocks:
+                        times[("cpu", c)].append(cpu)
+                    errors[c].append(image_metrics(f.color, ref.color, ref.reflective, perceptual=False)[ERROR])
+                    used[c] = (f.stats["layers_used"], f.stats.get("deep_gbuffer_method", s.deep_gbuffer))
+                f.release()
+        start = ("start", "1 layer")
+        e0 = statistics.fmean(errors[start])
+        print(f"{label} ({int(ref.reflective.sum())} reflective pixels): 1 layer, thesis settings: error {e0:.5f}, "
+              + ", ".join(f"{clock} {statistics.median(times[(clock, start)]):.1f} ms" for clock in clocks))
+        verdicts = {}
+        for clock in clocks:
+            t0 = statistics.median(times[(clock, start)])
+            print(f"  by {clock} time")
+            print(f"  {'series':<15} {'configuration':<10} {'built by':>8} {'used':>4} {'ms':>8} {'[IQR]':>7} "
+                  f"{'error':>9} {'removed (± s.e.)':>21} {'+ms':>7} {'error/ms':>10}  measured?")
+            results: dict[str, list] = {}
+            for c in configs:
+                series, name = c
+                ts = times[(clock, c)]
+                t, e = statistics.median(ts), statistics.fmean(errors[c])
+                row = (f"  {series:<15} {name:<10} {used[c][1]:>8} {used[c][0]:>4} {t:>8.1f} [{iqr(ts):>5.1f}] "
+                       f"{e:>9.5f}")
+                if c == start:
+                    print(row)
+                    continue
+                gains = [a - b for a, b in zip(errors[start], errors[c])]  # paired by seed
+                gain = statistics.fmean(gains)
+                se = statistics.stdev(gains) / math.sqrt(len(gains))
+                added = t - t0
+                gain_measured = gain > 2 * se
+                time_measured = added > max(iqr(ts) + iqr(times[(clock, start)]), MIN_JUDGED_MS)
+                ratio = gain / added if added > 0 else float("nan")
+                why = [w for ok, w in ((gain_measured, "gain within noise"), (time_measured, "time within noise"))
+                       if not ok]
+                print(f"{row} {gain:>+10.5f} ± {se:<8.5f} {added:>+7.1f} {ratio:>10.2e}  "
+                      f"{'yes' if not why else 'no: ' + ', '.join(why)}")
+                results.setdefault(series, []).append((ratio, se / added if added > 0 else float("nan"), name,
+                                                       gain_measured, time_measured))
+            # Rays and steps together: the time spent on the rays.
+            rays = series_result(results["rays"] + results["steps"])
+            verdicts[clock] = (judge(series_result(results["layers (lists)"]), rays, "layers (lists)", "rays/steps"),
+                               judge(series_result(results["layers (peel)"]), rays, "layers (peel)", "rays/steps"))
+            print(f"  more error removed per {clock} ms: one-pass layers vs rays -> {verdicts[clock][0]}")
+            print(f"  {'':>{len(clock) + 27}}peeled layers vs rays   -> {verdicts[clock][1]}\n")
+        summary.append((label, verdicts))
+    print("seed 000, 4.2 (\"the time spent constructing the deep G-buffers is better spent on other parts of "
+          "rendering\"), re-judged per scene:")
+    for label, verdicts in summary:
+        print(f"  {label}")
+        for clock, (v_lists, v_peel) in verdicts.items():
+            print(f"    by {clock} time, layers built in one pass (lists): {v_lists}")
+            print(f"    by {clock} time, layers built by peeling:          {v_peel}")
+
+
+if __name__ == "__main__":
+    main()
