@@ -194,7 +194,7 @@ def test_no_other_file_declares_a_setting_again():
     bindings = _source("cpp/bindings/bind_render.cpp")
     glsl = _source("shaders/lib/ssr_settings.glsl")
     python = _source("python/ssrlab/settings.py")
-    reference = _source("python/ssrlab/reference.py")
+    reference = _source("python/ssrlab/truth/reference.py")
     key_fields = reference[reference.index("_CONVERGED_KEY_FIELDS ="):]
     key_fields = key_fields[:key_fields.index("\n\n")]
     stubs = _source("python/ssrlab/_core.pyi")

@@ -193,8 +193,8 @@ class Light:
     intensity (W/sr) at `position`, falling off as 1/d^2. Spot: a point light shining down
     `direction`, full inside `inner_cone`, nothing beyond `outer_cone` (radians), with
     KHR_lights_punctual's smooth falloff between. Point and spot lights end at `range` with the
-    extension's window (0: no end). The first directional light with cast_shadow=True casts the
-    shadow map.
+    extension's window (0: no end). The first directional or spot light with cast_shadow=True casts
+    the shadow map (a spot light's is a perspective map of its cone); point lights cast none.
     """
     @staticmethod
     def directional(direction: tuple[float, ...], color: tuple[float, ...] = (1.0, 1.0, 1.0), intensity: typing.SupportsFloat | typing.SupportsIndex = 3.0, cast_shadow: bool = True, name: str = 'sun') -> Light:
@@ -210,7 +210,7 @@ class Light:
     @property
     def cast_shadow(self) -> bool:
         """
-        the first directional light with this set casts the shadow map
+        the first directional or spot light with this set casts the shadow map (point lights cast none)
         """
     @cast_shadow.setter
     def cast_shadow(self, arg0: bool) -> None:
@@ -738,6 +738,14 @@ class Renderer:
         The split-sum table (A, B) of the GGX directional albedo E = F0 A + B that the pbr composite and glTF materials' reflectivity use: float32 (32, 32, 2), rows perceptual roughness 0..1, columns n.v 0..1 (cell centres at both ends), integrated with the tracers' own VNDF sampler.
         """
     @property
+    def clear_path(self) -> str:
+        """
+        How the passes clear textures: 'auto' (compute on a GPU, gl on the CPU device), 'gl' (glClearTexSubImage and framebuffer clears) or 'compute' (image stores). The images are the same either way.
+        """
+    @clear_path.setter
+    def clear_path(self, arg1: str) -> None:
+        ...
+    @property
     def compiled_programs(self) -> int:
         """
         Shader programs this renderer has compiled (each once per variant).
@@ -747,6 +755,14 @@ class Renderer:
         """
         Bytes of every frame texture set (live or pooled) and the shared scratch.
         """
+    @property
+    def readback_path(self) -> str:
+        """
+        How textures reach numpy: 'auto' (staged on a GPU, download on the CPU device), 'download' (the driver's glGetTextureSubImage for float formats), or 'staged' (a copy pass into a buffer, a DMA copy into pinned client memory, a parallel copy into the array). All three give the same values.
+        """
+    @readback_path.setter
+    def readback_path(self, arg1: str) -> None:
+        ...
     @property
     def scratch_bytes(self) -> int:
         """

@@ -604,7 +604,7 @@ def masked_crosscheck_scene(cells: int = 4, texels_per_cell: int = 4):
     shadow on the wall. No surface sees another diffuse one that the sun lights (the quad's
     front faces away from the wall, the floor is a mirror), so the one bounce ``volpath`` adds
     for stepping through a hole brings no light that ssrlab leaves out. Object 0 is the floor."""
-    from .scene import Camera, Environment, Material, Scene, directional_light
+    from ..scene import Camera, Environment, Material, Scene, directional_light
 
     s = Scene()
     s.name = "crosscheck_masked"
@@ -635,7 +635,7 @@ def emissive_crosscheck_scene(emission=(4.0, 2.0, 0.8)):
     emission plus the sun's highlight on its dielectric specular) lit by the sun. Mitsuba makes the
     box an area emitter; the floor, an ideal metallic mirror, receives from it only what it
     reflects, as in ssrlab (whose emission lights nothing). Object 0 is the floor."""
-    from .scene import Camera, Environment, Material, Scene, directional_light
+    from ..scene import Camera, Environment, Material, Scene, directional_light
 
     s = Scene()
     s.name = "crosscheck_emissive"
