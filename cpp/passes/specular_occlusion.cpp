@@ -34,7 +34,7 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
         glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d0));
         bind_inputs();
         bind_image_layered(1, cells, GL_WRITE_ONLY);
-        dispatch_2d(cells.width(), cells.height(), 1, 8, 8);
+        dispatch_2d(cells.width() * 8, cells.height() * 8, 1, 8, 8);  // a work group of 8x8 per cell
         d0["STAGE"] = "1";
         glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d0));
         bind_image_layered(0, r.get("occlusion_enclosure"), GL_WRITE_ONLY);

@@ -301,21 +301,32 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
 // ---- stage 0: enclosure cells -----------------------------------------------------------------
 // The farthest layer-0 surface of each cell, or 1e30 where it shows background (seed 002's
 // Hi-Z max, but with the sky counted as infinitely far, which the tracer's pyramid leaves out).
+// One work group per cell: its 64 invocations stride over the cell's pixels and reduce their
+// maxima in shared memory (the same value in any order). One invocation per cell, looping over
+// its cell^2 pixels, left a GPU with a few thousand busy lanes: 1.16 ms at 1920x1080 on an H200.
 layout(binding = 1, r32f) writeonly uniform image2D o_cells;
+shared float s_far[64];
 
 void main() {
-    ivec2 c = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(c, imageSize(o_cells)))) return;
+    ivec2 c = ivec2(gl_WorkGroupID.xy);
+    ivec2 t = ivec2(gl_LocalInvocationID.xy);
     ivec2 size = ivec2(frame.viewport.xy);
     int cell = cell_size();
     ivec2 lo = c * cell, hi = min(lo + cell, size);
     float far_depth = 0.0;
-    for (int y = lo.y; y < hi.y; ++y)
-        for (int x = lo.x; x < hi.x; ++x) {
+    for (int y = lo.y + t.y; y < hi.y; y += 8)
+        for (int x = lo.x + t.x; x < hi.x; x += 8) {
             ivec3 p = ivec3(x, y, 0);
             far_depth = max(far_depth, texelFetch(u_material, p, 0).g > 0.5 ? FETCH(u_linear_depth, p).r : 1e30);
         }
-    imageStore(o_cells, c, vec4(far_depth));
+    uint i = gl_LocalInvocationIndex;
+    s_far[i] = far_depth;
+    barrier();
+    for (uint half_count = 32u; half_count > 0u; half_count >>= 1u) {
+        if (i < half_count) s_far[i] = max(s_far[i], s_far[i + half_count]);
+        barrier();
+    }
+    if (i == 0u) imageStore(o_cells, c, vec4(s_far[0]));
 }
 #elif STAGE == 1
 // ---- stage 1: a cell and its 8 neighbours ------------------------------------------------------
