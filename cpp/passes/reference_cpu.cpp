@@ -6,6 +6,10 @@
 #include <cmath>
 #include <cstring>
 #include <thread>
+#if defined(__SSE__) || defined(_M_X64)
+#include <xmmintrin.h>
+#define SSR_HAVE_MXCSR 1
+#endif
 
 namespace ssr {
 
@@ -226,6 +230,8 @@ class Shader {
 public:
     explicit Shader(const CpuReferenceScene& s) : s_(s), scene_(static_cast<RTCScene>(const_cast<void*>(s.embree_scene))) {
         rtcInitIntersectContext(&ctx_);
+        rtcInitIntersectContext(&coherent_);
+        coherent_.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         view3_ = mat3(s.frame.view);
         inv_view3_ = mat3(s.frame.inv_view);
     }
@@ -409,8 +415,44 @@ public:
 
     // lib/trace_shade.glsl's trace_and_shade_w, with lib/scene_geometry.glsl and lib/material.glsl.
     ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w, bool viewer_is_ray) {
+        return shade_hit(trace_closest(origin_w, dir_w, 0.0f, s_.ssr.max_distance), dir_w, viewer_is_ray);
+    }
+
+    // Up to 8 closest-hit rays of one origin (a pixel's round) as one stream: Embree traces
+    // coherent rays (a lobe from one point) together, each with the result it would have alone.
+    void trace_closest_n(vec3 o, const vec3* dirs, const bool* active, int n, float t_max, Hit* hits) {
+        RTCRayHit rh[8];
+        int lane[8], m = 0;
+        for (int k = 0; k < n; ++k) {
+            hits[k] = Hit{t_max, -1, 0.0f, 0.0f};
+            if (!active[k] || !finite(o) || !finite(dirs[k]) || !(t_max >= 0.0f)) continue;
+            RTCRayHit& r = rh[m];
+            r.ray.org_x = o.x;
+            r.ray.org_y = o.y;
+            r.ray.org_z = o.z;
+            r.ray.dir_x = dirs[k].x;
+            r.ray.dir_y = dirs[k].y;
+            r.ray.dir_z = dirs[k].z;
+            r.ray.tnear = 0.0f;
+            r.ray.tfar = t_max;
+            r.ray.time = 0.0f;
+            r.ray.mask = 0xffffffffu;
+            r.ray.id = unsigned(k);
+            r.ray.flags = 0;
+            r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            r.hit.primID = RTC_INVALID_GEOMETRY_ID;
+            lane[m++] = k;
+        }
+        if (m == 0) return;
+        rtcIntersect1M(scene_, &coherent_, rh, unsigned(m), sizeof(RTCRayHit));
+        rays += uint64_t(m);
+        for (int j = 0; j < m; ++j)
+            if (rh[j].hit.geomID != RTC_INVALID_GEOMETRY_ID)
+                hits[lane[j]] = Hit{rh[j].ray.tfar, int(rh[j].hit.primID), rh[j].hit.u, rh[j].hit.v};
+    }
+
+    ShadedHit shade_hit(const Hit& h, vec3 dir_w, bool viewer_is_ray) {
         ShadedHit s;
-        const Hit h = trace_closest(origin_w, dir_w, 0.0f, s_.ssr.max_distance);
         s.hit = h.triangle >= 0;
         if (!s.hit) {
             s.radiance = environment_radiance(dir_w);
@@ -491,7 +533,7 @@ public:
 
     const CpuReferenceScene& s_;
     RTCScene scene_;
-    RTCIntersectContext ctx_;
+    RTCIntersectContext ctx_, coherent_;
     mat3 view3_, inv_view3_;
 };
 
@@ -528,14 +570,25 @@ CpuReference::CpuReference(const CpuReferenceScene& scene, int width, int height
 // Rows handed out one at a time to one thread per core: rows differ in cost (mirror, rough,
 // background), so a shared counter balances them. Each pixel's sums are added in ray order by
 // one thread, so the result does not depend on the schedule.
+// Denormals flush to zero on the workers (the caller's mode restored after): llvmpipe runs its
+// shaders so (GLSL 4.50 4.7.1 lets denormals flush), so this matches the GLSL closer, and an x86
+// core takes a microcode assist on every denormal operand (the tiny floors of ggx_D and
+// friends) that costs as much as a hundred ordinary operations.
 void CpuReference::parallel_rows(const std::function<void(int)>& row) {
     std::atomic<int> next{0};
     auto work = [&]() {
+#if SSR_HAVE_MXCSR
+        const unsigned saved = _mm_getcsr();
+        _mm_setcsr(saved | 0x8040u);  // FTZ (bit 15) and DAZ (bit 6)
+#endif
         for (;;) {
             const int y = next.fetch_add(1);
             if (y >= height_) break;
             row(y);
         }
+#if SSR_HAVE_MXCSR
+        _mm_setcsr(saved);
+#endif
     };
     const int threads = std::max(1, std::min(int(std::thread::hardware_concurrency()), height_));
     std::vector<std::thread> pool;
@@ -592,29 +645,41 @@ void CpuReference::trace_rays(int first, int count) {
             const vec3 v_local = glm::transpose(tbn) * v;
             const float alpha = g.roughness * g.roughness;
             const uint32_t h = pcg_hash(uint32_t(x) ^ pcg_hash(uint32_t(y) ^ seed_hash));
+            // trace_and_shade_w from the exact point, else trace_and_shade from generate_ray's
+            // view-space origin
+            const vec3 origin_w =
+                st.exact ? st.origin_w : vec3(f.inv_view * vec4(p_view + n * (su.origin_bias * -p_view.z), 1.0f));
             vec4 acc = accum_[i];
-            for (int r = first; r < first + count; ++r) {
-                if (mirror && r > 0) break;
-                if (r >= su.rays_per_pixel) break;  // (rays_for_roughness without adaptive rays)
-                // ray_random: PCG noise and a Hammersley point (as the converged reference uploads)
-                vec2 u(unit_float(pcg_hash(h + 2u * uint32_t(r))), unit_float(pcg_hash(h + 2u * uint32_t(r) + 1u)));
-                if (su.hammersley != 0) {
-                    const vec2 hm = hammersley(uint32_t(r), uint32_t(su.rays_per_pixel));
-                    u = vec2(fract(u.x + hm.x), fract(u.y + hm.y));
+            // The round's rays, 8 at a time: generated in ray order, traced as one stream, shaded
+            // and added in ray order (the GLSL loop's order, so the same sums).
+            for (int c0 = first; c0 < first + count; c0 += 8) {
+                vec3 dirs[8] = {};
+                float weights[8] = {};
+                bool active[8] = {};
+                const int lanes = std::min(first + count - c0, 8);
+                for (int k = 0; k < lanes; ++k) {
+                    const int r = c0 + k;
+                    if (mirror && r > 0) break;
+                    if (r >= su.rays_per_pixel) break;  // (rays_for_roughness without adaptive rays)
+                    // ray_random: PCG noise and a Hammersley point (as the converged reference uploads)
+                    vec2 u(unit_float(pcg_hash(h + 2u * uint32_t(r))), unit_float(pcg_hash(h + 2u * uint32_t(r) + 1u)));
+                    if (su.hammersley != 0) {
+                        const vec2 hm = hammersley(uint32_t(r), uint32_t(su.rays_per_pixel));
+                        u = vec2(fract(u.x + hm.x), fract(u.y + hm.y));
+                    }
+                    const BrdfSample bs = sample_reflection(v_local, alpha, su.sampling, u);
+                    const vec3 dir = glm::normalize(tbn * bs.l);
+                    weights[k] = bs.weight;
+                    active[k] = bs.weight > 0.0f;
+                    dirs[k] = glm::normalize(sh.inv_view3_ * dir);
                 }
-                const BrdfSample bs = sample_reflection(v_local, alpha, su.sampling, u);
-                const vec3 dir = glm::normalize(tbn * bs.l);
-                const float weight = bs.weight;
-                if (weight <= 0.0f) continue;
-                ShadedHit s;
-                if (st.exact) {
-                    s = sh.trace_and_shade_w(st.origin_w, glm::normalize(sh.inv_view3_ * dir), s_.viewer_is_ray);
-                } else {  // trace_and_shade: the view-space ray of generate_ray
-                    const vec3 origin = p_view + n * (su.origin_bias * -p_view.z);
-                    s = sh.trace_and_shade_w(vec3(f.inv_view * vec4(origin, 1.0f)),
-                                             glm::normalize(sh.inv_view3_ * dir), s_.viewer_is_ray);
+                Hit hits[8];
+                sh.trace_closest_n(origin_w, dirs, active, lanes, su.max_distance, hits);
+                for (int k = 0; k < lanes; ++k) {
+                    if (!active[k]) continue;
+                    const ShadedHit s = sh.shade_hit(hits[k], dirs[k], s_.viewer_is_ray);
+                    acc += vec4(weights[k] * s.radiance, weights[k]);
                 }
-                acc += vec4(weight * s.radiance, weight);
             }
             accum_[i] = acc;
         }
