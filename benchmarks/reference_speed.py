@@ -6,15 +6,18 @@ reference on the CPU device through Embree).
 For each scene (the Mitsuba cross-check scene with a 0.3-rough floor, and spheres_and_boxes) and
 the frame's reflective pixels (one ray for mirror pixels, `--rays` for the rest), it times:
 
-* ssrlab's converged reference with tracer="embree" (rays through Embree, ray generation and
-  shading in GLSL) and tracer="glsl" (the BVH traversed in GLSL), wall-clock seconds after a
-  warm-up reference (BVH build, shader compilation) — on the CPU device both run on the CPU;
+* ssrlab's converged reference with tracer="cpu" (rays through Embree, ray generation and
+  shading in C++ on every core: what "auto" takes on the CPU device), tracer="embree" (rays
+  through Embree, ray generation and shading in GLSL) and tracer="glsl" (the BVH traversed in
+  GLSL), wall-clock seconds after a warm-up reference (BVH build, shader compilation) — on the
+  CPU device all run on the CPU;
 * Mitsuba 3's path tracer (llvm_ad_rgb, max_depth 3: camera, floor, object, light, with next-
   event estimation) on the same pixel-centre camera rays of the same reflective pixels, with the
   same number of samples per pixel (after a warm-up run that compiles its kernels).
 
 Samples per second = (rays asked per reflective pixel, summed over them) / seconds. Medians of
-`--repeats` interleaved runs. Mitsuba sees spheres_and_boxes without its ambient term and with a
+`--repeats` interleaved runs, with each one's spread (min-max over the runs, as a percentage of
+the median) so a noisy machine shows. Mitsuba sees spheres_and_boxes without its ambient term and with a
 black environment (its comparable form, ssrlab.crosscheck.check_comparable); ssrlab renders the
 scene as it is. Dr.Jit uses `--jit-threads` worker threads (default: every core, as ssrlab's
 Embree and llvmpipe do).
@@ -66,7 +69,7 @@ def main() -> None:
     ap.add_argument("--roughness", type=float, default=0.3, help="the cross-check scene's floor roughness")
     ap.add_argument("--jit-threads", type=int, default=os.cpu_count())
     ap.add_argument("--no-mitsuba", action="store_true")
-    ap.add_argument("--tracers", nargs="+", default=["embree", "glsl"])
+    ap.add_argument("--tracers", nargs="+", default=["cpu", "embree", "glsl"])
     args = ap.parse_args()
     r = open_renderer(args)
     mitsuba = not args.no_mitsuba
@@ -114,6 +117,14 @@ def main() -> None:
             vals += [f"{sec['mitsuba']:13.2f}", f"{samples / sec['mitsuba'] / 1e6:13.3f}"]
             vals += [f"{sec['mitsuba'] / sec[t]:12.2f}x" for t in args.tracers]
         print(f"{name:<20} {int(reflective.sum()):>7} {samples:>10} " + " ".join(vals))
+        spread = {k: (max(v) - min(v)) / statistics.median(v) for k, v in runs.items() if v}
+        print(f"{'':<20} spread (max-min)/median: " + ", ".join(f"{k} {100 * v:.0f}%" for k, v in spread.items()))
+        if "cpu" in args.tracers:
+            ref = frame.reference("converged", rays=args.rays, tracer="cpu")
+            st = ref.timings
+            print(f"{'':<20} cpu stages (ms): trace and shade {st['reference.cpu']:.0f}, transfer "
+                  f"{st['reference.transfer']:.0f}; {ref.rays_traced} rays traced "
+                  f"({ref.rays_traced / st['reference.cpu'] / 1e3:.2f} M rays/s with their shading)")
         if "embree" in args.tracers:
             ref = frame.reference("converged", rays=args.rays, tracer="embree")
             st = ref.timings

@@ -67,7 +67,8 @@ def test_tracer_is_checked_and_auto_follows_the_device(renderer):
     with pytest.raises(ValueError, match="tracer"):
         frame.reference("converged", rays=1, tracer="optix")
     ref = frame.reference("converged", rays=1)
-    assert ref.rays_traced is None  # "auto": the GLSL traversal (docs/reference_tracers.md says why)
+    # "auto": the C++ tracer on the CPU device (tests/test_reference_cpu.py), the GLSL on a GPU
+    assert ("reference.cpu" in ref.timings) == (renderer.info["device"] == "cpu")
     assert {"reference.shade", "reference.intersect"} <= set(frame.reference("converged", rays=1,
                                                                              tracer="embree").timings)
 

@@ -286,8 +286,9 @@ void bind_render(py::module_& m) {
             py::arg("sampling") = "vndf", py::arg("viewer") = "ray", py::arg("shadows") = "traced",
             py::arg("tracer") = "auto", py::arg("progress") = py::none(),
             "Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. "
-            "tracer: 'embree' (Embree on the CPU), 'glsl' or 'auto' (for now 'glsl', the faster one measured) (the converged "
-            "reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each "
+            "tracer: 'cpu' (Embree and C++ shading on every core), 'embree' (Embree for the GLSL shading), 'glsl' or 'auto' "
+            "('cpu' on the CPU device with traced shadows, else 'glsl') (the converged reference's rays; per-ray "
+            "references trace in GLSL). progress(done, total) is called after each "
             "sample round; returning False stops it with an error.")
         .def(
             "specular_albedo_table",

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "passes/compute.h"
+#include "passes/reference_cpu.h"
 
 namespace ssr {
 
@@ -42,6 +43,7 @@ GLuint ReferencePass::program(FrameContext& ctx) const {
     d["SHADOWS"] = shadows_ && !traced_shadows_ ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced_shadows_ ? "1" : "0";
     d["EXTERNAL_TRACE"] = tracer_ && !per_ray_ ? "1" : "0";
+    if (cpu_tracer_ && !per_ray_) return ctx.shaders.program({"passes/reference_gbuffer.comp"}, ctx.defines);
     return ctx.shaders.program({"passes/reference.comp"}, d);
 }
 
@@ -54,6 +56,10 @@ void ReferencePass::execute(FrameContext& ctx) {
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
     if (shadows_ && !traced_shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
+    if (cpu_tracer_ && !per_ray_) {
+        execute_cpu(ctx, prog);
+        return;
+    }
     const GLint loc_first = glGetUniformLocation(prog, "u_first_ray");
     const GLint loc_count = glGetUniformLocation(prog, "u_ray_count");
     const GLint loc_last = glGetUniformLocation(prog, "u_last");
@@ -200,6 +206,98 @@ void ReferencePass::execute_wavefront(FrameContext& ctx, GLuint prog) {
                  {"reference.intersect", intersect},
                  {"reference.transfer", transfer},
                  {"reference.rays_traced", traced}};
+}
+
+namespace {
+template <class T>
+std::vector<T> read_bound_buffer(GLenum target, GLuint index) {
+    GLint id = 0;
+    glGetIntegeri_v(target == GL_UNIFORM_BUFFER ? GL_UNIFORM_BUFFER_BINDING : GL_SHADER_STORAGE_BUFFER_BINDING, index,
+                    &id);
+    if (id == 0) return {};
+    GLint64 bytes = 0;
+    glGetNamedBufferParameteri64v(GLuint(id), GL_BUFFER_SIZE, &bytes);
+    std::vector<T> v(size_t(bytes) / sizeof(T));
+    if (!v.empty()) glGetNamedBufferSubData(GLuint(id), 0, GLsizeiptr(v.size() * sizeof(T)), v.data());
+    return v;
+}
+}  // namespace
+
+// The converged reference on the CPU (passes/reference_cpu.h): the GLSL decodes the G-buffer,
+// the host copies of what the reference shader reads come from the very buffers the renderer
+// bound for it (objects, materials, lights, BVH triangles, vertices, indices, images), and the
+// outputs are uploaded into reference.accum / .reflection / .direct for the composite.
+void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
+    using clock = std::chrono::steady_clock;
+    auto ms = [](clock::time_point a, clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
+    const RenderSettings& s = ctx.settings;
+    const size_t n = size_t(s.width) * size_t(s.height);
+    const auto t0 = clock::now();
+    Buffer decoded = Buffer::create(n * sizeof(CpuGbufferTexel));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, decoded.id());
+    dispatch_2d(s.width, s.height, 1, 8, 8);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<CpuGbufferTexel> gbuffer(n);
+    glGetNamedBufferSubData(decoded.id(), 0, GLsizeiptr(n * sizeof(CpuGbufferTexel)), gbuffer.data());
+
+    CpuReferenceScene scene;
+    scene.frame = ctx.uniforms;
+    const auto ssr = read_bound_buffer<SsrUniforms>(GL_UNIFORM_BUFFER, kSsrSettingsBinding);
+    if (ssr.empty()) throw std::logic_error("reference (cpu): no settings block bound");
+    scene.ssr = ssr[0];
+    scene.lights = read_bound_buffer<GpuLight>(GL_SHADER_STORAGE_BUFFER, kLightsBinding);
+    scene.lights.resize(ctx.scene.lights.size());  // (the buffer keeps room for one when there are none)
+    scene.objects = read_bound_buffer<GpuObject>(GL_SHADER_STORAGE_BUFFER, kObjectsBinding);
+    scene.materials = read_bound_buffer<GpuMaterial>(GL_SHADER_STORAGE_BUFFER, kMaterialsBinding);
+    scene.triangles = read_bound_buffer<BvhTriangle>(GL_SHADER_STORAGE_BUFFER, 6);
+    scene.image_texels = read_bound_buffer<uint32_t>(GL_SHADER_STORAGE_BUFFER, 7);
+    scene.image_info = read_bound_buffer<glm::ivec4>(GL_SHADER_STORAGE_BUFFER, 8);
+    scene.vertex_data = read_bound_buffer<float>(GL_SHADER_STORAGE_BUFFER, 9);
+    scene.index_data = read_bound_buffer<uint32_t>(GL_SHADER_STORAGE_BUFFER, 10);
+    scene.environment_type = environment_type_;
+    if (environment_map_) {
+        GLint w = 0, h = 0;
+        glGetTextureLevelParameteriv(environment_map_, 0, GL_TEXTURE_WIDTH, &w);
+        glGetTextureLevelParameteriv(environment_map_, 0, GL_TEXTURE_HEIGHT, &h);
+        scene.environment_map.resize(size_t(w) * size_t(h));
+        glGetTextureImage(environment_map_, 0, GL_RGBA, GL_FLOAT, GLsizei(scene.environment_map.size() * sizeof(glm::vec4)),
+                          scene.environment_map.data());
+        scene.environment_width = w;
+        scene.environment_height = h;
+    }
+    scene.viewer_is_ray = viewer_is_ray_;
+    scene.embree_scene = cpu_tracer_->scene();
+    const auto t1 = clock::now();
+
+    CpuReference ref(scene, s.width, s.height, std::move(gbuffer));
+    ref.begin();
+    // Rounds of ray indices, for progress and an interruption between them.
+    constexpr int kBatch = 8;
+    for (int first = 0; first < rays_; first += kBatch) {
+        const int count = std::min(kBatch, rays_ - first);
+        ref.trace_rays(first, count);
+        if (progress_ && !progress_(first + count, rays_)) {
+            completed_ = false;
+            return;
+        }
+    }
+    ref.finish();
+    const auto t2 = clock::now();
+
+    auto& r = ctx.resources;
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(r.get("reference.accum").id(), 0, 0, 0, s.width, s.height, GL_RGBA, GL_FLOAT, ref.accum().data());
+    glTextureSubImage2D(r.get("reference.reflection").id(), 0, 0, 0, s.width, s.height, GL_RGBA, GL_FLOAT,
+                        ref.reflection().data());
+    glTextureSubImage3D(r.get("reference.direct").id(), 0, 0, 0, 0, s.width, s.height, 1, GL_RGBA, GL_FLOAT,
+                        ref.direct().data());
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    const auto t3 = clock::now();
+    stage_ms_ = {{"reference.transfer", ms(t0, t1) + ms(t2, t3)},
+                 {"reference.cpu", ms(t1, t2)},
+                 {"reference.rays_traced", ref.rays_traced()}};
 }
 
 }  // namespace ssr

@@ -39,6 +39,14 @@ public:
     // BVH: a wavefront whose ray generation and shading stay in the GLSL source
     // (lib/trace_external.glsl). nullptr: the GLSL traversal.
     void set_tracer(const EmbreeTracer* tracer) { tracer_ = tracer; }
+    // The converged reference traced by Embree and shaded in C++ on every core
+    // (passes/reference_cpu.h), the GLSL only decoding the G-buffer; needs traced shadows or none.
+    // environment_type: the scene's (ENVIRONMENT_TYPE); environment_map: its texture or 0.
+    void set_cpu_tracer(const EmbreeTracer* tracer, int environment_type, GLuint environment_map) {
+        cpu_tracer_ = tracer;
+        environment_type_ = environment_type;
+        environment_map_ = environment_map;
+    }
     // Called after every sample round (rays done, rays asked); returning false stops the pass
     // there (its outputs are then incomplete and must not be used).
     void set_progress(std::function<bool(int, int)> progress) { progress_ = std::move(progress); }
@@ -48,9 +56,13 @@ public:
 
 private:
     void execute_wavefront(FrameContext& ctx, GLuint prog);
+    void execute_cpu(FrameContext& ctx, GLuint prog);
     bool per_ray_, shadows_, traced_shadows_, viewer_is_ray_;
     int rays_;
     const EmbreeTracer* tracer_ = nullptr;
+    const EmbreeTracer* cpu_tracer_ = nullptr;
+    int environment_type_ = 0;
+    GLuint environment_map_ = 0;
     std::function<bool(int, int)> progress_;
     bool completed_ = true;
     std::map<std::string, double> stage_ms_;

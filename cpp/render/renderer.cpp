@@ -601,8 +601,13 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
                                                   uint32_t seed, Sampling sampling, bool viewer_is_ray,
                                                   bool traced_shadows, const std::string& tracer,
                                                   std::function<bool(int, int)> progress) {
-    if (tracer != "auto" && tracer != "embree" && tracer != "glsl")
-        throw std::invalid_argument("reference: tracer must be 'auto', 'embree' or 'glsl', got '" + tracer + "'");
+    if (tracer != "auto" && tracer != "embree" && tracer != "glsl" && tracer != "cpu")
+        throw std::invalid_argument("reference: tracer must be 'auto', 'cpu', 'embree' or 'glsl', got '" + tracer + "'");
+    if (tracer == "cpu" && per_ray)
+        throw std::invalid_argument("reference: tracer 'cpu' traces the converged reference only, not the per-ray one");
+    if (tracer == "cpu" && frame.shadow_light >= 0 && !traced_shadows)
+        throw std::invalid_argument("reference: tracer 'cpu' traces its shadows (shadows='traced'); "
+                                    "the shadow map's filtering is the GLSL tracer's only");
     if (frame.scene_id != scene.id() || frame.scene_revision != scene.revision())
         throw std::invalid_argument("reference: this is not the scene the frame was rendered from (or it changed since)");
     if (per_ray && !frame.has("rays.direction"))
@@ -660,6 +665,10 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     // within the shared machine's noise of it at 160x90, 64 rays); on a GPU the traversal is
     // faster than a round trip through the CPU.
     const bool embree = !per_ray && tracer == "embree";
+    // "auto" on the CPU device: Embree and the C++ port of the shading (passes/reference_cpu.h),
+    // measured faster than both GLSL paths there (docs/reference_tracers.md); on a GPU the GLSL.
+    const bool cpu = !per_ray && (tracer == "cpu" || (tracer == "auto" && ctx_->info().chosen == "cpu" &&
+                                                      (!shadows || traced_shadows)));
     pass.set_progress(std::move(progress));
     CompositePass composite(true, "reference.reflection", "reference.color", "reference.direct");
     std::vector<RenderPass*> chain = {&pass};
@@ -680,6 +689,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
     if (embree) pass.set_tracer(&gs.embree_tracer());
+    if (cpu) pass.set_cpu_tracer(&gs.embree_tracer(), int(scene.environment.type), gs.environment_map());
     // Compile before timing (timings never include compilation).
     pass.program(fc);
     if (!per_ray) shaders_->program({"passes/composite.comp"}, composite.program_defines(fc));

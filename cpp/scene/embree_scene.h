@@ -86,6 +86,8 @@ public:
     // Answers n queries on all cores (threads, each ray by itself: the reflection rays of rough
     // surfaces are incoherent, where Embree's single-ray kernel is its fastest).
     void trace(const TraceQuery* queries, size_t n, TraceAnswer* answers) const;
+    // The RTCScene, for callers that trace their own rays (passes/reference_cpu.h).
+    const void* scene() const { return scene_; }
 
 private:
     void* device_ = nullptr;  // RTCDevice

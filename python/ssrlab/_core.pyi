@@ -722,7 +722,7 @@ class Renderer:
         """
     def reference(self, scene: Scene, frame: Frame, mode: str, rays: typing.SupportsInt | typing.SupportsIndex = 256, seed: typing.SupportsInt | typing.SupportsIndex = 0, sampling: str = 'vndf', viewer: str = 'ray', shadows: str = 'traced', tracer: str = 'auto', progress: typing.Any = None) -> dict[str, float]:
         """
-        Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. tracer: 'embree' (Embree on the CPU), 'glsl' or 'auto' (for now 'glsl', the faster one measured) (the converged reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each sample round; returning False stops it with an error.
+        Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. tracer: 'cpu' (Embree and C++ shading on every core), 'embree' (Embree for the GLSL shading), 'glsl' or 'auto' ('cpu' on the CPU device with traced shadows, else 'glsl') (the converged reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each sample round; returning False stops it with an error.
         """
     def render(self, scene: Scene, camera: Camera, settings: RenderSettings, sequence: typing.Sequence = None) -> Frame:
         """

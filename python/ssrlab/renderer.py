@@ -673,18 +673,23 @@ class Frame:
         (isolating what SSR itself gets wrong from the shadow map's blur). Per-ray references
         trace the SSR rays as they were (from SSR's own origins).
 
-        tracer: who intersects the converged reference's rays. "embree": Embree on the CPU, "glsl":
-        the BVH traversed in the shader; "auto" (default) is "glsl" for now, the faster one on
-        both devices as measured (docs/reference_tracers.md). Ray generation and shading
-        are the same GLSL either way (docs/reference_tracers.md): the two agree per pixel up to
-        float rounding in the intersection. Per-ray references trace in GLSL. `timings` names the
-        stages (reference.shade, reference.intersect, reference.transfer; ms) with Embree.
+        tracer: who traces the converged reference's rays. "cpu": Embree on every core with the
+        shading ported to C++ (ray generation, materials, lights: the same formulas and RNG
+        streams; shadows="traced" only); "embree": Embree intersecting for the GLSL shading;
+        "glsl": the BVH traversed in the shader; "auto" (default) is "cpu" on the CPU device with
+        traced shadows (the fastest there, measured) and "glsl" otherwise
+        (docs/reference_tracers.md). They agree per pixel up to float evaluation order.
+        Per-ray references trace in GLSL. `timings` names the stages (ms): reference.shade,
+        reference.intersect, reference.transfer with "embree"; reference.cpu, reference.transfer
+        with "cpu".
         progress: True shows a bar (tqdm on a terminal, a line per 10% otherwise), or a callable
         progress(done, total) called after each sample round (return False to stop). Ctrl-C
         stops a converged reference between sample rounds (KeyboardInterrupt).
         """
-        if tracer not in ("auto", "embree", "glsl"):
-            raise ValueError(f"tracer must be 'auto', 'embree' or 'glsl', got {tracer!r}")
+        if tracer not in ("auto", "cpu", "embree", "glsl"):
+            raise ValueError(f"tracer must be 'auto', 'cpu', 'embree' or 'glsl', got {tracer!r}")
+        if tracer == "cpu" and kind == "per_ray":
+            raise ValueError("tracer='cpu' traces the converged reference only (per-ray references trace in GLSL)")
         if not (progress is None or isinstance(progress, bool) or callable(progress)):
             raise ValueError(f"progress must be None, a bool or a callable, got {progress!r}")
         if shadows not in ("traced", "map"):

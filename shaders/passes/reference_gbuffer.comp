@@ -1,0 +1,27 @@
+#version 450 core
+// The converged reference's G-buffer for the CPU tracer (cpp/passes/reference_cpu.h): every
+// pixel's layer-0 sample decoded by lib/gbuffer.glsl itself and its linear depth, three vec4
+// per pixel, so that the C++ port starts from the very values the GLSL reference decodes.
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/gbuffer.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(binding = 0) uniform sampler2DArray u_linear_depth;
+layout(binding = 1) uniform sampler2DArray u_albedo;
+layout(binding = 2) uniform sampler2DArray u_normal;
+layout(binding = 3) uniform sampler2DArray u_material;
+
+layout(std430, binding = 13) writeonly buffer Decoded { vec4 decoded[]; };
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, ivec2(frame.viewport.xy)))) return;
+    GSample g = gbuffer_decode(texelFetch(u_albedo, ivec3(p, 0), 0), texelFetch(u_normal, ivec3(p, 0), 0),
+                               texelFetch(u_material, ivec3(p, 0), 0));
+    int i = 3 * (p.y * int(frame.viewport.x) + p.x);
+    decoded[i] = vec4(g.albedo, g.metallic);
+    decoded[i + 1] = vec4(g.normal, g.roughness);
+    decoded[i + 2] = vec4(g.reflectivity, g.covered ? 1.0 : 0.0, float(g.object_id),
+                          texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+}
