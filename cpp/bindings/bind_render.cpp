@@ -192,11 +192,12 @@ void bind_render(py::module_& m) {
             [](Renderer& r, const Scene& scene, const RenderSettings& s) {
                 py::list out;
                 for (const auto& e : r.chain(scene, s))
-                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs));
+                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs, e.history, e.scratch));
                 return out;
             },
             py::arg("scene"), py::arg("settings"),
-            "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs).")
+            "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, "
+            "scratch outputs).")
         .def("begin_sequence", &Renderer::begin_sequence,
              "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
              "its history is dropped with it.")

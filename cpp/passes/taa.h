@@ -19,6 +19,9 @@ public:
     explicit TaaPass(bool thesis) : thesis_(thesis) {}
     std::string name() const override { return "taa"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return s.taa == (thesis_ ? TaaMode::Thesis : TaaMode::Clamped); }
+    std::vector<std::string> history_inputs(const RenderSettings&) const override {
+        return {thesis_ ? "color" : "color.taa"};
+    }
     std::vector<std::string> inputs() const override {
         return thesis_ ? std::vector<std::string>{"color"} : std::vector<std::string>{"color", "reprojection"};
     }

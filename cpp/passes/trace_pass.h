@@ -19,6 +19,7 @@ public:
     explicit TracePass(const ClassifyPass* ray_list = nullptr, bool extra = false)
         : ray_list_(ray_list), extra_(extra) {}
     bool extra() const { return extra_; }
+    std::string stage() const override { return extra_ ? "trace_extra" : "trace"; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         if (extra_) return {};
         const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();

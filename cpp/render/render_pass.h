@@ -24,15 +24,23 @@
 
 namespace ssr {
 
+// How long a declared texture lives. Frame: with the frame that wrote it (frame.read()), in a
+// texture set pooled for reuse. History: as Frame, and a later frame of a sequence reads it
+// (the pass that reads it declares it in history_inputs()). Scratch: one copy per renderer,
+// shared by every frame (the shadow map, the Hi-Z pyramid): only later passes of the same frame
+// read it, and Python right after the render.
+enum class Lifetime { Frame, History, Scratch };
+
 struct ResourceDesc {
     std::string name;
     GLenum format = GL_RGBA8;
     int width = 0, height = 0;
     int layers = 0;  // 0: a 2D texture; n >= 1: a 2D array of n layers
     int levels = 1;  // 0: a full mip chain
+    Lifetime lifetime = Lifetime::Frame;
     bool operator==(const ResourceDesc& o) const {
         return name == o.name && format == o.format && width == o.width && height == o.height &&
-               layers == o.layers && levels == o.levels;
+               layers == o.layers && levels == o.levels && lifetime == o.lifetime;
     }
 };
 
@@ -119,6 +127,12 @@ public:
     virtual bool runs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<std::string> inputs() const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
+    // Textures of the previous frame of a sequence the pass reads when they are there (and falls
+    // back without): declared, so the chain shows what a frame keeps for the next one.
+    virtual std::vector<std::string> history_inputs(const RenderSettings& s) const { return {}; }
+    // The stage of the chain the pass fills ("trace" for the screen-space tracers): a user pass
+    // declared for that stage takes its place (passes/user_pass.h). Empty: no replaceable stage.
+    virtual std::string stage() const { return ""; }
     // Settings this device cannot hold for this pass (a buffer too large), before anything is
     // allocated: throws std::invalid_argument naming the setting.
     virtual void check_device(const RenderSettings& s) const {}

@@ -62,6 +62,8 @@ public:
     struct ChainEntry {
         std::string pass;
         std::vector<std::string> inputs, outputs;
+        std::vector<std::string> history;  // read from the previous frame of a sequence (history_inputs)
+        std::vector<std::string> scratch;  // the outputs that are per-renderer scratch (Lifetime::Scratch)
     };
     std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings);
     // A new, empty sequence of frames (its history lives as long as it does).
@@ -112,9 +114,9 @@ public:
     // Used by Frame::read: copies a texture level into host memory through readback.comp.
     Readback read_texture(const Texture& tex, int level);
 
-    // Per-renderer scratch: textures no one reads after the frame, shared by all
-    // frames instead of one copy per kept frame.
-    static bool is_scratch(const std::string& name);
+    // Whether `name` is a per-renderer scratch texture (declared Lifetime::Scratch): shared by
+    // all frames instead of one copy per kept frame.
+    bool is_scratch(const std::string& name) const { return scratch_.owns(name); }
     // The scratch texture `name` if it still holds frame `serial`'s content, else null.
     const Texture* scratch_of(const std::string& name, uint64_t serial) const;
     std::vector<std::string> scratch_names_of(uint64_t serial) const;
@@ -142,6 +144,17 @@ private:
     // The passes of a frame with these settings and facts: those of passes_ that say they run.
     std::vector<RenderPass*> build_chain(const RenderSettings& s, const FrameFacts& facts) const;
     FrameFacts facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const;
+    // The defines every pass of a frame of `scene` compiles with (depth convention, environment, ...).
+    Defines common_defines(const Scene& scene, const GpuScene& gs, const DepthConvention& depth) const;
+    // The textures of a chain, checked (each input written before it is read, the device's limits,
+    // its memory) before any is allocated (resource_plan.cpp).
+    struct ResourcePlan {
+        std::vector<ResourceDesc> descs;
+        size_t bytes = 0;
+        std::string sized_by;  // the settings that size them, for messages
+    };
+    ResourcePlan plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s) const;
+    static std::string gib(size_t bytes);
     void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
     void destroy_gl_objects();
     // Integrates the specular-albedo table on first use and binds it to its texture unit.
@@ -166,7 +179,7 @@ private:
     std::list<CachedScene> scenes_;  // most recently used first
     std::vector<std::shared_ptr<FrameResources>> pool_;
     std::set<std::string> warmed_variants_;  // variants whose first-use costs were paid untimed
-    FrameResources scratch_;                        // shadow map, hiz: see is_scratch
+    FrameResources scratch_;                        // outputs declared Lifetime::Scratch
     std::map<std::string, uint64_t> scratch_owner_;  // scratch name -> serial of the frame it holds
     uint64_t next_serial_ = 1;
     size_t freed_since_trim_ = 0;  // bytes of texture sets freed since the last malloc_trim

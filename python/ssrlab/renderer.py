@@ -154,8 +154,8 @@ class Renderer:
 
             scene = mirror_test()
         settings = settings.resolved(self.info["device"])
-        return Chain([ChainPass(name, tuple(ins), tuple(outs))
-                      for name, ins, outs in self._native.chain(scene, settings.to_native())])
+        return Chain([ChainPass(name, tuple(ins), tuple(outs), tuple(hist), tuple(scratch))
+                      for name, ins, outs, hist, scratch in self._native.chain(scene, settings.to_native())])
 
     def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, **overrides):
         """Renders the frames of a camera path as one sequence and yields their Frames in order.
@@ -303,11 +303,16 @@ class Renderer:
 
 @dataclasses.dataclass(frozen=True)
 class ChainPass:
-    """One pass of a chain: its name and the resources (textures) it reads and writes."""
+    """One pass of a chain: its name and the resources (textures) it reads and writes; `history`:
+    what it reads from the previous frame of a sequence when there is one; `scratch`: those of its
+    outputs that are per-renderer scratch (one copy shared by every frame; read them right after
+    the render)."""
 
     name: str
     inputs: tuple[str, ...]
     outputs: tuple[str, ...]
+    history: tuple[str, ...] = ()
+    scratch: tuple[str, ...] = ()
 
 
 class Chain(list):
@@ -323,6 +328,10 @@ class Chain(list):
             lines.append(f"{i + 1:>2}. {p.name}")
             lines.append(f"      reads:  {', '.join(p.inputs) or '-'}")
             lines.append(f"      writes: {', '.join(p.outputs) or '-'}")
+            if p.history:
+                lines.append(f"      reads from the previous frame: {', '.join(p.history)}")
+            if p.scratch:
+                lines.append(f"      scratch: {', '.join(p.scratch)}")
         return "\n".join(lines)
 
     def markdown(self) -> str:
