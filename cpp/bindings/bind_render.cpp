@@ -55,6 +55,12 @@ void bind_render(py::module_& m) {
         "with probe, each one's OpenGL vendor and renderer from a context made and destroyed at once.");
     py::class_<RenderSettings>(m, "RenderSettings", "Native settings; build them with ssrlab.Settings.")
         .def(py::init<>())
+        .def_property(
+            "user_passes", [](const RenderSettings& s) { return s.user.passes; },
+            [](RenderSettings& s, const std::vector<std::string>& v) { s.user.passes = v; })
+        .def_property(
+            "user_params", [](const RenderSettings& s) { return s.user.params; },
+            [](RenderSettings& s, const std::map<std::string, double>& v) { s.user.params = v; })
         .def_readwrite("width", &RenderSettings::width)
         .def_readwrite("height", &RenderSettings::height)
         .def_readwrite("layers", &RenderSettings::layers)
@@ -187,6 +193,27 @@ void bind_render(py::module_& m) {
                std::shared_ptr<Sequence> sequence) { return r.render(scene, camera, s, sequence.get()); },
             py::arg("scene"), py::arg("camera"), py::arg("settings"), py::arg("sequence") = nullptr,
             "Runs the chain of passes; returns the Frame (with a sequence: reads and becomes its history).")
+        .def(
+            "register_user_pass",
+            [](Renderer& r, const std::string& name, const std::string& shader, const std::string& stage,
+               const std::string& dispatch, const std::vector<std::string>& reads, const std::vector<std::string>& writes,
+               const std::vector<std::tuple<std::string, std::string, std::string>>& creates,
+               const std::vector<std::tuple<std::string, std::string, double>>& params) {
+                UserPassDesc d;
+                d.name = name;
+                d.shader = shader;
+                d.stage = stage;
+                d.dispatch = dispatch;
+                d.reads = reads;
+                d.writes = writes;
+                for (const auto& [n, f, s] : creates) d.creates.push_back({n, f, s});
+                for (const auto& [n, ty, v] : params) d.params.push_back({n, ty, v});
+                r.register_user_pass(d);
+            },
+            py::arg("name"), py::arg("shader"), py::arg("stage"), py::arg("dispatch"), py::arg("reads"),
+            py::arg("writes"), py::arg("creates"), py::arg("params"),
+            "Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass "
+            "and the resource it may not read or write.")
         .def(
             "chain",
             [](Renderer& r, const Scene& scene, const RenderSettings& s) {

@@ -181,10 +181,13 @@ GLuint ShaderLibrary::compile_stage(const std::string& stage, const Defines& def
         const std::string translated = translate_shader_log(log.c_str(), src.files, &file, &line);
         std::string defs;
         for (const auto& [k, v] : defines) defs += " " + k + "=" + v;
-        throw ShaderError("GLSL compile error in shaders/" + file + ":" + std::to_string(line) +
+        // Files of the shader tree are named as shaders/<file>; a file outside it (a user pass's)
+        // by its own path.
+        const std::string shown = fs::path(file).is_absolute() ? file : "shaders/" + file;
+        throw ShaderError("GLSL compile error in " + shown + ":" + std::to_string(line) +
                               " (stage " + stage + (defs.empty() ? "" : ", defines" + defs) + ")\n" +
                               translated,
-                          "shaders/" + file, line);
+                          shown, line);
     }
     return shader;
 }

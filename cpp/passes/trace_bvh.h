@@ -26,6 +26,7 @@ class TraceBvhPass : public TracePass {
 public:
     TraceBvhPass(bool fallback, bool shadows) : fallback_(fallback), shadows_(shadows) {}
     std::string name() const override { return fallback_ ? "fallback_bvh" : "trace_bvh"; }
+    std::string stage() const override { return "bvh"; }  // not the screen-space trace a user pass replaces
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         // Seed 003's ray-traced reflections (every ray), or the hybrid's fallback after a
         // screen-space tracer (thesis 4.3); the variant with or without the shadow map.

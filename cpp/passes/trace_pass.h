@@ -5,6 +5,8 @@
 //   rays.direction RGBA32F: view-space direction of the ray
 #pragma once
 
+#include <functional>
+
 #include "passes/classify.h"
 #include "render/render_pass.h"
 
@@ -32,7 +34,9 @@ protected:
     // Binds the G-buffer (units 0-3) and the ray textures (images 0-2), runs the shader
     // `stage` over every (trace pixel, ray), or with Settings.skip over the classify pass's
     // ray list only (indirect dispatch).
-    void run(FrameContext& ctx, const std::string& stage);
+    // `setup` (optional) is called with the program in use, before the dispatch (a user pass's
+    // parameters).
+    void run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup = {});
 
 private:
     const ClassifyPass* ray_list_;

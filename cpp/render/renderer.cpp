@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <set>
 
 #include "core/errors.h"
 
@@ -14,6 +15,142 @@ namespace ssr {
 namespace {
 constexpr size_t kSceneCacheSize = 8;
 }  // namespace
+
+std::vector<UserPass*> Renderer::check_user_settings(const RenderSettings& s) const {
+    std::vector<UserPass*> chosen;
+    auto find = [&](const std::string& name) -> UserPass* {
+        for (const auto& u : user_passes_)
+            if (u->name() == name) return u.get();
+        return nullptr;
+    };
+    auto registered = [&] {
+        std::string names;
+        for (const auto& u : user_passes_) names += (names.empty() ? "" : ", ") + u->name();
+        return names.empty() ? std::string("none: Renderer.register_pass adds one") : names;
+    };
+    for (const auto& name : s.user.passes) {
+        UserPass* u = find(name);
+        if (!u)
+            throw std::invalid_argument("Settings.user_passes names '" + name +
+                                        "', which is not registered on this renderer (registered: " + registered() + ")");
+        for (const UserPass* c : chosen)
+            if (c->stage() == u->stage())
+                throw std::invalid_argument("Settings.user_passes: '" + c->name() + "' and '" + name +
+                                            "' both fill the stage '" + u->stage() + "'");
+        if (u->stage() == "trace") {
+            if (s.method != TraceMethod::Linear && s.method != TraceMethod::Hiz)
+                throw std::invalid_argument("Settings.user_passes: the trace pass '" + name +
+                                            "' takes the place of the screen-space trace; Settings.method must be "
+                                            "'linear' or 'hiz' (it chooses the passes around it: 'hiz' builds the "
+                                            "Hi-Z pyramid)");
+            if (s.variance_rays)
+                throw std::invalid_argument("Settings.user_passes: the trace pass '" + name +
+                                            "' does not serve Settings.variance_rays (its second trace is built in)");
+        }
+        chosen.push_back(u);
+    }
+    for (const auto& [key, value] : s.user.params) {
+        const size_t dot = key.rfind('.');
+        UserPass* u = dot == std::string::npos ? nullptr : find(key.substr(0, dot));
+        if (!u)
+            throw std::invalid_argument("Settings.user_params['" + key + "']: no registered user pass '" +
+                                        key.substr(0, dot == std::string::npos ? key.size() : dot) +
+                                        "' (keys are '<pass>.<param>'; registered: " + registered() + ")");
+        const auto& params = u->desc().params;
+        if (std::none_of(params.begin(), params.end(), [&](const UserParam& p) { return p.name == key.substr(dot + 1); })) {
+            std::string names;
+            for (const auto& p : params) names += (names.empty() ? "" : ", ") + p.name;
+            throw std::invalid_argument("Settings.user_params['" + key + "']: user pass '" + u->name() +
+                                        "' has no parameter '" + key.substr(dot + 1) + "' (it has: " +
+                                        (names.empty() ? "none" : names) + ")");
+        }
+    }
+    return chosen;
+}
+
+void Renderer::register_user_pass(const UserPassDesc& d) {
+    auto fail = [&](const std::string& m) { throw std::invalid_argument("user pass '" + d.name + "': " + m); };
+    auto join = [](const std::vector<std::string>& v) {
+        std::string out;
+        for (const auto& x : v) out += (out.empty() ? "'" : ", '") + x + "'";
+        return out;
+    };
+    if (d.name.empty()) throw std::invalid_argument("user pass: the name is empty");
+    for (const RenderPass* p : passes_)
+        if (p->name() == d.name) fail("a built-in pass has this name");
+    for (const auto& u : user_passes_)
+        if (u->name() == d.name) fail("a user pass of this name is registered on this renderer already");
+    if (d.stage != "trace" && d.stage != "reflection_filter")
+        fail("stage must be 'trace' or 'reflection_filter', got '" + d.stage + "'");
+    if (d.stage == "trace" && d.dispatch != "ray" && d.dispatch != "list")
+        fail("a trace pass dispatches per ray: dispatch must be 'ray' (over classify's list with Settings.skip) "
+             "or 'list' (classify's list only), got '" + d.dispatch + "'");
+    if (d.stage == "reflection_filter" && d.dispatch != "pixel" && d.dispatch != "ray")
+        fail("a reflection_filter dispatches per pixel: dispatch must be 'pixel' or 'ray', got '" + d.dispatch + "'");
+    // Who writes what, in registry order: the union over settings that switch outputs on.
+    std::vector<RenderSettings> variants(2);
+    variants[1].specular_occlusion = SpecularOcclusion::Horizon;
+    variants[1].method = TraceMethod::Hiz;
+    std::map<std::string, std::pair<std::string, size_t>> owner;  // resource -> (pass, registry index)
+    size_t at = passes_.size();
+    for (size_t i = 0; i < passes_.size(); ++i) {
+        const RenderPass* p = passes_[i];
+        if (at == passes_.size() && d.stage == "trace" && p->stage() == "trace") at = i;
+        if (d.stage == "reflection_filter" && p == &resolve_) at = i + 1;
+        for (const auto& s : variants)
+            for (const auto& o : p->outputs(s)) owner.emplace(o.name, std::make_pair(p->name(), i));
+    }
+    // Earlier user passes' own textures: written at their stage's place.
+    for (const auto& u : user_passes_) {
+        size_t uat = 0;
+        for (size_t i = 0; i < passes_.size(); ++i) {
+            if (u->stage() == "trace" && passes_[i]->stage() == "trace") { uat = i; break; }
+            if (u->stage() == "reflection_filter" && passes_[i] == &resolve_) { uat = i + 1; break; }
+        }
+        for (const auto& c : u->desc().creates) owner.emplace(c.name, std::make_pair(u->name(), uat));
+    }
+    const std::vector<std::string> allowed = UserPass::stage_writes(d.stage);
+    for (const auto& r : d.reads) {
+        auto it = owner.find(r);
+        if (it == owner.end()) fail("reads '" + r + "', which no pass writes");
+        const bool own = std::find(allowed.begin(), allowed.end(), r) != allowed.end() && d.stage == "reflection_filter";
+        if (it->second.second >= at && !own)
+            fail("reads '" + r + "', which no pass before its stage '" + d.stage + "' writes ('" + it->second.first +
+                 "' writes it later)");
+    }
+    if (d.stage == "trace" && d.writes != allowed)
+        fail("a trace pass writes exactly " + join(allowed) + " (the ray textures the resolve, the stats and the "
+             "per-ray reference read), got " + (d.writes.empty() ? std::string("none") : join(d.writes)));
+    for (const auto& w : d.writes) {
+        if (std::find(allowed.begin(), allowed.end(), w) != allowed.end()) continue;
+        auto it = owner.find(w);
+        if (it != owner.end())
+            fail("writes '" + w + "', which pass '" + it->second.first + "' owns; a " + d.stage + " pass writes " +
+                 join(allowed) + " and the textures it creates");
+        fail("writes '" + w + "', which no pass declares: declare it in creates with its format and size");
+    }
+    std::set<std::string> created;
+    for (const auto& c : d.creates) {
+        auto it = owner.find(c.name);
+        if (it != owner.end()) fail("creates '" + c.name + "', which pass '" + it->second.first + "' owns already");
+        if (!created.insert(c.name).second) fail("creates '" + c.name + "' twice");
+        if (!UserPass::parse_format(c.format))
+            fail("creates '" + c.name + "' with format '" + c.format +
+                 "' (formats: rgba8, rgba16f, rgba32f, rg16f, rg32f, r16f, r32f)");
+        if (c.size != "image" && c.size != "trace" && c.size != "rays")
+            fail("creates '" + c.name + "' with size '" + c.size + "' (sizes: image, trace, rays)");
+    }
+    for (const auto& p : d.params)
+        if (p.type != "float" && p.type != "int" && p.type != "bool")
+            fail("parameter '" + p.name + "' has type '" + p.type + "' (types: float, int, bool)");
+    user_passes_.push_back(std::make_unique<UserPass>(d, &classify_));
+}
+
+std::vector<UserPassDesc> Renderer::user_passes() const {
+    std::vector<UserPassDesc> out;
+    for (const auto& u : user_passes_) out.push_back(u->desc());
+    return out;
+}
 
 // The defines every pass of a frame of `scene` compiles with.
 Defines Renderer::common_defines(const Scene& scene, const GpuScene& gs, const DepthConvention& depth) const {
@@ -101,6 +238,7 @@ void Renderer::destroy_gl_objects() {
     depth_peel_.release();
     fallback_probes_shadowed_.release();
     fallback_probes_unshadowed_.release();
+    for (auto& u : user_passes_) u->release();
 }
 
 const GpuScene& Renderer::gpu_scene(const Scene& scene) {
@@ -125,9 +263,23 @@ const GpuScene& Renderer::gpu_scene(const Scene& scene) {
 // no Hi-Z pyramid for the linear tracer (unless the cone needs it), no pre-convolution or
 // pre-integrated visibility for stochastic glossy reflections.
 std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, const FrameFacts& facts) const {
+    const std::vector<UserPass*> chosen = check_user_settings(s);
     std::vector<RenderPass*> chain;
-    for (RenderPass* p : passes_)
-        if (p->runs(s, facts)) chain.push_back(p);
+    for (RenderPass* p : passes_) {
+        if (!p->runs(s, facts)) continue;
+        // A chosen user pass of this pass's stage takes its place.
+        auto user = std::find_if(chosen.begin(), chosen.end(),
+                                 [&](const UserPass* u) { return !p->stage().empty() && u->stage() == p->stage(); });
+        if (user != chosen.end()) {
+            if (std::find(chain.begin(), chain.end(), *user) == chain.end()) chain.push_back(*user);
+            continue;
+        }
+        chain.push_back(p);
+        // A filter of the reflection runs right after the resolve.
+        if (p == &resolve_)
+            for (UserPass* u : chosen)
+                if (u->stage() == "reflection_filter") chain.push_back(u);
+    }
     return chain;
 }
 

@@ -38,6 +38,7 @@
 #include "passes/trace_bvh.h"
 #include "passes/trace_hiz.h"
 #include "passes/trace_linear.h"
+#include "passes/user_pass.h"
 #include "passes/variance_rays.h"
 #include "render/frame.h"
 #include "render/gpu_scene.h"
@@ -66,6 +67,12 @@ public:
         std::vector<std::string> scratch;  // the outputs that are per-renderer scratch (Lifetime::Scratch)
     };
     std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings);
+    // Registers a user pass (passes/user_pass.h) after checking its declaration against the passes
+    // this renderer has: a name no other pass has; reads that an earlier pass (or an earlier user
+    // pass) writes; writes only its stage's resources; new textures no pass declares. Throws
+    // std::invalid_argument naming the pass and the resource (and the pass that owns it).
+    void register_user_pass(const UserPassDesc& desc);
+    std::vector<UserPassDesc> user_passes() const;
     // A new, empty sequence of frames (its history lives as long as it does).
     std::shared_ptr<Sequence> begin_sequence() { return std::make_shared<Sequence>(ctx_); }
     static glm::vec2 taa_jitter(TaaMode mode, int index);
@@ -144,6 +151,9 @@ private:
     // The passes of a frame with these settings and facts: those of passes_ that say they run.
     std::vector<RenderPass*> build_chain(const RenderSettings& s, const FrameFacts& facts) const;
     FrameFacts facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const;
+    // Settings.user_passes and user_params against the registered user passes (invalid_argument
+    // naming them); returns the chosen passes.
+    std::vector<UserPass*> check_user_settings(const RenderSettings& s) const;
     // The defines every pass of a frame of `scene` compiles with (depth convention, environment, ...).
     Defines common_defines(const Scene& scene, const GpuScene& gs, const DepthConvention& depth) const;
     // The textures of a chain, checked (each input written before it is read, the device's limits,
@@ -228,6 +238,9 @@ private:
         &blur_mips_, &resolve_fetch_, &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_,
         &composite_denoised_, &composite_temporal_, &composite_reflections_, &composite_plain_, &taa_thesis_,
         &taa_clamped_};
+    // User passes (register_user_pass), in registration order: build_chain puts those
+    // Settings.user_passes names in their stage's place.
+    std::vector<std::unique_ptr<UserPass>> user_passes_;
 };
 
 }  // namespace ssr

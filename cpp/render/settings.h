@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "render/depth_convention.h"
 
@@ -130,6 +132,14 @@ struct RenderSettings {
     float svgf_sigma_depth = 1.0f;      // sigma_z: depth difference over the depth gradient's prediction
     float svgf_sigma_normal = 128.0f;   // sigma_n: exponent on the normals' cosine
     float svgf_sigma_luminance = 4.0f;  // sigma_l: luminance difference in standard deviations
+
+    // User passes (passes/user_pass.h) a render runs, by name, and their parameters by
+    // "<pass>.<param>" (the declared default where absent); checked against the renderer's
+    // registered passes (Renderer::check_user_settings).
+    struct UserPassSettings {
+        std::vector<std::string> passes;
+        std::map<std::string, double> params;
+    } user;
 
     // Rays traced per pixel: the cone and blur_mips methods trace one mirror ray.
     int traced_rays() const { return glossy == Glossy::Stochastic ? rays_per_pixel : 1; }
