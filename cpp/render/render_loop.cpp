@@ -122,9 +122,14 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         frame->passes.clear();
         fc.layers_used = -1;
         for (RenderPass* p : chain) {
-            {
+            try {
                 GpuScope t(timer_, p->name());
                 p->execute(fc);
+            } catch (const ShaderError&) {
+                // The compiler's message is the ShaderError's: it must not come back as a GLError
+                // from the driver's debug output at the next call (a user pass's shader being edited).
+                ctx_->take_debug_errors();
+                throw;
             }
             check_gl(*ctx_, p->name().c_str());
             frame->passes.push_back(p->name());
