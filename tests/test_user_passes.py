@@ -145,3 +145,21 @@ def test_a_sweep_varies_a_user_parameter_and_scores_it_against_the_converged_ref
         assert r["gpu_bilateral_filter_ms"] > 0.0 and np.isfinite(r["thesis_error"])
     assert rows[0]["thesis_error"] != rows[1]["thesis_error"]
     assert len(bench.pareto_front(rows)) >= 1
+
+
+def test_the_view_space_march_example_traces_and_its_steps_act():
+    from examples.view_space_march.technique import view_space_march
+
+    r = ssrlab.Renderer("cpu")
+    r.register_pass(view_space_march())
+    scene = scenes.mirror_test()
+    s = ssrlab.Settings(**SMALL, method="linear", user_passes=("view_space_march",))
+    hits = []
+    for steps in (2, 64):
+        f = r.render(scene, settings=s.replace(**{"view_space_march.steps": steps}))
+        assert "view_space_march" in f.passes and "trace_linear" not in f.passes
+        hits.append(int(np.count_nonzero(f.read("rays.hit")[..., 2] > 0)))
+        assert f.stats["rays_traced"] > 0 and f.stats["depth_fetches"] > 0  # stats read its rays.sample
+    assert 0 < hits[0] < hits[1]
+    ref = f.reference("per_ray")  # the per-ray reference reads the user pass's rays unchanged
+    assert ref.hit.shape[-2:] == (SMALL["height"], SMALL["width"]) and ref.hit.any()
