@@ -163,3 +163,42 @@ def test_the_view_space_march_example_traces_and_its_steps_act():
     assert 0 < hits[0] < hits[1]
     ref = f.reference("per_ray")  # the per-ray reference reads the user pass's rays unchanged
     assert ref.hit.shape[-2:] == (SMALL["height"], SMALL["width"]) and ref.hit.any()
+
+
+def test_ssrlab_bench_sweeps_a_user_parameter_from_a_sweep_file(tmp_path):
+    import csv
+    import os
+    import subprocess
+
+    sweep = tmp_path / "user.toml"
+    sweep.write_text(f'''
+user_passes = ["{ROOT / "examples" / "view_space_march" / "technique.py"}:view_space_march"]
+scenes = ["mirror_test"]
+repeats = 1
+warmup = 0
+reference = "converged"
+reference_rays = 4
+device = "cpu"
+[base]
+width = 64
+height = 48
+method = "linear"
+user_passes = ["view_space_march"]
+[grid]
+"view_space_march.steps" = [2, 64]
+''')
+    env = {**os.environ, "SSRLAB_CACHE": str(tmp_path / "cache")}
+    r = subprocess.run([sys.executable, "-m", "ssrlab", "bench", str(sweep), "--out", str(tmp_path / "out")],
+                       capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-4000:]
+    rows = list(csv.DictReader((tmp_path / "out" / "rows.csv").open()))
+    assert [row["s_view_space_march.steps"] for row in rows] == ["2", "64"]
+    errors = [float(row["thesis_error"]) for row in rows]
+    assert all(float(row["gpu_view_space_march_ms"]) > 0 for row in rows)
+    assert errors[1] < errors[0]  # 64 steps find more of the mirror's reflection than 2
+
+
+def test_the_example_sweep_file_loads_and_plans():
+    config = bench.load_sweep(ROOT / "examples" / "sweeps" / "user_passes.toml")
+    plan = bench.plan_sweep(config["grid"], config["scenes"], config.get("views"), config["base"])
+    assert len(plan) == 6 and {"view_space_march", "bilateral_filter"} <= set(ssrlab.user_pass.declared())

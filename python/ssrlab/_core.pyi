@@ -1112,6 +1112,22 @@ class RenderSettings:
     def thickness_scale(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
+    def user_params(self) -> dict[str, float]:
+        """
+        ssrlab.Settings.user_params: parameters of user passes, '<pass>.<param>' -> value (absent: the declared default); a sweep or replace() may name a key directly: replace(**{'<pass>.<param>': value})
+        """
+    @user_params.setter
+    def user_params(self, arg1: collections.abc.Mapping[str, typing.SupportsFloat | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def user_passes(self) -> list[str]:
+        """
+        ssrlab.Settings.user_passes: user passes this render runs, by name (registered with Renderer.register_pass); each takes its stage's place (a 'trace' replaces the screen-space trace, a 'reflection_filter' follows the resolve)
+        """
+    @user_passes.setter
+    def user_passes(self, arg1: collections.abc.Sequence[str]) -> None:
+        ...
+    @property
     def variance_rays(self) -> bool:
         """
         ssrlab.Settings.variance_rays: with adaptive_rays: a variance_rays pass measures how much the first pass's rays disagree over each trace pixel's 3x3 neighbourhood and a second trace adds the rays adaptive_rays left out (up to rays_per_pixel) where they disagree by variance_threshold or more (FidelityFX SSSR's variance-guided extra rays); the resolve averages them with the weights they were drawn with
@@ -1242,7 +1258,7 @@ class Renderer:
         """
     def chain(self, scene: Scene, settings: RenderSettings) -> list:
         """
-        The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs).
+        The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, scratch outputs).
         """
     def check_gl(self) -> None:
         """
@@ -1269,6 +1285,10 @@ class Renderer:
     def reference(self, scene: Scene, frame: Frame, mode: str, rays: typing.SupportsInt | typing.SupportsIndex = 256, seed: typing.SupportsInt | typing.SupportsIndex = 0, sampling: str = 'vndf', viewer: str = 'ray', shadows: str = 'traced', tracer: str = 'auto', progress: typing.Any = None) -> dict[str, float]:
         """
         Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. tracer: 'embree' (Embree on the CPU), 'glsl' or 'auto' (for now 'glsl', the faster one measured) (the converged reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each sample round; returning False stops it with an error.
+        """
+    def register_user_pass(self, name: str, shader: str, stage: str, dispatch: str, reads: collections.abc.Sequence[str], writes: collections.abc.Sequence[str], creates: collections.abc.Sequence[tuple[str, str, str]], params: collections.abc.Sequence[tuple[str, str, typing.SupportsFloat | typing.SupportsIndex]]) -> None:
+        """
+        Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass and the resource it may not read or write.
         """
     def render(self, scene: Scene, camera: Camera, settings: RenderSettings, sequence: typing.Sequence = None) -> Frame:
         """

@@ -111,7 +111,7 @@ REFLECTION_PASSES = ("trace_linear", "trace_hiz", "hiz_build", "resolve",
                      "preconvolve", "preintegrate", "cone_trace", "blur_mips")  # the glossy methods' passes
 VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
 SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
-                   "reference_rays", "device", "frames", "sequence")
+                   "reference_rays", "device", "frames", "sequence", "user_passes")
 SETTINGS_FIELDS = tuple(f.name for f in fields(Settings))
 # Row columns that are times (with every gpu_<pass>_ms column).
 TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
@@ -1119,7 +1119,9 @@ def load_sweep(path) -> dict:
 
     Top-level keys: scenes (required), views, repeats, warmup, reference, reference_rays,
     device, frames (N > 1: render N frames of a static camera, score the last), sequence (true:
-    one sequence of warmup + repeats frames, see sweep), description (free text, not passed on), and the tables base (Settings fields of
+    one sequence of warmup + repeats frames, see sweep), user_passes (a list of "<file.py>:<function>"
+    each returning an ssrlab.UserPass, relative to the sweep file first: their parameters are grid
+    keys "<pass>.<param>", quoted in TOML), description (free text, not passed on), and the tables base (Settings fields of
     every run) and grid (Settings field -> list of values). Other keys raise ValueError
     naming them. A relative glTF path is looked up beside the sweep file first.
     """
@@ -1156,7 +1158,16 @@ def load_sweep(path) -> dict:
                 spec = str((path.parent / spec).resolve())
             resolved.append(spec)
         scenes = resolved
-    kwargs = {k: v for k, v in data.items() if k != "description"}
+    # user_passes: "<file.py>:<function>" returning an ssrlab.UserPass (relative to the sweep file),
+    # declared here so that base and grid may name it and its parameters ("<pass>.<param>", quoted).
+    from .user_pass import load as load_user_pass
+
+    specs = data.get("user_passes", [])
+    if not isinstance(specs, list):
+        raise ValueError(f"sweep file {path}: 'user_passes' must be a list of '<file.py>:<function>'")
+    for spec in specs:
+        load_user_pass(spec, path.parent)
+    kwargs = {k: v for k, v in data.items() if k not in ("description", "user_passes")}
     kwargs["scenes"] = scenes
     kwargs.setdefault("grid", {})
     return kwargs

@@ -211,3 +211,30 @@ def check_params(params: dict) -> dict:
                              f"(Renderer.register_pass; registered: {', '.join(_DECLARED) or 'none'})")
         out[key] = p.param(name).check(value, f"Settings.user_params[{key!r}]")
     return dict(sorted(out.items()))
+
+
+def load(spec: str, folder: Path | None = None) -> UserPass:
+    """The UserPass that "<file.py>:<function>" returns (a path relative to `folder` first), declared
+    in this process (so that Settings and the sweeps' renderers know it): how sweep files name
+    user passes (ssrlab.bench.load_sweep's key user_passes)."""
+    import importlib.util
+
+    if not isinstance(spec, str) or ":" not in spec:
+        raise ValueError(f"a user pass is named '<file.py>:<function>', got {spec!r}")
+    file, _, func = spec.rpartition(":")
+    path = Path(file)
+    if folder is not None and not path.is_absolute() and (Path(folder) / path).is_file():
+        path = Path(folder) / path
+    if not path.is_file():
+        raise FileNotFoundError(f"user pass {spec!r}: {file} not found")
+    module_spec = importlib.util.spec_from_file_location(f"ssrlab_user_pass_{path.stem}", path)
+    module = importlib.util.module_from_spec(module_spec)
+    module_spec.loader.exec_module(module)
+    make = getattr(module, func, None)
+    if make is None:
+        raise ValueError(f"user pass {spec!r}: {path} has no function {func!r}")
+    p = make()
+    if not isinstance(p, UserPass):
+        raise TypeError(f"user pass {spec!r}: {func}() returned {type(p).__name__}, not an ssrlab.UserPass")
+    declare(p)
+    return p
