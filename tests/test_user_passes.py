@@ -202,3 +202,26 @@ def test_the_example_sweep_file_loads_and_plans():
     config = bench.load_sweep(ROOT / "examples" / "sweeps" / "user_passes.toml")
     plan = bench.plan_sweep(config["grid"], config["scenes"], config.get("views"), config["base"])
     assert len(plan) == 6 and {"view_space_march", "bilateral_filter"} <= set(ssrlab.user_pass.declared())
+
+
+def test_the_user_passes_notebook_places_the_examples_on_the_front(tmp_path, monkeypatch):
+    nbclient = pytest.importorskip("nbclient")
+    import nbformat
+
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_SCALE", "small")
+    monkeypatch.setenv("SSRLAB_NOTEBOOK_OUT", str(tmp_path / "figures"))
+    monkeypatch.setenv("SSRLAB_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("SSRLAB_EXAMPLES", str(ROOT / "examples"))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(ROOT / "notebooks" / "user_passes.ipynb", as_version=4)
+    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    assert (tmp_path / "figures" / "user_passes_pareto.png").stat().st_size > 10_000
+    text = "\n".join(o.get("data", {}).get("text/markdown", "") for c in nb.cells if c.cell_type == "code"
+                     for o in c.get("outputs", []))
+    rows = [l for l in text.splitlines() if l.startswith("| ") and "**" in l]
+    assert len(rows) == 2 * (1 + 1 + 3 + 2)  # two scenes x every configuration
+    assert any("view_space_march (steps=128)" in l for l in rows) and any("bilateral_filter" in l for l in rows)
+    # one timed run: every verdict says it is too small to judge, and why
+    assert all("**too small to judge**" in l and "one timed run" in l for l in rows)
+    assert sum(l.split(" | ")[4] == "yes" for l in rows) == 2  # the least error of each scene, computed

@@ -512,7 +512,8 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     row["mean_fetches"] = frame.rays.mean_fetches() if "rays.hit" in frame.texture_names else None
     for k in timing_keys:
         _with_spread(row, _timing_column(k), [t[k] for t in frames_timings if k in t])
-    row.update({SETTINGS_PREFIX + k: v for k, v in s.to_dict().items()})
+    # Tuples (user_passes) as lists: a row reads back from rows.json as it was written.
+    row.update({SETTINGS_PREFIX + k: list(v) if isinstance(v, tuple) else v for k, v in s.to_dict().items()})
     row.update({SETTINGS_PREFIX + k: v for k, v in s.user_params.items()})  # one column per user parameter
     info = renderer.info
     row.update(device=info.get("device", "unknown"), device_index=info.get("device_index") or None,
