@@ -22,7 +22,7 @@ public:
     std::vector<std::string> history_inputs(const RenderSettings&) const override {
         return {"linear_depth", "gbuffer.normal", "gbuffer.material"};
     }
-    std::vector<std::string> inputs() const override { return {"linear_depth", "gbuffer.normal", "gbuffer.material"}; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {"linear_depth", "gbuffer.normal", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"reprojection", GL_RGBA32F, s.width, s.height, 0, 1}};
     }

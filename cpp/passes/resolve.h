@@ -42,7 +42,7 @@ public:
     std::vector<std::string> history_inputs(const RenderSettings& s) const override {
         return s.bounces == Bounces::History ? std::vector<std::string>{"color"} : std::vector<std::string>{};
     }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

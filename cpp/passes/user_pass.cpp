@@ -39,7 +39,7 @@ GLenum UserPass::parse_format(const std::string& f) {
     return 0;
 }
 
-std::vector<std::string> UserPass::inputs() const {
+std::vector<std::string> UserPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in;
     if (desc_.stage == "trace")
         for (const auto& g : generation_inputs()) in.push_back(g);

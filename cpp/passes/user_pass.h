@@ -51,7 +51,7 @@ public:
     // The renderer puts a user pass into the chain itself (Renderer::build_chain): where
     // Settings.user_passes names it and its stage runs.
     bool runs(const RenderSettings&, const FrameFacts&) const override { return false; }
-    std::vector<std::string> inputs() const override;
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void check_device(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;

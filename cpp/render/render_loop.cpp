@@ -71,8 +71,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     gs.bind_geometry();  // the scene's objects and materials, for every pass that reads them
 
     // The chain and its resources (resource_plan.cpp).
-    const std::vector<RenderPass*> chain = build_chain(s, facts(scene, gs, s));
-    const ResourcePlan plan = plan_resources(chain, s);
+    const FrameFacts frame_facts = facts(scene, gs, s);
+    const std::vector<RenderPass*> chain = build_chain(s, frame_facts);
+    const ResourcePlan plan = plan_resources(chain, s, frame_facts);
     const std::vector<ResourceDesc>& descs = plan.descs;
     const std::string& sized_by = plan.sized_by;
     const size_t needed = plan.bytes;
@@ -93,6 +94,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
 
     const Defines defines = common_defines(scene, gs, depth);
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
+    fc.facts = frame_facts;
     if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
         fc.history = sequence->previous.get();
         fc.history_uniforms = &sequence->previous_uniforms;
@@ -253,6 +255,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     const Defines defines = common_defines(scene, gs, depth);
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
                     defines};
+    fc.facts = FrameFacts{shadows, true, fetch_by_image_};
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
     if (embree) pass.set_tracer(&gs.embree_tracer());
@@ -262,7 +265,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     check_gl(*ctx_, "reference set-up");
     timer_.begin_frame();
     for (RenderPass* p : chain) {
-        for (const auto& in : p->inputs())
+        for (const auto& in : p->inputs(s, fc.facts))
             if (!frame.resources().has(in))
                 throw GLError("pass " + p->name() + " reads '" + in + "', which the frame lacks");
         {

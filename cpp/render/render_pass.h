@@ -71,6 +71,13 @@ private:
     FrameResources* scratch_ = nullptr;
 };
 
+// What a frame's chain depends on besides the settings: facts of the scene and the device.
+struct FrameFacts {
+    bool shadows = false;         // a directional light casts the shadow map
+    bool reflections = false;     // tracing is on and some surface reflects
+    bool fetch_by_image = false;  // the passes read float inputs by imageLoad (the CPU device)
+};
+
 // What a pass may use while it executes.
 struct FrameContext {
     EglContext& gl;
@@ -97,6 +104,8 @@ struct FrameContext {
     // set by the renderer after the peeling with Settings.skip; -1 (skip off, or before the
     // peeling): every allocated layer. The per-layer passes work on these layers only.
     int layers_used = -1;
+    // The frame's facts (FrameFacts): the passes choose their variant from them and the settings.
+    FrameFacts facts{};
     int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }
     // The passes read their float inputs as read-only images (FETCH_BY_IMAGE, the CPU
     // device; lib/input_fetch.glsl), bound by bind_input_images (passes/compute.h).
@@ -111,12 +120,6 @@ struct FrameContext {
 // resolve binds 10: its output, 7 inputs and resolve_fetch's two textures).
 constexpr int kImageUnitsPerPass = 10;
 
-// What a frame's chain depends on besides the settings: facts of the scene and the device.
-struct FrameFacts {
-    bool shadows = false;         // a directional light casts the shadow map
-    bool reflections = false;     // tracing is on and some surface reflects
-    bool fetch_by_image = false;  // the passes read float inputs by imageLoad (the CPU device)
-};
 
 class RenderPass {
 public:
@@ -125,7 +128,8 @@ public:
     virtual std::string name() const = 0;
     // Whether the pass runs in a frame with these settings and facts: each pass decides.
     virtual bool runs(const RenderSettings& s, const FrameFacts& f) const = 0;
-    virtual std::vector<std::string> inputs() const = 0;
+    // What it reads in a frame with these settings and facts (a variant's inputs).
+    virtual std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
     // Textures of the previous frame of a sequence the pass reads when they are there (and falls
     // back without): declared, so the chain shows what a frame keeps for the next one.

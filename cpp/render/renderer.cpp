@@ -354,8 +354,9 @@ std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const Rend
     CurrentContext current(*ctx_);
     const GpuScene& gs = gpu_scene(scene);
     std::vector<ChainEntry> out;
-    for (RenderPass* p : build_chain(s, facts(scene, gs, s))) {
-        ChainEntry e{p->name(), p->inputs(), {}, p->history_inputs(s), {}};
+    const FrameFacts f = facts(scene, gs, s);
+    for (RenderPass* p : build_chain(s, f)) {
+        ChainEntry e{p->name(), p->inputs(s, f), {}, p->history_inputs(s), {}};
         for (const auto& d : p->outputs(s)) {
             e.outputs.push_back(d.name);
             if (d.lifetime == Lifetime::Scratch) e.scratch.push_back(d.name);

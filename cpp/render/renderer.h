@@ -163,7 +163,7 @@ private:
         size_t bytes = 0;
         std::string sized_by;  // the settings that size them, for messages
     };
-    ResourcePlan plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s) const;
+    ResourcePlan plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s, const FrameFacts& f) const;
     static std::string gib(size_t bytes);
     void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
     void destroy_gl_objects();
@@ -197,7 +197,7 @@ private:
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
-    LightingPass lighting_shadowed_{true, &depth_peel_}, lighting_unshadowed_{false, &depth_peel_};
+    LightingPass lighting_{&depth_peel_};  // with or without the shadow map: FrameFacts.shadows
     HizBuildPass hiz_build_;
     ClassifyPass classify_{&depth_peel_};
     TraceLinearPass trace_linear_{&classify_};
@@ -206,38 +206,35 @@ private:
     VarianceRaysPass variance_rays_;
     TraceLinearPass trace_linear_extra_{&variance_rays_, true};
     TraceHizPass trace_hiz_extra_{&variance_rays_, true};
-    // Ray-traced reflections and the BVH fallback, with and without the shadow map.
-    TraceBvhPass trace_bvh_shadowed_{false, true}, trace_bvh_unshadowed_{false, false};
-    TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};
+    // Ray-traced reflections and the BVH fallback (with or without the shadow map: FrameFacts.shadows).
+    TraceBvhPass trace_bvh_{false}, fallback_bvh_{true};
     // Reflection probes (seed 004): captured once per scene and probe set.
     FallbackProbesPass fallback_probes_shadowed_{true}, fallback_probes_unshadowed_{false};
     ResolveFetchPass resolve_fetch_;  // The resolve's tile fill where shared memory is slow
     ResolvePass resolve_{&classify_};
     ReprojectPass reproject_;
     TemporalPass temporal_;
-    TaaPass taa_thesis_{true}, taa_clamped_{false};
+    TaaPass taa_;  // the thesis's or the clamped TAA: Settings.taa
     PreconvolvePass preconvolve_;
     PreintegratePass preintegrate_;
     ConeTracePass cone_trace_;
     BlurMipsPass blur_mips_;
     SpecularOcclusionPass specular_occlusion_;
-    CompositePass composite_plain_{false}, composite_reflections_{true};
-    CompositePass composite_temporal_{true, "reflection.temporal"};
+
     // The SVGF denoiser of the reflection (seed 003).
     SvgfTemporalPass svgf_temporal_;
     SvgfVariancePass svgf_variance_;
     SvgfAtrousPass svgf_atrous_;
-    CompositePass composite_denoised_{true, "reflection.denoised"};
+    // Of the last reflection the chain made (denoised, accumulated, resolved) or of none.
+    CompositePass composite_;
     // Every pass, in the order the papers run them (declared inputs after the outputs they read):
     // a frame's chain is the ones that run. Adding a pass: its member above and its place here.
     const std::vector<RenderPass*> passes_{
-        &shadow_map_, &depth_peel_, &lighting_shadowed_, &lighting_unshadowed_, &reproject_, &hiz_build_,
-        &preconvolve_, &preintegrate_, &trace_bvh_shadowed_, &trace_bvh_unshadowed_, &classify_, &trace_hiz_,
-        &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_, &fallback_bvh_shadowed_,
-        &fallback_bvh_unshadowed_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &specular_occlusion_, &cone_trace_,
+        &shadow_map_, &depth_peel_, &lighting_, &reproject_, &hiz_build_, &preconvolve_, &preintegrate_, &trace_bvh_,
+        &classify_, &trace_hiz_, &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_,
+        &fallback_bvh_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &specular_occlusion_, &cone_trace_,
         &blur_mips_, &resolve_fetch_, &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_,
-        &composite_denoised_, &composite_temporal_, &composite_reflections_, &composite_plain_, &taa_thesis_,
-        &taa_clamped_};
+        &composite_, &taa_};
     // User passes (register_user_pass), in registration order: build_chain puts those
     // Settings.user_passes names in their stage's place.
     std::vector<std::unique_ptr<UserPass>> user_passes_;

@@ -47,11 +47,12 @@ std::string Renderer::gib(size_t bytes) { return ssr::gib(bytes); }
 
 // Every texture the chain declares, in chain order, after checking that each input is written
 // by an earlier pass, that each fits the device's limits and that all fit its memory.
-Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s) const {
+Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s,
+                                                const FrameFacts& f) const {
     std::vector<ResourceDesc> descs;
     std::set<std::string> written;
     for (RenderPass* p : chain) {
-        for (const auto& in : p->inputs())
+        for (const auto& in : p->inputs(s, f))
             if (!written.count(in))
                 throw GLError("pass " + p->name() + " reads '" + in + "', which no earlier pass writes");
         for (const auto& d : p->outputs(s)) {
