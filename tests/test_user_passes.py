@@ -225,3 +225,15 @@ def test_the_user_passes_notebook_places_the_examples_on_the_front(tmp_path, mon
     # one timed run: every verdict says it is too small to judge, and why
     assert all("**too small to judge**" in l and "one timed run" in l for l in rows)
     assert sum(l.split(" | ")[4] == "yes" for l in rows) == 2  # the least error of each scene, computed
+
+
+def test_a_sequence_runs_the_user_passes_in_every_frame(renderer):
+    scene = scenes.box_stack(floor_roughness=0.4)
+    cam = scene.camera
+    s = ssrlab.Settings(**SMALL, method="hiz", temporal_reflections=True,
+                        user_passes=("hiz_copy", "bilateral_filter"))
+    frames = list(renderer.render_sequence(scene, [cam, cam], s))
+    for f in frames:
+        assert {"hiz_copy", "bilateral_filter", "temporal"} <= set(f.passes)
+        assert f.passes.index("bilateral_filter") < f.passes.index("temporal")  # the filter feeds the accumulation
+        assert f.timings["hiz_copy"] > 0.0 and f.timings["bilateral_filter"] > 0.0
