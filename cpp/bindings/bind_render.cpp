@@ -167,6 +167,14 @@ void bind_render(py::module_& m) {
 #undef SSR_BIND_FLOAT
 #undef SSR_BIND_BOOL
 #undef SSR_BIND_ENUM
+    settings.def_property(
+        "user_passes", [](const RenderSettings& s) { return s.user.passes; },
+        [](RenderSettings& s, const std::vector<std::string>& v) { s.user.passes = v; },
+        "the user passes (ssrlab.UserPass) a render runs, by name");
+    settings.def_property(
+        "user_params", [](const RenderSettings& s) { return s.user.params; },
+        [](RenderSettings& s, const std::map<std::string, double>& v) { s.user.params = v; },
+        "the user passes' parameters, by '<pass>.<param>'");
     m.def("settings_schema", &settings_schema,
           "Every setting as declared once in cpp/render/settings_fields.def, in order: a dict per field with "
           "name, type (as ssrlab.Settings annotates it), default (ssrlab.Settings' default; 'auto' where it "
@@ -224,15 +232,37 @@ void bind_render(py::module_& m) {
             py::arg("scene"), py::arg("camera"), py::arg("settings"), py::arg("sequence") = nullptr,
             "Runs the chain of passes; returns the Frame (with a sequence: reads and becomes its history).")
         .def(
+            "register_user_pass",
+            [](Renderer& r, const std::string& name, const std::string& shader, const std::string& stage,
+               const std::string& dispatch, const std::vector<std::string>& reads, const std::vector<std::string>& writes,
+               const std::vector<std::tuple<std::string, std::string, std::string>>& creates,
+               const std::vector<std::tuple<std::string, std::string, double>>& params) {
+                UserPassDesc d;
+                d.name = name;
+                d.shader = shader;
+                d.stage = stage;
+                d.dispatch = dispatch;
+                d.reads = reads;
+                d.writes = writes;
+                for (const auto& [n, f, s] : creates) d.creates.push_back({n, f, s});
+                for (const auto& [n, ty, v] : params) d.params.push_back({n, ty, v});
+                r.register_user_pass(d);
+            },
+            py::arg("name"), py::arg("shader"), py::arg("stage"), py::arg("dispatch"), py::arg("reads"),
+            py::arg("writes"), py::arg("creates"), py::arg("params"),
+            "Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass "
+            "and the resource it may not read or write.")
+        .def(
             "chain",
             [](Renderer& r, const Scene& scene, const RenderSettings& s) {
                 py::list out;
                 for (const auto& e : r.chain(scene, s))
-                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs));
+                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs, e.history, e.scratch));
                 return out;
             },
             py::arg("scene"), py::arg("settings"),
-            "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs).")
+            "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, "
+            "scratch outputs).")
         .def_property("readback_path", &Renderer::readback_path, &Renderer::set_readback_path,
                       "How textures reach numpy: 'auto' (staged on a GPU, download on the CPU device), 'download' "
                       "(the driver's glGetTextureSubImage for float formats), or 'staged' (a copy pass into a "

@@ -33,9 +33,9 @@ GLenum stage_type(const std::string& file) {
     throw ShaderError("unknown shader stage extension '" + ext + "' of " + file, file, 0);
 }
 
-// Matches `#include "x"` with optional spaces.
+// Matches `#include "x"` with optional spaces and a trailing // comment.
 const std::regex& include_re() {
-    static const std::regex re(R"(^\s*#\s*include\s*"([^"]+)\"\s*$)");
+    static const std::regex re(R"(^\s*#\s*include\s*"([^"]+)\"\s*(//.*)?$)");
     return re;
 }
 
@@ -154,7 +154,7 @@ std::string translate_shader_log(const std::string& log, const std::vector<std::
         }
         if (src >= 0) {
             const std::string file = src < int(files.size()) ? files[size_t(src)] : ("<source " + std::to_string(src) + ">");
-            out << "shaders/" << file << ":" << ln << ": " << msg << "\n";
+            out << (fs::path(file).is_absolute() ? "" : "shaders/") << file << ":" << ln << ": " << msg << "\n";
             const bool is_error = msg.find("error") != std::string::npos;
             if (is_error && !found) {
                 found = true;
@@ -187,10 +187,13 @@ GLuint ShaderLibrary::compile_stage(const std::string& stage, const Defines& def
         const std::string translated = translate_shader_log(log.c_str(), src.files, &file, &line);
         std::string defs;
         for (const auto& [k, v] : defines) defs += " " + k + "=" + v;
-        throw ShaderError("GLSL compile error in shaders/" + file + ":" + std::to_string(line) +
+        // Files of the shader tree are named as shaders/<file>; a file outside it (a user pass's)
+        // by its own path.
+        const std::string shown = fs::path(file).is_absolute() ? file : "shaders/" + file;
+        throw ShaderError("GLSL compile error in " + shown + ":" + std::to_string(line) +
                               " (stage " + stage + (defs.empty() ? "" : ", defines" + defs) + ")\n" +
                               translated,
-                          "shaders/" + file, line);
+                          shown, line);
     }
     return shader;
 }

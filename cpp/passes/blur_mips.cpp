@@ -12,7 +12,7 @@ void BlurMipsPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["SPECULAR_OCCLUSION"] = occlusion ? "1" : "0";
     glUseProgram(ctx.shaders.program({"passes/blur_mips.comp"}, d));
-    bind_inputs_in_order(r, inputs());
+    bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
     if (occlusion) glBindTextureUnit(12, r.get("rays.radiance").id());
     bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);

@@ -15,7 +15,7 @@ class BlurMipsPass : public RenderPass {
 public:
     std::string name() const override { return "blur_mips"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::BlurMips; }  // replaces the resolve
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.albedo",
                 "gbuffer.normal", "gbuffer.material", "lit_preconvolved"};
     }

@@ -32,7 +32,7 @@ public:
         // The screen-space traces run over its ray list (indirect dispatch).
         return f.reflections && s.method != TraceMethod::Bvh && s.skip;
     }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings&) const override { return {}; }

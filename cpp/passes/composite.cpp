@@ -5,8 +5,9 @@
 namespace ssr {
 
 Defines CompositePass::program_defines(const FrameContext& ctx) const {
+    const std::string reflection = reflection_of(ctx.settings, ctx.facts);
     Defines d = ctx.defines;
-    d["REFLECTIONS"] = reflections_ ? "1" : "0";
+    d["REFLECTIONS"] = reflection.empty() ? "0" : "1";
     // The formula is compiled in, not chosen per pixel from the settings block: on
     // llvmpipe the unused pbr branch (its table fetch and material lookups) cost 2.5x the pass.
     d["PBR_COMPOSITE"] = ctx.settings.composite == CompositeMode::Pbr ? "1" : "0";
@@ -18,18 +19,20 @@ Defines CompositePass::program_defines(const FrameContext& ctx) const {
     // the temporal passes' RGBA32F).
     if (ctx.fetch_by_image()) {
         d["DIRECT_FORMAT"] = image_format_qualifier(ctx.resources.get(direct_).format());
-        if (reflections_) d["REFLECTION_FORMAT"] = image_format_qualifier(ctx.resources.get(reflection_).format());
+        if (!reflection.empty()) d["REFLECTION_FORMAT"] = image_format_qualifier(ctx.resources.get(reflection).format());
     }
     return d;
 }
 
 void CompositePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
+    const std::string reflection = reflection_of(ctx.settings, ctx.facts);
+    const bool reflections = !reflection.empty();
     glUseProgram(ctx.shaders.program({"passes/composite.comp"}, program_defines(ctx)));
     glBindTextureUnit(0, r.get(direct_).id());
     glBindTextureUnit(1, r.get("gbuffer.material").id());
-    if (reflections_) {
-        glBindTextureUnit(2, r.get(reflection_).id());
+    if (reflections) {
+        glBindTextureUnit(2, r.get(reflection).id());
         glBindTextureUnit(3, r.get("gbuffer.albedo").id());
         glBindTextureUnit(4, r.get("gbuffer.normal").id());
         glBindTextureUnit(5, r.get("linear_depth").id());
@@ -37,7 +40,7 @@ void CompositePass::execute(FrameContext& ctx) {
     bind_image_layered(0, ctx.resources.get(output_), GL_WRITE_ONLY);
     if (ctx.fetch_by_image()) {  // image units 1-4 (lib/input_fetch.glsl)
         bind_input_images(r, 1, {direct_});
-        if (reflections_) bind_input_images(r, 2, {reflection_, "gbuffer.normal", "linear_depth"});
+        if (reflections) bind_input_images(r, 2, {reflection, "gbuffer.normal", "linear_depth"});
     }
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }

@@ -12,24 +12,22 @@ namespace ssr {
 
 class CompositePass : public RenderPass {
 public:
-    // `reflection` and `output` name the textures read and written (the reference composites
-    // its own reflection into reference.color with the same code).
+    // The frame's composite: of the last reflection the chain made (denoised, accumulated,
+    // resolved) or of none, chosen from the settings and facts (the REFLECTIONS define and the
+    // texture it reads), one object for every variant.
+    CompositePass() = default;
+    // A fixed composite: `reflection` and `output` name the textures read and written (the
+    // reference composites its own reflection into reference.color with the same code).
     // `direct` names the surfaces' own light (the reference's exact reference.direct).
-    explicit CompositePass(bool reflections, std::string reflection = "reflection", std::string output = "color",
-                           std::string direct = "lit")
-        : reflections_(reflections), reflection_(std::move(reflection)), output_(std::move(output)),
+    CompositePass(bool reflections, std::string reflection, std::string output, std::string direct)
+        : fixed_(true), reflections_(reflections), reflection_(std::move(reflection)), output_(std::move(output)),
           direct_(std::move(direct)) {}
     std::string name() const override { return output_ == "color" ? "composite" : "composite." + output_; }
-    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
-        // One composite a frame, of the last reflection the chain made: denoised, accumulated, resolved, or none.
-        const bool svgf = f.reflections && s.denoise == Denoise::Svgf;
-        const bool temporal = f.reflections && s.temporal_reflections;
-        const std::string last = svgf ? "reflection.denoised" : temporal ? "reflection.temporal" : "reflection";
-        return output_ == "color" && (reflections_ ? f.reflections && reflection_ == last : !f.reflections);
-    }
-    std::vector<std::string> inputs() const override {
-        if (!reflections_) return {direct_, "gbuffer.material"};
-        return {direct_, "gbuffer.material", reflection_, "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return !fixed_; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
+        const std::string reflection = reflection_of(s, f);
+        if (reflection.empty()) return {direct_, "gbuffer.material"};
+        return {direct_, "gbuffer.material", reflection, "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{output_, GL_RGBA32F, s.width, s.height, 0, 1}};
@@ -39,8 +37,17 @@ public:
     Defines program_defines(const FrameContext& ctx) const;
 
 private:
-    bool reflections_;
-    std::string reflection_, output_, direct_;
+    // The reflection it composites ("" for none).
+    std::string reflection_of(const RenderSettings& s, const FrameFacts& f) const {
+        if (fixed_) return reflections_ ? reflection_ : "";
+        if (!f.reflections) return "";
+        return s.denoise == Denoise::Svgf ? "reflection.denoised"
+               : s.temporal_reflections  ? "reflection.temporal"
+                                         : "reflection";
+    }
+    bool fixed_ = false;
+    bool reflections_ = true;
+    std::string reflection_ = "reflection", output_ = "color", direct_ = "lit";
 };
 
 }  // namespace ssr

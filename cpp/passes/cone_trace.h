@@ -16,7 +16,7 @@ class ConeTracePass : public RenderPass {
 public:
     std::string name() const override { return "cone_trace"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::Cone; }  // replaces the resolve (seed 002, 4.4.5)
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.albedo",
                 "gbuffer.normal", "gbuffer.material", "lit_preconvolved", "visibility", "hiz"};
     }

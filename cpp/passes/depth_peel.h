@@ -40,7 +40,7 @@ class DepthPeelPass : public RenderPass {
 public:
     std::string name() const override { return "depth_peel"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
-    std::vector<std::string> inputs() const override { return {}; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 

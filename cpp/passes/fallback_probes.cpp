@@ -20,7 +20,7 @@ void FallbackProbesPass::release() {
     probes_.clear();
 }
 
-std::vector<std::string> FallbackProbesPass::inputs() const {
+std::vector<std::string> FallbackProbesPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"linear_depth",  "gbuffer.albedo", "gbuffer.normal", "gbuffer.material",
                                    "rays.hit",      "rays.sample",    "rays.direction"};
     if (shadows_) in.push_back("shadow_map");

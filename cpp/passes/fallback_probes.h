@@ -35,7 +35,7 @@ public:
         // Seed 004's local cube maps for what screen space did not resolve; with or without the shadow map.
         return f.reflections && s.method != TraceMethod::Bvh && s.fallback == Fallback::Probes && shadows_ == f.shadows;
     }
-    std::vector<std::string> inputs() const override;
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 

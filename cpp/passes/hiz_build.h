@@ -22,10 +22,10 @@ public:
         // glossy="cone" needs the min-max pyramid whatever tracer follows the mirror ray.
         return f.reflections && (s.method == TraceMethod::Hiz || s.glossy == Glossy::Cone);
     }
-    std::vector<std::string> inputs() const override { return {"gbuffer.depth", "gbuffer.material"}; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {"gbuffer.depth", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"hiz", GL_RG32F, s.width, s.height, s.layers, 0},
-                {"hiz_trace", GL_RG32F, s.width + std::max(s.width >> 1, 1), s.height + levels_of(s), s.layers, 1}};
+        return {{"hiz", GL_RG32F, s.width, s.height, s.layers, 0, Lifetime::Scratch},
+                {"hiz_trace", GL_RG32F, s.width + std::max(s.width >> 1, 1), s.height + levels_of(s), s.layers, 1, Lifetime::Scratch}};
     }
     void execute(FrameContext& ctx) override;
     // Levels of the full mip chain of the image: floor(log2(max(width, height))) + 1.

@@ -7,9 +7,9 @@
 
 namespace ssr {
 
-std::vector<std::string> LightingPass::inputs() const {
+std::vector<std::string> LightingPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"gbuffer.depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
-    if (shadows_) in.push_back("shadow_map");
+    if (f.shadows) in.push_back("shadow_map");
     return in;
 }
 
@@ -20,10 +20,10 @@ std::vector<ResourceDesc> LightingPass::outputs(const RenderSettings& s) const {
 
 void LightingPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
-    d["SHADOWS"] = shadows_ ? "1" : "0";
+    d["SHADOWS"] = ctx.facts.shadows ? "1" : "0";
     // The PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
     // weights instead of two nested loops over a uniform bound.
-    if (shadows_) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
+    if (ctx.facts.shadows) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
     // With the peeling's covered tiles, one indirect dispatch over the covered 8x8 tiles
     // of every layer; the rest is cleared. llvmpipe runs each SIMD vector through every branch,
     // so an uncovered texel cost as much as a covered one (4 layers of spheres_and_boxes, 59 %
@@ -74,7 +74,7 @@ void LightingPass::execute(FrameContext& ctx) {
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
+    if (ctx.facts.shadows) glBindTextureUnit(4, r.get("shadow_map").id());
     bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
     // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a

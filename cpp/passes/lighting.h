@@ -16,11 +16,12 @@ namespace ssr {
 
 class LightingPass : public RenderPass {
 public:
-    // `peel`: with Settings.skip, only the layers it found non-empty are shaded.
-    explicit LightingPass(bool shadows, DepthPeelPass* peel = nullptr) : shadows_(shadows), peel_(peel) {}
+    // `peel`: with Settings.skip, only the layers it found non-empty are shaded. With or without
+    // the shadow map (FrameFacts.shadows): a define of one program (SHADOWS).
+    explicit LightingPass(DepthPeelPass* peel = nullptr) : peel_(peel) {}
     std::string name() const override { return "lighting"; }
-    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return shadows_ == f.shadows; }  // the variant with or without the shadow map
-    std::vector<std::string> inputs() const override;
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
     // Layers the last run shaded (the rest were cleared as empty).
@@ -35,7 +36,6 @@ public:
     }
 
 private:
-    bool shadows_;
     int layers_shaded_ = 0;
     DepthPeelPass* peel_;
     const Buffer* tiles_ = nullptr;  // the covered-tile list the last run used

@@ -18,7 +18,7 @@ class PreconvolvePass : public RenderPass {
 public:
     std::string name() const override { return "preconvolve"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy != Glossy::Stochastic; }  // seed 002, 4.4.4
-    std::vector<std::string> inputs() const override { return {"lit", "gbuffer.material"}; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {"lit", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"lit_preconvolved", GL_RGBA32F, s.width, s.height, s.layers, 0},
                 {"preconvolve.scratch", GL_RGBA32F, s.width, s.height, s.layers, 1}};

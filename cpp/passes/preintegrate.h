@@ -16,7 +16,7 @@ class PreintegratePass : public RenderPass {
 public:
     std::string name() const override { return "preintegrate"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::Cone; }  // seed 002, 4.4.2
-    std::vector<std::string> inputs() const override { return {"hiz", "gbuffer.material"}; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {"hiz", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"visibility", GL_R16F, s.width, s.height, s.layers, 0}};
     }

@@ -15,7 +15,7 @@ namespace {
 constexpr long long kRaysPerDispatch = 1 << 20;
 }  // namespace
 
-std::vector<std::string> ReferencePass::inputs() const {
+std::vector<std::string> ReferencePass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     if (per_ray_) {
         in.push_back("rays.direction");

@@ -30,7 +30,7 @@ public:
     std::string name() const override { return "reference"; }
     // On request only (Renderer::reference), never in a frame's chain.
     bool runs(const RenderSettings&, const FrameFacts&) const override { return false; }
-    std::vector<std::string> inputs() const override;
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
     // Compiles the program before the timed execution.

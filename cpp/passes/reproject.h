@@ -19,7 +19,10 @@ public:
         return s.temporal_reflections || s.taa == TaaMode::Clamped || s.bounces == Bounces::History ||
                s.temporal_ray_reuse || (f.reflections && s.denoise == Denoise::Svgf);
     }
-    std::vector<std::string> inputs() const override { return {"linear_depth", "gbuffer.normal", "gbuffer.material"}; }
+    std::vector<std::string> history_inputs(const RenderSettings&) const override {
+        return {"linear_depth", "gbuffer.normal", "gbuffer.material"};
+    }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {"linear_depth", "gbuffer.normal", "gbuffer.material"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"reprojection", GL_RGBA32F, s.width, s.height, 0, 1}};
     }

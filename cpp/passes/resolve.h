@@ -39,7 +39,10 @@ public:
     static void bind_ray_inputs(FrameContext& ctx, GLuint prog);
     std::string name() const override { return "resolve"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::Stochastic; }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> history_inputs(const RenderSettings& s) const override {
+        return s.bounces == Bounces::History ? std::vector<std::string>{"color"} : std::vector<std::string>{};
+    }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

@@ -22,7 +22,7 @@ public:
         return f.reflections && s.glossy == Glossy::Stochastic && !ResolvePass::own_rays_only(s) &&
                !ResolvePass::shared_tile(s, f.fetch_by_image);
     }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

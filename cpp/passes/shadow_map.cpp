@@ -5,7 +5,7 @@
 namespace ssr {
 
 std::vector<ResourceDesc> ShadowMapPass::outputs(const RenderSettings& s) const {
-    return {{"shadow_map", GL_DEPTH_COMPONENT32F, s.shadow_map_size, s.shadow_map_size, 0, 1}};
+    return {{"shadow_map", GL_DEPTH_COMPONENT32F, s.shadow_map_size, s.shadow_map_size, 0, 1, Lifetime::Scratch}};
 }
 
 ShadowSetup ShadowMapPass::fit(const Scene& scene, const Bounds& bounds, const RenderSettings& s) {

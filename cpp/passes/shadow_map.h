@@ -20,7 +20,7 @@ class ShadowMapPass : public RenderPass {
 public:
     std::string name() const override { return "shadow_map"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.shadows; }
-    std::vector<std::string> inputs() const override { return {}; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 

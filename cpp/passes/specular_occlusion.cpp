@@ -19,7 +19,7 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
     d["LOBE"] = s.glossy == Glossy::Stochastic ? "0" : "1";
     // The float inputs by imageLoad on the CPU device, image units 2-8.
     auto bind_inputs = [&]() {
-        bind_inputs_in_order(r, inputs());
+        bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
         if (ctx.fetch_by_image())
             bind_input_images(r, 2, {"linear_depth", "gbuffer.normal", "lit", "rays.hit", "rays.sample", "rays.direction"});
     };

@@ -31,7 +31,7 @@ public:
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         return f.reflections && s.method != TraceMethod::Bvh && enabled(s);
     }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"linear_depth", "gbuffer.normal", "gbuffer.material", "lit", "rays.hit", "rays.sample",
                 "rays.direction", "gbuffer.albedo"};
     }

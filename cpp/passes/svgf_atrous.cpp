@@ -12,7 +12,7 @@ void SvgfAtrousPass::execute(FrameContext& ctx) {
     glUniform1f(glGetUniformLocation(prog, "u_sigma_depth"), s.svgf_sigma_depth);
     glUniform1f(glGetUniformLocation(prog, "u_sigma_normal"), s.svgf_sigma_normal);
     glUniform1f(glGetUniformLocation(prog, "u_sigma_luminance"), s.svgf_sigma_luminance);
-    bind_inputs_in_order(r, inputs());
+    bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
     // Iterations ping-pong between svgf.atrous and reflection.denoised, arranged so that the
     // last one writes reflection.denoised; 0 iterations copy the variance pass's colour.
     const int iterations = s.svgf_iterations;

@@ -15,7 +15,7 @@ class SvgfAtrousPass : public RenderPass {
 public:
     std::string name() const override { return "svgf_atrous"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.denoise == Denoise::Svgf; }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"svgf.variance", "svgf.guide"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {

@@ -12,7 +12,7 @@ void SvgfTemporalPass::execute(FrameContext& ctx) {
     glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
     glUniform1i(glGetUniformLocation(prog, "u_max_history"), ctx.settings.svgf_max_history);
     glUniform1i(glGetUniformLocation(prog, "u_mirror_sampling"), ctx.settings.sampling == Sampling::Mirror ? 1 : 0);
-    bind_inputs_in_order(r, inputs());
+    bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
     // Without history this frame's reflection stands in (never read: u_has_history = 0).
     glBindTextureUnit(4, history ? ctx.history->get("svgf.accumulated").id() : r.get("reflection").id());
     glBindTextureUnit(5, history ? ctx.history->get("svgf.moments").id() : r.get("reflection").id());

@@ -15,7 +15,10 @@ class SvgfTemporalPass : public RenderPass {
 public:
     std::string name() const override { return "svgf_temporal"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.denoise == Denoise::Svgf; }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> history_inputs(const RenderSettings&) const override {
+        return {"svgf.accumulated", "svgf.moments"};
+    }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"reflection", "reprojection", "gbuffer.normal", "gbuffer.material"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {

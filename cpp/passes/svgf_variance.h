@@ -14,7 +14,7 @@ class SvgfVariancePass : public RenderPass {
 public:
     std::string name() const override { return "svgf_variance"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.denoise == Denoise::Svgf; }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"svgf.accumulated", "svgf.moments", "linear_depth", "gbuffer.normal", "gbuffer.material"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {

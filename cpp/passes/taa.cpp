@@ -7,7 +7,7 @@ namespace ssr {
 void TaaPass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
     Defines d = ctx.defines;
-    const bool thesis = thesis_;
+    const bool thesis = ctx.settings.taa == TaaMode::Thesis;
     d["TAA_THESIS"] = thesis ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/taa.comp"}, d);
     glUseProgram(prog);

@@ -16,19 +16,19 @@ namespace ssr {
 
 class TaaPass : public RenderPass {
 public:
-    explicit TaaPass(bool thesis) : thesis_(thesis) {}
+    // The thesis's TAA or the clamped one (Settings.taa): a define of one program (TAA_THESIS).
     std::string name() const override { return "taa"; }
-    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return s.taa == (thesis_ ? TaaMode::Thesis : TaaMode::Clamped); }
-    std::vector<std::string> inputs() const override {
-        return thesis_ ? std::vector<std::string>{"color"} : std::vector<std::string>{"color", "reprojection"};
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return s.taa != TaaMode::Off; }
+    std::vector<std::string> history_inputs(const RenderSettings& s) const override {
+        return {s.taa == TaaMode::Thesis ? "color" : "color.taa"};
+    }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
+        return s.taa == TaaMode::Thesis ? std::vector<std::string>{"color"} : std::vector<std::string>{"color", "reprojection"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"color.taa", GL_RGBA32F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;
-
-private:
-    bool thesis_;
 };
 
 }  // namespace ssr

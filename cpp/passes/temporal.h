@@ -14,7 +14,8 @@ class TemporalPass : public RenderPass {
 public:
     std::string name() const override { return "temporal"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.temporal_reflections; }  // when there is a reflection to accumulate
-    std::vector<std::string> inputs() const override { return {"reflection", "reprojection"}; }
+    std::vector<std::string> history_inputs(const RenderSettings&) const override { return {"reflection.temporal"}; }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {"reflection", "reprojection"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"reflection.temporal", GL_RGBA32F, s.width, s.height, 0, 1}};
     }

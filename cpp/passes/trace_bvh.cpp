@@ -5,14 +5,14 @@
 
 namespace ssr {
 
-std::vector<std::string> TraceBvhPass::inputs() const {
+std::vector<std::string> TraceBvhPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     if (fallback_) {
         in.push_back("rays.hit");
         in.push_back("rays.sample");
         in.push_back("rays.direction");
     }
-    if (shadows_) in.push_back("shadow_map");
+    if (f.shadows) in.push_back("shadow_map");
     return in;
 }
 
@@ -32,8 +32,8 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     // bvh_shadows: the frame's shadow map as the lit G-buffer has it, or the
     // reference's traced shadow ray (lib/trace_shade.glsl), exact where the map blurs.
     const bool traced = ctx.settings.bvh_shadows == BvhShadows::Traced;
-    d["SHADOWS"] = shadows_ && !traced ? "1" : "0";
-    d["TRACED_SHADOWS"] = shadows_ && traced ? "1" : "0";
+    d["SHADOWS"] = ctx.facts.shadows && !traced ? "1" : "0";
+    d["TRACED_SHADOWS"] = ctx.facts.shadows && traced ? "1" : "0";
     d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
     // Method "bvh" draws adaptive rays as the screen-space tracers do
     // (lib/ray_generation.glsl's rays_for_roughness); the fallback retraces only the rays the
@@ -55,7 +55,7 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
+    if (ctx.facts.shadows) glBindTextureUnit(4, r.get("shadow_map").id());
     if (fallback_) {
         bind_image_layered(4, r.get("rays.hit"), GL_READ_WRITE);
         glBindTextureUnit(6, r.get("rays.sample").id());

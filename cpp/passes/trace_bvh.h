@@ -24,20 +24,22 @@ namespace ssr {
 
 class TraceBvhPass : public TracePass {
 public:
-    TraceBvhPass(bool fallback, bool shadows) : fallback_(fallback), shadows_(shadows) {}
+    // With or without the shadow map (FrameFacts.shadows): defines of one program.
+    explicit TraceBvhPass(bool fallback) : fallback_(fallback) {}
     std::string name() const override { return fallback_ ? "fallback_bvh" : "trace_bvh"; }
+    std::string stage() const override { return "bvh"; }  // not the screen-space trace a user pass replaces
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         // Seed 003's ray-traced reflections (every ray), or the hybrid's fallback after a
-        // screen-space tracer (thesis 4.3); the variant with or without the shadow map.
-        if (!f.reflections || shadows_ != f.shadows) return false;
+        // screen-space tracer (thesis 4.3).
+        if (!f.reflections) return false;
         return fallback_ ? s.method != TraceMethod::Bvh && s.fallback == Fallback::Bvh : s.method == TraceMethod::Bvh;
     }
-    std::vector<std::string> inputs() const override;
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 
 private:
-    bool fallback_, shadows_;
+    bool fallback_;
     Buffer list_, count_;  // the compacted list of rays to (re)trace, its count + indirect args
 };
 

@@ -14,7 +14,7 @@ public:
     using TracePass::TracePass;
     std::string name() const override { return extra() ? "trace_hiz_extra" : "trace_hiz"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.method == TraceMethod::Hiz && (!extra() || (s.variance_rays && s.adaptive_rays)); }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"hiz_trace", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     void execute(FrameContext& ctx) override {

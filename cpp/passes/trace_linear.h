@@ -13,7 +13,7 @@ public:
     using TracePass::TracePass;
     std::string name() const override { return extra() ? "trace_linear_extra" : "trace_linear"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.method == TraceMethod::Linear && (!extra() || (s.variance_rays && s.adaptive_rays)); }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     void execute(FrameContext& ctx) override {

@@ -6,7 +6,7 @@
 
 namespace ssr {
 
-void TracePass::run(FrameContext& ctx, const std::string& stage) {
+void TracePass::run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup) {
     auto& r = ctx.resources;
     const bool skip = ctx.settings.skip || extra_;
     if (skip && !ray_list_) throw GLError(name() + ": Settings.skip needs the classify pass's ray list");
@@ -31,6 +31,7 @@ void TracePass::run(FrameContext& ctx, const std::string& stage) {
     glUseProgram(prog);
     // The layer walk stops at the layers in use (a uniform: no recompile per count).
     glUniform1i(glGetUniformLocation(prog, "u_layers_used"), ctx.layers_in_use());
+    if (setup) setup(prog);
     bind_ray_generation_io(r);
     // The float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), after the
     // three ray outputs; a tracer binds its own after these (trace_hiz: its atlas, unit 5).

@@ -5,6 +5,8 @@
 //   rays.direction RGBA32F: view-space direction of the ray
 #pragma once
 
+#include <functional>
+
 #include "passes/classify.h"
 #include "render/render_pass.h"
 
@@ -19,6 +21,7 @@ public:
     explicit TracePass(const ClassifyPass* ray_list = nullptr, bool extra = false)
         : ray_list_(ray_list), extra_(extra) {}
     bool extra() const { return extra_; }
+    std::string stage() const override { return extra_ ? "trace_extra" : "trace"; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         if (extra_) return {};
         const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
@@ -31,7 +34,9 @@ protected:
     // Binds the G-buffer (units 0-3) and the ray textures (images 0-2), runs the shader
     // `stage` over every (trace pixel, ray), or with Settings.skip over the classify pass's
     // ray list only (indirect dispatch).
-    void run(FrameContext& ctx, const std::string& stage);
+    // `setup` (optional) is called with the program in use, before the dispatch (a user pass's
+    // parameters).
+    void run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup = {});
 
 private:
     const ClassifyPass* ray_list_;

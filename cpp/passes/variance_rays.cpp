@@ -16,7 +16,7 @@ void VarianceRaysPass::execute(FrameContext& ctx) {
     glUseProgram(prog);
     glUniform1f(glGetUniformLocation(prog, "u_threshold"), s.variance_threshold);
     auto& r = ctx.resources;
-    bind_inputs_in_order(r, inputs());
+    bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
     bind_image_layered(0, r.get("variance"), GL_WRITE_ONLY);
     bind();
     dispatch_2d(w, h, 1, 8, 8);

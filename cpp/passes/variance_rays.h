@@ -23,7 +23,7 @@ public:
         // Rays where the first trace's neighbourhood disagrees (FidelityFX SSSR).
         return f.reflections && s.method != TraceMethod::Bvh && s.variance_rays && s.adaptive_rays;
     }
-    std::vector<std::string> inputs() const override {
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }

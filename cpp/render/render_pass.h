@@ -24,15 +24,23 @@
 
 namespace ssr {
 
+// How long a declared texture lives. Frame: with the frame that wrote it (frame.read()), in a
+// texture set pooled for reuse. History: as Frame, and a later frame of a sequence reads it
+// (the pass that reads it declares it in history_inputs()). Scratch: one copy per renderer,
+// shared by every frame (the shadow map, the Hi-Z pyramid): only later passes of the same frame
+// read it, and Python right after the render.
+enum class Lifetime { Frame, History, Scratch };
+
 struct ResourceDesc {
     std::string name;
     GLenum format = GL_RGBA8;
     int width = 0, height = 0;
     int layers = 0;  // 0: a 2D texture; n >= 1: a 2D array of n layers
     int levels = 1;  // 0: a full mip chain
+    Lifetime lifetime = Lifetime::Frame;
     bool operator==(const ResourceDesc& o) const {
         return name == o.name && format == o.format && width == o.width && height == o.height &&
-               layers == o.layers && levels == o.levels;
+               layers == o.layers && levels == o.levels && lifetime == o.lifetime;
     }
 };
 
@@ -61,6 +69,13 @@ private:
     std::map<std::string, Texture> textures_;
     std::vector<ResourceDesc> descs_;
     FrameResources* scratch_ = nullptr;
+};
+
+// What a frame's chain depends on besides the settings: facts of the scene and the device.
+struct FrameFacts {
+    bool shadows = false;         // a directional light casts the shadow map
+    bool reflections = false;     // tracing is on and some surface reflects
+    bool fetch_by_image = false;  // the passes read float inputs by imageLoad (the CPU device)
 };
 
 // What a pass may use while it executes.
@@ -92,6 +107,8 @@ struct FrameContext {
     // Clears of float and RGBA8 textures by image stores instead of glClearTexSubImage and
     // framebuffer clears (Renderer.clear_path; on by default on a GPU: passes/compute.h).
     bool clear_by_compute = false;
+    // The frame's facts (FrameFacts): the passes choose their variant from them and the settings.
+    FrameFacts facts{};
     int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }
     // The passes read their float inputs as read-only images (FETCH_BY_IMAGE, the CPU
     // device; lib/input_fetch.glsl), bound by bind_input_images (passes/compute.h).
@@ -106,12 +123,6 @@ struct FrameContext {
 // resolve binds 10: its output, 7 inputs and resolve_fetch's two textures).
 constexpr int kImageUnitsPerPass = 10;
 
-// What a frame's chain depends on besides the settings: facts of the scene and the device.
-struct FrameFacts {
-    bool shadows = false;         // a directional light casts the shadow map
-    bool reflections = false;     // tracing is on and some surface reflects
-    bool fetch_by_image = false;  // the passes read float inputs by imageLoad (the CPU device)
-};
 
 class RenderPass {
 public:
@@ -120,8 +131,15 @@ public:
     virtual std::string name() const = 0;
     // Whether the pass runs in a frame with these settings and facts: each pass decides.
     virtual bool runs(const RenderSettings& s, const FrameFacts& f) const = 0;
-    virtual std::vector<std::string> inputs() const = 0;
+    // What it reads in a frame with these settings and facts (a variant's inputs).
+    virtual std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
+    // Textures of the previous frame of a sequence the pass reads when they are there (and falls
+    // back without): declared, so the chain shows what a frame keeps for the next one.
+    virtual std::vector<std::string> history_inputs(const RenderSettings& s) const { return {}; }
+    // The stage of the chain the pass fills ("trace" for the screen-space tracers): a user pass
+    // declared for that stage takes its place (passes/user_pass.h). Empty: no replaceable stage.
+    virtual std::string stage() const { return ""; }
     // Settings this device cannot hold for this pass (a buffer too large), before anything is
     // allocated: throws std::invalid_argument naming the setting.
     virtual void check_device(const RenderSettings& s) const {}

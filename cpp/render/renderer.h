@@ -38,6 +38,7 @@
 #include "passes/trace_bvh.h"
 #include "passes/trace_hiz.h"
 #include "passes/trace_linear.h"
+#include "passes/user_pass.h"
 #include "passes/variance_rays.h"
 #include "render/frame.h"
 #include "render/gpu_scene.h"
@@ -62,8 +63,16 @@ public:
     struct ChainEntry {
         std::string pass;
         std::vector<std::string> inputs, outputs;
+        std::vector<std::string> history;  // read from the previous frame of a sequence (history_inputs)
+        std::vector<std::string> scratch;  // the outputs that are per-renderer scratch (Lifetime::Scratch)
     };
     std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings);
+    // Registers a user pass (passes/user_pass.h) after checking its declaration against the passes
+    // this renderer has: a name no other pass has; reads that an earlier pass (or an earlier user
+    // pass) writes; writes only its stage's resources; new textures no pass declares. Throws
+    // std::invalid_argument naming the pass and the resource (and the pass that owns it).
+    void register_user_pass(const UserPassDesc& desc);
+    std::vector<UserPassDesc> user_passes() const;
     // A new, empty sequence of frames (its history lives as long as it does).
     std::shared_ptr<Sequence> begin_sequence() { return std::make_shared<Sequence>(ctx_); }
     static glm::vec2 taa_jitter(TaaMode mode, int index);
@@ -125,9 +134,9 @@ public:
     // Used by Frame::read: copies a texture level into host memory through readback.comp.
     Readback read_texture(const Texture& tex, int level);
 
-    // Per-renderer scratch: textures no one reads after the frame, shared by all
-    // frames instead of one copy per kept frame.
-    static bool is_scratch(const std::string& name);
+    // Whether `name` is a per-renderer scratch texture (declared Lifetime::Scratch): shared by
+    // all frames instead of one copy per kept frame.
+    bool is_scratch(const std::string& name) const { return scratch_.owns(name); }
     // The scratch texture `name` if it still holds frame `serial`'s content, else null.
     const Texture* scratch_of(const std::string& name, uint64_t serial) const;
     std::vector<std::string> scratch_names_of(uint64_t serial) const;
@@ -155,6 +164,20 @@ private:
     // The passes of a frame with these settings and facts: those of passes_ that say they run.
     std::vector<RenderPass*> build_chain(const RenderSettings& s, const FrameFacts& facts) const;
     FrameFacts facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const;
+    // Settings.user_passes and user_params against the registered user passes (invalid_argument
+    // naming them); returns the chosen passes.
+    std::vector<UserPass*> check_user_settings(const RenderSettings& s) const;
+    // The defines every pass of a frame of `scene` compiles with (depth convention, environment, ...).
+    Defines common_defines(const Scene& scene, const GpuScene& gs, const DepthConvention& depth) const;
+    // The textures of a chain, checked (each input written before it is read, the device's limits,
+    // its memory) before any is allocated (resource_plan.cpp).
+    struct ResourcePlan {
+        std::vector<ResourceDesc> descs;
+        size_t bytes = 0;
+        std::string sized_by;  // the settings that size them, for messages
+    };
+    ResourcePlan plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s, const FrameFacts& f) const;
+    static std::string gib(size_t bytes);
     void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
     void destroy_gl_objects();
     // Integrates the specular-albedo table on first use and binds it to its texture unit.
@@ -181,7 +204,7 @@ private:
     std::list<CachedScene> scenes_;  // most recently used first
     std::vector<std::shared_ptr<FrameResources>> pool_;
     std::set<std::string> warmed_variants_;  // variants whose first-use costs were paid untimed
-    FrameResources scratch_;                        // shadow map, hiz: see is_scratch
+    FrameResources scratch_;                        // outputs declared Lifetime::Scratch
     std::map<std::string, uint64_t> scratch_owner_;  // scratch name -> serial of the frame it holds
     uint64_t next_serial_ = 1;
     size_t freed_since_trim_ = 0;  // bytes of texture sets freed since the last malloc_trim
@@ -189,7 +212,7 @@ private:
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
-    LightingPass lighting_shadowed_{true, &depth_peel_}, lighting_unshadowed_{false, &depth_peel_};
+    LightingPass lighting_{&depth_peel_};  // with or without the shadow map: FrameFacts.shadows
     HizBuildPass hiz_build_;
     ClassifyPass classify_{&depth_peel_};
     TraceLinearPass trace_linear_{&classify_};
@@ -198,38 +221,38 @@ private:
     VarianceRaysPass variance_rays_;
     TraceLinearPass trace_linear_extra_{&variance_rays_, true};
     TraceHizPass trace_hiz_extra_{&variance_rays_, true};
-    // Ray-traced reflections and the BVH fallback, with and without the shadow map.
-    TraceBvhPass trace_bvh_shadowed_{false, true}, trace_bvh_unshadowed_{false, false};
-    TraceBvhPass fallback_bvh_shadowed_{true, true}, fallback_bvh_unshadowed_{true, false};
+    // Ray-traced reflections and the BVH fallback (with or without the shadow map: FrameFacts.shadows).
+    TraceBvhPass trace_bvh_{false}, fallback_bvh_{true};
     // Reflection probes (seed 004): captured once per scene and probe set.
     FallbackProbesPass fallback_probes_shadowed_{true}, fallback_probes_unshadowed_{false};
     ResolveFetchPass resolve_fetch_;  // The resolve's tile fill where shared memory is slow
     ResolvePass resolve_{&classify_};
     ReprojectPass reproject_;
     TemporalPass temporal_;
-    TaaPass taa_thesis_{true}, taa_clamped_{false};
+    TaaPass taa_;  // the thesis's or the clamped TAA: Settings.taa
     PreconvolvePass preconvolve_;
     PreintegratePass preintegrate_;
     ConeTracePass cone_trace_;
     BlurMipsPass blur_mips_;
     SpecularOcclusionPass specular_occlusion_;
-    CompositePass composite_plain_{false}, composite_reflections_{true};
-    CompositePass composite_temporal_{true, "reflection.temporal"};
+
     // The SVGF denoiser of the reflection (seed 003).
     SvgfTemporalPass svgf_temporal_;
     SvgfVariancePass svgf_variance_;
     SvgfAtrousPass svgf_atrous_;
-    CompositePass composite_denoised_{true, "reflection.denoised"};
+    // Of the last reflection the chain made (denoised, accumulated, resolved) or of none.
+    CompositePass composite_;
     // Every pass, in the order the papers run them (declared inputs after the outputs they read):
     // a frame's chain is the ones that run. Adding a pass: its member above and its place here.
     const std::vector<RenderPass*> passes_{
-        &shadow_map_, &depth_peel_, &lighting_shadowed_, &lighting_unshadowed_, &reproject_, &hiz_build_,
-        &preconvolve_, &preintegrate_, &trace_bvh_shadowed_, &trace_bvh_unshadowed_, &classify_, &trace_hiz_,
-        &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_, &fallback_bvh_shadowed_,
-        &fallback_bvh_unshadowed_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &specular_occlusion_, &cone_trace_,
+        &shadow_map_, &depth_peel_, &lighting_, &reproject_, &hiz_build_, &preconvolve_, &preintegrate_, &trace_bvh_,
+        &classify_, &trace_hiz_, &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_,
+        &fallback_bvh_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &specular_occlusion_, &cone_trace_,
         &blur_mips_, &resolve_fetch_, &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_,
-        &composite_denoised_, &composite_temporal_, &composite_reflections_, &composite_plain_, &taa_thesis_,
-        &taa_clamped_};
+        &composite_, &taa_};
+    // User passes (register_user_pass), in registration order: build_chain puts those
+    // Settings.user_passes names in their stage's place.
+    std::vector<std::unique_ptr<UserPass>> user_passes_;
 };
 
 }  // namespace ssr

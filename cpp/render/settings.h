@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -53,6 +54,14 @@ struct RenderSettings {
     // Every field, its default and its range: settings_fields.def (units and meanings there too).
 #define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) ctype name = ctype(def);
 #include "render/settings_fields.def"
+
+    // User passes (passes/user_pass.h) a render runs, by name, and their parameters by
+    // "<pass>.<param>" (the declared default where absent); checked against the renderer's
+    // registered passes (Renderer::check_user_settings).
+    struct UserPassSettings {
+        std::vector<std::string> passes;
+        std::map<std::string, double> params;
+    } user;
 
     // Rays traced per pixel: the cone and blur_mips methods trace one mirror ray.
     int traced_rays() const { return glossy == Glossy::Stochastic ? rays_per_pixel : 1; }

@@ -30,6 +30,7 @@ from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojectio
 from .sequence import CameraPath  # noqa: E402
 from .scene import Scene, SceneWarning, directional_light, point_light, spot_light  # noqa: E402
 from .settings import Settings  # noqa: E402
+from .user_pass import Param, UserPass  # noqa: E402
 from . import display  # noqa: E402
 
 display.install()
@@ -49,7 +50,7 @@ def __getattr__(name: str):
 
 __all__ = [
     "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
-    "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings",
+    "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings", "UserPass", "Param",
     "ShaderError", "directional_light", "models", "point_light", "scenes", "spot_light",
     "shader_dir", "transforms", "display", "devices", "__version__",
 ]

@@ -173,12 +173,32 @@ class Renderer:
         settings = settings.resolved(self.info["device"])  # 'auto' decided for this device
         native = self._native.render(scene, camera, settings.to_native())
         frame = Frame(native, settings, renderer=self, scene=scene)
-        if settings.method != "off" and not any(p.startswith("trace") for p in native.passes):
+        if settings.method != "off" and not any(p.startswith("trace") or p in settings.user_passes
+                                                for p in native.passes):
             warnings.warn(f"render traced no reflection rays: no surface of scene {scene.name!r} reflects "
                           "(every material has reflectivity 0; glTF materials reflect by default with "
                           "reflectivity='auto')", NoReflectionWarning, stacklevel=2)
         self._frames.add(frame)
         return frame
+
+    def register_pass(self, user_pass) -> None:
+        """Registers a user pass (ssrlab.UserPass) on this renderer: checked against its passes (a
+        pass reads only what an earlier pass writes, writes only its stage's resources and the
+        textures it creates: ValueError naming the pass, the resource and its owner). A render runs
+        it where Settings.user_passes names it (docs/guide/your-first-technique.md)."""
+        from .user_pass import UserPass, declare
+
+        if not isinstance(user_pass, UserPass):
+            raise TypeError(f"register_pass takes an ssrlab.UserPass, got {type(user_pass).__name__}")
+        declare(user_pass, check_only=True)
+        self._native.register_user_pass(*user_pass.native_args())
+        declare(user_pass)
+        self.__dict__.setdefault("_user_passes", {})[user_pass.name] = user_pass
+
+    @property
+    def user_passes(self) -> dict:
+        """The user passes registered on this renderer, by name."""
+        return dict(self.__dict__.get("_user_passes", {}))
 
     def chain(self, settings: Settings | None = None, scene: _core.Scene | None = None, **overrides) -> "Chain":
         """The passes a render with `settings` runs, in order, each with the resources it reads and
@@ -193,8 +213,8 @@ class Renderer:
 
             scene = mirror_test()
         settings = settings.resolved(self.info["device"])
-        return Chain([ChainPass(name, tuple(ins), tuple(outs))
-                      for name, ins, outs in self._native.chain(scene, settings.to_native())])
+        return Chain([ChainPass(name, tuple(ins), tuple(outs), tuple(hist), tuple(scratch))
+                      for name, ins, outs, hist, scratch in self._native.chain(scene, settings.to_native())])
 
     def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, **overrides):
         """Renders the frames of a camera path as one sequence and yields their Frames in order.
@@ -343,11 +363,16 @@ class Renderer:
 
 @dataclasses.dataclass(frozen=True)
 class ChainPass:
-    """One pass of a chain: its name and the resources (textures) it reads and writes."""
+    """One pass of a chain: its name and the resources (textures) it reads and writes; `history`:
+    what it reads from the previous frame of a sequence when there is one; `scratch`: those of its
+    outputs that are per-renderer scratch (one copy shared by every frame; read them right after
+    the render)."""
 
     name: str
     inputs: tuple[str, ...]
     outputs: tuple[str, ...]
+    history: tuple[str, ...] = ()
+    scratch: tuple[str, ...] = ()
 
 
 class Chain(list):
@@ -363,6 +388,10 @@ class Chain(list):
             lines.append(f"{i + 1:>2}. {p.name}")
             lines.append(f"      reads:  {', '.join(p.inputs) or '-'}")
             lines.append(f"      writes: {', '.join(p.outputs) or '-'}")
+            if p.history:
+                lines.append(f"      reads from the previous frame: {', '.join(p.history)}")
+            if p.scratch:
+                lines.append(f"      scratch: {', '.join(p.scratch)}")
         return "\n".join(lines)
 
     def markdown(self) -> str:
@@ -518,7 +547,10 @@ class Frame:
         # 'lists' fell back to peeling: deep_gbuffer_fell_back 1).
         if "deep_gbuffer_lists" in counts:
             counts["deep_gbuffer_method"] = "lists" if counts.pop("deep_gbuffer_lists") else "peel"
-        traced = any(p.startswith("trace_") for p in self.passes)
+        from .user_pass import declared
+
+        user_traces = {n for n, p in declared().items() if p.stage == "trace"}
+        traced = any(p.startswith("trace_") or p in user_traces for p in self.passes)
         return FrameStats(counts, self if traced else None)
 
     def _trace_sums(self, counts: dict[str, int]) -> dict[str, int]:

@@ -70,6 +70,7 @@ class Settings:
 
     def replace(self, **changes) -> "Settings":
         """A copy with some fields changed (validated)."""
+        changes = _user_param_keys(changes, self.user_params)
         _check_names(changes)
         return dataclasses.replace(self, **changes)
 
@@ -87,7 +88,7 @@ class Settings:
 
     def changed(self) -> dict:
         """The fields whose value differs from the default, in field order."""
-        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) != f.default}
+        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) != _default(f)}
 
     def __repr__(self) -> str:
         # Only what differs from the defaults, so that a repr stays readable and evaluates back.
@@ -111,6 +112,7 @@ class Settings:
         native = _core.RenderSettings()
         for name in _NATIVE_FIELDS:
             setattr(native, name, getattr(s, name))
+        native.user_params = {k: float(v) for k, v in s.user_params.items()}
         native.validate()
         return native
 
@@ -129,7 +131,12 @@ class Settings:
             elif m["lo"] is not None:
                 rng = f"[{m['lo']}, {m['hi']}]" + (f" or {m['off']} (off)" if m["off"] is not None else "")
             unit = f" {m['unit']}" if m["unit"] else ""
-            lines.append(f"  {f.name} = {f.default!r}{unit}  {rng}\n      {m['doc']}")
+            lines.append(f"  {f.name} = {_default(f)!r}{unit}  {rng}\n      {m['doc']}")
+        from .user_pass import declared
+
+        if declared():
+            lines.append("\n[user pass parameters] (Settings.user_params keys; the passes registered in this process)")
+            lines += [p.describe() for p in declared().values()]
         lines.append("\n[constraints] (between fields; checked when Settings is built or replaced, and at render)")
         for c in CONSTRAINTS:
             lines.append(f"  {c.rule}\n      {c.why}")
@@ -166,6 +173,20 @@ def _auto_deep_gbuffer(device: str, layers: int) -> str:
     return "peel"
 
 
+def _user_param_keys(changes: dict, current: dict) -> dict:
+    """Keys '<pass>.<param>' (a user pass's parameter) moved into user_params."""
+    dotted = {k: v for k, v in changes.items() if isinstance(k, str) and "." in k}
+    if not dotted:
+        return changes
+    out = {k: v for k, v in changes.items() if k not in dotted}
+    out["user_params"] = {**out.get("user_params", current), **dotted}
+    return out
+
+
+def _default(f: dataclasses.Field) -> Any:
+    return f.default_factory() if f.default is dataclasses.MISSING else f.default
+
+
 def _suggestion(name: str) -> str:
     """' (did you mean 'x'?)' for the field nearest to a misspelled name, or ''."""
     close = difflib.get_close_matches(str(name), list(_FIELDS), n=1, cutoff=0.6)
@@ -182,6 +203,18 @@ def _check_names(names) -> None:
 
 def _check(f: dataclasses.Field, value: Any) -> Any:
     m, name, typ = f.metadata, f"Settings.{f.name}", f.type
+    if f.name == "user_passes":
+        if isinstance(value, str):
+            value = (value,)
+        if not isinstance(value, (tuple, list)) or not all(isinstance(v, str) and v for v in value):
+            raise ValueError(f"{name} must be a tuple of user pass names, got {value!r}")
+        if len(set(value)) != len(value):
+            raise ValueError(f"{name} names a pass twice: {value!r}")
+        return tuple(value)
+    if f.name == "user_params":
+        from .user_pass import check_params
+
+        return check_params(value)
     if typ == "bool | str":  # True, False, or one of the named choices ('auto')
         if isinstance(value, str) and value in m["choices"]:
             return value
@@ -290,6 +323,19 @@ def _declare_fields(cls):
         cls.__annotations__[e["name"]] = e["type"]
         setattr(cls, e["name"], _setting(e["default"], e["doc"], e["unit"], e["lo"], e["hi"], e["choices"],
                                          e["group"], e["off"], e["place"], e["reference"]))
+    # The user passes a render runs and their parameters: not settings of ssrlab's own chain, so
+    # not in the schema (their names and ranges are declared by each ssrlab.UserPass).
+    cls.__annotations__["user_passes"] = tuple
+    cls.user_passes = field(default=(), metadata=dict(
+        doc="user passes this render runs, by name (registered with Renderer.register_pass); each takes its "
+            "stage's place (a 'trace' replaces the screen-space trace, a 'reflection_filter' follows the "
+            "resolve)", unit="", lo=None, hi=None, choices=None, group="user passes", off=None, place="pass",
+        reference=False))
+    cls.__annotations__["user_params"] = dict
+    cls.user_params = field(default_factory=dict, metadata=dict(
+        doc="parameters of user passes, '<pass>.<param>' -> value (absent: the declared default); a sweep or "
+            "replace() may name a key directly: replace(**{'<pass>.<param>': value})", unit="", lo=None,
+        hi=None, choices=None, group="user passes", off=None, place="pass", reference=False))
     return cls
 
 
@@ -302,6 +348,7 @@ _dataclass_init = Settings.__init__
 
 @functools.wraps(_dataclass_init)
 def _init(self, *args, **kwargs):
+    kwargs = _user_param_keys(kwargs, {})
     _check_names(kwargs)  # a misspelled keyword names the nearest field, not just "unexpected keyword"
     _dataclass_init(self, *args, **kwargs)
 

@@ -20,7 +20,7 @@ from ..settings import Settings
 SETTINGS_PREFIX = "s_"
 VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
 SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
-                   "reference_rays", "device", "frames", "sequence")
+                   "reference_rays", "device", "frames", "sequence", "user_passes")
 SETTINGS_FIELDS = tuple(f.name for f in fields(Settings))
 
 
@@ -36,7 +36,7 @@ def expand_grid(grid: dict[str, list]) -> list[dict]:
         raise ValueError(f"grid must be a dict of Settings field -> list of values, got {type(grid).__name__}")
     axes = {}
     for key, values in grid.items():
-        if key not in SETTINGS_FIELDS:
+        if key not in SETTINGS_FIELDS and "." not in key:  # '<pass>.<param>': a user pass's parameter
             from ..settings import _suggestion
 
             raise ValueError(f"grid key {key!r} is not a Settings field{_suggestion(key)}; "
@@ -262,7 +262,16 @@ def load_sweep(path) -> dict:
                 spec = str((path.parent / spec).resolve())
             resolved.append(spec)
         scenes = resolved
-    kwargs = {k: v for k, v in data.items() if k != "description"}
+    # user_passes: "<file.py>:<function>" returning an ssrlab.UserPass (relative to the sweep file),
+    # declared here so that base and grid may name it and its parameters ("<pass>.<param>", quoted).
+    from ..user_pass import load as load_user_pass
+
+    specs = data.get("user_passes", [])
+    if not isinstance(specs, list):
+        raise ValueError(f"sweep file {path}: 'user_passes' must be a list of '<file.py>:<function>'")
+    for spec in specs:
+        load_user_pass(spec, path.parent)
+    kwargs = {k: v for k, v in data.items() if k not in ("description", "user_passes")}
     kwargs["scenes"] = scenes
     kwargs.setdefault("grid", {})
     return kwargs

@@ -118,7 +118,8 @@ def pareto_fronts(rows: list[dict], time_key: str = "time_frame_ms",
 def varying_settings(rows: list[dict]) -> list[str]:
     """Settings fields (without the prefix) whose value differs between rows, in field order."""
     out = []
-    for name in SETTINGS_FIELDS:
+    user = sorted({k[len(SETTINGS_PREFIX):] for r in rows for k in r if k.startswith(SETTINGS_PREFIX) and "." in k})
+    for name in (*SETTINGS_FIELDS, *user):
         values = {json.dumps(r.get(SETTINGS_PREFIX + name)) for r in rows}
         if len(values) > 1:
             out.append(name)

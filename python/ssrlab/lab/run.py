@@ -34,7 +34,7 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
   gpu_<pass>_ms         median GPU milliseconds of every key of Frame.timings, dots replaced by
                         underscores (gpu_depth_peel_ms, gpu_depth_peel_layer0_ms, gpu_total_ms, ...)
   time_frame_ms         median GPU time of the whole frame (Frame.timings["total"])
-  time_reflections_ms   median of trace_linear + trace_hiz + hiz_build + resolve GPU time, those
+  time_reflections_ms   median of trace_linear + trace_hiz + hiz_build + resolve (+ user passes) GPU time, those
                         present: what the thesis timed (seed 000, 3.1.2: trace and resolve passes);
                         with the glossy methods' passes (preconvolve, preintegrate, cone_trace,
                         blur_mips) where Settings.glossy runs them
@@ -159,7 +159,14 @@ def worker_renderer(device: str = "auto"):
 
         state.renderers[device] = Renderer(device)
         _OPENED.append((os.getpid(), threading.get_ident(), device))
-    return state.renderers[device]
+    renderer = state.renderers[device]
+    # The user passes registered in this process (ssrlab.UserPass) serve every sweep's renderer.
+    from ..user_pass import declared
+
+    for name, p in declared().items():
+        if name not in renderer.user_passes:
+            renderer.register_pass(p)
+    return renderer
 
 
 def opened_renderers() -> list[dict]:
@@ -271,7 +278,7 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
         t = f.timings
         frames_timings.append(t)
         walls.append(f.wall_ms)
-        reflections.append(sum(t.get(p, 0.0) for p in REFLECTION_PASSES))
+        reflections.append(sum(t.get(p, 0.0) for p in (*REFLECTION_PASSES, *s.user_passes)))
 
     if sequence:
         # One sequence of warmup + repeats frames of the static camera: the warm-up frames fill
@@ -318,7 +325,9 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     row["mean_fetches"] = frame.rays.mean_fetches() if "rays.hit" in frame.texture_names else None
     for k in timing_keys:
         with_spread(row, _timing_column(k), [t[k] for t in frames_timings if k in t])
-    row.update({SETTINGS_PREFIX + k: v for k, v in s.to_dict().items()})
+    # Tuples (user_passes) as lists: a row reads back from rows.json as it was written.
+    row.update({SETTINGS_PREFIX + k: list(v) if isinstance(v, tuple) else v for k, v in s.to_dict().items()})
+    row.update({SETTINGS_PREFIX + k: v for k, v in s.user_params.items()})  # one column per user parameter
     info = renderer.info
     row.update(device=info.get("device", "unknown"), device_index=info.get("device_index") or None,
                gl_renderer=info.get("renderer", "unknown"),

@@ -43,7 +43,7 @@ _CONVERGED_KEY_FIELDS = tuple(f.name for f in dataclasses.fields(Settings) if f.
 
 def thesis_ground_truth_settings(settings: Settings) -> Settings:
     """`settings` with the thesis's ground-truth tracing: 32 rays per pixel, 16 layers, stride 1."""
-    return settings.replace(**THESIS_GROUND_TRUTH)
+    return settings.replace(**THESIS_GROUND_TRUTH, user_passes=(), user_params={})
 
 
 @dataclasses.dataclass
@@ -380,7 +380,7 @@ def reference_image(renderer, scene, camera=None, settings: Settings | None = No
         ref = ReferenceImage("thesis", frame.color.copy(), frame.reflection.copy(), reflective_mask(frame),
                              THESIS_GROUND_TRUTH["rays_per_pixel"])
     else:
-        frame = renderer.render(scene, camera, settings.replace(method="off"))
+        frame = renderer.render(scene, camera, settings.replace(method="off", user_passes=(), user_params={}))
         converged = frame.reference("converged", rays=rays, seed=seed, shadows=shadows, viewer=viewer,
                                     progress=progress)
         ref = ReferenceImage("converged", converged.color, converged.reflection, converged.reflective,

@@ -1,0 +1,149 @@
+#include "passes/user_pass.h"
+
+#include <algorithm>
+
+#include "core/errors.h"
+#include "passes/compute.h"
+
+namespace ssr {
+
+namespace {
+
+// What the trace's ray generation reads (trace_pass.cpp binds them to units 0-3 itself).
+const std::vector<std::string>& generation_inputs() {
+    static const std::vector<std::string> names = {"linear_depth", "gbuffer.albedo", "gbuffer.normal",
+                                                   "gbuffer.material"};
+    return names;
+}
+
+bool contains(const std::vector<std::string>& v, const std::string& x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+}
+
+}  // namespace
+
+std::vector<std::string> UserPass::stage_writes(const std::string& stage) {
+    if (stage == "trace") return {"rays.hit", "rays.sample", "rays.direction"};
+    if (stage == "reflection_filter") return {"reflection"};
+    return {};
+}
+
+GLenum UserPass::parse_format(const std::string& f) {
+    if (f == "rgba8") return GL_RGBA8;
+    if (f == "rgba16f") return GL_RGBA16F;
+    if (f == "rgba32f") return GL_RGBA32F;
+    if (f == "rg16f") return GL_RG16F;
+    if (f == "rg32f") return GL_RG32F;
+    if (f == "r16f") return GL_R16F;
+    if (f == "r32f") return GL_R32F;
+    return 0;
+}
+
+std::vector<std::string> UserPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
+    std::vector<std::string> in;
+    if (desc_.stage == "trace")
+        for (const auto& g : generation_inputs()) in.push_back(g);
+    for (const auto& r : desc_.reads)
+        if (!contains(in, r)) in.push_back(r);
+    return in;
+}
+
+std::vector<ResourceDesc> UserPass::outputs(const RenderSettings& s) const {
+    // A trace declares the ray textures as the built-in traces do (trace_pass.h); a filter's
+    // in-place writes were declared by the pass that made them.
+    std::vector<ResourceDesc> out = desc_.stage == "trace" ? TracePass::outputs(s) : std::vector<ResourceDesc>{};
+    for (const auto& c : desc_.creates) {
+        ResourceDesc d{c.name, parse_format(c.format), s.width, s.height, 0, 1};
+        if (c.size == "trace" || c.size == "rays") {
+            d.width = s.trace_width();
+            d.height = s.trace_height();
+        }
+        if (c.size == "rays") d.layers = s.traced_rays();
+        out.push_back(d);
+    }
+    return out;
+}
+
+void UserPass::check_device(const RenderSettings& s) const {
+    if (desc_.dispatch == "list" && !s.skip)
+        throw std::invalid_argument("user pass '" + desc_.name +
+                                    "' runs over classify's list (dispatch 'list'): it needs Settings.skip = True");
+}
+
+void UserPass::set_params(FrameContext& ctx, GLuint prog) const {
+    // Parameters reach the shader as uniforms u_<name>: the value Settings.user_params gives
+    // "<pass>.<param>", else the declared default (validated in Python and by the renderer).
+    for (const auto& p : desc_.params) {
+        double v = p.default_value;
+        const auto it = ctx.settings.user.params.find(desc_.name + "." + p.name);
+        if (it != ctx.settings.user.params.end()) v = it->second;
+        const GLint loc = glGetUniformLocation(prog, ("u_" + p.name).c_str());
+        if (loc < 0) continue;  // declared but unused by the shader: the compiler dropped it
+        if (p.type == "float")
+            glUniform1f(loc, float(v));
+        else
+            glUniform1i(loc, int(v));
+    }
+}
+
+void UserPass::execute(FrameContext& ctx) {
+    auto& r = ctx.resources;
+    if (desc_.stage == "trace") {
+        // Trace inputs beyond the ray generation's: texture units 4, 5, ... in declared order, and
+        // by imageLoad (FETCH_BY_IMAGE) image units 5, 6, ... (trace_hiz's atlas: unit 4, image 5).
+        std::vector<std::string> extra;
+        for (const auto& in : desc_.reads)
+            if (!contains(generation_inputs(), in)) extra.push_back(in);
+        for (GLuint i = 0; i < GLuint(extra.size()); ++i) glBindTextureUnit(4 + i, r.get(extra[i]).id());
+        if (ctx.fetch_by_image()) bind_input_images(r, 5, extra);
+        // Its own textures: image units after those.
+        GLuint unit = 5 + GLuint(extra.size());
+        for (const auto& c : desc_.creates) bind_image_layered(unit++, r.get(c.name), GL_WRITE_ONLY);
+        run(ctx, desc_.shader, [&](GLuint prog) { set_params(ctx, prog); });
+        const auto& s = ctx.settings;
+        groups_ = s.skip || desc_.dispatch == "list"
+                      ? -1.0
+                      : double((s.trace_width() + 7) / 8) * ((s.trace_height() + 7) / 8) * s.traced_rays();
+        return;
+    }
+    // reflection_filter: reads at texture units 0, 1, ... in declared order (what it rewrites
+    // from a copy taken now), writes then creates at image units 0, 1, ...
+    for (const auto& w : desc_.writes) {
+        const Texture& t = r.get(w);
+        if (!source_copy_ || source_copy_.width() != t.width() || source_copy_.height() != t.height() ||
+            source_copy_.format() != t.format())
+            source_copy_ = Texture::create_2d(t.format(), t.width(), t.height(), 1);
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glCopyImageSubData(t.id(), GL_TEXTURE_2D, 0, 0, 0, 0, source_copy_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                           t.width(), t.height(), 1);
+    }
+    const GLuint prog = ctx.shaders.program({desc_.shader}, ctx.defines);
+    glUseProgram(prog);
+    set_params(ctx, prog);
+    for (GLuint unit = 0; unit < GLuint(desc_.reads.size()); ++unit) {
+        const std::string& in = desc_.reads[unit];
+        glBindTextureUnit(unit, contains(desc_.writes, in) ? source_copy_.id() : r.get(in).id());
+    }
+    GLuint image = 0;
+    for (const auto& w : desc_.writes) bind_image_layered(image++, r.get(w), GL_WRITE_ONLY);
+    for (const auto& c : desc_.creates) bind_image_layered(image++, r.get(c.name), GL_WRITE_ONLY);
+    const auto& s = ctx.settings;
+    if (desc_.dispatch == "ray") {
+        dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
+        groups_ = double((s.trace_width() + 7) / 8) * ((s.trace_height() + 7) / 8) * s.traced_rays();
+    } else {
+        dispatch_2d(s.width, s.height, 1, 8, 8);
+        groups_ = double((s.width + 7) / 8) * ((s.height + 7) / 8);
+    }
+}
+
+void UserPass::report(const RenderSettings&, std::map<std::string, double>& stats) const {
+    // The work groups the pass dispatched: its grid's, or over classify's list the trace groups
+    // classify counted (the same indirect dispatch as the built-in traces).
+    if (groups_ >= 0.0)
+        stats[desc_.name + ".groups"] = groups_;
+    else if (stats.count("trace_groups"))
+        stats[desc_.name + ".groups"] = stats["trace_groups"];
+}
+
+}  // namespace ssr
