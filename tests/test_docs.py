@@ -48,9 +48,12 @@ def test_code_comments_say_why_not_which_issue():
     for root in CODE_ROOTS:
         for p in (REPO / root).rglob("*"):
             if p.suffix in (".cpp", ".h", ".glsl", ".comp", ".vert", ".frag", ".py", ".pyi") and p.is_file():
-                for i, line in enumerate(p.read_text().splitlines(), 1):
-                    if re.search(r"\b[Ii]ssues? \d+|\b(first|second|third|fourth|fifth|sixth) round\b", line):
-                        offenders.append(f"{p.relative_to(REPO)}:{i}: {line.strip()}")
+                text = p.read_text()
+                # also where a line break (and a comment marker) falls between the word and the number
+                for m in re.finditer(r"\b[Ii]ssues?(?:\s|//|#|\*)+\d+|\b(first|second|third|fourth|fifth|sixth)"
+                                     r"\s+round\b", text):
+                    i = text.count("\n", 0, m.start()) + 1
+                    offenders.append(f"{p.relative_to(REPO)}:{i}: {' '.join(m.group(0).split())}")
     assert not offenders, "\n".join(offenders[:20])
 
 

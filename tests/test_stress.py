@@ -179,7 +179,8 @@ def field_strategy(name: str):
 
 @st.composite
 def any_settings(draw, **fixed):
-    kw = {n: draw(field_strategy(n)) for n in _FIELDS if n not in fixed}
+    # (user_passes and user_params name passes registered on a renderer: none here)
+    kw = {n: draw(field_strategy(n)) for n in _FIELDS if n not in fixed and n not in ("user_passes", "user_params")}
     kw.update(fixed)
     # Satisfy the cross-field constraints (Settings.describe(), [constraints]).
     kw["hiz_max_level"] = max(kw["hiz_max_level"], kw["hiz_stop_level"], kw["hiz_start_level"])

@@ -12,8 +12,11 @@ from ssrlab import bench, scenes
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).with_name("data") / "user_passes"
-sys.path.insert(0, str(ROOT))
-from examples.bilateral_filter.technique import bilateral_filter  # noqa: E402
+
+
+def bilateral_filter():
+    # The example as a user loads it (what a sweep file's user_passes names), not imported by path.
+    return ssrlab.user_pass.load("examples/bilateral_filter/technique.py:bilateral_filter", ROOT)
 
 SMALL = dict(width=96, height=64)
 RAYS = ("rays.hit", "rays.sample", "rays.direction")
@@ -148,10 +151,8 @@ def test_a_sweep_varies_a_user_parameter_and_scores_it_against_the_converged_ref
 
 
 def test_the_view_space_march_example_traces_and_its_steps_act():
-    from examples.view_space_march.technique import view_space_march
-
     r = ssrlab.Renderer("cpu")
-    r.register_pass(view_space_march())
+    r.register_pass(ssrlab.user_pass.load("examples/view_space_march/technique.py:view_space_march", ROOT))
     scene = scenes.mirror_test()
     s = ssrlab.Settings(**SMALL, method="linear", user_passes=("view_space_march",))
     hits = []

@@ -589,6 +589,22 @@ class RenderSettings:
         """
         Raises ValueError naming the first field out of its range or rule.
         """
+    @property
+    def user_params(self) -> dict[str, float]:
+        """
+        the user passes' parameters, by '<pass>.<param>'
+        """
+    @user_params.setter
+    def user_params(self, arg1: collections.abc.Mapping[str, typing.SupportsFloat | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def user_passes(self) -> list[str]:
+        """
+        the user passes (ssrlab.UserPass) a render runs, by name
+        """
+    @user_passes.setter
+    def user_passes(self, arg1: collections.abc.Sequence[str]) -> None:
+        ...
 class Sequence:
     """
     The history of a sequence of frames.
@@ -696,7 +712,7 @@ class Renderer:
         """
     def chain(self, scene: Scene, settings: RenderSettings) -> list:
         """
-        The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs).
+        The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, scratch outputs).
         """
     def check_gl(self) -> None:
         """
@@ -723,6 +739,10 @@ class Renderer:
     def reference(self, scene: Scene, frame: Frame, mode: str, rays: typing.SupportsInt | typing.SupportsIndex = 256, seed: typing.SupportsInt | typing.SupportsIndex = 0, sampling: str = 'vndf', viewer: str = 'ray', shadows: str = 'traced', tracer: str = 'auto', progress: typing.Any = None) -> dict[str, float]:
         """
         Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. tracer: 'cpu' (Embree and C++ shading on every core), 'embree' (Embree for the GLSL shading), 'glsl' or 'auto' ('cpu' on the CPU device with traced shadows, else 'glsl') (the converged reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each sample round; returning False stops it with an error.
+        """
+    def register_user_pass(self, name: str, shader: str, stage: str, dispatch: str, reads: collections.abc.Sequence[str], writes: collections.abc.Sequence[str], creates: collections.abc.Sequence[tuple[str, str, str]], params: collections.abc.Sequence[tuple[str, str, typing.SupportsFloat | typing.SupportsIndex]]) -> None:
+        """
+        Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass and the resource it may not read or write.
         """
     def render(self, scene: Scene, camera: Camera, settings: RenderSettings, sequence: typing.Sequence = None) -> Frame:
         """

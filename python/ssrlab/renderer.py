@@ -107,8 +107,8 @@ class Renderer:
 
     @property
     def stats(self) -> dict[str, int]:
-        """What this renderer did outside the frames' chains, counted since it was made (issue
-        11): scene_uploads (GPU copies of a scene built: a new scene or changed content; a new
+        """What this renderer did outside the frames' chains, counted since it was made:
+        scene_uploads (GPU copies of a scene built: a new scene or changed content; a new
         camera or new settings reuse the copy), bvh_builds (the reference's BVH, once per scene
         content), readbacks and readback_bytes (textures copied to host memory: only when a
         Frame property or read() asks, once per texture and level)."""
