@@ -30,7 +30,7 @@ def psnr(a: np.ndarray, b: np.ndarray) -> float:
     return float("inf") if mse == 0 else 10 * np.log10(peak * peak / mse)
 
 
-def agreement(renderer, scene, settings, **kw):
+def agreement(renderer, scene, settings, min_psnr_db=None, **kw):
     frame = renderer.render(scene, settings=settings)
     glsl = frame.reference("converged", tracer="glsl", **kw)
     want = {"color": glsl.color.copy(), "reflection": glsl.reflection.copy()}
@@ -42,7 +42,7 @@ def agreement(renderer, scene, settings, **kw):
         assert np.isfinite(a).all()
         p = psnr(a, b)
         differing = float((np.abs(a - b).max(axis=-1) > CLOSE).mean())
-        assert p >= MIN_PSNR_DB and differing <= MAX_DIFFERING_SHARE, (
+        assert p >= (min_psnr_db or MIN_PSNR_DB) and differing <= MAX_DIFFERING_SHARE, (
             f"{scene.name} {key} {kw}: {p:.1f} dB, {differing:.4%} of pixels differ by more than {CLOSE}")
     return frame, cpu
 
@@ -80,7 +80,10 @@ def test_cpu_reference_equals_glsl_with_an_environment_map(renderer, tmp_path):
     ssrlab.io.write_image(tmp_path / "env.exr", env, ["R", "G", "B"])
     scene = ssrlab.scenes.load("spheres_and_boxes")
     scene.environment = ssrlab.Environment.map(str(tmp_path / "env.exr"))
-    agreement(renderer, scene, small(width=64, height=40, method="off"), rays=3)
+    # The environment map's bilinear filter is the device's (a coarser sub-texel fraction than the
+    # C++'s float one): 96.9 dB on llvmpipe, 87.7 dB on an NVIDIA H200; still no pixel off by 1e-3.
+    gpu = renderer.info["device"] != "cpu"
+    agreement(renderer, scene, small(width=64, height=40, method="off"), rays=3, min_psnr_db=85.0 if gpu else None)
 
 
 def test_cpu_reference_is_deterministic(renderer):

@@ -24,7 +24,7 @@ RAYS = ("rays.hit", "rays.sample", "rays.direction")
 
 @pytest.fixture(scope="module")
 def renderer():
-    r = ssrlab.Renderer("cpu")
+    r = ssrlab.Renderer()
     r.register_pass(ssrlab.UserPass("hiz_copy", DATA / "hiz_copy.comp", "trace", reads=("hiz_trace",)))
     r.register_pass(bilateral_filter())
     return r
@@ -151,7 +151,7 @@ def test_a_sweep_varies_a_user_parameter_and_scores_it_against_the_converged_ref
 
 
 def test_the_view_space_march_example_traces_and_its_steps_act():
-    r = ssrlab.Renderer("cpu")
+    r = ssrlab.Renderer()
     r.register_pass(ssrlab.user_pass.load("examples/view_space_march/technique.py:view_space_march", ROOT))
     scene = scenes.mirror_test()
     s = ssrlab.Settings(**SMALL, method="linear", user_passes=("view_space_march",))
