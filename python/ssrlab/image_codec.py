@@ -149,7 +149,12 @@ def write(path, pixels: np.ndarray, names=(), half: bool = False) -> None:
             try:
                 f.write(str(path))
             except RuntimeError as e:  # OpenEXR's failures (a full disk...) as the OSError they are
-                raise OSError(errno.EIO, f"OpenEXR could not write the file: {e}", str(path)) from e
+                # OpenEXR's message keeps the system's text only: its errno where the text names one
+                code = next((n for n, text in ((errno.ENOSPC, "No space left on device"),
+                                               (errno.EFBIG, "File too large"),
+                                               (errno.EDQUOT, "Disk quota exceeded"),
+                                               (errno.EACCES, "Permission denied")) if text in str(e)), errno.EIO)
+                raise OSError(code, f"OpenEXR could not write the file: {e}", str(path)) from e
         return
     raise ValueError(f"{path}: without OpenImageIO ssrlab writes PNG, JPEG and EXR files, not {suffix or 'this'}")
 
