@@ -163,3 +163,12 @@ def test_trace_parts_builds_every_part_of_the_pass():
     assert "| scene | " + " | ".join(TRACE_PARTS) + " |" in out
     rows = [line for line in out.splitlines() if line.startswith("| hall |")]
     assert len(rows) == 1 and rows[0].count(" ms") == 0 and rows[0].count("(") == len(TRACE_PARTS)
+
+
+def test_input_fetch_benchmark_compares_both_fetches_and_refuses_a_verdict_on_two_frames():
+    out = run_benchmark("input_fetch", "--width", "48", "--height", "32", "--repeats", "2", "--scenes", "hall",
+                        "--device", "cpu")
+    rows = [line for line in out.splitlines() if line.startswith("| hall |")]
+    assert {r.split(" | ")[1] for r in rows} == {"hiz_mirror", "thesis"}
+    assert any(" | total | " in r for r in rows)
+    assert all(r.rstrip().endswith("too few frames to judge (--repeats < 5) |") for r in rows)
