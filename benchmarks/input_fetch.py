@@ -35,8 +35,13 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     import ssrlab
 
-    renderers = {f: ssrlab.Renderer(args.device, input_fetch=f) for f in FETCHES}
+    renderers = {"texelFetch": ssrlab.Renderer(args.device, input_fetch="texelFetch")}
     print(device_header(renderers["texelFetch"]))
+    try:
+        renderers["imageLoad"] = ssrlab.Renderer(args.device, input_fetch="imageLoad")
+    except ValueError as e:  # e.g. NVIDIA's GL: 8 image units a compute shader, 10 needed
+        print(f"imageLoad cannot run on this device, nothing to compare: {e}")
+        return 0
     print(f"{args.width}x{args.height}; GPU ms, median (IQR) of {args.repeats} frames per side, the sides alternating")
     print("| scene | case | pass | texelFetch | imageLoad | imageLoad / texelFetch | verdict |")
     print("|---|---|---|---|---|---|---|")
