@@ -34,6 +34,7 @@ def main(argv=None) -> int:
     ap.set_defaults(width=1920, height=1080, scenes=["hall", "spheres_and_boxes"])
     args = ap.parse_args(argv)
     import ssrlab
+    from ssrlab.lab import timing
 
     renderers = {"texelFetch": ssrlab.Renderer(args.device, input_fetch="texelFetch")}
     print(device_header(renderers["texelFetch"]))
@@ -61,9 +62,10 @@ def main(argv=None) -> int:
                     continue
                 q = {f: np.percentile([t[p] for t in runs[f]], [25, 50, 75]) for f in FETCHES}
                 t, i = q["texelFetch"], q["imageLoad"]
+                # (median, q1, q3): the interquartile ranges apart, or no verdict
+                apart = timing.verdict((t[1], t[0], t[2]), (i[1], i[0], i[2]))
                 verdict = ("too few frames to judge (--repeats < 5)" if args.repeats < 5
-                           else "imageLoad faster" if i[2] < t[0] else "imageLoad slower" if i[0] > t[2]
-                           else "no verdict (IQRs overlap)")
+                           else f"imageLoad {apart}" if apart != "undecided" else "no verdict (IQRs overlap)")
                 print(f"| {scene_name} | {case} | {p} | {t[1]:.3f} ({t[0]:.3f}-{t[2]:.3f}) | "
                       f"{i[1]:.3f} ({i[0]:.3f}-{i[2]:.3f}) | {i[1] / t[1]:.2f} | {verdict} |", flush=True)
     return 0

@@ -51,6 +51,7 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", nargs="+", default=["640x360", "1920x1080"], help="WIDTHxHEIGHT")
     args = ap.parse_args(argv)
     import ssrlab
+    from ssrlab.lab import timing
 
     renderer = open_renderer(args)
     scene = ssrlab.scenes.hall()
@@ -65,8 +66,9 @@ def main(argv=None) -> int:
             ms, nbytes = time_reads(renderer, frame, name, args.repeats)
             q = {p: np.percentile(v, [25, 50, 75]) for p, v in ms.items()}
             d, st = q["download"], q["staged"]
-            verdict = ("staged faster" if st[2] < d[0] else "staged slower" if st[0] > d[2]
-                       else "no verdict (IQRs overlap)")
+            # (median, q1, q3): the interquartile ranges apart, or no verdict
+            apart = timing.verdict((d[1], d[0], d[2]), (st[1], st[0], st[2]))
+            verdict = f"staged {apart}" if apart != "undecided" else "no verdict (IQRs overlap)"
             print(f"| {w}x{h} | {name} | {path} | {nbytes / 1e6:.1f} | {d[1]:.3f} ({d[0]:.3f}-{d[2]:.3f}) | "
                   f"{st[1]:.3f} ({st[0]:.3f}-{st[2]:.3f}) | {st[1] / d[1]:.2f} | {verdict} |")
         frame.release()
