@@ -238,16 +238,8 @@ HizHit walk_result(HizWalk w) {
 // The trace pixel (and ray) of one of this invocation's two slots; false when it has none.
 bool slot_entry(int slot, out ivec3 id) {
 #if RAY_LIST
-    uint index = (gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.y * 16u
-                 + uint(slot) * 8u + gl_LocalInvocationID.x;
-    id = ivec3(0);
-    if (index >= ray_list.count) return false;
-#if RAY_LIST_PER_RAY
-    id = ivec3(unpack_pixel(ray_list.pixels[2u * index]), int(ray_list.pixels[2u * index + 1u]));
-#else
-    id = ivec3(unpack_pixel(ray_list.pixels[index]), int(gl_WorkGroupID.z));
-#endif
-    return true;
+    return ray_list_entry_at((gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u +
+                             gl_LocalInvocationID.y * 16u + uint(slot) * 8u + gl_LocalInvocationID.x, id);
 #else
     id = ivec3(gl_WorkGroupID.xy * uvec2(8u, 8u) + uvec2(gl_LocalInvocationID.x, gl_LocalInvocationID.y * 2u + uint(slot)),
                gl_WorkGroupID.z);

@@ -37,10 +37,9 @@ void ray_list_open_group(uint i) {
 uint pack_pixel(ivec2 q) { return uint(q.x) | (uint(q.y) << 16); }
 ivec2 unpack_pixel(uint entry) { return ivec2(int(entry & 0xffffu), int(entry >> 16)); }
 
-// The trace pass's invocation of the list entry it serves (8x8 groups, one list entry per
-// invocation, gl_WorkGroupID.z = the ray); false past the list's end.
-bool ray_list_entry(out ivec3 id) {
-    uint index = (gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
+// List entry `index`: its trace pixel and ray (per-ray lists hold the ray, pixel lists take it
+// from gl_WorkGroupID.z); false past the list's end.
+bool ray_list_entry_at(uint index, out ivec3 id) {
     id = ivec3(0);
     if (index >= ray_list.count) return false;
 #if RAY_LIST_PER_RAY
@@ -49,6 +48,12 @@ bool ray_list_entry(out ivec3 id) {
     id = ivec3(unpack_pixel(ray_list.pixels[index]), int(gl_WorkGroupID.z));
 #endif
     return true;
+}
+
+// The trace pass's invocation of the list entry it serves (8x8 groups, one list entry per
+// invocation, gl_WorkGroupID.z = the ray).
+bool ray_list_entry(out ivec3 id) {
+    return ray_list_entry_at((gl_WorkGroupID.y * RAY_LIST_ROW + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex, id);
 }
 
 // Frame.stats of the variance-guided second trace: rays it generated and the depth fetches they spent.
