@@ -33,7 +33,8 @@ def page(renderer) -> str:
 
     lines = ["# The chain, from the code", "",
              "Made by `python docs/make_chain_page.py` from `Renderer.chain(settings)`, which asks each pass "
-             "whether it runs and what it reads and writes; `tests/test_docs.py` fails when this page and the "
+             "whether it runs and what it reads and writes (GPU buffers in italics: the work lists a pass "
+             "hands to a later one); `tests/test_docs.py` fails when this page and the "
              "code disagree. Scene: `mirror_test`; float inputs read by imageLoad (the CPU device's path: on a "
              "GPU the resolve reads its neighbours' rays from shared memory and `resolve_fetch` does not run).", ""]
     for title, kw in CONFIGURATIONS:

@@ -257,12 +257,13 @@ void bind_render(py::module_& m) {
             [](Renderer& r, const Scene& scene, const RenderSettings& s) {
                 py::list out;
                 for (const auto& e : r.chain(scene, s))
-                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs, e.history, e.scratch));
+                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs, e.history, e.scratch, e.buffer_inputs,
+                                              e.buffer_outputs));
                 return out;
             },
             py::arg("scene"), py::arg("settings"),
             "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, "
-            "scratch outputs).")
+            "scratch outputs, buffer inputs, buffer outputs).")
         .def_property("readback_path", &Renderer::readback_path, &Renderer::set_readback_path,
                       "How textures reach numpy: 'auto' (staged on a GPU, download on the CPU device), 'download' "
                       "(the driver's glGetTextureSubImage for float formats), or 'staged' (a copy pass into a "

@@ -12,17 +12,19 @@ constexpr size_t kHeaderUints = 8;  // shaders/lib/ray_list.glsl
 constexpr int kBlock = 4;  // pixels per invocation along x and y (classify.comp's CLASSIFY_BLOCK)
 }
 
-void ClassifyPass::bind() const {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinding, list_.id());
+void ClassifyPass::bind_list() const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinding, list_.id()); }
+
+void ClassifyPass::publish_list(FrameContext& ctx, const std::string& name) const {
     // The trace dispatches over the list. NVIDIA's driver (580, H100) dropped a dispatch's writes
     // to the buffer it read its indirect arguments from, from that buffer's second frame on (the
     // trace then added its counters to this header: Frame.stats read 0, the images were right),
-    // so the arguments come from a copy of the header's first three words.
+    // so the arguments are a copy of the header's first three words.
     constexpr size_t kArgs = 3 * sizeof(uint32_t);
     if (!dispatch_args_) dispatch_args_ = Buffer::create(kArgs);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the classify pass's atomics, before the copy
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // this pass's atomics, before the copy
     glCopyNamedBufferSubData(list_.id(), dispatch_args_.id(), 0, 0, GLsizeiptr(kArgs));
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, dispatch_args_.id());
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the copy, before a dispatch reads it
+    ctx.buffers.publish(name, FrameBuffer{&list_, kBinding, &dispatch_args_, 0});
 }
 
 void ClassifyPass::reset_list(int w, int h, int rays, bool per_ray) {
@@ -34,11 +36,6 @@ void ClassifyPass::reset_list(int w, int h, int rays, bool per_ray) {
     // layer when every entry is a ray).
     const uint32_t header[kHeaderUints] = {0, 0, per_ray ? 1u : uint32_t(rays), 0, 0, 0, 0, 0};
     list_.upload(header, sizeof(header));
-}
-
-void ClassifyPass::bind_resolve_list() const {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kResolveBinding, resolve_list_.id());
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, resolve_list_.id());
 }
 
 void ClassifyPass::reset_resolve_list(int width, int height, bool pixels) {
@@ -92,19 +89,19 @@ void ClassifyPass::execute(FrameContext& ctx) {
     // The peeling's list of the 32x32 regions where layer 0 holds a reflective surface (the
     // group's footprint): the groups run over those only (at 0 % reflective the
     // invocations over the whole image were most of the pass).
-    regions_ = peel_ ? peel_->covered_tiles(s) : nullptr;
+    const FrameBuffer& tiles = ctx.buffers.get("covered_tiles");
+    regions_ = tiles.data;
     regions_offset_ = DepthPeelPass::classify_regions_offset(s);
-    d["REFLECTIVE_REGIONS"] = regions_ ? "1" : "0";
     const GLuint prog = ctx.shaders.program({"passes/classify.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_rays"), s.traced_rays());
     bind_ray_generation_io(r);
     if (resolve_lists_) {
         bind_image_layered(3, r.get("reflection"), GL_WRITE_ONLY);
-        bind_resolve_list();
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kResolveBinding, resolve_list_.id());
     }
-    if (regions_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DepthPeelPass::kCoveredTilesBinding, regions_->id());
-    bind();
+    tiles.bind();
+    bind_list();
     // One invocation per block of kBlock x kBlock full-resolution pixels (receivers are
     // full-resolution pixels; a trace pixel is examined at its origin pixel). llvmpipe pays a
     // fixed cost per invocation even for one that returns at once, and its texelFetch of the
@@ -112,13 +109,12 @@ void ClassifyPass::execute(FrameContext& ctx) {
     // invocation per pixel measured 2-4 ms with nothing else to do); blocks of 4x4 pixels
     // that first gather their reflectivity 2x2 at a time measured 0.25-0.45 ms, and a block's
     // list entries take one atomic.
-    if (regions_) {
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, regions_->id());
-        glDispatchComputeIndirect(GLintptr(regions_offset_));
-    } else {
-        dispatch_2d(s.width, s.height, 1, 8 * kBlock, 8 * kBlock);
-    }
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, regions_->id());
+    glDispatchComputeIndirect(GLintptr(regions_offset_));
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the trace's and the resolve's indirect arguments
+    publish_list(ctx, "ray_list");
+    if (resolve_lists_)
+        ctx.buffers.publish("resolve_list", FrameBuffer{&resolve_list_, kResolveBinding, &resolve_list_, 0});
 }
 
 std::map<std::string, double> ClassifyPass::counters() const {

@@ -9,10 +9,11 @@
 // follows (resolves_over_lists), it also lists the resolve's work, the receiving pixels (own
 // rays) or the 16x16 tiles holding one, and writes the environment of the reflective pixels
 // rougher than the cutoff into a cleared reflection texture (shaders/passes/classify.comp).
-//   inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material
+//   inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material; the buffer
+//            covered_tiles (the peeling's)
 //   outputs: rays.* of the skipped pixels (declared by the trace pass that follows), the
-//            reflection of the non-receivers (declared by the resolve), the ray list and the
-//            resolve list buffers (not textures: see bind(), bind_resolve_list())
+//            reflection of the non-receivers (declared by the resolve); the buffers ray_list
+//            and, when the resolve runs over lists, resolve_list (FrameBuffer)
 #pragma once
 
 #include <map>
@@ -24,9 +25,6 @@ namespace ssr {
 
 class ClassifyPass : public RenderPass {
 public:
-    // `peel`: the depth peeling whose shading pass marks the tiles holding a reflective surface
-    // (covered_tiles.glsl); the blocks of the other tiles are skipped without a fetch.
-    explicit ClassifyPass(const DepthPeelPass* peel = nullptr) : peel_(peel) {}
     std::string name() const override { return "classify"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         // The screen-space traces run over its ray list (indirect dispatch).
@@ -36,13 +34,19 @@ public:
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings&) const override { return {}; }
+    // The peeling's list of the 32x32 regions where layer 0 holds a reflective surface: the
+    // blocks of the other regions are skipped without a fetch.
+    std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override {
+        return {"covered_tiles"};
+    }
+    std::vector<std::string> buffer_outputs(const RenderSettings& s, const FrameFacts&) const override {
+        if (resolves_over_lists(s)) return {"ray_list", "resolve_list"};
+        return {"ray_list"};
+    }
     void execute(FrameContext& ctx) override;
 
     // The SSBO binding of the ray list (shaders/lib/ray_list.glsl).
     static constexpr GLuint kBinding = 12;
-    // Binds the ray list as SSBO kBinding and a copy of its dispatch arguments as the
-    // dispatch-indirect buffer.
-    void bind() const;
     // The list's counters of the last run, read back from the GPU (Frame.stats).
     std::map<std::string, double> counters() const;
     void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
@@ -57,8 +61,6 @@ public:
     }
     // The SSBO binding of the resolve list (shaders/lib/resolve_list.glsl).
     static constexpr GLuint kResolveBinding = 13;
-    // Binds the resolve list as SSBO kResolveBinding and as the dispatch-indirect buffer.
-    void bind_resolve_list() const;
 
 protected:
     // Also the variance_rays pass's list of pixels that get extra rays (same layout).
@@ -70,9 +72,13 @@ protected:
     // group layer (adaptive rays over the list, ray_list.glsl's RAY_LIST_PER_RAY).
     void reset_list(int w, int h, int rays, bool per_ray = false);
     bool per_ray_ = false;  // the last run listed (pixel, ray) entries
+    // Binds the list as SSBO kBinding, for this pass's shader to fill.
+    void bind_list() const;
+    // Publishes the filled list as the frame buffer `name`, with a copy of its dispatch
+    // arguments as the indirect buffer (see classify.cpp).
+    void publish_list(FrameContext& ctx, const std::string& name) const;
 
 private:
-    const DepthPeelPass* peel_;
     const Buffer* regions_ = nullptr;  // the last run's region list (the peel's buffer), or none
     size_t regions_offset_ = 0;
     Buffer resolve_list_;

@@ -85,9 +85,7 @@ void DepthPeelPass::prepare_tiles(FrameContext& ctx) {
     glClearNamedBufferSubData(tiles_.id(), GL_R32UI, GLintptr(classify_regions_offset(s) + sizeof(region_header)),
                               sizeof(GLuint) * regions, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_flag);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoveredTilesBinding, tiles_.id());
-    tiles_layers_ = s.layers;
-    tiles_width_ = s.width;
-    tiles_height_ = s.height;
+    ctx.buffers.publish("covered_tiles", FrameBuffer{&tiles_, kCoveredTilesBinding});
     while (int(queries_.size()) < s.layers) {
         GLuint q = 0;
         glGenQueries(1, &q);
@@ -493,7 +491,6 @@ void DepthPeelPass::release() {
     empty_vao_ = 0;
     empty_fbo_.reset();
     tiles_.reset();
-    tiles_layers_ = 0;
     if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
     queries_.clear();
     used_queries_ = 0;

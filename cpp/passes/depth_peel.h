@@ -11,7 +11,7 @@
 //
 // Each layer is a depth pass (peel test only) and a shading pass at the kept depth
 // (GL_EQUAL, early fragment tests), so the material runs once per covered pixel; the shading
-// pass also marks the layer's covered 8x8 tiles in a buffer (covered_tiles(),
+// pass also marks the layer's covered 8x8 tiles in a buffer (the frame buffer "covered_tiles",
 // shaders/lib/covered_tiles.glsl) that the lighting pass dispatches over; in layer 0 it also
 // lists the 32x32 regions holding a reflective surface, which the classify pass dispatches
 // over (a frame with no reflective pixel runs no classify group).
@@ -42,6 +42,9 @@ public:
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
+        return {"covered_tiles"};
+    }
     void execute(FrameContext& ctx) override;
 
     // Pixels (samples passing the depth test) each layer of the last frame wrote (the lists:
@@ -76,8 +79,8 @@ public:
     // storage buffer); std::invalid_argument where the budget is beyond what the device can hold.
     static uint64_t store_limit_bytes(int budget_mib);
 
-    // The covered-tile buffer of the last run (shaders/lib/covered_tiles.glsl), bound as SSBO
-    // kCoveredTilesBinding, or nullptr where the last run had other settings' sizes.
+    // The covered-tile buffer ("covered_tiles", shaders/lib/covered_tiles.glsl), bound as SSBO
+    // kCoveredTilesBinding: flags and a list of tiles per layer, then layer 0's regions.
     static constexpr GLuint kCoveredTilesBinding = 14;
     static int covered_tiles_per_layer(const RenderSettings& s) { return ((s.width + 7) / 8) * ((s.height + 7) / 8); }
     // Layer 0's reflective 32x32 regions, listed for the classify pass's indirect
@@ -85,10 +88,6 @@ public:
     static int classify_regions(const RenderSettings& s) { return ((s.width + 31) / 32) * ((s.height + 31) / 32); }
     static size_t classify_regions_offset(const RenderSettings& s) {
         return sizeof(GLuint) * (4 + 2 * size_t(covered_tiles_per_layer(s)) * size_t(s.layers));
-    }
-    const Buffer* covered_tiles(const RenderSettings& s) const {
-        return tiles_ && tiles_layers_ == s.layers && tiles_width_ == s.width && tiles_height_ == s.height ? &tiles_
-                                                                                                             : nullptr;
     }
 
 private:
@@ -102,7 +101,6 @@ private:
     std::vector<GLuint> queries_;
     int used_queries_ = 0;
     Buffer tiles_;
-    int tiles_layers_ = 0, tiles_width_ = 0, tiles_height_ = 0;
     // Fragment lists: the store, counter (appended, capacity, most layers), heads, kept slots.
     Buffer store_, counter_, heads_, kept_;
     uint64_t capacity_ = 0;  // fragments the store holds

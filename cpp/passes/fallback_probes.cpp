@@ -23,7 +23,7 @@ void FallbackProbesPass::release() {
 std::vector<std::string> FallbackProbesPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"linear_depth",  "gbuffer.albedo", "gbuffer.normal", "gbuffer.material",
                                    "rays.hit",      "rays.sample",    "rays.direction"};
-    if (shadows_) in.push_back("shadow_map");
+    if (f.shadows) in.push_back("shadow_map");
     return in;
 }
 
@@ -75,8 +75,9 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
     Defines d = ctx.defines;
     d["STAGE"] = "0";  // capture
     const bool traced = s.bvh_shadows == BvhShadows::Traced;
-    d["SHADOWS"] = shadows_ && !traced ? "1" : "0";
-    d["TRACED_SHADOWS"] = shadows_ && traced ? "1" : "0";
+    const bool shadows = ctx.facts.shadows;
+    d["SHADOWS"] = shadows && !traced ? "1" : "0";
+    d["TRACED_SHADOWS"] = shadows && traced ? "1" : "0";
     // A double-sided surface shows the probe the side its ray meets, not the camera's side.
     d["FACING_FROM_RAY"] = "1";
     const GLuint prog = ctx.shaders.program({"passes/fallback_probes.comp"}, d);  // compiled outside the clock
@@ -97,7 +98,7 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
 
     const_cast<GpuScene&>(ctx.gpu_scene).bind_ray_tracing(ctx.scene);
     glUseProgram(prog);
-    if (shadows_ && !traced) glBindTextureUnit(4, ctx.resources.get("shadow_map").id());
+    if (shadows && !traced) glBindTextureUnit(4, ctx.resources.get("shadow_map").id());
     glBindImageTexture(0, cube_, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, probe_ssbo_);
     glUniform1i(0, size);
@@ -122,7 +123,7 @@ void FallbackProbesPass::execute(FrameContext& ctx) {
                       std::to_string(s.probe_size) + "/" + std::to_string(int(s.bvh_shadows)) + "/" +
                       std::to_string(s.shadow_map_size) + "/" + std::to_string(s.shadow_normal_offset) + "/" +
                       std::to_string(s.shadow_pcf_radius) + "/" + std::to_string(s.max_distance) + "/" +
-                      (shadows_ ? "s" : "u");
+                      (ctx.facts.shadows ? "s" : "u");
     for (const auto& p : probes) key += "/" + std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z);
     if (key != key_ || !cube_) {
         capture(ctx, probes);

@@ -28,12 +28,11 @@ namespace ssr {
 
 class FallbackProbesPass : public RenderPass {
 public:
-    explicit FallbackProbesPass(bool shadows) : shadows_(shadows) {}
     ~FallbackProbesPass();
     std::string name() const override { return "fallback_probes"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         // Seed 004's local cube maps for what screen space did not resolve; with or without the shadow map.
-        return f.reflections && s.method != TraceMethod::Bvh && s.fallback == Fallback::Probes && shadows_ == f.shadows;
+        return f.reflections && s.method != TraceMethod::Bvh && s.fallback == Fallback::Probes;
     }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
@@ -64,7 +63,6 @@ public:
 private:
     void capture(FrameContext& ctx, const std::vector<glm::vec3>& probes);
 
-    bool shadows_;
     GLuint cube_ = 0;        // GL_TEXTURE_CUBE_MAP_ARRAY, RGBA16F, 6 faces per probe, mip chain
     GLuint probe_ssbo_ = 0;  // probe centres (vec4)
     std::string key_;        // what the cached capture was made of

@@ -24,48 +24,34 @@ void LightingPass::execute(FrameContext& ctx) {
     // The PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
     // weights instead of two nested loops over a uniform bound.
     if (ctx.facts.shadows) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
-    // With the peeling's covered tiles, one indirect dispatch over the covered 8x8 tiles
-    // of every layer; the rest is cleared. llvmpipe runs each SIMD vector through every branch,
+    // One indirect dispatch over the 8x8 tiles of every layer the peeling covered (its
+    // "covered_tiles"); the rest is cleared. llvmpipe runs each SIMD vector through every branch,
     // so an uncovered texel cost as much as a covered one (4 layers of spheres_and_boxes, 59 %
     // to 2 % covered, cost as much as hall's, 94 % to 37 %).
-    const Buffer* tiles = peel_ ? peel_->covered_tiles(ctx.settings) : nullptr;
-    tiles_ = tiles;
+    const FrameBuffer& tiles = ctx.buffers.get("covered_tiles");
+    tiles_ = tiles.data;
     const int tile_count = DepthPeelPass::covered_tiles_per_layer(ctx.settings) * ctx.settings.layers;
     // Its parts (lighting.list/clear/shade): where the pass's time goes on a device.
     std::optional<GpuScope> part;
-    if (tiles) {
-        part.emplace(ctx.timer, "lighting.list");
-        Defines dl = d;
-        dl["TILE_LIST"] = "1";
-        const GLuint list = ctx.shaders.program({"passes/lighting.comp"}, dl);
-        glUseProgram(list);
-        glUniform1i(glGetUniformLocation(list, "u_tiles"), tile_count);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DepthPeelPass::kCoveredTilesBinding, tiles->id());
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the peeling's fragment writes
-        glDispatchCompute(GLuint((tile_count + 63) / 64), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-        d["TILED"] = "1";
-    }
-    // Layers behind the first empty one hold nothing anywhere (peeling skipped their
-    // draws), so they get exactly what the shader writes for an uncovered pixel, by a clear.
-    // Reading the query results waits for the peeling (a sync point before this pass).
+    part.emplace(ctx.timer, "lighting.list");
+    Defines dl = d;
+    dl["TILE_LIST"] = "1";
+    const GLuint list = ctx.shaders.program({"passes/lighting.comp"}, dl);
+    glUseProgram(list);
+    glUniform1i(glGetUniformLocation(list, "u_tiles"), tile_count);
+    tiles.bind();
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the peeling's fragment writes
+    glDispatchCompute(GLuint((tile_count + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    // Every layer is cleared first: the tiles the list leaves out keep the clear. With skip, the
+    // layers the peeling found non-empty (FrameContext::layers_used) are the ones counted as shaded.
     const int allocated = ctx.settings.layers;
-    int shaded = allocated;
-    if (ctx.settings.skip && peel_) {
-        const std::vector<uint64_t> samples = peel_->layer_samples();
-        shaded = 0;
-        while (shaded < int(samples.size()) && samples[size_t(shaded)] > 0) ++shaded;
-        shaded = std::min(shaded, allocated);
-    }
-    // With the tile list every layer is cleared first: the tiles it leaves out keep the clear.
-    const int cleared_from = tiles ? 0 : shaded;
-    if (cleared_from < allocated) {
-        part.emplace(ctx.timer, "lighting.clear");
-        const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        const float far[4] = {ctx.uniforms.clip.y, 0.0f, 0.0f, 0.0f};
-        clear_layers(ctx, ctx.resources.get("lit"), cleared_from, zero);
-        clear_layers(ctx, ctx.resources.get("linear_depth"), cleared_from, far);
-    }
+    layers_shaded_ = ctx.settings.skip ? ctx.layers_in_use() : allocated;
+    part.emplace(ctx.timer, "lighting.clear");
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    const float far[4] = {ctx.uniforms.clip.y, 0.0f, 0.0f, 0.0f};
+    clear_layers(ctx, ctx.resources.get("lit"), 0, zero);
+    clear_layers(ctx, ctx.resources.get("linear_depth"), 0, far);
     const GLuint prog = ctx.shaders.program({"passes/lighting.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_tiles"), tile_count);
@@ -80,15 +66,10 @@ void LightingPass::execute(FrameContext& ctx) {
     // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
     // depth format, which no image can bind.
     if (ctx.fetch_by_image()) bind_input_images(r, 2, {"gbuffer.normal"});
-    layers_shaded_ = shaded;
     part.emplace(ctx.timer, "lighting.shade");
-    if (tiles) {
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // the clears first
-        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tiles->id());
-        glDispatchComputeIndirect(0);
-    } else if (shaded > 0) {
-        dispatch_2d(ctx.settings.width, ctx.settings.height, shaded, 8, 8);
-    }
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // the clears first
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tiles.data->id());
+    glDispatchComputeIndirect(0);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 

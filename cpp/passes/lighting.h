@@ -5,8 +5,8 @@
 //   outputs: lit (RGBA16F array: radiance per layer; alpha 0.5 + r / 2 where a surface
 //            covers the texel, r its reflectivity, and 0 where none does), linear_depth (R32F array: positive
 //            view-space depth per layer; the far-plane distance where nothing is covered)
-// With Settings.skip the layers that are empty everywhere (from the peeling's
-// occlusion queries) are cleared to those "nothing here" values instead of shaded.
+// It runs over the 8x8 tiles the peeling covered (the buffer "covered_tiles"); every other texel
+// is cleared to those "nothing here" values instead of shaded.
 #pragma once
 
 #include "passes/depth_peel.h"
@@ -16,20 +16,20 @@ namespace ssr {
 
 class LightingPass : public RenderPass {
 public:
-    // `peel`: with Settings.skip, only the layers it found non-empty are shaded. With or without
-    // the shadow map (FrameFacts.shadows): a define of one program (SHADOWS).
-    explicit LightingPass(DepthPeelPass* peel = nullptr) : peel_(peel) {}
+    // With or without the shadow map (FrameFacts.shadows): a define of one program (SHADOWS).
     std::string name() const override { return "lighting"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override {
+        return {"covered_tiles"};
+    }
     void execute(FrameContext& ctx) override;
-    // Layers the last run shaded (the rest were cleared as empty).
+    // Layers the last run counted as shaded: with Settings.skip those the peeling found non-empty.
     int layers_shaded() const { return layers_shaded_; }
-    // 8x8 tiles the last run shaded from the covered-tile list (read back from the GPU), or -1
-    // where it dispatched over whole layers.
+    // 8x8 tiles the last run shaded from the covered-tile list (read back from the GPU).
     int tiles_shaded() const;
-    // layers_lit; with skip's counters, the 8x8 tiles shaded (-1: every texel of its layers).
+    // layers_lit; with skip's counters, the 8x8 tiles shaded.
     void report(const RenderSettings& s, std::map<std::string, double>& stats) const override {
         stats["layers_lit"] = double(layers_shaded_);
         if (s.skip) stats["tiles_lit"] = double(tiles_shaded());
@@ -37,7 +37,6 @@ public:
 
 private:
     int layers_shaded_ = 0;
-    DepthPeelPass* peel_;
     const Buffer* tiles_ = nullptr;  // the covered-tile list the last run used
 };
 

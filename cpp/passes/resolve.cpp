@@ -52,6 +52,11 @@ bool ResolvePass::shared_tile(const RenderSettings& s, bool fetch_by_image) {
     return !own_rays_only(s) && !fetch_by_image;
 }
 
+std::vector<std::string> ResolvePass::buffer_inputs(const RenderSettings& s, const FrameFacts&) const {
+    if (ClassifyPass::resolves_over_lists(s)) return {"resolve_list"};
+    return {};
+}
+
 void ResolvePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
     Defines d = ray_defines(ctx);
@@ -64,7 +69,6 @@ void ResolvePass::execute(FrameContext& ctx) {
     d["OWN_RAYS_ONLY"] = own_rays_only ? "1" : "0";
     // Over the classify pass's resolve list (receiving pixels, or tiles holding one).
     const bool list = ClassifyPass::resolves_over_lists(s);
-    if (list && !lists_) throw GLError(name() + ": Settings.skip needs the classify pass's resolve list");
     d["RESOLVE_LIST"] = list ? "1" : "0";
     d["RESOLVE_LIST_PIXELS"] = list && own_rays_only ? "1" : "0";
     // Neighbours' rays from the shared tile, or from resolve_fetch's textures where the
@@ -104,7 +108,7 @@ void ResolvePass::execute(FrameContext& ctx) {
     if (list) {
         // The classify pass (run before, build_chain) wrote the list and its dispatch arguments;
         // an empty list is a dispatch of 0 groups.
-        lists_->bind_resolve_list();
+        ctx.buffers.get("resolve_list").bind();
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                         GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

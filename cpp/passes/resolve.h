@@ -4,8 +4,8 @@
 //            gbuffer.normal, gbuffer.material
 //            (+ rays.radiance with method or fallback "bvh")
 //   outputs: reflection (RGBA16F, full resolution; 0 where a pixel does not reflect)
-// With Settings.skip it runs by indirect dispatch over the classify pass's resolve
-// list only: the receiving pixels (own rays) or the 16x16 tiles holding one; the classify pass
+// With Settings.skip it runs by indirect dispatch over the classify pass's buffer resolve_list
+// only: the receiving pixels (own rays) or the 16x16 tiles holding one; the classify pass
 // wrote the other pixels' reflection.
 #pragma once
 
@@ -13,12 +13,8 @@
 
 namespace ssr {
 
-class ClassifyPass;
-
 class ResolvePass : public RenderPass {
 public:
-    // `lists`: the classify pass whose resolve list the resolve runs over with Settings.skip.
-    explicit ResolvePass(const ClassifyPass* lists = nullptr) : lists_(lists) {}
     // Where no neighbour's ray can weigh anything (full-resolution rays with reuse
     // radius 0, or mirror rays with BRDF weights, which serve only their own pixel), each pixel
     // reads its own rays directly: no shared tile and no barriers, the same sums.
@@ -46,13 +42,16 @@ public:
         return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
                 "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
+    // The stage a user pass of stage "reflection_filter" follows (passes/user_pass.h).
+    std::string stage() const override { return "resolve"; }
+    // With Settings.skip and the stochastic resolve: classify's list of the receivers.
+    std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"reflection", GL_RGBA16F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;
 
 private:
-    const ClassifyPass* lists_;
 };
 
 }  // namespace ssr

@@ -36,6 +36,8 @@ public:
     }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    // It compacts its own list of rays (below), not classify's.
+    std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override { return {}; }
     void execute(FrameContext& ctx) override;
 
 private:

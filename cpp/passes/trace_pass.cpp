@@ -9,7 +9,6 @@ namespace ssr {
 void TracePass::run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup) {
     auto& r = ctx.resources;
     const bool skip = ctx.settings.skip || extra_;
-    if (skip && !ray_list_) throw GLError(name() + ": Settings.skip needs the classify pass's ray list");
     Defines d = ctx.defines;
     d["RAY_LIST"] = skip ? "1" : "0";
     d["ADAPTIVE_RAYS"] = ctx.settings.adaptive_rays && !extra_ ? "1" : "0";
@@ -37,9 +36,9 @@ void TracePass::run(FrameContext& ctx, const std::string& stage, const std::func
     // three ray outputs; a tracer binds its own after these (trace_hiz: its atlas, unit 5).
     if (ctx.fetch_by_image()) bind_input_images(r, 3, {"linear_depth", "gbuffer.normal"});
     if (skip) {
-        // The classify pass (run before, build_chain) wrote the list and its dispatch
-        // arguments: groups of 64 list entries, a group layer per ray.
-        ray_list_->bind();
+        // The classify (or variance_rays) pass wrote the list and its dispatch arguments: groups
+        // of 64 list entries, a group layer per ray.
+        ctx.buffers.get(extra_ ? "extra_ray_list" : "ray_list").bind();
         glDispatchComputeIndirect(0);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                         GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -14,13 +14,18 @@ namespace ssr {
 
 class TracePass : public RenderPass {
 public:
-    // `ray_list`: the classify pass whose list the trace runs over with Settings.skip.
-    // `extra`: the variance-guided second trace (Settings.variance_rays, variance_rays.h): over
-    // `ray_list` (the variance_rays pass) always, only the rays adaptive_rays left out, into
-    // the textures the first trace declared.
-    explicit TracePass(const ClassifyPass* ray_list = nullptr, bool extra = false)
-        : ray_list_(ray_list), extra_(extra) {}
+    // With Settings.skip the trace runs over classify's buffer ray_list. `extra`: the
+    // variance-guided second trace (Settings.variance_rays, variance_rays.h): over the buffer
+    // extra_ray_list always, only the rays adaptive_rays left out, into the textures the first
+    // trace declared.
+    explicit TracePass(bool extra = false) : extra_(extra) {}
     bool extra() const { return extra_; }
+    // The list it runs over, if any.
+    std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts&) const override {
+        if (extra_) return {"extra_ray_list"};
+        if (s.skip) return {"ray_list"};
+        return {};
+    }
     std::string stage() const override { return extra_ ? "trace_extra" : "trace"; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         if (extra_) return {};
@@ -39,7 +44,6 @@ protected:
     void run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup = {});
 
 private:
-    const ClassifyPass* ray_list_;
     bool extra_;
 };
 

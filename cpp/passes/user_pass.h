@@ -44,7 +44,7 @@ struct UserPassDesc {
 
 class UserPass : public TracePass {
 public:
-    UserPass(UserPassDesc desc, const ClassifyPass* ray_list) : TracePass(ray_list), desc_(std::move(desc)) {}
+    explicit UserPass(UserPassDesc desc) : desc_(std::move(desc)) {}
     const UserPassDesc& desc() const { return desc_; }
     std::string name() const override { return desc_.name; }
     std::string stage() const override { return desc_.stage; }
@@ -53,11 +53,18 @@ public:
     bool runs(const RenderSettings&, const FrameFacts&) const override { return false; }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    // A trace pass runs over classify's ray list with Settings.skip; a filter reads no buffer.
+    std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts& f) const override {
+        return desc_.stage == "trace" ? TracePass::buffer_inputs(s, f) : std::vector<std::string>{};
+    }
     void check_device(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
     void report(const RenderSettings& s, std::map<std::string, double>& stats) const override;
     void release() { source_copy_.reset(); }
 
+    // The stage of the built-in pass a user pass of `stage` runs right after ("reflection_filter":
+    // the "resolve"), or "" where it takes the place of the built-in pass of its own stage ("trace").
+    static std::string after_stage(const std::string& stage) { return stage == "reflection_filter" ? "resolve" : ""; }
     // The resources a stage writes in place (a user pass of that stage may write them).
     static std::vector<std::string> stage_writes(const std::string& stage);
     static GLenum parse_format(const std::string& format);  // 0 when unknown

@@ -18,9 +18,10 @@ void VarianceRaysPass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
     bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
     bind_image_layered(0, r.get("variance"), GL_WRITE_ONLY);
-    bind();
+    bind_list();
     dispatch_2d(w, h, 1, 8, 8);
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the second trace's indirect arguments
+    publish_list(ctx, "extra_ray_list");
 }
 
 std::map<std::string, double> VarianceRaysPass::extra_counters() const {

@@ -9,7 +9,7 @@
 // it was drawn with.
 //   inputs : lit, linear_depth, gbuffer.*, rays.hit, rays.sample, rays.direction
 //   outputs: variance (R32F at the trace resolution: the relative standard deviation, -1 where
-//            the pixel traced no ray), the extra-ray list (a buffer: classify.h's layout)
+//            the pixel traced no ray), the buffer extra_ray_list (classify.h's layout)
 #pragma once
 
 #include "passes/classify.h"
@@ -29,6 +29,11 @@ public:
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"variance", GL_R32F, s.trace_width(), s.trace_height(), 0, 1}};
+    }
+    // The list of the pixels that get extra rays, in the ray list's layout.
+    std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override { return {}; }
+    std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
+        return {"extra_ray_list"};
     }
     void execute(FrameContext& ctx) override;
     // The list's counters (frame.stats): variance_pixels (pixels listed for extra rays),

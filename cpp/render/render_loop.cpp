@@ -124,6 +124,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         timer_.begin_frame();
         frame->passes.clear();
         fc.layers_used = -1;
+        fc.buffers.clear();
         for (RenderPass* p : chain) {
             try {
                 GpuScope t(timer_, p->name());
@@ -135,6 +136,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
                 throw;
             }
             check_gl(*ctx_, p->name().c_str());
+            for (const auto& b : p->buffer_outputs(s, frame_facts))
+                if (!fc.buffers.has(b))
+                    throw GLError("pass " + p->name() + " declares the buffer '" + b + "' and did not publish it");
             frame->passes.push_back(p->name());
         }
         // Work a pass caches across frames (a probe capture) is a first-use cost too.

@@ -41,6 +41,17 @@ const Texture& FrameResources::get(const std::string& name) const {
     throw GLError("frame has no texture '" + name + "'");
 }
 
+void FrameBuffer::bind() const {
+    if (data) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, data->id());
+    if (args) glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, args->id());
+}
+
+const FrameBuffer& FrameBuffers::get(const std::string& name) const {
+    auto it = buffers_.find(name);
+    if (it == buffers_.end()) throw GLError("no pass of this frame published the buffer '" + name + "'");
+    return it->second;
+}
+
 void FrameResources::allocate(const std::vector<ResourceDesc>& descs) {
     descs_ = descs;
     textures_.clear();

@@ -1,9 +1,9 @@
-// A render pass: one unit that decides when it runs and declares the textures it reads and
-// the textures it writes, in the spirit of Falcor's render passes. The renderer keeps every
-// pass in one registry, in the order the papers run them; a frame's chain is the passes that
-// say they run (Renderer::build_chain). The renderer allocates every declared output, checks
-// that each input was written by an earlier pass, times each pass on the GPU and checks GL
-// errors after it. Texture names are shared with Python: frame.read("gbuffer.normal").
+// A render pass: one unit that decides when it runs and declares the textures and buffers it
+// reads and writes, in the spirit of Falcor's render passes. The renderer keeps every pass in
+// one registry, in the order the papers run them; a frame's chain is the passes that say they
+// run (Renderer::build_chain). The renderer allocates every declared texture, checks that each
+// input, texture or buffer, was written by an earlier pass, times each pass on the GPU and
+// checks GL errors after it. Texture names are shared with Python: frame.read("gbuffer.normal").
 #pragma once
 
 #include <algorithm>
@@ -71,6 +71,35 @@ private:
     FrameResources* scratch_ = nullptr;
 };
 
+// A GPU buffer one pass writes for later passes of its frame: a work list and the indirect
+// dispatch arguments over it (classify's ray list, the peeling's covered tiles). Unlike a
+// texture its size follows what the frame holds, so the writing pass owns the storage (one per
+// renderer, Lifetime::Scratch: the passes of the same frame read it) and publishes it in
+// FrameContext::buffers when it runs; a reader declares the name in buffer_inputs() and finds
+// it there. The renderer checks that every declared buffer input is written by an earlier pass
+// and that every pass published what it declared.
+struct FrameBuffer {
+    const Buffer* data = nullptr;
+    GLuint binding = 0;              // the SSBO binding its shaders declare (shaders/lib/...)
+    const Buffer* args = nullptr;    // the indirect dispatch arguments over it, or none
+    GLintptr args_offset = 0;        // ... at this byte offset in `args`
+    // Binds `data` as SSBO `binding` and `args` (if any) as the dispatch-indirect buffer: a
+    // glDispatchComputeIndirect(args_offset) then runs over the list.
+    void bind() const;
+};
+
+class FrameBuffers {
+public:
+    void publish(const std::string& name, const FrameBuffer& b) { buffers_[name] = b; }
+    bool has(const std::string& name) const { return buffers_.count(name) != 0; }
+    // The buffer published as `name` in this frame; throws GLError naming it when none was.
+    const FrameBuffer& get(const std::string& name) const;
+    void clear() { buffers_.clear(); }
+
+private:
+    std::map<std::string, FrameBuffer> buffers_;
+};
+
 // What a frame's chain depends on besides the settings: facts of the scene and the device.
 struct FrameFacts {
     bool shadows = false;         // a directional light casts the shadow map
@@ -91,6 +120,8 @@ struct FrameContext {
     const FrameUniforms& uniforms;
     FrameResources& resources;
     Defines defines;  // common shader defines (depth convention, ...)
+    // The buffers the passes of this frame published so far (FrameBuffer).
+    FrameBuffers buffers{};
     // The previous frame of a sequence (render/sequence.h): its textures and constants, null
     // outside a sequence, on its first frame, or when its size or scene differ. Temporal passes
     // only read them, so running the chain again (the untimed first-use run) is harmless.
@@ -134,11 +165,16 @@ public:
     // What it reads in a frame with these settings and facts (a variant's inputs).
     virtual std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
+    // The buffers (FrameBuffer) it reads, found in FrameContext::buffers, and those it writes and
+    // publishes there, in a frame with these settings and facts.
+    virtual std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts& f) const { return {}; }
+    virtual std::vector<std::string> buffer_outputs(const RenderSettings& s, const FrameFacts& f) const { return {}; }
     // Textures of the previous frame of a sequence the pass reads when they are there (and falls
     // back without): declared, so the chain shows what a frame keeps for the next one.
     virtual std::vector<std::string> history_inputs(const RenderSettings& s) const { return {}; }
-    // The stage of the chain the pass fills ("trace" for the screen-space tracers): a user pass
-    // declared for that stage takes its place (passes/user_pass.h). Empty: no replaceable stage.
+    // The stage of the chain the pass fills ("trace" for the screen-space tracers, "resolve"): a
+    // user pass declared for that stage takes its place, one whose stage follows it runs right
+    // after it (passes/user_pass.h). Empty: no stage a user pass refers to.
     virtual std::string stage() const { return ""; }
     // Settings this device cannot hold for this pass (a buffer too large), before anything is
     // allocated: throws std::invalid_argument naming the setting.

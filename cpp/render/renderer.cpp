@@ -92,23 +92,26 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
     variants[1].specular_occlusion = SpecularOcclusion::Horizon;
     variants[1].method = TraceMethod::Hiz;
     std::map<std::string, std::pair<std::string, size_t>> owner;  // resource -> (pass, registry index)
-    size_t at = passes_.size();
+    // The registry index a user pass of `stage` runs at: the place of the built-in pass of its
+    // stage, or right after the pass its stage follows (UserPass::after_stage).
+    auto place = [&](const std::string& stage) {
+        for (size_t i = 0; i < passes_.size(); ++i) {
+            const std::string& own = passes_[i]->stage();
+            if (own.empty()) continue;
+            if (own == stage) return i;
+            if (own == UserPass::after_stage(stage)) return i + 1;
+        }
+        return passes_.size();
+    };
+    const size_t at = place(d.stage);
     for (size_t i = 0; i < passes_.size(); ++i) {
         const RenderPass* p = passes_[i];
-        if (at == passes_.size() && d.stage == "trace" && p->stage() == "trace") at = i;
-        if (d.stage == "reflection_filter" && p == &resolve_) at = i + 1;
         for (const auto& s : variants)
             for (const auto& o : p->outputs(s)) owner.emplace(o.name, std::make_pair(p->name(), i));
     }
     // Earlier user passes' own textures: written at their stage's place.
-    for (const auto& u : user_passes_) {
-        size_t uat = 0;
-        for (size_t i = 0; i < passes_.size(); ++i) {
-            if (u->stage() == "trace" && passes_[i]->stage() == "trace") { uat = i; break; }
-            if (u->stage() == "reflection_filter" && passes_[i] == &resolve_) { uat = i + 1; break; }
-        }
-        for (const auto& c : u->desc().creates) owner.emplace(c.name, std::make_pair(u->name(), uat));
-    }
+    for (const auto& u : user_passes_)
+        for (const auto& c : u->desc().creates) owner.emplace(c.name, std::make_pair(u->name(), place(u->stage())));
     const std::vector<std::string> allowed = UserPass::stage_writes(d.stage);
     for (const auto& r : d.reads) {
         auto it = owner.find(r);
@@ -143,7 +146,7 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
     for (const auto& p : d.params)
         if (p.type != "float" && p.type != "int" && p.type != "bool")
             fail("parameter '" + p.name + "' has type '" + p.type + "' (types: float, int, bool)");
-    user_passes_.push_back(std::make_unique<UserPass>(d, &classify_));
+    user_passes_.push_back(std::make_unique<UserPass>(d));
 }
 
 std::vector<UserPassDesc> Renderer::user_passes() const {
@@ -239,8 +242,7 @@ void Renderer::destroy_gl_objects() {
     shaders_->release();
     shadow_map_.release();
     depth_peel_.release();
-    fallback_probes_shadowed_.release();
-    fallback_probes_unshadowed_.release();
+    fallback_probes_.release();
     for (auto& u : user_passes_) u->release();
 }
 
@@ -278,10 +280,9 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, const Fr
             continue;
         }
         chain.push_back(p);
-        // A filter of the reflection runs right after the resolve.
-        if (p == &resolve_)
-            for (UserPass* u : chosen)
-                if (u->stage() == "reflection_filter") chain.push_back(u);
+        // A user pass whose stage follows this pass's (a filter of the reflection after the resolve).
+        for (UserPass* u : chosen)
+            if (!p->stage().empty() && UserPass::after_stage(u->stage()) == p->stage()) chain.push_back(u);
     }
     return chain;
 }
@@ -359,7 +360,8 @@ std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const Rend
     std::vector<ChainEntry> out;
     const FrameFacts f = facts(scene, gs, s);
     for (RenderPass* p : build_chain(s, f)) {
-        ChainEntry e{p->name(), p->inputs(s, f), {}, p->history_inputs(s), {}};
+        ChainEntry e{p->name(), p->inputs(s, f), {}, p->history_inputs(s), {}, p->buffer_inputs(s, f),
+                     p->buffer_outputs(s, f)};
         for (const auto& d : p->outputs(s)) {
             e.outputs.push_back(d.name);
             if (d.lifetime == Lifetime::Scratch) e.scratch.push_back(d.name);

@@ -65,6 +65,7 @@ public:
         std::vector<std::string> inputs, outputs;
         std::vector<std::string> history;  // read from the previous frame of a sequence (history_inputs)
         std::vector<std::string> scratch;  // the outputs that are per-renderer scratch (Lifetime::Scratch)
+        std::vector<std::string> buffer_inputs, buffer_outputs;  // FrameBuffer names
     };
     std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings);
     // Registers a user pass (passes/user_pass.h) after checking its declaration against the passes
@@ -212,21 +213,22 @@ private:
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
-    LightingPass lighting_{&depth_peel_};  // with or without the shadow map: FrameFacts.shadows
+    LightingPass lighting_;  // with or without the shadow map: FrameFacts.shadows
     HizBuildPass hiz_build_;
-    ClassifyPass classify_{&depth_peel_};
-    TraceLinearPass trace_linear_{&classify_};
-    TraceHizPass trace_hiz_{&classify_};
+    ClassifyPass classify_;
+    TraceLinearPass trace_linear_;
+    TraceHizPass trace_hiz_;
     // Settings.variance_rays: the extra-ray list and the second trace over it.
     VarianceRaysPass variance_rays_;
-    TraceLinearPass trace_linear_extra_{&variance_rays_, true};
-    TraceHizPass trace_hiz_extra_{&variance_rays_, true};
+    TraceLinearPass trace_linear_extra_{true};
+    TraceHizPass trace_hiz_extra_{true};
     // Ray-traced reflections and the BVH fallback (with or without the shadow map: FrameFacts.shadows).
     TraceBvhPass trace_bvh_{false}, fallback_bvh_{true};
-    // Reflection probes (seed 004): captured once per scene and probe set.
-    FallbackProbesPass fallback_probes_shadowed_{true}, fallback_probes_unshadowed_{false};
+    // Reflection probes (seed 004): captured once per scene and probe set, with or without the
+    // shadow map (FrameFacts.shadows).
+    FallbackProbesPass fallback_probes_;
     ResolveFetchPass resolve_fetch_;  // The resolve's tile fill where shared memory is slow
-    ResolvePass resolve_{&classify_};
+    ResolvePass resolve_;
     ReprojectPass reproject_;
     TemporalPass temporal_;
     TaaPass taa_;  // the thesis's or the clamped TAA: Settings.taa
@@ -247,9 +249,8 @@ private:
     const std::vector<RenderPass*> passes_{
         &shadow_map_, &depth_peel_, &lighting_, &reproject_, &hiz_build_, &preconvolve_, &preintegrate_, &trace_bvh_,
         &classify_, &trace_hiz_, &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_,
-        &fallback_bvh_, &fallback_probes_shadowed_, &fallback_probes_unshadowed_, &specular_occlusion_, &cone_trace_,
-        &blur_mips_, &resolve_fetch_, &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_,
-        &composite_, &taa_};
+        &fallback_bvh_, &fallback_probes_, &specular_occlusion_, &cone_trace_, &blur_mips_, &resolve_fetch_,
+        &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_, &composite_, &taa_};
     // User passes (register_user_pass), in registration order: build_chain puts those
     // Settings.user_passes names in their stage's place.
     std::vector<std::unique_ptr<UserPass>> user_passes_;

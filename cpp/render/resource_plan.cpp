@@ -50,15 +50,19 @@ std::string Renderer::gib(size_t bytes) { return ssr::gib(bytes); }
 Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s,
                                                 const FrameFacts& f) const {
     std::vector<ResourceDesc> descs;
-    std::set<std::string> written;
+    std::set<std::string> written, buffers;
     for (RenderPass* p : chain) {
         for (const auto& in : p->inputs(s, f))
             if (!written.count(in))
                 throw GLError("pass " + p->name() + " reads '" + in + "', which no earlier pass writes");
+        for (const auto& in : p->buffer_inputs(s, f))
+            if (!buffers.count(in))
+                throw GLError("pass " + p->name() + " reads the buffer '" + in + "', which no earlier pass writes");
         for (const auto& d : p->outputs(s)) {
             descs.push_back(d);
             written.insert(d.name);
         }
+        for (const auto& b : p->buffer_outputs(s, f)) buffers.insert(b);
     }
     // Every texture within the device's limits before any is allocated (GL would only answer
     // GL_INVALID_VALUE): the message names the texture and the settings that size it.

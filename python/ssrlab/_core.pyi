@@ -712,7 +712,7 @@ class Renderer:
         """
     def chain(self, scene: Scene, settings: RenderSettings) -> list:
         """
-        The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, scratch outputs).
+        The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, scratch outputs, buffer inputs, buffer outputs).
         """
     def check_gl(self) -> None:
         """

@@ -213,8 +213,8 @@ class Renderer:
 
             scene = mirror_test()
         settings = settings.resolved(self.info["device"])
-        return Chain([ChainPass(name, tuple(ins), tuple(outs), tuple(hist), tuple(scratch))
-                      for name, ins, outs, hist, scratch in self._native.chain(scene, settings.to_native())])
+        return Chain([ChainPass(name, tuple(ins), tuple(outs), tuple(hist), tuple(scratch), tuple(bins), tuple(bouts))
+                      for name, ins, outs, hist, scratch, bins, bouts in self._native.chain(scene, settings.to_native())])
 
     def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, **overrides):
         """Renders the frames of a camera path as one sequence and yields their Frames in order.
@@ -363,16 +363,20 @@ class Renderer:
 
 @dataclasses.dataclass(frozen=True)
 class ChainPass:
-    """One pass of a chain: its name and the resources (textures) it reads and writes; `history`:
-    what it reads from the previous frame of a sequence when there is one; `scratch`: those of its
-    outputs that are per-renderer scratch (one copy shared by every frame; read them right after
-    the render)."""
+    """One pass of a chain: its name and the textures it reads and writes; `history`: what it
+    reads from the previous frame of a sequence when there is one; `scratch`: those of its outputs
+    that are per-renderer scratch (one copy shared by every frame; read them right after the
+    render); `buffer_inputs` and `buffer_outputs`: the GPU buffers it reads and writes for later
+    passes of the same frame (work lists and their indirect dispatch arguments, such as
+    classify's ``ray_list``), owned by the pass that writes them."""
 
     name: str
     inputs: tuple[str, ...]
     outputs: tuple[str, ...]
     history: tuple[str, ...] = ()
     scratch: tuple[str, ...] = ()
+    buffer_inputs: tuple[str, ...] = ()
+    buffer_outputs: tuple[str, ...] = ()
 
 
 class Chain(list):
@@ -392,13 +396,20 @@ class Chain(list):
                 lines.append(f"      reads from the previous frame: {', '.join(p.history)}")
             if p.scratch:
                 lines.append(f"      scratch: {', '.join(p.scratch)}")
+            if p.buffer_inputs:
+                lines.append(f"      reads buffers:  {', '.join(p.buffer_inputs)}")
+            if p.buffer_outputs:
+                lines.append(f"      writes buffers: {', '.join(p.buffer_outputs)}")
         return "\n".join(lines)
 
     def markdown(self) -> str:
-        """A Markdown table: pass, reads, writes."""
+        """A Markdown table: pass, reads, writes (buffers in italics)."""
+        def names(textures, buffers):
+            return ", ".join([f"`{x}`" for x in textures] + [f"*`{x}`*" for x in buffers]) or "–"
+
         rows = ["| # | pass | reads | writes |", "|---|---|---|---|"]
-        rows += [f"| {i + 1} | `{p.name}` | {', '.join(f'`{x}`' for x in p.inputs) or '–'} | "
-                 f"{', '.join(f'`{x}`' for x in p.outputs) or '–'} |" for i, p in enumerate(self)]
+        rows += [f"| {i + 1} | `{p.name}` | {names(p.inputs, p.buffer_inputs)} | "
+                 f"{names(p.outputs, p.buffer_outputs)} |" for i, p in enumerate(self)]
         return "\n".join(rows)
 
 
@@ -526,7 +537,7 @@ class Frame:
         pixels_traced (trace pixels in the ray list) and trace_groups (indirect groups);
         layers_used (layers holding a surface somewhere: with skip, the Hi-Z build, the trace's
         layer walk, pre-convolution and pre-integration work on these only), layers_lit,
-        with skip tiles_lit (the 8x8 covered tiles the lighting shaded; -1: whole layers),
+        with skip tiles_lit (the 8x8 covered tiles the lighting shaded),
         hiz_layers_built; with Settings.variance_rays, variance_pixels (pixels given extra
         rays), extra_rays and extra_depth_fetches (the second trace's); with skip and the
         stochastic resolve, the resolve's list: resolve_pixels (receiving pixels, own-rays

@@ -40,12 +40,7 @@ layout(binding = 3, rgba16f) writeonly uniform image2D o_reflection;
 
 // The groups run over the 32x32 regions where the peeling drew a reflective surface
 // in layer 0 (lib/covered_tiles.glsl, indirect dispatch), not over the whole image.
-#ifndef REFLECTIVE_REGIONS
-#define REFLECTIVE_REGIONS 0
-#endif
-#if REFLECTIVE_REGIONS
 #include "../lib/covered_tiles.glsl"
-#endif
 
 // Llvmpipe pays a fixed cost per work group (~2 us, measured: an empty 8x8 classify
 // cost 2 ms at 320x180), so the groups are CLASSIFY_GROUP wide.
@@ -77,16 +72,12 @@ bool origin_line(int x, int trace_size, int image_size) {
 void main() {
     const int B = CLASSIFY_BLOCK;
     ivec2 size = ivec2(frame.viewport.xy);
-#if REFLECTIVE_REGIONS
     // This group's region: every pixel of the others is known not to reflect, so that (with
     // their "no ray" and "no reflection" cleared) they need no invocation at all.
     uint regions_base = classify_regions_base(int(frame.clip.z));
     ivec2 regions = classify_region_grid();
     int region = int(covered_tile[regions_base + 4u + uint(regions.x * regions.y) + gl_WorkGroupID.x]);
     ivec2 group_origin = ivec2(region % regions.x, region / regions.x) * CLASSIFY_REGION_SIZE;
-#else
-    ivec2 group_origin = ivec2(gl_WorkGroupID.xy) * 8 * B;
-#endif
     // The trace pixels examined (those whose origin pixel is in this group), counted once per
     // group rather than by one atomic per pixel on the same counter.
     if (gl_LocalInvocationIndex == 0u) {

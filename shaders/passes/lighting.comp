@@ -16,9 +16,6 @@
 #ifndef TILE_LIST
 #define TILE_LIST 0  // 1: the compaction of the covered tiles into the list (passes/lighting.cpp)
 #endif
-#ifndef TILED
-#define TILED 0  // 1: one work group per listed covered tile (an indirect dispatch)
-#endif
 
 uniform int u_tiles;  // layers x tiles per layer: where covered_tile[] holds the list
 
@@ -46,16 +43,12 @@ layout(local_size_x = COVERED_TILE_SIZE, local_size_y = COVERED_TILE_SIZE, local
 
 void main() {
     lights_load();  // before any control flow (lib/lights.glsl)
-#if TILED
     // Only covered tiles are dispatched; the rest of every layer was cleared to what an
     // uncovered texel gets below.
     ivec2 grid = covered_tile_grid();
     int entry = int(covered_tile[uint(u_tiles) + gl_WorkGroupID.x]);
     int layer = entry / (grid.x * grid.y), tile = entry % (grid.x * grid.y);
     ivec3 p = ivec3(ivec2(tile % grid.x, tile / grid.x) * COVERED_TILE_SIZE + ivec2(gl_LocalInvocationID.xy), layer);
-#else
-    ivec3 p = ivec3(gl_GlobalInvocationID);
-#endif
     if (p.x >= int(frame.viewport.x) || p.y >= int(frame.viewport.y)) return;
 
     GSample g = gbuffer_decode(texelFetch(u_albedo, p, 0), FETCH(u_normal, p), texelFetch(u_material, p, 0));
