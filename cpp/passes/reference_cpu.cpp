@@ -159,14 +159,31 @@ struct GSample {
 };
 
 // ---- lib/normal_mapping.glsl ----
-inline bool tangent_frame_from_vertex(vec3 n, vec4 tangent, vec3& t, vec3& b) {
+inline bool tangent_frame_from_vertex(vec3 n, vec4 tangent, glm::mat2 uv_linear, vec3& t, vec3& b) {
     t = vec3(1.0f, 0.0f, 0.0f);
     b = vec3(0.0f, 1.0f, 0.0f);
     const vec3 t3(tangent);
     if (glm::dot(t3, t3) <= 1e-12f || tangent.w == 0.0f) return false;
     t = glm::normalize(t3 - n * glm::dot(n, t3));
     b = glm::cross(n, t) * tangent.w;
+    const float det = glm::determinant(uv_linear);
+    if (uv_linear != glm::mat2(1.0f) && std::abs(det) > 1e-12f) {
+        const glm::mat2 inv = glm::inverse(uv_linear);
+        const vec3 tu = t * inv[0][0] + b * inv[0][1], tv = t * inv[1][0] + b * inv[1][1];
+        t = glm::normalize(tu);
+        b = glm::normalize(tv);
+    }
     return true;
+}
+
+// ---- lib/scene_data.glsl ----
+inline vec2 texture_uv(const GpuMaterial& m, int k, vec2 uv) {
+    return vec2(glm::dot(vec3(m.uv_transform[2 * k]), vec3(uv, 1.0f)),
+                glm::dot(vec3(m.uv_transform[2 * k + 1]), vec3(uv, 1.0f)));
+}
+inline glm::mat2 texture_linear(const GpuMaterial& m, int k) {
+    return glm::mat2(m.uv_transform[2 * k].x, m.uv_transform[2 * k + 1].x, m.uv_transform[2 * k].y,
+                     m.uv_transform[2 * k + 1].y);
 }
 inline bool tangent_frame_from_gradients(vec3 n, vec3 dp1, vec3 dp2, vec2 duv1, vec2 duv2, vec3& t, vec3& b) {
     const vec3 dp2perp = glm::cross(dp2, n), dp1perp = glm::cross(n, dp1);
@@ -468,14 +485,16 @@ public:
         vec3 t(0.0f), b(0.0f);
         bool has_frame = false;
         if (m.flags.z != 0) {
-            has_frame = tangent_frame_from_vertex(n, vec4(model_view * vec3(tangent), tangent.w), t, b) ||
-                        tangent_frame_from_gradients(n, model_view * (p[1] - p[0]), model_view * (p[2] - p[0]),
-                                                     uvs[1] - uvs[0], uvs[2] - uvs[0], t, b);
+            has_frame =
+                tangent_frame_from_vertex(n, vec4(model_view * vec3(tangent), tangent.w), texture_linear(m, 2), t, b) ||
+                tangent_frame_from_gradients(n, model_view * (p[1] - p[0]), model_view * (p[2] - p[0]),
+                                             texture_uv(m, 2, uvs[1]) - texture_uv(m, 2, uvs[0]),
+                                             texture_uv(m, 2, uvs[2]) - texture_uv(m, 2, uvs[0]), t, b);
         }
-        // material_sample
-        const vec4 base_texel = sample_image(m.images.x, auv, m.wraps.x, true);
-        const vec4 mr_texel = sample_image(m.images.y, auv, m.wraps.y, false);
-        const vec3 normal_texel = vec3(sample_image(m.images.z, auv, m.wraps.z, false));
+        // material_sample: each texture at its own coordinates (KHR_texture_transform)
+        const vec4 base_texel = sample_image(m.images.x, texture_uv(m, 0, auv), m.wraps.x, true);
+        const vec4 mr_texel = sample_image(m.images.y, texture_uv(m, 1, auv), m.wraps.y, false);
+        const vec3 normal_texel = vec3(sample_image(m.images.z, texture_uv(m, 2, auv), m.wraps.z, false));
         vec4 base = m.base_color;
         if (m.flags.x != 0) base *= base_texel;
         float metallic = m.params.x, roughness = m.params.y;

@@ -3,13 +3,23 @@
 // cotangent frame, Schüler, ShaderX5; fragment shaders only), or from a triangle's own
 // positions and uvs (the reference tracer). Applying the map is the same for all three.
 
-// Frame from a vertex tangent (w = bitangent sign); false when the mesh has none.
-bool tangent_frame_from_vertex(vec3 n, vec4 tangent, out vec3 t, out vec3 b) {
+// Frame from a vertex tangent (w = bitangent sign); false when the mesh has none. The vertex
+// tangents are the directions of the mesh's u and v (dP/du, dP/dv); the normal texture is read
+// at KHR_texture_transform's u' = L u + offset (`uv_linear` = L), so its axes are dP/du' and
+// dP/dv', the columns of (T B) L^-1: a rotated texture turns its frame with it.
+bool tangent_frame_from_vertex(vec3 n, vec4 tangent, mat2 uv_linear, out vec3 t, out vec3 b) {
     t = vec3(1.0, 0.0, 0.0);
     b = vec3(0.0, 1.0, 0.0);
     if (dot(tangent.xyz, tangent.xyz) <= 1e-12 || tangent.w == 0.0) return false;
     t = normalize(tangent.xyz - n * dot(n, tangent.xyz));
     b = cross(n, t) * tangent.w;
+    float det = determinant(uv_linear);
+    if (uv_linear != mat2(1.0) && abs(det) > 1e-12) {
+        mat2 inv = inverse(uv_linear);
+        vec3 tu = t * inv[0][0] + b * inv[0][1], tv = t * inv[1][0] + b * inv[1][1];
+        t = normalize(tu);
+        b = normalize(tv);
+    }
     return true;
 }
 

@@ -27,13 +27,18 @@ vec2 texture_uv(MaterialData m, int k, vec2 uv) {
     return vec2(dot(m.uv_transform[2 * k].xyz, vec3(uv, 1.0)), dot(m.uv_transform[2 * k + 1].xyz, vec3(uv, 1.0)));
 }
 
+// The linear part of texture k's transform (rotation x scale, without the offset).
+mat2 texture_linear(MaterialData m, int k) {
+    return mat2(m.uv_transform[2 * k].x, m.uv_transform[2 * k + 1].x,   // column 0
+                m.uv_transform[2 * k].y, m.uv_transform[2 * k + 1].y);  // column 1
+}
+
 // Texture k of material m in a rasterised pass, at the surface's coordinates uv with their screen
 // derivatives, the transform applied to both (its linear part to the derivatives). Explicit
 // gradients: an implicit derivative of a computed coordinate is undefined in non-uniform control
 // flow (GLSL 4.50, 8.9), and on llvmpipe the alpha test's branch then sampled wrong mip levels.
 vec4 sample_material_texture(sampler2D tex, MaterialData m, int k, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
-    mat2 linear = mat2(m.uv_transform[2 * k].x, m.uv_transform[2 * k + 1].x,   // column 0
-                       m.uv_transform[2 * k].y, m.uv_transform[2 * k + 1].y);  // column 1
+    mat2 linear = texture_linear(m, k);
     return textureGrad(tex, texture_uv(m, k, uv), linear * duv_dx, linear * duv_dy);
 }
 

@@ -101,7 +101,7 @@ ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w, bool viewer_is_ray) {
     vec3 t, b;
     bool has_frame = false;
     if (m.flags.z != 0) {
-        has_frame = tangent_frame_from_vertex(n, vec4(model_view * a.tangent.xyz, a.tangent.w), t, b) ||
+        has_frame = tangent_frame_from_vertex(n, vec4(model_view * a.tangent.xyz, a.tangent.w), texture_linear(m, 2), t, b) ||
                     tangent_frame_from_gradients(n, model_view * (a.p1 - a.p0), model_view * (a.p2 - a.p0),
                                                  texture_uv(m, 2, a.uv1) - texture_uv(m, 2, a.uv0),
                                                  texture_uv(m, 2, a.uv2) - texture_uv(m, 2, a.uv0), t, b);

@@ -122,7 +122,7 @@ void main() {
         // surface's (texture_uv of a derivative minus texture_uv of 0 drops the offset).
         vec2 n_dx = texture_uv(m, 2, duv_dx) - texture_uv(m, 2, vec2(0.0));
         vec2 n_dy = texture_uv(m, 2, duv_dy) - texture_uv(m, 2, vec2(0.0));
-        has_frame = tangent_frame_from_vertex(n, fs.view_tangent, t, b) ||
+        has_frame = tangent_frame_from_vertex(n, fs.view_tangent, texture_linear(m, 2), t, b) ||
                     tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), n_dx, n_dy, t, b);
     }
     vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, duv_dx, duv_dy);
