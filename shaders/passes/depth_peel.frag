@@ -97,7 +97,8 @@ layout(early_fragment_tests) in;
 layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
 layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
 layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent space
-#if EMISSION_TEXTURE
+#if EMISSION_TEXTURE && MATERIAL_TEXTURES
+// (declared only where bound: unit 4 may hold the last frame's shadow map, a comparison sampler)
 layout(binding = 4) uniform sampler2D u_emissive_texture;  // sRGB (GpuScene::kEmissiveTextureUnit)
 #endif
 layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
