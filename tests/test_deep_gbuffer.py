@@ -28,7 +28,10 @@ def assert_same_layers(renderer, scene, camera, what: str, **kw) -> ssrlab.Frame
     peel = renderer.render(scene, camera, tiny(deep_gbuffer="peel", **kw))
     lists = renderer.render(scene, camera, tiny(deep_gbuffer="lists", **kw))
     assert lists.stats["deep_gbuffer_method"] == "lists" and "deep_gbuffer_method" not in peel.stats
-    for name in TEXTURES:
+    # A scene with an emissive texture has a 4th output (gbuffer.emission), in both or neither.
+    emission = "gbuffer.emission" in peel.texture_names
+    assert emission == ("gbuffer.emission" in lists.texture_names)
+    for name in TEXTURES + (("gbuffer.emission",) if emission else ()):
         a, b = peel.read(name), lists.read(name)
         diff = bits(a) != bits(b)
         if diff.any():
@@ -212,6 +215,29 @@ def test_textured_and_normal_mapped_surfaces_are_equal(renderer):
     for culling in (False, True):
         f = assert_same_layers(renderer, s, cam, "textured", layers=4, backface_culling=culling)
         assert f.stats["layers_used"] >= 3
+
+
+def test_emissive_textures_are_carried_bit_for_bit(renderer):
+    """A scene with an emissive texture: the lists store each fragment's emission too (a longer
+    fragment, EMISSION_TEXTURE) and write it to gbuffer.emission as peeling's 4th output does,
+    for textured emitters, an emitter with a factor only, and surfaces that emit nothing."""
+    s = ssrlab.Scene()
+    rng = np.random.default_rng(7)
+    glow = s.add_image(rng.integers(0, 255, size=(16, 16, 3), dtype=np.uint8), name="glow")
+    colour = s.add_image(rng.integers(20, 255, size=(16, 16, 3), dtype=np.uint8), name="colour")
+    lamp = ssrlab.Material(base_color=(0.2, 0.2, 0.2), roughness=0.5, emissive_texture=glow, base_color_texture=colour)
+    lamp.emissive = (3.0, 2.0, 1.0)
+    s.add_sphere((0, 0, 0), 1.0, segments=24, material=lamp)
+    plain = ssrlab.Material(base_color=(0.5, 0.5, 0.5), roughness=0.4)
+    plain.emissive = (0.5, 0.0, 0.25)
+    s.add_sphere((0.6, 0.2, -1.5), 1.2, segments=24, material=plain)
+    s.add_plane((0, -1, 0), (8, 8), material=ssrlab.Material(base_color=(0.8, 0.8, 0.8)), uv_tiles=3.0)
+    cam = ssrlab.Camera(position=(0.5, 1.5, 4), target=(0, 0, 0), fov_y=45, near=0.1, far=30)
+    for culling in (False, True):
+        f = assert_same_layers(renderer, s, cam, "emissive", layers=4, backface_culling=culling)
+        assert f.stats["layers_used"] >= 3
+    e = f.read("gbuffer.emission")
+    assert len(np.unique(e[0, ..., 0])) > 20  # the texture's texels, not one factor
 
 
 def test_coplanar_triangles_of_one_draw_keep_peelings_winner(renderer):

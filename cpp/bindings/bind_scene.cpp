@@ -134,7 +134,8 @@ void validate_material(const Material& m, const Scene* scene) {
     if (!(m.alpha_cutoff >= 0.0f && std::isfinite(m.alpha_cutoff)))
         throw std::invalid_argument("Material.alpha_cutoff must be finite and >= 0, got " + std::to_string(m.alpha_cutoff));
     if (scene) {
-        for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture})
+        for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                    &m.emissive_texture})
             if (t->image >= int(scene->images.size()))
                 throw std::invalid_argument("Material texture refers to image " + std::to_string(t->image) +
                                             ", but the scene has " + std::to_string(scene->images.size()) + " images");
@@ -167,12 +168,14 @@ ior, specular, specular_color
              min(((ior - 1) / (ior + 1))^2 x specular_color, 1) x specular (0.04 by default)
 alpha_mode   glTF alphaMode: 'OPAQUE', 'MASK' (alpha = base_color[3] x texture alpha below
              alpha_cutoff is a hole in every pass) or 'BLEND' (tested as MASK at 0.5)
-emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
+emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000;
+             times the emissive_texture's sRGB-decoded texel where there is one
 *_texture    image index in the scene (-1: none); see Scene.add_image
 )doc")
         .def(py::init([](py::object base_color, float metallic, float roughness, py::object reflectivity, bool double_sided,
                          const std::string& name, int base_color_texture, int metallic_roughness_texture,
-                         int normal_texture, float normal_scale, const std::string& alpha_mode, float alpha_cutoff) {
+                         int normal_texture, float normal_scale, const std::string& alpha_mode, float alpha_cutoff,
+                         int emissive_texture) {
                  Material mat;
                  if (!base_color.is_none()) {
                      auto seq = py::cast<std::vector<float>>(base_color);
@@ -188,6 +191,7 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
                  mat.base_color_texture.image = base_color_texture;
                  mat.metallic_roughness_texture.image = metallic_roughness_texture;
                  mat.normal_texture.image = normal_texture;
+                 mat.emissive_texture.image = emissive_texture;
                  mat.normal_scale = normal_scale;
                  mat.alpha_mode = alpha_mode_from_python(alpha_mode);
                  mat.alpha_cutoff = alpha_cutoff;
@@ -198,7 +202,7 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
              py::arg("roughness") = 0.5f, py::arg("reflectivity") = 0.0f, py::arg("double_sided") = false,
              py::arg("name") = "", py::arg("base_color_texture") = -1, py::arg("metallic_roughness_texture") = -1,
              py::arg("normal_texture") = -1, py::arg("normal_scale") = 1.0f, py::arg("alpha_mode") = "OPAQUE",
-             py::arg("alpha_cutoff") = 0.5f)
+             py::arg("alpha_cutoff") = 0.5f, py::arg("emissive_texture") = -1)
         .def_readwrite("name", &Material::name, "the material's name (glTF material name)")
         .def_readwrite("base_color", &Material::base_color, "linear RGBA base colour, each >= 0")
         .def_readwrite("metallic", &Material::metallic, "glTF metalness, 0..1")
@@ -270,7 +274,7 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
                 x.emissive = e;
             },
             "emitted radiance, linear RGB: glTF emissiveFactor x KHR_materials_emissive_strength (added to the lit "
-            "colour; emissiveTexture is not rendered)")
+            "colour; times the emissive_texture's texel where there is one)")
         .def_readwrite("normal_scale", &Material::normal_scale, "glTF normal-texture scale of the tangent-space xy")
         .def_property(
             "base_color_texture", [](const Material& x) { return x.base_color_texture.image; },
@@ -282,6 +286,11 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
         .def_property(
             "normal_texture", [](const Material& x) { return x.normal_texture.image; },
             [](Material& x, int i) { x.normal_texture.image = i; }, "image index of the tangent-space normal texture (-1: none)")
+        .def_property(
+            "emissive_texture", [](const Material& x) { return x.emissive_texture.image; },
+            [](Material& x, int i) { x.emissive_texture.image = i; },
+            "image index of the sRGB emissive texture (-1: none): the emitted radiance is emissive x its texel "
+            "(glTF emissiveTexture)")
         .def("__repr__", [](const Material& x) {
             return "Material(name='" + x.name + "', base_color=(" + std::to_string(x.base_color.r) + ", " +
                    std::to_string(x.base_color.g) + ", " + std::to_string(x.base_color.b) +

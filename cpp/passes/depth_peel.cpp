@@ -21,6 +21,11 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const 
     };
 }
 
+std::vector<ResourceDesc> DepthPeelPass::fact_outputs(const RenderSettings& s, const FrameFacts& f) const {
+    if (!f.emission_texture) return {};
+    return {{"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1}};
+}
+
 namespace {
 // Back faces culled as Settings.backface_culling says (counter-clockwise fronts, as glTF), for
 // peeling and the lists' one geometry pass alike.
@@ -49,6 +54,8 @@ void set_min_separation(const RenderSettings& s, GLuint program) {
 }  // namespace
 
 void DepthPeelPass::execute(FrameContext& ctx) {
+    defines_ = ctx.defines;
+    if (ctx.facts.emission_texture) defines_["EMISSION_TEXTURE"] = "1";
     list_stats_ = ListStats{};
     prepare_tiles(ctx);
     if (ctx.settings.deep_gbuffer != DeepGBuffer::Lists || !lists(ctx)) {
@@ -100,6 +107,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     Texture& albedo = ctx.resources.get("gbuffer.albedo");
     Texture& normal = ctx.resources.get("gbuffer.normal");
     Texture& material = ctx.resources.get("gbuffer.material");
+    Texture* emission = colour_outputs() == 4 ? &ctx.resources.get("gbuffer.emission") : nullptr;
     Texture& previous = ctx.resources.get("depth_peel.previous_depth");
 
     // Each layer is drawn twice. The depth pass rasterises the layer's depth with a
@@ -109,7 +117,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     // or the depth test rejects afterwards: llvmpipe tests depth late in a shader that may discard,
     // and deeper layers cost as much as layer 0 whatever they cover. Both programs share the
     // vertex shader, whose `invariant gl_Position` makes the two depths bit-identical.
-    Defines peel_defines = ctx.defines;
+    Defines peel_defines = defines_;
     peel_defines["PEEL_DEPTH_ONLY"] = "1";
     peel_defines["PEEL_TEST"] = "0";
     const GLuint depth_first = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
@@ -135,7 +143,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     for (const DrawItem& d : ctx.gpu_scene.draws()) {
         const int kind = ctx.gpu_scene.material_features(d.material);
         if (shade[kind]) continue;
-        Defines shade_defines = ctx.defines;
+        Defines shade_defines = defines_;
         shade_defines["PEEL_DEPTH_ONLY"] = "0";
         shade_defines["MATERIAL_TEXTURES"] = kind & 1 ? "1" : "0";
         shade_defines["MATERIAL_AUTO_R"] = kind & 2 ? "1" : "0";
@@ -143,8 +151,10 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     }
 
     if (!fbo_) fbo_ = Framebuffer::create();
-    const GLenum draw_buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glNamedFramebufferDrawBuffers(fbo_.id(), 3, draw_buffers);
+    const int outputs = colour_outputs();
+    const GLenum draw_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3};
+    glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, s.width, s.height);
     ctx.depth.apply_gl_state();
@@ -180,8 +190,9 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         fbo_.attach(GL_COLOR_ATTACHMENT0, albedo, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
+        if (emission) fbo_.attach(GL_COLOR_ATTACHMENT3, *emission, 0, layer);
         if (layer == 0) fbo_.check_complete("depth_peel");
-        for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+        for (int i = 0; i < outputs; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
         // On the CPU device, layer i > 0 rasterises only the bounding box of layer i-1's covered
         // tiles (where alone a fragment can be behind it): llvmpipe bins and runs the peel test
@@ -233,7 +244,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         // the draws go in reverse order, so the same object wins (triangles within one draw
         // still go in order).
         part.emplace(ctx.timer, "depth_peel.shade");
-        glNamedFramebufferDrawBuffers(fbo_.id(), 3, draw_buffers);
+        glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
         const auto& draws = ctx.gpu_scene.draws();
@@ -261,6 +272,8 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_CULL_FACE);
     glDisable(GL_FRAMEBUFFER_SRGB);
+    // A later frame without gbuffer.emission must not keep this one's texture attached.
+    if (emission) glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, 0, 0);
 }
 
 // The store's largest size on this device for a budget of `budget_mib` (0: the device's own
@@ -283,7 +296,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     const RenderSettings& s = ctx.settings;
     const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
     const uint64_t limit_bytes = store_limit_bytes(s.deep_gbuffer_budget);
-    const uint64_t max_fragments = limit_bytes / kFragmentBytes;
+    const uint64_t max_fragments = limit_bytes / fragment_bytes();
     // The selection's slots are one storage buffer too: beyond the device's block, peel.
     const uint64_t kept_bytes = sizeof(GLuint) * pixels * uint64_t(s.layers);
     if (kept_bytes > store_limit_bytes(0) || max_fragments == 0) return false;
@@ -320,7 +333,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     list_stats_.fragments = counts[0];
     list_stats_.bytes = store_.size() + heads_.size() + kept_.size() + counter_.size();
 
-    Defines select_defines = ctx.defines;
+    Defines select_defines = defines_;
     select_defines["LAYERS"] = std::to_string(s.layers);
     set_min_separation(s, select_defines);
     const GLuint select = ctx.shaders.program({"passes/deep_gbuffer_select.comp"}, select_defines);
@@ -344,13 +357,16 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     Texture& albedo = ctx.resources.get("gbuffer.albedo");
     Texture& normal = ctx.resources.get("gbuffer.normal");
     Texture& material = ctx.resources.get("gbuffer.material");
+    Texture* emission = colour_outputs() == 4 ? &ctx.resources.get("gbuffer.emission") : nullptr;
     const GLuint write = ctx.shaders.program({"passes/deep_gbuffer_write.vert", "passes/deep_gbuffer_write.frag"},
-                                             ctx.defines);
+                                             defines_);
     GpuScope timer(ctx.timer, "deep_gbuffer.write");
     if (!fbo_) fbo_ = Framebuffer::create();
     if (!empty_vao_) glCreateVertexArrays(1, &empty_vao_);
-    const GLenum draw_buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glNamedFramebufferDrawBuffers(fbo_.id(), 3, draw_buffers);
+    const int outputs = colour_outputs();
+    const GLenum draw_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3};
+    glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, s.width, s.height);
     glDisable(GL_SCISSOR_TEST);
@@ -378,6 +394,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
         fbo_.attach(GL_COLOR_ATTACHMENT0, albedo, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
+        if (emission) fbo_.attach(GL_COLOR_ATTACHMENT3, *emission, 0, layer);
         if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
         if (layer < filled) {
             int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
@@ -390,7 +407,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
                     }
             const bool whole = x0 == 0 && y0 == 0 && x1 == grid_x - 1 && y1 == grid_y - 1;
             if (!whole) {
-                for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+                for (int i = 0; i < outputs; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
                 glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
                 glEnable(GL_SCISSOR_TEST);
                 glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
@@ -401,12 +418,13 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
             glDrawArrays(GL_TRIANGLES, 0, 3);
             glDisable(GL_SCISSOR_TEST);
         } else {
-            for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
+            for (int i = 0; i < outputs; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
             glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
         }
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_FRAMEBUFFER_SRGB);
+    if (emission) glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, 0, 0);
     ctx.depth.apply_gl_state();
     ctx.gpu_scene.bind_geometry();
     return true;
@@ -418,9 +436,9 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
 void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     const RenderSettings& s = ctx.settings;
     const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
-    if (store_.size() < capacity * kFragmentBytes) {
+    if (store_.size() < capacity * fragment_bytes()) {
         store_.reset();  // the old store goes before the new one is allocated
-        store_ = Buffer::create(capacity * kFragmentBytes);
+        store_ = Buffer::create(capacity * fragment_bytes());
     }
     const GLuint none = 0xffffffffu;
     glClearNamedBufferSubData(heads_.id(), GL_R32UI, 0, GLsizeiptr(sizeof(GLuint) * pixels), GL_RED_INTEGER,
@@ -436,7 +454,7 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     for (const DrawItem& d : ctx.gpu_scene.draws()) {
         const int kind = ctx.gpu_scene.material_features(d.material);
         if (shade[kind]) continue;
-        Defines defines = ctx.defines;
+        Defines defines = defines_;
         defines["PEEL_DEPTH_ONLY"] = "0";
         defines["DEEP_GBUFFER_APPEND"] = "1";
         defines["MATERIAL_TEXTURES"] = kind & 1 ? "1" : "0";

@@ -3,7 +3,9 @@
 //   outputs: gbuffer.depth (DEPTH32F), gbuffer.albedo (SRGB8_ALPHA8: rgb base colour,
 //            a metallic), gbuffer.normal (RGBA16F: view-space normal, roughness),
 //            gbuffer.material (RGBA8: reflectivity, coverage), all 2D arrays of
-//            Settings.layers layers; depth_peel.previous_depth (scratch)
+//            Settings.layers layers; depth_peel.previous_depth (scratch); and, only where the
+//            scene has an emissive texture (FrameFacts::emission_texture), gbuffer.emission
+//            (RGBA16F: the surface's emitted radiance, glTF emissiveFactor x strength x texel)
 // Layer 0 is the ordinary G-buffer. Layer i+1 re-renders the scene and discards every
 // fragment that is not strictly behind layer i's depth at that pixel, so it holds the
 // nearest surface behind layer i. Back-face culling is off by default, as in the thesis,
@@ -42,6 +44,9 @@ public:
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    // gbuffer.emission: the lighting pass has no texture coordinates, so a textured emission is
+    // sampled where the material is, in the shading pass, and written as a 4th attachment.
+    std::vector<ResourceDesc> fact_outputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
         return {"covered_tiles"};
     }
@@ -75,6 +80,7 @@ public:
         stats["deep_gbuffer_bytes"] = double(list_stats_.bytes);
     }
     static constexpr size_t kFragmentBytes = 64;  // struct ListFragment, lib/fragment_lists.glsl
+    static constexpr size_t kEmissionFragmentBytes = 80;  // ... with EMISSION_TEXTURE (its emission too)
     // The fragment store's largest size for Settings.deep_gbuffer_budget (0: the device's largest
     // storage buffer); std::invalid_argument where the budget is beyond what the device can hold.
     static uint64_t store_limit_bytes(int budget_mib);
@@ -96,6 +102,11 @@ private:
     // false: the fragments exceed the budget (nothing written; the caller peels).
     bool lists(FrameContext& ctx);
     void append(FrameContext& ctx, uint64_t capacity);
+    // The G-buffer's colour outputs this frame: 3, or 4 with gbuffer.emission.
+    int colour_outputs() const { return defines_.count("EMISSION_TEXTURE") ? 4 : 3; }
+    size_t fragment_bytes() const { return colour_outputs() == 4 ? kEmissionFragmentBytes : kFragmentBytes; }
+
+    Defines defines_;  // the frame's common defines, and EMISSION_TEXTURE where the facts say so
 
     Framebuffer fbo_, empty_fbo_;
     std::vector<GLuint> queries_;

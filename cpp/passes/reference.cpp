@@ -22,6 +22,8 @@ std::vector<std::string> ReferencePass::inputs(const RenderSettings& s, const Fr
         in.push_back("rays.sample");
     }
     if (shadows_ && !traced_shadows_) in.push_back("shadow_map");
+    // The pixel's own direct light adds its G-buffer emission (lib/gbuffer_emission.glsl).
+    if (!per_ray_ && f.emission_texture) in.push_back("gbuffer.emission");
     return in;
 }
 
@@ -43,7 +45,12 @@ GLuint ReferencePass::program(FrameContext& ctx) const {
     d["SHADOWS"] = shadows_ && !traced_shadows_ ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced_shadows_ ? "1" : "0";
     d["EXTERNAL_TRACE"] = tracer_ && !per_ray_ ? "1" : "0";
-    if (cpu_tracer_ && !per_ray_) return ctx.shaders.program({"passes/reference_gbuffer.comp"}, ctx.defines);
+    if (!per_ray_ && ctx.facts.emission_texture) d["EMISSION_TEXTURE"] = "1";
+    if (cpu_tracer_ && !per_ray_) {
+        Defines g = ctx.defines;
+        if (ctx.facts.emission_texture) g["EMISSION_TEXTURE"] = "1";
+        return ctx.shaders.program({"passes/reference_gbuffer.comp"}, g);
+    }
     return ctx.shaders.program({"passes/reference.comp"}, d);
 }
 
@@ -56,6 +63,7 @@ void ReferencePass::execute(FrameContext& ctx) {
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
     if (shadows_ && !traced_shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
+    if (!per_ray_ && ctx.facts.emission_texture) glBindTextureUnit(14, r.get("gbuffer.emission").id());
     if (cpu_tracer_ && !per_ray_) {
         execute_cpu(ctx, prog);
         return;
@@ -235,12 +243,20 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
     const RenderSettings& s = ctx.settings;
     const size_t n = size_t(s.width) * size_t(s.height);
     const auto t0 = clock::now();
-    Buffer decoded = Buffer::create(n * sizeof(CpuGbufferTexel));
+    // With an emissive texture, each pixel's gbuffer.emission follows the decoded samples.
+    const bool emission_texture = ctx.facts.emission_texture;
+    Buffer decoded = Buffer::create(n * (sizeof(CpuGbufferTexel) + (emission_texture ? sizeof(glm::vec4) : 0)));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, decoded.id());
     dispatch_2d(s.width, s.height, 1, 8, 8);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<CpuGbufferTexel> gbuffer(n);
     glGetNamedBufferSubData(decoded.id(), 0, GLsizeiptr(n * sizeof(CpuGbufferTexel)), gbuffer.data());
+    std::vector<glm::vec4> emission;
+    if (emission_texture) {
+        emission.resize(n);
+        glGetNamedBufferSubData(decoded.id(), GLintptr(n * sizeof(CpuGbufferTexel)), GLsizeiptr(n * sizeof(glm::vec4)),
+                                emission.data());
+    }
 
     CpuReferenceScene scene;
     scene.frame = ctx.uniforms;
@@ -271,7 +287,7 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
     scene.embree_scene = cpu_tracer_->scene();
     const auto t1 = clock::now();
 
-    CpuReference ref(scene, s.width, s.height, std::move(gbuffer));
+    CpuReference ref(scene, s.width, s.height, std::move(gbuffer), std::move(emission));
     ref.begin();
     // Rounds of ray indices, for progress and an interruption between them.
     constexpr int kBatch = 8;

@@ -374,15 +374,14 @@ public:
 
     // lib/shading.glsl with trace_shade.glsl's TRACED_SHADOWS light_visibility; surface_point_w
     // and surface_normal_w are the shaded point's (what its shadow rays leave from).
-    vec3 shade_surface(const GSample& g, vec3 p, vec3 v, vec3 surface_point_w, vec3 surface_normal_w) {
+    vec3 shade_surface(const GSample& g, vec3 emission, vec3 p, vec3 v, vec3 surface_point_w, vec3 surface_normal_w) {
         const vec3 n = g.normal;
         const float NoV = std::max(glm::dot(n, v), 1e-4f);
         const float alpha = ggx_alpha(g.roughness);
         const vec3 F0 = specular_f0(g.albedo, g.metallic);
         const vec3 diffuse_color = g.albedo * (1.0f - g.metallic);
         vec3 radiance = vec3(s_.frame.ambient) * g.albedo;
-        if (g.object_id >= 0)
-            radiance += vec3(s_.materials[size_t(s_.objects[size_t(g.object_id)].material.x)].emissive);
+        radiance += emission;
         for (const GpuLight& light : s_.lights) {
             vec3 l;
             vec3 irradiance = vec3(light.radiance);
@@ -520,8 +519,15 @@ public:
         g.reflectivity = clampf(m.params.z, 0.0f, 1.0f);
         g.covered = true;
         g.object_id = object;
+        // lib/material.glsl's material_emission, the emissive texture at its own coordinates
+        // (scene_data.glsl's texture_uv: KHR_texture_transform, row 6 and 7).
+        vec3 emission = vec3(m.emissive);
+        if (m.images.w >= 0) {
+            const vec2 euv(glm::dot(vec3(m.uv_transform[6]), vec3(auv, 1.0f)), glm::dot(vec3(m.uv_transform[7]), vec3(auv, 1.0f)));
+            emission *= vec3(sample_image(m.images.w, euv, m.wraps.w, true));
+        }
         const vec3 viewer = !viewer_is_ray ? glm::normalize(-position) : -glm::normalize(view3_ * dir_w);
-        s.radiance = shade_surface(g, position, viewer, point_w, normal_w);
+        s.radiance = shade_surface(g, emission, position, viewer, point_w, normal_w);
         return s;
     }
 
@@ -552,8 +558,9 @@ GSample decode(const CpuGbufferTexel& t) {
 
 }  // namespace
 
-CpuReference::CpuReference(const CpuReferenceScene& scene, int width, int height, std::vector<CpuGbufferTexel> gbuffer)
-    : s_(scene), width_(width), height_(height), gbuffer_(std::move(gbuffer)) {
+CpuReference::CpuReference(const CpuReferenceScene& scene, int width, int height, std::vector<CpuGbufferTexel> gbuffer,
+                           std::vector<glm::vec4> emission)
+    : s_(scene), width_(width), height_(height), gbuffer_(std::move(gbuffer)), emission_(std::move(emission)) {
     const size_t n = size_t(width) * size_t(height);
     state_.resize(n);
     accum_.assign(n, vec4(0.0f));
@@ -707,7 +714,13 @@ void CpuReference::finish() {
                     point_w = vec3(f.inv_view * vec4(pos + g.normal * (su.origin_bias * -pos.z), 1.0f));
                     normal_w = glm::normalize(sh.inv_view3_ * g.normal);
                 }
-                direct = sh.shade_surface(g, pos, glm::normalize(-pos), point_w, normal_w);
+                // lib/gbuffer_emission.glsl: the G-buffer's emission, or the factor by object id.
+                const vec3 emission =
+                    !emission_.empty() ? vec3(emission_[i])
+                                       : (g.object_id >= 0
+                                              ? vec3(s_.materials[size_t(s_.objects[size_t(g.object_id)].material.x)].emissive)
+                                              : vec3(0.0f));
+                direct = sh.shade_surface(g, emission, pos, glm::normalize(-pos), point_w, normal_w);
             }
             reflection_[i] = vec4(reflection, 1.0f);
             direct_[i] = vec4(direct, 1.0f);

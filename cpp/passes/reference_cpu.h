@@ -58,7 +58,10 @@ struct CpuGbufferTexel {
 
 class CpuReference {
 public:
-    CpuReference(const CpuReferenceScene& scene, int width, int height, std::vector<CpuGbufferTexel> gbuffer);
+    // emission: every pixel's gbuffer.emission where the scene has an emissive texture; empty:
+    // the material's factor found by object id (lib/gbuffer_emission.glsl).
+    CpuReference(const CpuReferenceScene& scene, int width, int height, std::vector<CpuGbufferTexel> gbuffer,
+                 std::vector<glm::vec4> emission = {});
     // The exact surface point of every pixel (the camera ray through its centre).
     void begin();
     // Ray indices [first, first + count) of every reflective pixel, added to its sums.
@@ -81,6 +84,7 @@ private:
     const CpuReferenceScene& s_;
     int width_, height_;
     std::vector<CpuGbufferTexel> gbuffer_;
+    std::vector<glm::vec4> emission_;
     std::vector<PixelState> state_;
     std::vector<glm::vec4> accum_, reflection_, direct_;
     std::atomic<uint64_t> rays_{0};

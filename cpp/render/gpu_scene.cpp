@@ -70,20 +70,24 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
         g.flags = glm::ivec4(m.base_color_texture.valid(), m.metallic_roughness_texture.valid(),
                              m.normal_texture.valid(), m.double_sided);
         auto wrap = [](const TextureRef& t) { return t.wrap_s | (t.wrap_t << 16); };
-        g.images = glm::ivec4(m.base_color_texture.image, m.metallic_roughness_texture.image, m.normal_texture.image, -1);
-        g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture), 0);
+        g.images = glm::ivec4(m.base_color_texture.image, m.metallic_roughness_texture.image, m.normal_texture.image,
+                              m.emissive_texture.image);
+        g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture),
+                             wrap(m.emissive_texture));
         g.dielectric_f0 = glm::vec4(m.dielectric_f0(), 0.0f);
-        const TextureRef* refs[3] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture};
-        for (int k = 0; k < 3; ++k) {
+        const TextureRef* refs[4] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                     &m.emissive_texture};
+        for (int k = 0; k < 4; ++k) {
             g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, 0.0f);
             g.uv_transform[2 * k + 1] = glm::vec4(refs[k]->transform_v, 0.0f);
         }
         mats.push_back(g);
         material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
                                       texture_for(scene, m.metallic_roughness_texture, false),
-                                      texture_for(scene, m.normal_texture, false)});
+                                      texture_for(scene, m.normal_texture, false),
+                                      texture_for(scene, m.emissive_texture, true)});
         material_features_.push_back((m.base_color_texture.valid() || m.metallic_roughness_texture.valid() ||
-                                              m.normal_texture.valid()
+                                              m.normal_texture.valid() || m.emissive_texture.valid()
                                           ? 1
                                           : 0) |
                                      (m.auto_reflectivity() ? 2 : 0));
@@ -106,6 +110,8 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
     objects_ = Buffer::create(objs.size() * sizeof(GpuObject), objs.data());
     bounds_ = scene.bounds();
     for (const Object& o : scene.objects) reflective_ = reflective_ || scene.materials[size_t(o.material)].reflectivity != 0.0f;
+    for (const Object& o : scene.objects)
+        emissive_texture_ = emissive_texture_ || scene.materials[size_t(o.material)].emissive_texture.valid();
 
     if (scene.environment.type == Environment::Type::Map) {
         const FloatImage img = read_float_image(scene.environment.map_path);
@@ -184,6 +190,7 @@ void GpuScene::bind_material_textures(int material) const {
     glBindTextureUnit(0, t[0] ? t[0] : white_.id());
     glBindTextureUnit(1, t[1] ? t[1] : white_.id());
     glBindTextureUnit(2, t[2] ? t[2] : flat_normal_.id());
+    if (emissive_texture_) glBindTextureUnit(kEmissiveTextureUnit, t[3] ? t[3] : white_.id());
 }
 
 }  // namespace ssr

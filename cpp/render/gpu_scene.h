@@ -34,10 +34,12 @@ struct GpuMaterial {
     glm::vec4 params;    // (metallic, roughness, reflectivity, normal_scale)
     glm::vec4 emissive;  // rgb; w: alpha cutoff (Material::visibility_cutoff, -1 opaque)
     glm::ivec4 flags;    // (has base colour tex, has metal-rough tex, has normal tex, double sided)
-    glm::ivec4 images;   // image index of each texture (-1: none), for shaders/lib/scene_textures.glsl
+    // image index of each texture (base, metal-rough, normal, emissive; -1: none), for
+    // shaders/lib/scene_textures.glsl; w >= 0 also says the material has an emissive texture
+    glm::ivec4 images;
     glm::ivec4 wraps;    // wrap_s | wrap_t << 16 of each texture
     glm::vec4 dielectric_f0;  // rgb: Material::dielectric_f0 (KHR_materials_ior / _specular)
-    glm::vec4 uv_transform[6];  // per texture (base, metal-rough, normal): TextureRef::transform_u, _v
+    glm::vec4 uv_transform[8];  // per texture (base, metal-rough, normal, emissive): TextureRef::transform_u, _v
 };
 
 struct DrawItem {
@@ -62,8 +64,12 @@ public:
     // The same triangles (bind_ray_tracing's BVH order) in an Embree scene, for tracing the
     // reference's rays on the CPU (built on first use; needs bind_ray_tracing first).
     const EmbreeTracer& embree_tracer();
-    // Binds the material's textures to units 0..2 (a white / flat texture when absent).
+    // Binds the material's textures to units 0..2 (a white / flat texture when absent) and,
+    // where the scene has an emissive texture, its emissive texture to unit kEmissiveTextureUnit.
     void bind_material_textures(int material) const;
+    static constexpr GLuint kEmissiveTextureUnit = 4;  // shaders/passes/depth_peel.frag
+    // Whether some object's material has an emissive texture (FrameFacts::emission_texture).
+    bool has_emissive_texture() const { return emissive_texture_; }
 
     const std::vector<DrawItem>& draws() const { return draws_; }
     // What a material's G-buffer shading needs beyond its factors (the peeling compiles
@@ -90,7 +96,7 @@ private:
     std::unique_ptr<VertexArray> vao_;
     Buffer vertices_, indices_, objects_, materials_;
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
-    std::vector<std::array<GLuint, 3>> material_textures_;
+    std::vector<std::array<GLuint, 4>> material_textures_;
     std::vector<int> material_features_;  // per material: bit 0 any texture, bit 1 auto reflectivity
     std::vector<uint8_t> alpha_tested_;   // per material
     Texture white_, flat_normal_, environment_map_;
@@ -102,6 +108,7 @@ private:
     uint64_t* bvh_builds_ = nullptr;
     int bvh_depth_ = 0;
     bool reflective_ = false;
+    bool emissive_texture_ = false;
     std::vector<DrawItem> draws_;
     Bounds bounds_;
     uint64_t revision_ = 0;

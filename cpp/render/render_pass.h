@@ -105,6 +105,9 @@ struct FrameFacts {
     bool shadows = false;         // a directional light casts the shadow map
     bool reflections = false;     // tracing is on and some surface reflects
     bool fetch_by_image = false;  // the passes read float inputs by imageLoad (the CPU device)
+    // Some object's material has an emissive texture (GpuScene::has_emissive_texture): the
+    // G-buffer then carries the emission (gbuffer.emission), which the lighting pass adds.
+    bool emission_texture = false;
 };
 
 // What a pass may use while it executes.
@@ -165,6 +168,14 @@ public:
     // What it reads in a frame with these settings and facts (a variant's inputs).
     virtual std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
+    // Textures it writes only in frames with these facts, beyond outputs(s) (a variant's own).
+    virtual std::vector<ResourceDesc> fact_outputs(const RenderSettings& s, const FrameFacts& f) const { return {}; }
+    // Everything it writes in a frame with these settings and facts.
+    std::vector<ResourceDesc> frame_outputs(const RenderSettings& s, const FrameFacts& f) const {
+        std::vector<ResourceDesc> out = outputs(s);
+        for (auto& d : fact_outputs(s, f)) out.push_back(std::move(d));
+        return out;
+    }
     // The buffers (FrameBuffer) it reads, found in FrameContext::buffers, and those it writes and
     // publishes there, in a frame with these settings and facts.
     virtual std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts& f) const { return {}; }

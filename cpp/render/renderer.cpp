@@ -106,8 +106,10 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
     const size_t at = place(d.stage);
     for (size_t i = 0; i < passes_.size(); ++i) {
         const RenderPass* p = passes_[i];
+        FrameFacts every;  // the facts that switch outputs on
+        every.emission_texture = true;
         for (const auto& s : variants)
-            for (const auto& o : p->outputs(s)) owner.emplace(o.name, std::make_pair(p->name(), i));
+            for (const auto& o : p->frame_outputs(s, every)) owner.emplace(o.name, std::make_pair(p->name(), i));
     }
     // Earlier user passes' own textures: written at their stage's place.
     for (const auto& u : user_passes_)
@@ -292,6 +294,7 @@ FrameFacts Renderer::facts(const Scene& scene, const GpuScene& gs, const RenderS
     f.shadows = ShadowMapPass::fit(scene, gs.bounds(), s).enabled;
     f.reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
     f.fetch_by_image = fetch_by_image_;
+    f.emission_texture = gs.has_emissive_texture();
     return f;
 }
 
@@ -362,7 +365,7 @@ std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const Rend
     for (RenderPass* p : build_chain(s, f)) {
         ChainEntry e{p->name(), p->inputs(s, f), {}, p->history_inputs(s), {}, p->buffer_inputs(s, f),
                      p->buffer_outputs(s, f)};
-        for (const auto& d : p->outputs(s)) {
+        for (const auto& d : p->frame_outputs(s, f)) {
             e.outputs.push_back(d.name);
             if (d.lifetime == Lifetime::Scratch) e.scratch.push_back(d.name);
         }

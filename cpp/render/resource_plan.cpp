@@ -58,7 +58,7 @@ Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& 
         for (const auto& in : p->buffer_inputs(s, f))
             if (!buffers.count(in))
                 throw GLError("pass " + p->name() + " reads the buffer '" + in + "', which no earlier pass writes");
-        for (const auto& d : p->outputs(s)) {
+        for (const auto& d : p->frame_outputs(s, f)) {
             descs.push_back(d);
             written.insert(d.name);
         }

@@ -557,9 +557,6 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             if (const std::string p = radiance_problem(m.emissive, 1.0f); !p.empty())
                 r.fail(what + ": emissiveFactor x emissiveStrength " + p);
         }
-        if (gm.emissiveTexture.index >= 0)
-            warnings.push_back(path + ": " + what + ": emissiveTexture is not rendered (the lighting pass has no texture "
-                               "coordinates); its emissiveFactor alone is");
         // KHR_materials_ior and KHR_materials_specular: the dielectric F0 (Material::dielectric_f0).
         if (auto it = gm.extensions.find("KHR_materials_ior"); it != gm.extensions.end() && it->second.Has("ior")) {
             m.ior = float(number_from_value(it->second.Get("ior"), r, what + ": KHR_materials_ior.ior", 0.0, 1e6));
@@ -595,6 +592,9 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         m.normal_texture = texture_ref(model, gm.normalTexture.index, gm.normalTexture.texCoord, image_base, r,
                                        what + ": normalTexture", gm.normalTexture.extensions);
         m.normal_scale = float(gm.normalTexture.scale);
+        // The emitted radiance is emissiveFactor x strength x this texture's (sRGB-decoded) texel.
+        m.emissive_texture = texture_ref(model, gm.emissiveTexture.index, gm.emissiveTexture.texCoord, image_base, r,
+                                         what + ": emissiveTexture", gm.emissiveTexture.extensions);
         // The thesis's explicit reflectivity where ssrlab wrote it; otherwise the material
         // reflects as its metallic-roughness parameters say (kAutoReflectivity).
         m.reflectivity = kAutoReflectivity;

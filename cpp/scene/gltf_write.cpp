@@ -234,6 +234,7 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         transform(m.base_color_texture, gm.pbrMetallicRoughness.baseColorTexture.extensions);
         transform(m.metallic_roughness_texture, gm.pbrMetallicRoughness.metallicRoughnessTexture.extensions);
         transform(m.normal_texture, gm.normalTexture.extensions);
+        transform(m.emissive_texture, gm.emissiveTexture.extensions);
         gm.pbrMetallicRoughness.baseColorTexture.index = texture(m.base_color_texture);
         gm.pbrMetallicRoughness.baseColorTexture.texCoord = m.base_color_texture.texcoord;
         gm.pbrMetallicRoughness.metallicRoughnessTexture.index = texture(m.metallic_roughness_texture);
@@ -241,6 +242,8 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         gm.normalTexture.index = texture(m.normal_texture);
         gm.normalTexture.texCoord = m.normal_texture.texcoord;
         gm.normalTexture.scale = m.normal_scale;
+        gm.emissiveTexture.index = texture(m.emissive_texture);
+        gm.emissiveTexture.texCoord = m.emissive_texture.texcoord;
         if (!m.auto_reflectivity())
             gm.extras = tinygltf::Value(tinygltf::Value::Object{{"reflectivity", tinygltf::Value(double(m.reflectivity))}});
         model.materials.push_back(gm);

@@ -165,7 +165,8 @@ uint64_t Scene::content_hash() const {
         h.pod(m.roughness);
         h.pod(m.reflectivity);
         h.pod(m.emissive);
-        for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture}) {
+        for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                     &m.emissive_texture}) {
             h.pod(t->image);
             h.pod(t->wrap_s);
             h.pod(t->wrap_t);

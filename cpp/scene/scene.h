@@ -56,6 +56,7 @@ struct Material {
     TextureRef base_color_texture;          // sRGB
     TextureRef metallic_roughness_texture;  // linear: G = roughness, B = metallic
     TextureRef normal_texture;              // linear, tangent space
+    TextureRef emissive_texture;            // sRGB; multiplies `emissive` (glTF emissiveTexture)
     float normal_scale = 1.0f;
     bool double_sided = false;   // back faces get flipped normals (glTF doubleSided)
     // glTF alphaMode: alpha = base_color.a x the base colour texture's alpha. MASK: a texel

@@ -46,10 +46,11 @@ class Material:
                  min(((ior - 1) / (ior + 1))^2 x specular_color, 1) x specular (0.04 by default)
     alpha_mode   glTF alphaMode: 'OPAQUE', 'MASK' (alpha = base_color[3] x texture alpha below
                  alpha_cutoff is a hole in every pass) or 'BLEND' (tested as MASK at 0.5)
-    emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000
+    emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000;
+                 times the emissive_texture's sRGB-decoded texel where there is one
     *_texture    image index in the scene (-1: none); see Scene.add_image
     """
-    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0, alpha_mode: str = 'OPAQUE', alpha_cutoff: typing.SupportsFloat | typing.SupportsIndex = 0.5) -> None:
+    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0, alpha_mode: str = 'OPAQUE', alpha_cutoff: typing.SupportsFloat | typing.SupportsIndex = 0.5, emissive_texture: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -101,10 +102,18 @@ class Material:
     @property
     def emissive(self) -> tuple[float, ...]:
         """
-        emitted radiance, linear RGB: glTF emissiveFactor x KHR_materials_emissive_strength (added to the lit colour; emissiveTexture is not rendered)
+        emitted radiance, linear RGB: glTF emissiveFactor x KHR_materials_emissive_strength (added to the lit colour; times the emissive_texture's texel where there is one)
         """
     @emissive.setter
     def emissive(self, arg1: tuple[float, ...]) -> None:
+        ...
+    @property
+    def emissive_texture(self) -> int:
+        """
+        image index of the sRGB emissive texture (-1: none): the emitted radiance is emissive x its texel (glTF emissiveTexture)
+        """
+    @emissive_texture.setter
+    def emissive_texture(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
     def ior(self) -> float:

@@ -8,6 +8,11 @@
 // counter and redoes the pass with a store that fits, or peels (passes/depth_peel.cpp), so a
 // list is never silently truncated.
 #define FRAGMENT_NONE 0xffffffffu
+// EMISSION_TEXTURE 1 (a scene with an emissive texture): every fragment carries the G-buffer's 4th
+// output, gbuffer.emission, too (80 bytes a fragment instead of 64: DepthPeelPass::fragment_bytes).
+#ifndef EMISSION_TEXTURE
+#define EMISSION_TEXTURE 0
+#endif
 
 struct ListFragment {
     vec4 albedo_metallic;
@@ -17,6 +22,9 @@ struct ListFragment {
     uint next;          // the next fragment of the pixel's list, FRAGMENT_NONE at its end
     uint draw_flags;    // bits 0..30: the draw's index; bit 31: reflectivity > 0 (layer 0's regions)
     uint primitive;     // gl_PrimitiveID within the draw
+#if EMISSION_TEXTURE
+    vec4 emission;
+#endif
 };
 
 layout(std430, binding = 16) buffer FragmentStore { ListFragment fragments[]; };
@@ -28,8 +36,9 @@ layout(std430, binding = 17) coherent buffer FragmentCounter {
 };
 layout(std430, binding = 18) coherent buffer FragmentHeads { uint fragment_head[]; };
 
+// emission: stored only with EMISSION_TEXTURE.
 void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 normal_roughness, vec4 material,
-                          uint draw, uint primitive, bool reflective) {
+                          vec4 emission, uint draw, uint primitive, bool reflective) {
     uint slot = atomicAdd(fragment_counter.x, 1u);
     if (slot >= fragment_counter.y) return;
     ListFragment f;
@@ -39,6 +48,9 @@ void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 n
     f.depth = depth;
     f.draw_flags = draw | (reflective ? 0x80000000u : 0u);
     f.primitive = primitive;
+#if EMISSION_TEXTURE
+    f.emission = emission;
+#endif
     f.next = atomicExchange(fragment_head[pixel.y * int(frame.viewport.x) + pixel.x], slot);
     fragments[slot] = f;
 }

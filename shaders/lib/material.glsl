@@ -12,6 +12,12 @@ bool material_alpha_hole(MaterialData m, vec4 base_texel) {
     return m.emissive.w >= 0.0 && alpha < m.emissive.w;
 }
 
+// glTF emission: emissiveFactor x KHR_materials_emissive_strength (m.emissive.rgb), times the
+// emissive texture's texel (sRGB decoded, as the base colour's) where the material has one.
+vec3 material_emission(MaterialData m, vec4 emissive_texel) {
+    return m.images.w >= 0 ? m.emissive.rgb * emissive_texel.rgb : m.emissive.rgb;
+}
+
 // n: interpolated unit normal (view space); t, b: tangent frame (valid when has_frame);
 // front_facing: the camera sees the side the normal points to.
 GSample material_sample(MaterialData m, vec4 base_texel, vec4 metallic_roughness_texel, vec3 normal_texel,

@@ -11,18 +11,18 @@
 
 float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance);
 
-// p: view-space position, v: unit vector from p toward the viewer.
-vec3 shade_surface(GSample g, vec3 p, vec3 v) {
+// p: view-space position, v: unit vector from p toward the viewer; emission: the radiance the
+// surface emits (glTF emission, lib/material.glsl's material_emission at the surface's texture
+// coordinates, or lib/gbuffer_emission.glsl's for a G-buffer sample).
+vec3 shade_surface(GSample g, vec3 emission, vec3 p, vec3 v) {
     vec3 n = g.normal;
     float NoV = max(dot(n, v), 1e-4);
     float alpha = ggx_alpha(g.roughness);
     vec3 F0 = surface_f0(g.object_id, g.albedo, g.metallic);
     vec3 diffuse_color = g.albedo * (1.0 - g.metallic);
     vec3 radiance = frame.ambient.rgb * g.albedo;
-    // glTF emission (emissiveFactor x KHR_materials_emissive_strength) leaves the surface
-    // whatever lights it; looked up by the object id the G-buffer already carries, so the
-    // layers need no extra channel and every caller (lit G-buffer, BVH hits, reference) agrees.
-    if (g.object_id >= 0) radiance += materials[objects[g.object_id].material.x].emissive.rgb;
+    // glTF emission leaves the surface whatever lights it.
+    radiance += emission;
 
     int count = LIGHTS_IN_FRAME;
     for (int i = 0; i < count; ++i) {

@@ -16,6 +16,9 @@ uniform int u_layer;
 layout(location = 0) out vec4 o_albedo_metallic;
 layout(location = 1) out vec4 o_normal_roughness;
 layout(location = 2) out vec4 o_material;
+#if EMISSION_TEXTURE
+layout(location = 3) out vec4 o_emission;
+#endif
 
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
@@ -25,11 +28,17 @@ void main() {
         o_albedo_metallic = vec4(0.0);
         o_normal_roughness = vec4(0.0);
         o_material = vec4(0.0);
+#if EMISSION_TEXTURE
+        o_emission = vec4(0.0);
+#endif
         gl_FragDepth = DEPTH_CLEAR;
         return;
     }
     o_albedo_metallic = fragments[s].albedo_metallic;
     o_normal_roughness = fragments[s].normal_roughness;
     o_material = fragments[s].material;
+#if EMISSION_TEXTURE
+    o_emission = fragments[s].emission;
+#endif
     gl_FragDepth = fragments[s].depth;
 }

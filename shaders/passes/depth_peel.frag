@@ -37,6 +37,12 @@
 #ifndef DEEP_GBUFFER_APPEND
 #define DEEP_GBUFFER_APPEND 0
 #endif
+// EMISSION_TEXTURE 1 (a scene with an emissive texture, FrameFacts::emission_texture): the
+// shading pass also writes the surface's emitted radiance (gbuffer.emission), sampled here where
+// the texture coordinates are; the lighting pass, which has none, reads it.
+#ifndef EMISSION_TEXTURE
+#define EMISSION_TEXTURE 0
+#endif
 
 // (the shader library includes a file once: includes both variants use come first)
 #include "../lib/frame_uniforms.glsl"
@@ -91,6 +97,10 @@ layout(early_fragment_tests) in;
 layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
 layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
 layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent space
+#if EMISSION_TEXTURE && MATERIAL_TEXTURES
+// (declared only where bound: unit 4 may hold the last frame's shadow map, a comparison sampler)
+layout(binding = 4) uniform sampler2D u_emissive_texture;  // sRGB (GpuScene::kEmissiveTextureUnit)
+#endif
 layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
 
 uniform int u_object;
@@ -107,6 +117,9 @@ in VertexOut {
 layout(location = 0) out vec4 o_albedo_metallic;
 layout(location = 1) out vec4 o_normal_roughness;
 layout(location = 2) out vec4 o_material;
+#if EMISSION_TEXTURE
+layout(location = 3) out vec4 o_emission;
+#endif
 #endif
 
 void main() {
@@ -132,10 +145,21 @@ void main() {
     GSample g = material_sample(m, base_texel, sample_material_texture(u_metallic_roughness_texture, m, 1, fs.uv, duv_dx, duv_dy),
                                 sample_material_texture(u_normal_texture, m, 2, fs.uv, duv_dx, duv_dy).xyz, n, t, b,
                                 has_frame, gl_FrontFacing, u_object);
+#if EMISSION_TEXTURE
+    vec3 emission = material_emission(m, sample_material_texture(u_emissive_texture, m, 3, fs.uv, duv_dx, duv_dy));
+#endif
 #else
     if (material_alpha_hole(m, vec4(1.0))) discard;
     // No texture: material_sample ignores the texel values (its flags are 0).
     GSample g = material_sample(m, vec4(1.0), vec4(1.0), vec3(0.5, 0.5, 1.0), n, t, b, false, gl_FrontFacing, u_object);
+#if EMISSION_TEXTURE
+    vec3 emission = material_emission(m, vec4(1.0));
+#endif
+#endif
+#if EMISSION_TEXTURE
+    vec4 emission_out = vec4(emission, 1.0);
+#else
+    vec4 emission_out = vec4(0.0);
 #endif
 #if MATERIAL_AUTO_R
     if (m.params.z < 0.0) {
@@ -150,9 +174,12 @@ void main() {
     vec4 albedo_metallic, normal_roughness, material;
     gbuffer_encode(g, albedo_metallic, normal_roughness, material);
     fragment_list_append(ivec2(gl_FragCoord.xy), gl_FragCoord.z, albedo_metallic, normal_roughness, material,
-                         uint(u_draw), uint(gl_PrimitiveID), g.reflectivity > 0.0);
+                         emission_out, uint(u_draw), uint(gl_PrimitiveID), g.reflectivity > 0.0);
 #else
     gbuffer_encode(g, o_albedo_metallic, o_normal_roughness, o_material);
+#if EMISSION_TEXTURE
+    o_emission = emission_out;
+#endif
     // This layer's tile holds a surface (every fragment of it stores the same value).
     ivec2 grid = covered_tile_grid();
     ivec2 tile = ivec2(gl_FragCoord.xy) / COVERED_TILE_SIZE;

@@ -1,9 +1,12 @@
 #version 450 core
 // The converged reference's G-buffer for the CPU tracer (cpp/passes/reference_cpu.h): every
 // pixel's layer-0 sample decoded by lib/gbuffer.glsl itself and its linear depth, three vec4
-// per pixel, so that the C++ port starts from the very values the GLSL reference decodes.
+// per pixel, so that the C++ port starts from the very values the GLSL reference decodes; with
+// EMISSION_TEXTURE, every pixel's gbuffer.emission after them (one vec4 per pixel).
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/gbuffer.glsl"
+#include "../lib/scene_data.glsl"
+#include "../lib/gbuffer_emission.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -24,4 +27,8 @@ void main() {
     decoded[i + 1] = vec4(g.normal, g.roughness);
     decoded[i + 2] = vec4(g.reflectivity, g.covered ? 1.0 : 0.0, float(g.object_id),
                           texelFetch(u_linear_depth, ivec3(p, 0), 0).r);
+#if EMISSION_TEXTURE
+    int pixels = int(frame.viewport.x) * int(frame.viewport.y);
+    decoded[3 * pixels + p.y * int(frame.viewport.x) + p.x] = vec4(gbuffer_emission(ivec3(p, 0), g), 1.0);
+#endif
 }

@@ -101,6 +101,9 @@ layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint grou
 #if FALLBACK && CONFIDENCE
 #include "../lib/screen_confidence.glsl"
 #endif
+#if FALLBACK
+#include "../lib/gbuffer_emission.glsl"
+#endif
 
 #if FALLBACK
 // The radiance a screen-space hit (hit.xy pixel, hit.z 1-based layer) sends back along `dir`:
@@ -118,7 +121,7 @@ vec4 shade_screen_hit(vec4 hit, vec3 origin, vec3 dir) {
         p = origin + t * dir;
     surface_normal_w = normalize(mat3(frame.inv_view) * h.normal);
     surface_point_w = (frame.inv_view * vec4(p + h.normal * (ssr.origin_bias * -p.z), 1.0)).xyz;
-    return vec4(shade_surface(h, p, -dir), distance(origin, p));
+    return vec4(shade_surface(h, gbuffer_emission(hp, h), p, -dir), distance(origin, p));
 }
 #endif
 

@@ -25,7 +25,10 @@ What is the same in both:
   or 255, :func:`mask_rgb`): Mitsuba's ``mask`` BSDF with a nearest-neighbour opacity bitmap,
   rendered with ``volpath`` (see :func:`render_mitsuba`);
 * **emission**: an ``area`` emitter of the material's radiance, accepted only beside ideal
-  metallic mirrors (ssrlab's emission lights nothing; see :func:`check_comparable`).
+  metallic mirrors (ssrlab's emission lights nothing; see :func:`check_comparable`); an
+  emissive texture is a bilinear ``bitmap`` radiance of factor x the sRGB-decoded texels, with
+  glTF's wrap modes (the reference's BVH hits sample it so: level 0, bilinear, decoded before
+  filtering).
 
 What ssrlab has and physics has not, so the comparable scene leaves it out (checked by
 :func:`check_comparable`): the **ambient** term (``ambient * albedo`` added to every surface)
@@ -379,6 +382,17 @@ def _world_mesh(scene, i):
     return p.astype(np.float32), (None if n is None else n.astype(np.float32)), d["indices"].astype(np.uint32)
 
 
+def _emission_bitmap(scene, i):
+    """Object i's emission, factor x its emissive texture's sRGB-decoded texels, as a Mitsuba
+    bitmap (linear values, bilinear, glTF's REPEAT wrap, as ssrlab's scene_textures.glsl)."""
+    m = scene.material(i)
+    c = scene.image(m.emissive_texture)[..., :3].astype(np.float64) / 255.0
+    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    radiance = np.ascontiguousarray((linear * np.asarray(m.emissive, np.float64)).astype(np.float32))
+    return {"type": "bitmap", "bitmap": _mi.Bitmap(radiance), "filter_type": "bilinear", "raw": True,
+            "wrap_mode": "repeat"}
+
+
 @dataclass
 class MitsubaScene:
     """A Mitsuba scene built from an ssrlab scene and camera, with the objects' order kept
@@ -425,7 +439,9 @@ def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> Mi
         if any(float(c) > 0 for c in m.emissive):
             props["emitter"] = mi.load_dict({"type": "area", "radiance": {
                 "type": "rgb", "value": [float(c) for c in m.emissive]}})
-        uv = scene.object_mesh(i).get("uvs") if masked else None
+        if m.emissive_texture >= 0 and any(float(c) > 0 for c in m.emissive):
+            props["emitter"] = mi.load_dict({"type": "area", "radiance": _emission_bitmap(scene, i)})
+        uv = scene.object_mesh(i).get("uvs") if masked or m.emissive_texture >= 0 else None
         has_uv = uv is not None and len(uv) == len(p)
         mesh = mi.Mesh(f"object{i:05d}", len(p), len(idx), props=props, has_vertex_normals=n is not None,
                        has_vertex_texcoords=has_uv)
@@ -648,6 +664,34 @@ def emissive_crosscheck_scene(emission=(4.0, 2.0, 0.8)):
     s.ambient = (0.0, 0.0, 0.0)
     s.environment = Environment.constant((0.0, 0.0, 0.0))
     s.camera = Camera(position=(0.0, 1.3, 3.2), target=(0.0, 0.35, -2.5), fov_y=45.0, near=0.1, far=50.0)
+    return s
+
+
+def emissive_texture_crosscheck_scene(factor=(4.0, 2.0, 1.0), cells: int = 4, texels_per_cell: int = 8):
+    """glTF emissiveTexture: a mirror floor and a black quad facing the camera whose emission is
+    `factor` x a `cells` x `cells` checkerboard (sRGB 255 and 64), lit by the sun. Mitsuba makes
+    the quad an area emitter with that bitmap radiance; the floor, an ideal metallic mirror,
+    receives from it only what it reflects, as in ssrlab. Object 0 is the floor."""
+    from ..scene import Camera, Environment, Material, Scene, directional_light
+
+    s = Scene()
+    s.name = "crosscheck_emissive_texture"
+    s.add_plane((0, 0, -2.0), (14, 14), name="floor", material=Material(
+        base_color=(1.0, 1.0, 1.0), metallic=1.0, roughness=0.0, reflectivity=1.0))
+    n = cells * texels_per_cell
+    c = np.arange(n) // texels_per_cell
+    img = np.zeros((n, n, 3), np.uint8)
+    img[...] = np.where((c[:, None] + c[None, :]) % 2 == 0, 255, 64)[..., None]
+    tex = s.add_image(img, name="checker_emission")
+    lamp = Material(base_color=(0.0, 0.0, 0.0), roughness=0.6, reflectivity=0.0, emissive_texture=tex)
+    lamp.emissive = tuple(float(e) for e in factor)
+    y0, y1, z = 0.3, 1.9, -3.0
+    s.add_mesh([(-1.2, y0, z), (1.2, y0, z), (1.2, y1, z), (-1.2, y1, z)], [(0, 1, 2), (0, 2, 3)],
+               uvs=[(0, 1), (1, 1), (1, 0), (0, 0)], name="emissive_quad", material=lamp)
+    s.add_light(directional_light((0.45, -0.75, -0.5), intensity=3.0, cast_shadow=True))
+    s.ambient = (0.0, 0.0, 0.0)
+    s.environment = Environment.constant((0.0, 0.0, 0.0))
+    s.camera = Camera(position=(0.0, 1.3, 3.2), target=(0.0, 0.5, -2.5), fov_y=45.0, near=0.1, far=50.0)
     return s
 
 
