@@ -77,3 +77,31 @@ def test_extension_values_are_checked(tmp_path):
         ssrlab.Material().ior = 0.7
     with pytest.raises(ValueError, match="specular"):
         ssrlab.Material().specular = 1.5
+
+
+def test_references_reflect_the_material_f0(renderer):
+    """A mirror floor reflecting a black dielectric wall (its light is all specular, F0-scaled):
+    the converged reference on the GLSL tracer and on Embree + C++ see the wall's own F0
+    (KHR_materials_ior), not the default 0.04."""
+    refl = {}
+    for ior in (1.5, 2.0):
+        s = ssrlab.Scene()
+        s.add_plane((0, 0, 0), (12, 12), material=ssrlab.Material(base_color=(1, 1, 1), roughness=0.0, metallic=1.0,
+                                                                   reflectivity=1.0), name="floor")
+        wall = ssrlab.Material(base_color=(0, 0, 0), metallic=0.0, roughness=0.6, reflectivity=0.0, name="wall")
+        wall.ior = ior
+        s.add_plane((0, 1.5, -2.0), (8, 3), normal=(0, 0, 1), material=wall, name="wall")
+        s.add_light(ssrlab.directional_light((0.0, -0.3, -1.0), intensity=4.0))
+        s.ambient = (0.0, 0.0, 0.0)
+        s.environment = ssrlab.Environment.constant((0.0, 0.0, 0.0))
+        s.camera = ssrlab.Camera(position=(0.0, 1.0, 3.0), target=(0.0, 0.3, -2.0), fov_y=45.0, near=0.1, far=30.0)
+        f = renderer.render(s, settings=small(width=80, height=60, layers=2))
+        refl[ior] = {t: f.reference("converged", rays=1, tracer=t).reflection[..., :3] for t in ("glsl", "cpu")}
+    seen = refl[1.5]["glsl"].max(axis=-1) > 1e-3
+    assert seen.sum() > 200, "the floor reflects the lit wall"
+    for ior in (1.5, 2.0):
+        np.testing.assert_allclose(refl[ior]["cpu"][seen], refl[ior]["glsl"][seen], rtol=0.03, atol=1e-4,
+                                   err_msg=f"ior {ior}")
+    # F0 (1/3)^2 against 0.04: the wall's specular light (Schlick's F0 term dominates off grazing).
+    ratio = np.median(refl[2.0]["cpu"][seen] / np.maximum(refl[1.5]["cpu"][seen], 1e-9))
+    assert 2.0 < ratio < 2.9, ratio

@@ -75,7 +75,6 @@ inline vec3 fresnel_schlick(vec3 F0, float cos_theta) {
     const float f = std::pow(clampf(1.0f - cos_theta, 0.0f, 1.0f), 5.0f);
     return F0 + (1.0f - F0) * f;
 }
-inline vec3 specular_f0(vec3 base_color, float metallic) { return glm::mix(vec3(0.04f), base_color, metallic); }
 inline float ggx_alpha(float perceptual_roughness) {
     const float r = std::max(perceptual_roughness, 0.03f);
     return r * r;
@@ -378,7 +377,12 @@ public:
         const vec3 n = g.normal;
         const float NoV = std::max(glm::dot(n, v), 1e-4f);
         const float alpha = ggx_alpha(g.roughness);
-        const vec3 F0 = specular_f0(g.albedo, g.metallic);
+        // lib/scene_data.glsl's surface_f0: the material's dielectric F0 (KHR_materials_ior and
+        // _specular; 0.04 at their defaults) for the non-metal part.
+        const vec3 dielectric = g.object_id >= 0
+                                    ? vec3(s_.materials[size_t(s_.objects[size_t(g.object_id)].material.x)].dielectric_f0)
+                                    : vec3(0.04f);
+        const vec3 F0 = glm::mix(dielectric, g.albedo, g.metallic);
         const vec3 diffuse_color = g.albedo * (1.0f - g.metallic);
         vec3 radiance = vec3(s_.frame.ambient) * g.albedo;
         radiance += emission;
@@ -520,12 +524,9 @@ public:
         g.covered = true;
         g.object_id = object;
         // lib/material.glsl's material_emission, the emissive texture at its own coordinates
-        // (scene_data.glsl's texture_uv: KHR_texture_transform, row 6 and 7).
+        // (KHR_texture_transform).
         vec3 emission = vec3(m.emissive);
-        if (m.images.w >= 0) {
-            const vec2 euv(glm::dot(vec3(m.uv_transform[6]), vec3(auv, 1.0f)), glm::dot(vec3(m.uv_transform[7]), vec3(auv, 1.0f)));
-            emission *= vec3(sample_image(m.images.w, euv, m.wraps.w, true));
-        }
+        if (m.images.w >= 0) emission *= vec3(sample_image(m.images.w, texture_uv(m, 3, auv), m.wraps.w, true));
         const vec3 viewer = !viewer_is_ray ? glm::normalize(-position) : -glm::normalize(view3_ * dir_w);
         s.radiance = shade_surface(g, emission, position, viewer, point_w, normal_w);
         return s;
