@@ -23,6 +23,8 @@ public:
     // Immutable storage (glTextureStorage*): levels = 0 means a full mip chain.
     static Texture create_2d(GLenum internal_format, int width, int height, int levels = 1);
     static Texture create_2d_array(GLenum internal_format, int width, int height, int layers, int levels = 1);
+    // A cube-map array of `cubes` cubes (6 x cubes layer-faces; layers() counts the layer-faces).
+    static Texture create_cube_array(GLenum internal_format, int size, int cubes, int levels = 1);
 
     GLuint id() const { return id_; }
     GLenum target() const { return target_; }

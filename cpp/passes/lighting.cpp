@@ -1,6 +1,7 @@
 #include "passes/lighting.h"
 
 #include "passes/compute.h"
+#include "passes/shadow_map.h"
 
 #include <algorithm>
 #include <optional>
@@ -9,7 +10,7 @@ namespace ssr {
 
 std::vector<std::string> LightingPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"gbuffer.depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
-    if (f.shadows) in.push_back("shadow_map");
+    for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     return in;
 }
 
@@ -21,6 +22,7 @@ std::vector<ResourceDesc> LightingPass::outputs(const RenderSettings& s) const {
 void LightingPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["SHADOWS"] = ctx.facts.shadows ? "1" : "0";
+    ShadowMapPass::add_defines(d, ctx.facts);
     // The PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
     // weights instead of two nested loops over a uniform bound.
     if (ctx.facts.shadows) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
@@ -60,7 +62,7 @@ void LightingPass::execute(FrameContext& ctx) {
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (ctx.facts.shadows) glBindTextureUnit(4, r.get("shadow_map").id());
+    ShadowMapPass::bind(r, ctx.facts);
     bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
     // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
