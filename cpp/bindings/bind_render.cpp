@@ -220,7 +220,7 @@ void bind_render(py::module_& m) {
         .def_property_readonly("projection_matrix", [](const Frame& f) { return f.uniforms.proj; },
                                "view -> clip matrix (4x4) in the frame's depth convention")
         .def_property_readonly("shadow_matrix", [](const Frame& f) { return f.uniforms.view_to_shadow; },
-                               "view -> shadow-map clip matrix (4x4) of the shadow-casting light");
+                               "view -> shadow-map texture matrix (4x4) of the first directional or spot light that casts a shadow");
 
     py::class_<Renderer, std::shared_ptr<Renderer>>(m, "Renderer",
                                                     "A headless EGL/OpenGL 4.5 renderer; use ssrlab.Renderer, which wraps it.")
