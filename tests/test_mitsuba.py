@@ -120,12 +120,14 @@ def test_glossy_floor_within_noise(renderer, mitsuba):
     assert abs(ratio - 1.0) <= 0.01 + 4 * err
 
 
-@pytest.mark.parametrize("case", ["masked", "emissive"])
+@pytest.mark.parametrize("case", ["masked", "emissive", "point_shadow"])
 def test_mask_and_emission_cases(renderer, mitsuba, case):
     """glTF alphaMode MASK (a checkerboard alpha mask on a quad, Mitsuba's mask BSDF through
-    volpath, so that holes pass light in its shadow rays too) and emission (an area emitter in
-    Mitsuba) on a mirror floor: >= 40 dB on the floor pixels, default reference options."""
-    scene = cc.masked_crosscheck_scene() if case == "masked" else cc.emissive_crosscheck_scene()
+    volpath, so that holes pass light in its shadow rays too), emission (an area emitter in
+    Mitsuba) and a point light's shadows (traced to the casting point light) on a mirror floor:
+    >= 40 dB on the floor pixels, default reference options."""
+    scene = {"masked": cc.masked_crosscheck_scene, "emissive": cc.emissive_crosscheck_scene,
+             "point_shadow": cc.point_shadow_crosscheck_scene}[case]()
     ms = cc.mitsuba_scene(scene, width=W, height=H)
     mit = cc.render_mitsuba(ms, spp=1)
     frame, truth = cc.ssrlab_reference(renderer, scene, _settings())
@@ -135,8 +137,13 @@ def test_mask_and_emission_cases(renderer, mitsuba, case):
     if case == "masked":
         seen = cc.mirror_objects(ms)[floor]
         assert (seen == 1).sum() > 50 and (seen == 2).sum() > 50
-    else:
+    elif case == "emissive":
         assert (truth.color[floor].max(axis=-1) > 1.0).sum() > 50
+    else:
+        # The mirror shows the wall (object 1) both lit and in the objects' shadows.
+        wall = floor & (cc.mirror_objects(ms) == 1)
+        lum = truth.color[wall].mean(axis=-1)
+        assert wall.sum() > 100 and (lum < 0.02 * np.median(lum)).sum() > 20 and (lum > 0.5 * np.median(lum)).sum() > 50
     value = cc.floor_psnr(truth.color, mit, floor)
     # (metrics.psnr reports 100 dB for images equal to float precision: the largest difference says more)
     print(f"{case}: {value:.1f} dB, largest difference {np.abs(truth.color[floor] - mit[floor]).max():.2e} "

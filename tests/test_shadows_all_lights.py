@@ -196,3 +196,14 @@ def test_traced_reference_agrees_within_the_filtering(three_lights, tracer):
           f"relative error median {np.median(err):.2e}, 99th {np.quantile(err, 0.99):.2e}")
     assert shadowed.sum() > 300 and clear.sum() > 2000
     assert np.quantile(err, 0.99) < 0.02
+
+
+def test_more_cube_faces_than_the_device_holds_are_refused(renderer):
+    """Each casting point light takes six layers of the cube-map array: more than the device's
+    array layers is refused before anything is allocated, naming the texture and what to change."""
+    limit = int(renderer.info["max_array_layers"])
+    s = matte_floor_scene([point() for _ in range(limit // 6 + 1)], [])
+    with pytest.raises(ValueError, match=r"'shadow_cubes' needs \d+ layers \(6 per point light that casts a shadow\)"
+                                         r".*GL_MAX_ARRAY_TEXTURE_LAYERS.*cast_shadow=False"):
+        renderer.render(s, settings=small(width=32, height=16, shadow_map_size=16))
+    assert renderer.render(s, settings=small(width=32, height=16, shadow_map_size=0)).color.shape == (16, 32, 3)

@@ -282,6 +282,7 @@ void bind_render(py::module_& m) {
                 auto d = r.info().as_dict();
                 d["readback_rows"] = r.pack_invert() ? "GL_MESA_pack_invert" : "flipped on the CPU";
                 d["max_texture_size"] = std::to_string(r.max_texture_size());
+                d["max_array_layers"] = std::to_string(r.max_array_layers());
                 d["input_fetch"] = r.fetch_by_image() ? "imageLoad" : "texelFetch";
                 d["readback_path"] = r.readback_staged() ? "staged" : "download";
                 d["clear_path"] = r.clear_by_compute() ? "compute" : "gl";

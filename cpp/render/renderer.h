@@ -110,6 +110,7 @@ public:
     // Whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
     bool fetch_by_image() const { return fetch_by_image_; }
     int max_texture_size() const { return max_texture_size_; }
+    int max_array_layers() const { return max_array_layers_; }
     // Programs compiled so far (every program is compiled once per renderer and variant).
     size_t compiled_programs() const { return shaders_->cached_programs(); }
     void check_errors();
