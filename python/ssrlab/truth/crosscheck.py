@@ -662,7 +662,7 @@ def point_shadow_crosscheck_scene(intensity: float = 6.0):
     s = crosscheck_scene(0.0)
     s.name = "crosscheck_point_shadow"
     s.clear_lights()
-    s.add_light(point_light((0.1, 1.6, -3.3), intensity=intensity, cast_shadow=True))
+    s.add_light(point_light((0.0, 1.2, -0.9), intensity=intensity, cast_shadow=True))
     return s
 
 
