@@ -207,3 +207,19 @@ def test_more_cube_faces_than_the_device_holds_are_refused(renderer):
                                          r".*GL_MAX_ARRAY_TEXTURE_LAYERS.*cast_shadow=False"):
         renderer.render(s, settings=small(width=32, height=16, shadow_map_size=16))
     assert renderer.render(s, settings=small(width=32, height=16, shadow_map_size=0)).color.shape == (16, 32, 3)
+
+
+def test_shadow_cubes_read_back_as_six_faces(renderer):
+    """frame.read("shadow_cubes") gives each cube's six faces in GL's order (+X, -X, +Y, -Y, +Z,
+    -Z): under a point light above a floor, the -Y face holds the floor everywhere (depth < 1) and
+    the +Y face, facing the empty sky, nothing (the cleared depth 1)."""
+    f = renderer.render(matte_floor_scene([point()], POINT_BOXES), settings=small(width=32, height=16, shadow_map_size=32))
+    cubes = f.read("shadow_cubes")
+    assert cubes.shape == (6, 32, 32, 4)
+    depth = cubes[..., 0]
+    assert np.all(depth[3] < 1.0) and np.all(depth[2] == 1.0)
+    # The side faces see the floor below their horizon (and past the floor's edge, 10 degrees
+    # below it, nothing): the same half in each, whichever end readback puts first.
+    floor_first = [bool(np.all(depth[face][:10] < 1.0) and np.all(depth[face][-14:] == 1.0)) for face in (0, 1, 4, 5)]
+    floor_last = [bool(np.all(depth[face][-10:] < 1.0) and np.all(depth[face][:14] == 1.0)) for face in (0, 1, 4, 5)]
+    assert all(floor_first) or all(floor_last), (floor_first, floor_last)

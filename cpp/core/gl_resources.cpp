@@ -73,6 +73,20 @@ Texture Texture::create_cube_array(GLenum fmt, int size, int cubes, int levels) 
     return t;
 }
 
+Texture Texture::view_as_2d_array(const Texture& cube_array) {
+    Texture t;
+    t.target_ = GL_TEXTURE_2D_ARRAY;
+    t.format_ = cube_array.format_;
+    t.width_ = cube_array.width_;
+    t.height_ = cube_array.height_;
+    t.layers_ = cube_array.layers_;
+    t.levels_ = cube_array.levels_;
+    glGenTextures(1, &t.id_);  // a view's name must not have a target yet (glCreateTextures gives one)
+    glTextureView(t.id_, GL_TEXTURE_2D_ARRAY, cube_array.id_, cube_array.format_, 0, t.levels_, 0, t.layers_);
+    t.set_filter(GL_NEAREST, GL_NEAREST);
+    return t;
+}
+
 void Texture::set_filter(GLenum min_filter, GLenum mag_filter) {
     glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, GLint(min_filter));
     glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GLint(mag_filter));
