@@ -18,7 +18,7 @@
 //                  (Waechter and Binder 2019), not by SSR's origin_bias, so contact regions
 //                  are neither darkened nor leaked through.
 // Shadows: SHADOWS with the frame's shadow map (as the lit G-buffer has them), or
-// TRACED_SHADOWS: a shadow ray from every shaded point toward the light the frame shadows.
+// TRACED_SHADOWS: a shadow ray from every shaded point toward each light that casts a shadow.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"
