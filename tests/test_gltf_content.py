@@ -253,13 +253,18 @@ def test_spot_light_casts_a_perspective_shadow(renderer, tmp_path):
     assert [l.cast_shadow for l in ssrlab.Scene.load(path).lights] == [True]
 
 
-def test_point_light_asking_for_a_shadow_is_warned(tmp_path):
-    light = ssrlab.point_light((0.0, 3.0, 0.0), intensity=5.0)
-    light.cast_shadow = True
+def test_point_light_asking_for_a_shadow_keeps_it(tmp_path, recwarn):
+    """A point light casts a shadow when it asks (a cube map, tests/test_shadows_all_lights.py):
+    no SceneWarning; glTF keeps the flag in extras, and a glTF point light without it casts none."""
+    light = ssrlab.point_light((0.0, 3.0, 0.0), intensity=5.0, cast_shadow=True)
     s = ssrlab.Scene()
-    with pytest.warns(ssrlab.SceneWarning, match="point lights cast none"):
-        s.add_light(light)
+    s.add_light(light)
     s.add_plane((0, 0, 0), (4, 4))
     path = s.save(tmp_path / "point.gltf")
-    with pytest.warns(ssrlab.SceneWarning, match="point.gltf: point light"):
-        ssrlab.Scene.load(path)
+    assert [l.cast_shadow for l in ssrlab.Scene.load(path).lights] == [True]
+    doc = json.loads(path.read_text())
+    for gl in doc["extensions"]["KHR_lights_punctual"]["lights"]:
+        gl.get("extras", {}).pop("cast_shadow", None)
+    path.write_text(json.dumps(doc))
+    assert [l.cast_shadow for l in ssrlab.Scene.load(path).lights] == [False]
+    assert not [w for w in recwarn if issubclass(w.category, ssrlab.SceneWarning)]

@@ -120,14 +120,16 @@ def test_glossy_floor_within_noise(renderer, mitsuba):
     assert abs(ratio - 1.0) <= 0.01 + 4 * err
 
 
-@pytest.mark.parametrize("case", ["masked", "emissive", "emissive_texture"])
+@pytest.mark.parametrize("case", ["masked", "emissive", "emissive_texture", "point_shadow"])
 def test_mask_and_emission_cases(renderer, mitsuba, case):
     """glTF alphaMode MASK (a checkerboard alpha mask on a quad, Mitsuba's mask BSDF through
     volpath, so that holes pass light in its shadow rays too), emission (an area emitter in
-    Mitsuba) and an emissive texture (a checkerboard: the area emitter's bitmap radiance) on a
-    mirror floor: >= 40 dB on the floor pixels, default reference options."""
+    Mitsuba), an emissive texture (a checkerboard: the area emitter's bitmap radiance) and a point
+    light's shadows (traced to the casting point light) on a mirror floor: >= 40 dB on the floor
+    pixels, default reference options."""
     scene = {"masked": cc.masked_crosscheck_scene, "emissive": cc.emissive_crosscheck_scene,
-             "emissive_texture": cc.emissive_texture_crosscheck_scene}[case]()
+             "emissive_texture": cc.emissive_texture_crosscheck_scene,
+             "point_shadow": cc.point_shadow_crosscheck_scene}[case]()
     ms = cc.mitsuba_scene(scene, width=W, height=H)
     # Beside an area emitter Mitsuba's light sampling picks the sun or the emitter per sample, so
     # at 1 spp the sun's highlight on the emitter's dielectric specular comes 0 or 2x (41 dB for the
@@ -140,12 +142,17 @@ def test_mask_and_emission_cases(renderer, mitsuba, case):
     if case == "masked":
         seen = cc.mirror_objects(ms)[floor]
         assert (seen == 1).sum() > 50 and (seen == 2).sum() > 50
-    else:
+    elif case == "emissive":
         assert (truth.color[floor].max(axis=-1) > 1.0).sum() > 50
-    if case == "emissive_texture":
+    elif case == "emissive_texture":
         # Both kinds of cell in the mirror: bright (4 x 1.0) and dim (4 x 0.051) reflections.
         red = truth.color[floor][:, 0]
         assert (red > 3.0).sum() > 50 and ((red > 0.15) & (red < 0.3)).sum() > 50
+    else:
+        # The mirror shows the wall (object 1) both lit and in the objects' shadows.
+        wall = floor & (cc.mirror_objects(ms) == 1)
+        lum = truth.color[wall].mean(axis=-1)
+        assert wall.sum() > 100 and (lum < 0.02 * np.median(lum)).sum() > 20 and (lum > 0.5 * np.median(lum)).sum() > 50
     value = cc.floor_psnr(truth.color, mit, floor)
     # (metrics.psnr reports 100 dB for images equal to float precision: the largest difference says more)
     print(f"{case}: {value:.1f} dB, largest difference {np.abs(truth.color[floor] - mit[floor]).max():.2e} "

@@ -220,7 +220,7 @@ void bind_render(py::module_& m) {
         .def_property_readonly("projection_matrix", [](const Frame& f) { return f.uniforms.proj; },
                                "view -> clip matrix (4x4) in the frame's depth convention")
         .def_property_readonly("shadow_matrix", [](const Frame& f) { return f.uniforms.view_to_shadow; },
-                               "view -> shadow-map clip matrix (4x4) of the shadow-casting light");
+                               "view -> shadow-map texture matrix (4x4) of the first directional or spot light that casts a shadow");
 
     py::class_<Renderer, std::shared_ptr<Renderer>>(m, "Renderer",
                                                     "A headless EGL/OpenGL 4.5 renderer; use ssrlab.Renderer, which wraps it.")
@@ -282,6 +282,7 @@ void bind_render(py::module_& m) {
                 auto d = r.info().as_dict();
                 d["readback_rows"] = r.pack_invert() ? "GL_MESA_pack_invert" : "flipped on the CPU";
                 d["max_texture_size"] = std::to_string(r.max_texture_size());
+                d["max_array_layers"] = std::to_string(r.max_array_layers());
                 d["input_fetch"] = r.fetch_by_image() ? "imageLoad" : "texelFetch";
                 d["readback_path"] = r.readback_staged() ? "staged" : "download";
                 d["clear_path"] = r.clear_by_compute() ? "compute" : "gl";

@@ -305,8 +305,10 @@ light, `direction` the direction the light travels. Point: `intensity` is the ra
 intensity (W/sr) at `position`, falling off as 1/d^2. Spot: a point light shining down
 `direction`, full inside `inner_cone`, nothing beyond `outer_cone` (radians), with
 KHR_lights_punctual's smooth falloff between. Point and spot lights end at `range` with the
-extension's window (0: no end). The first directional or spot light with cast_shadow=True casts
-the shadow map (a spot light's is a perspective map of its cone); point lights cast none.)doc")
+extension's window (0: no end). Every light with cast_shadow=True casts a shadow: a directional
+light an orthographic shadow map over the scene, a spot light a perspective one over its cone, a
+point light a cube map (six faces). glTF lights cast by default when directional or spot, not
+when point; extras.cast_shadow overrides either.)doc")
         .def_static(
             "directional",
             [](glm::vec3 direction, glm::vec3 color, float intensity, bool cast_shadow, const std::string& name) {
@@ -368,7 +370,7 @@ the shadow map (a spot light's is a perspective map of its cone); point lights c
         .def_readwrite("intensity", &Light::intensity, "irradiance W/m^2 (directional) or radiant intensity W/sr (point)")
         .def_readwrite("direction", &Light::direction, "world direction the light travels (directional lights)")
         .def_readwrite("position", &Light::position, "world position (point lights)")
-        .def_readwrite("cast_shadow", &Light::cast_shadow, "the first directional or spot light with this set casts the shadow map (point lights cast none)")
+        .def_readwrite("cast_shadow", &Light::cast_shadow, "casts a shadow: a 2D shadow map (directional, spot) or a cube map (point)")
         .def("__repr__", [](const Light& l) {
             return std::string("Light(") + light_type_name(l) + ", '" +
                    l.name + "', intensity=" + std::to_string(l.intensity) + ")";

@@ -58,6 +58,35 @@ Texture Texture::create_2d_array(GLenum fmt, int w, int h, int layers, int level
     return t;
 }
 
+Texture Texture::create_cube_array(GLenum fmt, int size, int cubes, int levels) {
+    Texture t;
+    t.target_ = GL_TEXTURE_CUBE_MAP_ARRAY;
+    t.format_ = fmt;
+    t.width_ = size;
+    t.height_ = size;
+    t.layers_ = 6 * cubes;
+    t.levels_ = levels > 0 ? levels : full_mip_count(size, size);
+    glCreateTextures(GL_TEXTURE_CUBE_MAP_ARRAY, 1, &t.id_);
+    glTextureStorage3D(t.id_, t.levels_, fmt, size, size, 6 * cubes);
+    t.set_filter(t.levels_ > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST, GL_NEAREST);
+    t.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+    return t;
+}
+
+Texture Texture::view_as_2d_array(const Texture& cube_array) {
+    Texture t;
+    t.target_ = GL_TEXTURE_2D_ARRAY;
+    t.format_ = cube_array.format_;
+    t.width_ = cube_array.width_;
+    t.height_ = cube_array.height_;
+    t.layers_ = cube_array.layers_;
+    t.levels_ = cube_array.levels_;
+    glGenTextures(1, &t.id_);  // a view's name must not have a target yet (glCreateTextures gives one)
+    glTextureView(t.id_, GL_TEXTURE_2D_ARRAY, cube_array.id_, cube_array.format_, 0, t.levels_, 0, t.layers_);
+    t.set_filter(GL_NEAREST, GL_NEAREST);
+    return t;
+}
+
 void Texture::set_filter(GLenum min_filter, GLenum mag_filter) {
     glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, GLint(min_filter));
     glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GLint(mag_filter));

@@ -23,6 +23,11 @@ public:
     // Immutable storage (glTextureStorage*): levels = 0 means a full mip chain.
     static Texture create_2d(GLenum internal_format, int width, int height, int levels = 1);
     static Texture create_2d_array(GLenum internal_format, int width, int height, int layers, int levels = 1);
+    // A cube-map array of `cubes` cubes (6 x cubes layer-faces; layers() counts the layer-faces).
+    static Texture create_cube_array(GLenum internal_format, int size, int cubes, int levels = 1);
+    // A view of a cube-map array's layer-faces as a 2D array (6 per cube, GL's face order), with
+    // its own sampling state: for reading it back.
+    static Texture view_as_2d_array(const Texture& cube_array);
 
     GLuint id() const { return id_; }
     GLenum target() const { return target_; }

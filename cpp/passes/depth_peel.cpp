@@ -21,9 +21,10 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const 
     };
 }
 
-std::vector<ResourceDesc> DepthPeelPass::fact_outputs(const RenderSettings& s, const FrameFacts& f) const {
-    if (!f.emission_texture) return {};
-    return {{"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1}};
+std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s, const FrameFacts& f) const {
+    std::vector<ResourceDesc> out = outputs(s);
+    if (f.emission_texture) out.push_back({"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1});
+    return out;
 }
 
 namespace {

@@ -46,7 +46,7 @@ public:
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     // gbuffer.emission: the lighting pass has no texture coordinates, so a textured emission is
     // sampled where the material is, in the shading pass, and written as a 4th attachment.
-    std::vector<ResourceDesc> fact_outputs(const RenderSettings& s, const FrameFacts& f) const override;
+    std::vector<ResourceDesc> outputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
         return {"covered_tiles"};
     }
@@ -80,6 +80,9 @@ public:
         stats["deep_gbuffer_bytes"] = double(list_stats_.bytes);
     }
     static constexpr size_t kFragmentBytes = 64;  // struct ListFragment, lib/fragment_lists.glsl
+    // The texture unit the passes that shade G-buffer texels bind gbuffer.emission to
+    // (shaders/lib/gbuffer_emission.glsl).
+    static constexpr GLuint kEmissionUnit = 11;
     static constexpr size_t kEmissionFragmentBytes = 80;  // ... with EMISSION_TEXTURE (its emission too)
     // The fragment store's largest size for Settings.deep_gbuffer_budget (0: the device's largest
     // storage buffer); std::invalid_argument where the budget is beyond what the device can hold.

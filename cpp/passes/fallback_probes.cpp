@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "passes/compute.h"
+#include "passes/shadow_map.h"
 #include "render/gpu_scene.h"
 
 namespace ssr {
@@ -23,7 +24,8 @@ void FallbackProbesPass::release() {
 std::vector<std::string> FallbackProbesPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"linear_depth",  "gbuffer.albedo", "gbuffer.normal", "gbuffer.material",
                                    "rays.hit",      "rays.sample",    "rays.direction"};
-    if (f.shadows) in.push_back("shadow_map");
+    if (s.bvh_shadows != BvhShadows::Traced)
+        for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     return in;
 }
 
@@ -78,6 +80,7 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
     const bool shadows = ctx.facts.shadows;
     d["SHADOWS"] = shadows && !traced ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows && traced ? "1" : "0";
+    ShadowMapPass::add_defines(d, ctx.facts);
     // A double-sided surface shows the probe the side its ray meets, not the camera's side.
     d["FACING_FROM_RAY"] = "1";
     const GLuint prog = ctx.shaders.program({"passes/fallback_probes.comp"}, d);  // compiled outside the clock
@@ -98,7 +101,7 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
 
     const_cast<GpuScene&>(ctx.gpu_scene).bind_ray_tracing(ctx.scene);
     glUseProgram(prog);
-    if (shadows && !traced) glBindTextureUnit(4, ctx.resources.get("shadow_map").id());
+    if (!traced) ShadowMapPass::bind(ctx.resources, ctx.facts);
     glBindImageTexture(0, cube_, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, probe_ssbo_);
     glUniform1i(0, size);
@@ -123,7 +126,7 @@ void FallbackProbesPass::execute(FrameContext& ctx) {
                       std::to_string(s.probe_size) + "/" + std::to_string(int(s.bvh_shadows)) + "/" +
                       std::to_string(s.shadow_map_size) + "/" + std::to_string(s.shadow_normal_offset) + "/" +
                       std::to_string(s.shadow_pcf_radius) + "/" + std::to_string(s.max_distance) + "/" +
-                      (ctx.facts.shadows ? "s" : "u");
+                      std::to_string(ctx.facts.shadow_maps) + "s" + std::to_string(ctx.facts.shadow_cubes) + "c";
     for (const auto& p : probes) key += "/" + std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z);
     if (key != key_ || !cube_) {
         capture(ctx, probes);

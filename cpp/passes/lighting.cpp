@@ -1,6 +1,7 @@
 #include "passes/lighting.h"
 
 #include "passes/compute.h"
+#include "passes/shadow_map.h"
 
 #include <algorithm>
 #include <optional>
@@ -9,7 +10,7 @@ namespace ssr {
 
 std::vector<std::string> LightingPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"gbuffer.depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
-    if (f.shadows) in.push_back("shadow_map");
+    for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     if (f.emission_texture) in.push_back("gbuffer.emission");  // instead of the factor by object id
     return in;
 }
@@ -23,6 +24,7 @@ void LightingPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     d["SHADOWS"] = ctx.facts.shadows ? "1" : "0";
     if (ctx.facts.emission_texture) d["EMISSION_TEXTURE"] = "1";  // lib/gbuffer_emission.glsl
+    ShadowMapPass::add_defines(d, ctx.facts);
     // The PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
     // weights instead of two nested loops over a uniform bound.
     if (ctx.facts.shadows) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
@@ -62,8 +64,8 @@ void LightingPass::execute(FrameContext& ctx) {
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (ctx.facts.shadows) glBindTextureUnit(4, r.get("shadow_map").id());
-    if (ctx.facts.emission_texture) glBindTextureUnit(14, r.get("gbuffer.emission").id());
+    ShadowMapPass::bind(r, ctx.facts);
+    if (ctx.facts.emission_texture) glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
     bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
     // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "passes/compute.h"
+#include "passes/depth_peel.h"
+#include "passes/shadow_map.h"
 #include "passes/reference_cpu.h"
 
 namespace ssr {
@@ -21,7 +23,8 @@ std::vector<std::string> ReferencePass::inputs(const RenderSettings& s, const Fr
         in.push_back("rays.direction");
         in.push_back("rays.sample");
     }
-    if (shadows_ && !traced_shadows_) in.push_back("shadow_map");
+    if (shadows_ && !traced_shadows_)
+        for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     // The pixel's own direct light adds its G-buffer emission (lib/gbuffer_emission.glsl).
     if (!per_ray_ && f.emission_texture) in.push_back("gbuffer.emission");
     return in;
@@ -44,6 +47,7 @@ GLuint ReferencePass::program(FrameContext& ctx) const {
     d["MODE"] = per_ray_ ? "0" : "1";
     d["SHADOWS"] = shadows_ && !traced_shadows_ ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced_shadows_ ? "1" : "0";
+    ShadowMapPass::add_defines(d, ctx.facts);
     d["EXTERNAL_TRACE"] = tracer_ && !per_ray_ ? "1" : "0";
     if (!per_ray_ && ctx.facts.emission_texture) d["EMISSION_TEXTURE"] = "1";
     if (cpu_tracer_ && !per_ray_) {
@@ -62,8 +66,9 @@ void ReferencePass::execute(FrameContext& ctx) {
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (shadows_ && !traced_shadows_) glBindTextureUnit(4, r.get("shadow_map").id());
-    if (!per_ray_ && ctx.facts.emission_texture) glBindTextureUnit(14, r.get("gbuffer.emission").id());
+    if (shadows_ && !traced_shadows_) ShadowMapPass::bind(r, ctx.facts);
+    if (!per_ray_ && ctx.facts.emission_texture)
+        glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
     if (cpu_tracer_ && !per_ray_) {
         execute_cpu(ctx, prog);
         return;

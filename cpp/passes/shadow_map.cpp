@@ -5,97 +5,120 @@
 namespace ssr {
 
 std::vector<ResourceDesc> ShadowMapPass::outputs(const RenderSettings& s) const {
-    return {{"shadow_map", GL_DEPTH_COMPONENT32F, s.shadow_map_size, s.shadow_map_size, 0, 1, Lifetime::Scratch}};
+    FrameFacts f;
+    f.shadow_maps = f.shadow_cubes = 1;
+    return outputs(s, f);
+}
+
+std::vector<ResourceDesc> ShadowMapPass::outputs(const RenderSettings& s, const FrameFacts& f) const {
+    const int n = s.shadow_map_size;
+    std::vector<ResourceDesc> out;
+    if (f.shadow_maps > 0) out.push_back({"shadow_map", GL_DEPTH_COMPONENT32F, n, n, f.shadow_maps, 1, Lifetime::Scratch});
+    if (f.shadow_cubes > 0)
+        out.push_back({"shadow_cubes", GL_DEPTH_COMPONENT32F, n, n, 6 * f.shadow_cubes, 1, Lifetime::Scratch, true});
+    return out;
+}
+
+std::vector<std::string> ShadowMapPass::reads(const FrameFacts& f) {
+    std::vector<std::string> in;
+    if (f.shadow_maps > 0) in.push_back("shadow_map");
+    if (f.shadow_cubes > 0) in.push_back("shadow_cubes");
+    return in;
+}
+
+void ShadowMapPass::add_defines(Defines& d, const FrameFacts& f) {
+    d["SHADOW_MAPS"] = f.shadow_maps > 0 ? "1" : "0";
+    d["SHADOW_CUBES"] = f.shadow_cubes > 0 ? "1" : "0";
+}
+
+void ShadowMapPass::bind(FrameResources& r, const FrameFacts& f) {
+    if (f.shadow_maps > 0) glBindTextureUnit(kMapUnit, r.get("shadow_map").id());
+    if (f.shadow_cubes > 0) glBindTextureUnit(kCubeUnit, r.get("shadow_cubes").id());
 }
 
 ShadowSetup ShadowMapPass::fit(const Scene& scene, const Bounds& bounds, const RenderSettings& s) {
     ShadowSetup setup;
     if (s.shadow_map_size <= 0 || bounds.empty()) return setup;
-    // The first light that casts a shadow and can have a single 2D map: a directional light
-    // (orthographic) or a spot light (perspective, its cone's frustum). A point light would need
-    // six faces (a cube map) and is left unshadowed.
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Light::Type t = scene.lights[i].type;
-        if ((t == Light::Type::Directional || t == Light::Type::Spot) && scene.lights[i].cast_shadow) {
-            setup.light = int(i);
-            break;
-        }
-    }
-    if (setup.light < 0) return setup;
-    const Light& light = scene.lights[size_t(setup.light)];
-    const glm::vec3 dir = glm::normalize(light.direction);
     const glm::vec3 center = 0.5f * (bounds.min + bounds.max);
     const float radius = std::max(0.5f * glm::length(bounds.max - bounds.min), 1e-3f);
-    const glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-    if (light.type == Light::Type::Spot) {
-        // A perspective frustum around the outer cone (nothing outside it is lit), its depth range
-        // the part of the scene's bounding sphere in front of the light. glm's default (OpenGL)
-        // clip conventions: z_ndc in [-1, 1], as the pass draws it; the lookup divides by w.
-        const float half = std::min(light.outer_cone, glm::radians(85.0f));
-        const float dist = glm::length(center - light.position);
-        const float far_plane = std::max(dist + radius, 1e-3f * radius + 1e-4f);
-        // The near plane as far out as the scene allows: depth precision is spent in front of it.
-        const float near_plane = std::max(dist - radius, far_plane * 1e-4f);
-        const glm::mat4 view = glm::lookAt(light.position, light.position + dir, up);
-        const glm::mat4 proj = glm::perspective(2.0f * half, 1.0f, near_plane, far_plane);
-        setup.enabled = true;
-        setup.light_view_proj = proj * view;
-        // A texel's world size at the scene's centre, for the receiver's normal offset.
-        setup.texel_world_size = 2.0f * std::max(dist, near_plane) * std::tan(half) / float(s.shadow_map_size);
-        return setup;
+    // Every light that casts a shadow: a directional or spot light a layer of the 2D array, a
+    // point light a cube (what it sees in every direction).
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& light = scene.lights[i];
+        if (!light.cast_shadow) continue;
+        ShadowCaster c;
+        c.light = int(i);
+        if (light.type == Light::Type::Point) {
+            c.cube = true;
+            c.slot = setup.cubes++;
+            c.position = light.position;
+            // Six 90-degree faces whose depth range holds the scene's bounding sphere as seen from
+            // the light; the near plane as far out as the scene allows (depth precision is spent
+            // in front of it), but a light inside the scene sees geometry close by.
+            const float dist = glm::length(center - light.position);
+            c.far_plane = std::max(dist + radius, 1e-3f * radius + 1e-4f);
+            c.near_plane = std::max(dist - radius, c.far_plane * 1e-3f);
+            setup.casters.push_back(c);
+            continue;
+        }
+        c.slot = setup.maps++;
+        const glm::vec3 dir = glm::normalize(light.direction);
+        const glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+        if (light.type == Light::Type::Spot) {
+            // A perspective frustum around the outer cone (nothing outside it is lit), its depth range
+            // the part of the scene's bounding sphere in front of the light. glm's default (OpenGL)
+            // clip conventions: z_ndc in [-1, 1], as the pass draws it; the lookup divides by w.
+            const float half = std::min(light.outer_cone, glm::radians(85.0f));
+            const float dist = glm::length(center - light.position);
+            const float far_plane = std::max(dist + radius, 1e-3f * radius + 1e-4f);
+            // The near plane as far out as the scene allows: depth precision is spent in front of it.
+            const float near_plane = std::max(dist - radius, far_plane * 1e-4f);
+            const glm::mat4 view = glm::lookAt(light.position, light.position + dir, up);
+            const glm::mat4 proj = glm::perspective(2.0f * half, 1.0f, near_plane, far_plane);
+            c.light_view_proj = proj * view;
+            // A texel's world size at the scene's centre, for the receiver's normal offset.
+            c.texel_world_size = 2.0f * std::max(dist, near_plane) * std::tan(half) / float(s.shadow_map_size);
+        } else {
+            const glm::mat4 view = glm::lookAt(center - dir * (2.0f * radius), center, up);
+            // glm::ortho with GLM's default (OpenGL) clip conventions: z_ndc in [-1, 1].
+            const glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, radius * 0.5f, radius * 3.5f);
+            c.light_view_proj = proj * view;
+            c.texel_world_size = 2.0f * radius / float(s.shadow_map_size);
+        }
+        if (setup.light < 0) {
+            setup.light = c.light;
+            setup.light_view_proj = c.light_view_proj;
+            setup.texel_world_size = c.texel_world_size;
+        }
+        setup.casters.push_back(c);
     }
-    const glm::mat4 view = glm::lookAt(center - dir * (2.0f * radius), center, up);
-    // glm::ortho with GLM's default (OpenGL) clip conventions: z_ndc in [-1, 1].
-    const glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, radius * 0.5f, radius * 3.5f);
-    setup.enabled = true;
-    setup.light_view_proj = proj * view;
-    setup.texel_world_size = 2.0f * radius / float(s.shadow_map_size);
+    setup.enabled = !setup.casters.empty();
     return setup;
 }
 
-void ShadowMapPass::execute(FrameContext& ctx) {
-    Texture& map = ctx.resources.get("shadow_map");
-    // Hardware PCF: a compare sampler with linear filtering gives a 2x2 filtered test per tap.
-    glTextureParameteri(map.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTextureParameteri(map.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    map.set_filter(GL_LINEAR, GL_LINEAR);
-    if (!fbo_) fbo_ = Framebuffer::create();
-    fbo_.attach(GL_DEPTH_ATTACHMENT, map);
-    glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
-    fbo_.check_complete("shadow_map");
+namespace {
+// A cube face's view from `eye`: GL's face order (+X, -X, +Y, -Y, +Z, -Z) and, per face, the up
+// vector that makes the rendered image the face as a lookup by direction reads it (the GL
+// specification's cube-map face table: each face's t axis points down for the side faces, so
+// the side faces are rendered with -Y up, the top and bottom with +Z and -Z).
+glm::mat4 cube_face_view(const glm::vec3& eye, int face) {
+    static const glm::vec3 axis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const glm::vec3 up[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+    return glm::lookAt(eye, eye + axis[face], up[face]);
+}
+}  // namespace
 
-    const GLuint prog = ctx.shaders.program({"passes/shadow_map.vert"}, ctx.defines);
-    glUseProgram(prog);
-    glUniformMatrix4fv(glGetUniformLocation(prog, "u_light_view_proj"), 1, GL_FALSE, &setup_.light_view_proj[0][0]);
-    const GLint loc_object = glGetUniformLocation(prog, "u_object");
-    // Alpha-tested materials (glTF MASK/BLEND) with a fragment stage that discards their holes.
-    GLuint alpha_prog = 0;
-    GLint loc_alpha_object = -1;
-    for (const DrawItem& d : ctx.gpu_scene.draws())
-        if (ctx.gpu_scene.alpha_tested(d.material)) {
-            alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, ctx.defines);
-            glUseProgram(alpha_prog);
-            glUniformMatrix4fv(glGetUniformLocation(alpha_prog, "u_light_view_proj"), 1, GL_FALSE,
-                               &setup_.light_view_proj[0][0]);
-            loc_alpha_object = glGetUniformLocation(alpha_prog, "u_object");
-            glUseProgram(prog);
-            break;
-        }
-
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-    glViewport(0, 0, map.width(), map.height());
-    // The light's orthographic depth uses GL's standard convention whatever the camera's.
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_CULL_FACE);  // thin and open geometry must cast shadows too
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(1.5f, 2.0f);  // slope-scaled bias, complementing the receiver's normal offset
+void ShadowMapPass::draw_scene(FrameContext& ctx, const glm::mat4& light_view_proj, GLuint prog, GLint loc_vp,
+                               GLint loc_object, GLuint alpha_prog, GLint loc_alpha_vp, GLint loc_alpha_object) {
     const float one = 1.0f;
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &one);
-
-    ctx.gpu_scene.bind_geometry();
+    glUseProgram(prog);
+    glUniformMatrix4fv(loc_vp, 1, GL_FALSE, &light_view_proj[0][0]);
+    if (alpha_prog) {
+        glUseProgram(alpha_prog);
+        glUniformMatrix4fv(loc_alpha_vp, 1, GL_FALSE, &light_view_proj[0][0]);
+        glUseProgram(prog);
+    }
     GLuint current = prog;
     for (const DrawItem& d : ctx.gpu_scene.draws()) {
         const bool alpha = ctx.gpu_scene.alpha_tested(d.material);
@@ -105,6 +128,63 @@ void ShadowMapPass::execute(FrameContext& ctx) {
         if (alpha) ctx.gpu_scene.bind_material_textures(d.material);
         glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                                  reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
+    }
+}
+
+void ShadowMapPass::execute(FrameContext& ctx) {
+    Texture* map = setup_.maps > 0 ? &ctx.resources.get("shadow_map") : nullptr;
+    Texture* cubes = setup_.cubes > 0 ? &ctx.resources.get("shadow_cubes") : nullptr;
+    // Hardware PCF: a compare sampler with linear filtering gives a 2x2 filtered test per tap.
+    // The cubes compare the point's depth in the face its direction selects (lib/shadow_map.glsl):
+    // the same vertex-only program as the layers (a distance written as gl_FragDepth would give
+    // every opaque draw a fragment stage and lose early depth), the same slope-scaled bias, and
+    // hardware compare filtering as for the layers.
+    for (Texture* t : {map, cubes}) {
+        if (!t) continue;
+        glTextureParameteri(t->id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glTextureParameteri(t->id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        t->set_filter(GL_LINEAR, GL_LINEAR);
+    }
+    if (!fbo_) fbo_ = Framebuffer::create();
+    glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
+
+    const GLuint prog = ctx.shaders.program({"passes/shadow_map.vert"}, ctx.defines);
+    const GLint loc_vp = glGetUniformLocation(prog, "u_light_view_proj");
+    const GLint loc_object = glGetUniformLocation(prog, "u_object");
+    // Alpha-tested materials (glTF MASK/BLEND) with a fragment stage that discards their holes.
+    GLuint alpha_prog = 0;
+    GLint loc_alpha_vp = -1, loc_alpha_object = -1;
+    for (const DrawItem& d : ctx.gpu_scene.draws())
+        if (ctx.gpu_scene.alpha_tested(d.material)) {
+            alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, ctx.defines);
+            loc_alpha_vp = glGetUniformLocation(alpha_prog, "u_light_view_proj");
+            loc_alpha_object = glGetUniformLocation(alpha_prog, "u_object");
+            break;
+        }
+
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    // The lights' depth uses GL's standard convention whatever the camera's.
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);  // thin and open geometry must cast shadows too
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.5f, 2.0f);  // slope-scaled bias, complementing the receiver's normal offset
+    ctx.gpu_scene.bind_geometry();
+    for (const ShadowCaster& c : setup_.casters) {
+        Texture& t = c.cube ? *cubes : *map;
+        glViewport(0, 0, t.width(), t.height());
+        // A layer: one view. A cube: its six faces, layer-faces 6 slot + face of the array, each
+        // a 90-degree square frustum from the light.
+        const int faces = c.cube ? 6 : 1;
+        const glm::mat4 face_proj = glm::perspective(glm::radians(90.0f), 1.0f, c.near_plane, c.far_plane);
+        for (int face = 0; face < faces; ++face) {
+            fbo_.attach(GL_DEPTH_ATTACHMENT, t, 0, c.cube ? 6 * c.slot + face : c.slot);
+            fbo_.check_complete("shadow_map");
+            const glm::mat4 vp = c.cube ? face_proj * cube_face_view(c.position, face) : c.light_view_proj;
+            draw_scene(ctx, vp, prog, loc_vp, loc_object, alpha_prog, loc_alpha_vp, loc_alpha_object);
+        }
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -1,19 +1,45 @@
-// shadow_map: depth from the directional light that casts the scene's shadow.
+// shadow_map: depth from every light that casts a shadow (Light::cast_shadow).
 //   inputs : scene geometry
-//   outputs: shadow_map (DEPTH32F, shadow_map_size^2)
-// The light's orthographic frustum encloses the scene's bounding sphere. Runs only when a
-// directional light casts a shadow and Settings.shadow_map_size > 0.
+//   outputs: shadow_map   (DEPTH32F 2D array, shadow_map_size^2, one layer per directional or
+//                          spot caster; FrameFacts.shadow_maps layers)
+//            shadow_cubes (DEPTH32F cube-map array, shadow_map_size^2 faces, one cube per point
+//                          caster; FrameFacts.shadow_cubes cubes)
+// A directional light's layer is an orthographic frustum enclosing the scene's bounding sphere,
+// a spot light's a perspective frustum over its outer cone, a point light's cube six 90-degree
+// perspective faces. Runs only when some light casts a shadow and Settings.shadow_map_size > 0.
+// Readers (lighting, the BVH passes, the probes' capture, the GLSL reference) read every map
+// through lib/shadow_map.glsl; each light finds its own in the lights buffer (GpuLight::shadow).
 #pragma once
 
 #include "render/render_pass.h"
 
 namespace ssr {
 
-struct ShadowSetup {
-    bool enabled = false;
+// One shadow-casting light and its map.
+struct ShadowCaster {
     int light = -1;                 // index into Scene::lights
-    glm::mat4 light_view_proj{1};   // world -> light clip space (standard GL depth)
-    float texel_world_size = 0.0f;  // world size of one shadow-map texel
+    bool cube = false;              // a point light: a cube of shadow_cubes; else a layer of shadow_map
+    int slot = 0;                   // its layer of shadow_map or its cube of shadow_cubes
+    glm::mat4 light_view_proj{1};   // a layer: world -> light clip space (standard GL depth)
+    glm::vec3 position{0.0f};       // a cube: the light's world position
+    float near_plane = 0.0f, far_plane = 0.0f;  // a cube: its faces' depth range
+    float texel_world_size = 0.0f;  // a layer: world size of one texel (a spot's at the scene's centre)
+};
+
+struct ShadowSetup {
+    bool enabled = false;             // some light casts a shadow
+    std::vector<ShadowCaster> casters;  // in Scene::lights order
+    int maps = 0, cubes = 0;          // layers of shadow_map, cubes of shadow_cubes
+    // The first layer's caster (Frame.shadow_matrix, FrameUniforms::view_to_shadow): -1 if none.
+    int light = -1;
+    glm::mat4 light_view_proj{1};
+    float texel_world_size = 0.0f;
+    // The caster of Scene::lights[i], or null.
+    const ShadowCaster* caster_of(int i) const {
+        for (const auto& c : casters)
+            if (c.light == i) return &c;
+        return nullptr;
+    }
 };
 
 class ShadowMapPass : public RenderPass {
@@ -21,15 +47,28 @@ public:
     std::string name() const override { return "shadow_map"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.shadows; }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
+    // Every texture it may write (one layer and one cube): for listings without a frame's facts.
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    // The frame's: a layer per directional or spot caster, a cube per point caster.
+    std::vector<ResourceDesc> outputs(const RenderSettings& s, const FrameFacts& f) const override;
     void execute(FrameContext& ctx) override;
 
-    // Which light casts the shadow and the light's frustum fitted to the scene.
+    // Which lights cast shadows and their frusta fitted to the scene.
     static ShadowSetup fit(const Scene& scene, const Bounds& bounds, const RenderSettings& s);
     void set_setup(const ShadowSetup& setup) { setup_ = setup; }
     void release() { fbo_.reset(); }
 
+    // For the passes that read the maps (lib/shadow_map.glsl): the textures they read, the
+    // defines saying which kinds the frame has (SHADOW_MAPS, SHADOW_CUBES, with SHADOWS 1), and
+    // their texture units (4: shadow_map, 14: shadow_cubes).
+    static std::vector<std::string> reads(const FrameFacts& f);
+    static void add_defines(Defines& d, const FrameFacts& f);
+    static void bind(FrameResources& r, const FrameFacts& f);
+    static constexpr int kMapUnit = 4, kCubeUnit = 14;
+
 private:
+    void draw_scene(FrameContext& ctx, const glm::mat4& light_view_proj, GLuint prog, GLint loc_vp, GLint loc_object,
+                    GLuint alpha_prog, GLint loc_alpha_vp, GLint loc_alpha_object);
     ShadowSetup setup_;
     Framebuffer fbo_;
 };

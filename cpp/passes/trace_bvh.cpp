@@ -1,6 +1,8 @@
 #include "passes/trace_bvh.h"
 
 #include "passes/compute.h"
+#include "passes/depth_peel.h"
+#include "passes/shadow_map.h"
 #include "render/gpu_scene.h"
 
 namespace ssr {
@@ -12,7 +14,8 @@ std::vector<std::string> TraceBvhPass::inputs(const RenderSettings& s, const Fra
         in.push_back("rays.sample");
         in.push_back("rays.direction");
     }
-    if (f.shadows) in.push_back("shadow_map");
+    if (s.bvh_shadows != BvhShadows::Traced)
+        for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     // The fallback shades screen-space hits from the G-buffer (lib/gbuffer_emission.glsl).
     if (fallback_ && f.emission_texture) in.push_back("gbuffer.emission");
     return in;
@@ -36,6 +39,7 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     const bool traced = ctx.settings.bvh_shadows == BvhShadows::Traced;
     d["SHADOWS"] = ctx.facts.shadows && !traced ? "1" : "0";
     d["TRACED_SHADOWS"] = ctx.facts.shadows && traced ? "1" : "0";
+    ShadowMapPass::add_defines(d, ctx.facts);
     d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
     if (fallback_ && ctx.facts.emission_texture) d["EMISSION_TEXTURE"] = "1";
     // Method "bvh" draws adaptive rays as the screen-space tracers do
@@ -58,8 +62,9 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     glBindTextureUnit(1, r.get("gbuffer.albedo").id());
     glBindTextureUnit(2, r.get("gbuffer.normal").id());
     glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (ctx.facts.shadows) glBindTextureUnit(4, r.get("shadow_map").id());
-    if (fallback_ && ctx.facts.emission_texture) glBindTextureUnit(14, r.get("gbuffer.emission").id());
+    if (!traced) ShadowMapPass::bind(r, ctx.facts);
+    if (fallback_ && ctx.facts.emission_texture)
+        glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
     if (fallback_) {
         bind_image_layered(4, r.get("rays.hit"), GL_READ_WRITE);
         glBindTextureUnit(6, r.get("rays.sample").id());

@@ -75,7 +75,7 @@ public:
     FrameUniforms uniforms{};
     SsrUniforms ssr{};
     uint64_t scene_id = 0, scene_revision = 0;  // the scene it showed, to match a later reference
-    int shadow_light = -1;                       // the light whose shadow map this frame has
+    int shadow_maps = 0, shadow_cubes = 0;       // its shadow maps: layers of shadow_map, cubes of shadow_cubes
     std::vector<std::string> passes;        // the chain that ran, in order
     std::map<std::string, double> stats;   // work counts from the GPU
     std::vector<uint64_t> layer_samples;    // depth-test-passing samples drawn into each layer

@@ -100,6 +100,8 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     if (level < 0 || level >= tex.levels())
         throw std::invalid_argument("mip level " + std::to_string(level) + " out of range (texture has " +
                                     std::to_string(tex.levels()) + ")");
+    // A cube-map array (the point lights' shadow cubes) reads as its 6 x cubes layer-faces.
+    if (tex.target() == GL_TEXTURE_CUBE_MAP_ARRAY) return read_texture(Texture::view_as_2d_array(tex), level);
     Readback out;
     out.width = std::max(tex.width() >> level, 1);
     out.height = std::max(tex.height() >> level, 1);

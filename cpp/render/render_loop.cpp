@@ -59,7 +59,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame_ubo_.upload(&u, sizeof(u));
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameUniformsBinding, frame_ubo_.id());
 
-    upload_lights(scene, u.view, shadow.enabled ? shadow.light : -1);
+    upload_lights(scene, u.view, shadow);
 
     // Reflection settings as the shaders see them.
     const SsrUniforms su = ssr_uniforms(s);
@@ -170,7 +170,8 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     frame->ssr = su;
     frame->scene_id = scene.id();
     frame->scene_revision = scene.revision();
-    frame->shadow_light = shadow.enabled ? shadow.light : -1;
+    frame->shadow_maps = shadow.maps;
+    frame->shadow_cubes = shadow.cubes;
     frame->serial = serial;
     for (const auto& d : scratch) scratch_owner_[d.name] = serial;
     frame->wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
@@ -197,7 +198,8 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
         throw std::invalid_argument("reference: tracer must be 'auto', 'cpu', 'embree' or 'glsl', got '" + tracer + "'");
     if (tracer == "cpu" && per_ray)
         throw std::invalid_argument("reference: tracer 'cpu' traces the converged reference only, not the per-ray one");
-    if (tracer == "cpu" && frame.shadow_light >= 0 && !traced_shadows)
+    const bool shadows = frame.shadow_maps + frame.shadow_cubes > 0;
+    if (tracer == "cpu" && shadows && !traced_shadows)
         throw std::invalid_argument("reference: tracer 'cpu' traces its shadows (shadows='traced'); "
                                     "the shadow map's filtering is the GLSL tracer's only");
     if (frame.scene_id != scene.id() || frame.scene_revision != scene.revision())
@@ -212,7 +214,14 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
 
     frame_ubo_.upload(&frame.uniforms, sizeof(FrameUniforms));
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameUniformsBinding, frame_ubo_.id());
-    upload_lights(scene, frame.uniforms.view, frame.shadow_light);
+    // The scene is the frame's own (same revision, checked above) and the fit depends only on
+    // the scene and the settings: the casters and maps the frame was lit with.
+    const ShadowSetup setup = ShadowMapPass::fit(scene, gs.bounds(), s);
+    FrameFacts shadow_facts;
+    shadow_facts.shadows = shadows;
+    shadow_facts.shadow_maps = frame.shadow_maps;
+    shadow_facts.shadow_cubes = frame.shadow_cubes;
+    upload_lights(scene, frame.uniforms.view, setup);
     SsrUniforms su = frame.ssr;
     if (!per_ray) {  // the converged reference draws its own rays and traces every reflective pixel
         su.sampling = int(sampling);
@@ -228,22 +237,21 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
     bind_specular_albedo();
 
-    const bool shadows = frame.shadow_light >= 0;
-    if (shadows && !traced_shadows && !scratch_of("shadow_map", frame.serial)) {
-        // The shared shadow map holds a later frame's (or none): render this frame's again. The
-        // scene is the frame's own (same revision, checked above) and the fit depends only on
-        // the scene and the settings, so the map is the one the frame was lit with.
-        const ShadowSetup setup = ShadowMapPass::fit(scene, gs.bounds(), s);
-        scratch_.add(shadow_map_.outputs(s));
+    bool maps_kept = true;  // every shadow texture of the frame still holds the frame's maps
+    for (const auto& d : shadow_map_.outputs(s, shadow_facts)) maps_kept = maps_kept && scratch_of(d.name, frame.serial);
+    if (shadows && !traced_shadows && !maps_kept) {
+        // The shared shadow maps hold a later frame's (or none): render all of this frame's again.
+        scratch_.add(shadow_map_.outputs(s, shadow_facts));
         shadow_map_.set_setup(setup);
         const DepthConvention dc{s.depth_mode};
         Defines d;
         dc.add_defines(d);
         FrameContext sfc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, dc, frame.uniforms, scratch_, d};
         sfc.clear_by_compute = clear_by_compute();
+        sfc.facts = shadow_facts;
         shadow_map_.execute(sfc);
         check_gl(*ctx_, "shadow_map (again, for the reference)");
-        scratch_owner_["shadow_map"] = frame.serial;
+        for (const auto& d : shadow_map_.outputs(s, shadow_facts)) scratch_owner_[d.name] = frame.serial;
     }
     frame.resources().attach_scratch(&scratch_);
     struct Detach {
@@ -271,7 +279,12 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
                     defines};
     fc.clear_by_compute = clear_by_compute();
-    fc.facts = FrameFacts{shadows, true, fetch_by_image_, gs.has_emissive_texture()};
+    fc.facts.shadows = shadows;
+    fc.facts.reflections = true;
+    fc.facts.fetch_by_image = fetch_by_image_;
+    fc.facts.emission_texture = gs.has_emissive_texture();
+    fc.facts.shadow_maps = frame.shadow_maps;
+    fc.facts.shadow_cubes = frame.shadow_cubes;
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
     if (embree) pass.set_tracer(&gs.embree_tracer());

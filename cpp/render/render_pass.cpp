@@ -52,12 +52,19 @@ const FrameBuffer& FrameBuffers::get(const std::string& name) const {
     return it->second;
 }
 
+namespace {
+Texture create_texture(const ResourceDesc& d) {
+    if (d.cube) return Texture::create_cube_array(d.format, d.width, d.layers / 6, d.levels);
+    return d.layers > 0 ? Texture::create_2d_array(d.format, d.width, d.height, d.layers, d.levels)
+                        : Texture::create_2d(d.format, d.width, d.height, d.levels);
+}
+}  // namespace
+
 void FrameResources::allocate(const std::vector<ResourceDesc>& descs) {
     descs_ = descs;
     textures_.clear();
     for (const auto& d : descs) {
-        Texture t = d.layers > 0 ? Texture::create_2d_array(d.format, d.width, d.height, d.layers, d.levels)
-                                 : Texture::create_2d(d.format, d.width, d.height, d.levels);
+        Texture t = create_texture(d);
         textures_.emplace(d.name, std::move(t));
     }
 }
@@ -70,8 +77,7 @@ void FrameResources::add(const std::vector<ResourceDesc>& descs) {
                      descs_.end());
         textures_.erase(d.name);
         descs_.push_back(d);
-        Texture t = d.layers > 0 ? Texture::create_2d_array(d.format, d.width, d.height, d.layers, d.levels)
-                                 : Texture::create_2d(d.format, d.width, d.height, d.levels);
+        Texture t = create_texture(d);
         textures_.emplace(d.name, std::move(t));
     }
 }

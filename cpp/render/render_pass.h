@@ -35,12 +35,13 @@ struct ResourceDesc {
     std::string name;
     GLenum format = GL_RGBA8;
     int width = 0, height = 0;
-    int layers = 0;  // 0: a 2D texture; n >= 1: a 2D array of n layers
+    int layers = 0;  // 0: a 2D texture; n >= 1: a 2D array of n layers (cube: 6 x its cubes)
     int levels = 1;  // 0: a full mip chain
     Lifetime lifetime = Lifetime::Frame;
+    bool cube = false;  // a cube-map array of layers / 6 cubes (width == height)
     bool operator==(const ResourceDesc& o) const {
         return name == o.name && format == o.format && width == o.width && height == o.height &&
-               layers == o.layers && levels == o.levels && lifetime == o.lifetime;
+               layers == o.layers && levels == o.levels && lifetime == o.lifetime && cube == o.cube;
     }
 };
 
@@ -102,12 +103,14 @@ private:
 
 // What a frame's chain depends on besides the settings: facts of the scene and the device.
 struct FrameFacts {
-    bool shadows = false;         // a directional light casts the shadow map
+    bool shadows = false;         // some light casts a shadow (the shadow_map pass runs)
     bool reflections = false;     // tracing is on and some surface reflects
     bool fetch_by_image = false;  // the passes read float inputs by imageLoad (the CPU device)
     // Some object's material has an emissive texture (GpuScene::has_emissive_texture): the
     // G-buffer then carries the emission (gbuffer.emission), which the lighting pass adds.
     bool emission_texture = false;
+    int shadow_maps = 0;          // directional and spot casters: layers of shadow_map
+    int shadow_cubes = 0;         // point casters: cubes of shadow_cubes
 };
 
 // What a pass may use while it executes.
@@ -168,14 +171,8 @@ public:
     // What it reads in a frame with these settings and facts (a variant's inputs).
     virtual std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const = 0;
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
-    // Textures it writes only in frames with these facts, beyond outputs(s) (a variant's own).
-    virtual std::vector<ResourceDesc> fact_outputs(const RenderSettings& s, const FrameFacts& f) const { return {}; }
-    // Everything it writes in a frame with these settings and facts.
-    std::vector<ResourceDesc> frame_outputs(const RenderSettings& s, const FrameFacts& f) const {
-        std::vector<ResourceDesc> out = outputs(s);
-        for (auto& d : fact_outputs(s, f)) out.push_back(std::move(d));
-        return out;
-    }
+    // What it writes in a frame with these settings and facts: for most passes the settings'.
+    virtual std::vector<ResourceDesc> outputs(const RenderSettings& s, const FrameFacts& f) const { return outputs(s); }
     // The buffers (FrameBuffer) it reads, found in FrameContext::buffers, and those it writes and
     // publishes there, in a frame with these settings and facts.
     virtual std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts& f) const { return {}; }

@@ -3,6 +3,8 @@
 // readback.cpp, the device tools device_tools.cpp.
 #include "render/renderer.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -108,8 +110,10 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
         const RenderPass* p = passes_[i];
         FrameFacts every;  // the facts that switch outputs on
         every.emission_texture = true;
+        every.shadows = true;
+        every.shadow_maps = every.shadow_cubes = 1;
         for (const auto& s : variants)
-            for (const auto& o : p->frame_outputs(s, every)) owner.emplace(o.name, std::make_pair(p->name(), i));
+            for (const auto& o : p->outputs(s, every)) owner.emplace(o.name, std::make_pair(p->name(), i));
     }
     // Earlier user passes' own textures: written at their stage's place.
     for (const auto& u : user_passes_)
@@ -194,6 +198,7 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir, con
     glSamplerParameteri(readback_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_array_layers_);
+    glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &max_cube_size_);
     GLint extensions = 0;
     glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
     for (GLint i = 0; i < extensions; ++i) {
@@ -291,7 +296,10 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, const Fr
 
 FrameFacts Renderer::facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const {
     FrameFacts f;
-    f.shadows = ShadowMapPass::fit(scene, gs.bounds(), s).enabled;
+    const ShadowSetup shadow = ShadowMapPass::fit(scene, gs.bounds(), s);
+    f.shadows = shadow.enabled;
+    f.shadow_maps = shadow.maps;
+    f.shadow_cubes = shadow.cubes;
     f.reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
     f.fetch_by_image = fetch_by_image_;
     f.emission_texture = gs.has_emissive_texture();
@@ -306,20 +314,33 @@ std::string Renderer::variant_key(const std::vector<RenderPass*>& chain, const s
     for (RenderPass* p : chain) key += p->name() + ";";
     for (const auto& d : descs)
         key += d.name + ":" + std::to_string(d.format) + "," + std::to_string(d.width) + "x" + std::to_string(d.height) +
-               "x" + std::to_string(d.layers) + "/" + std::to_string(d.levels) + ";";
+               "x" + std::to_string(d.layers) + (d.cube ? "c" : "") + "/" + std::to_string(d.levels) + ";";
     for (const auto& [k, v] : defines) key += k + "=" + v + ";";
     return key;
 }
 
-void Renderer::upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light) {
+void Renderer::upload_lights(const Scene& scene, const glm::mat4& view, const ShadowSetup& shadow) {
     std::vector<GpuLight> lights;
+    const glm::mat4 inv_view = glm::inverse(view);
+    const glm::mat4 to_unit = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.5f));
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Light& l = scene.lights[i];
+        const ShadowCaster* caster = shadow.caster_of(int(i));
         GpuLight g{};
         g.position_type = glm::vec4(glm::vec3(view * glm::vec4(l.position, 1.0f)),
                                     l.type == Light::Type::Directional ? 0.0f : (l.type == Light::Type::Spot ? 2.0f : 1.0f));
-        g.direction_shadow = glm::vec4(glm::mat3(view) * glm::normalize(l.direction),
-                                       (int(i) == shadow_light) ? 1.0f : 0.0f);
+        g.direction_shadow = glm::vec4(glm::mat3(view) * glm::normalize(l.direction), caster ? 1.0f : 0.0f);
+        // Its shadow map (lib/shadow_map.glsl): a layer's texture-space matrix, or a cube's
+        // lookup frame (world axes about the light) and depth range.
+        g.shadow = glm::vec4(-1.0f, -1.0f, 0.0f, 0.0f);
+        g.view_to_shadow = glm::mat4(1.0f);
+        if (caster && caster->cube) {
+            g.shadow = glm::vec4(-1.0f, float(caster->slot), caster->near_plane, caster->far_plane);
+            g.view_to_shadow = glm::translate(glm::mat4(1.0f), -caster->position) * inv_view;
+        } else if (caster) {
+            g.shadow = glm::vec4(float(caster->slot), -1.0f, caster->texel_world_size, 0.0f);
+            g.view_to_shadow = to_unit * caster->light_view_proj * inv_view;
+        }
         g.radiance = glm::vec4(l.color * l.intensity, 0.0f);
         // KHR_lights_punctual's recommended spot falloff: clamp(cos * scale + offset, 0, 1)^2.
         g.cone = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
@@ -365,7 +386,7 @@ std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const Rend
     for (RenderPass* p : build_chain(s, f)) {
         ChainEntry e{p->name(), p->inputs(s, f), {}, p->history_inputs(s), {}, p->buffer_inputs(s, f),
                      p->buffer_outputs(s, f)};
-        for (const auto& d : p->frame_outputs(s, f)) {
+        for (const auto& d : p->outputs(s, f)) {
             e.outputs.push_back(d.name);
             if (d.lifetime == Lifetime::Scratch) e.scratch.push_back(d.name);
         }

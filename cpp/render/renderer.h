@@ -110,6 +110,7 @@ public:
     // Whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
     bool fetch_by_image() const { return fetch_by_image_; }
     int max_texture_size() const { return max_texture_size_; }
+    int max_array_layers() const { return max_array_layers_; }
     // Programs compiled so far (every program is compiled once per renderer and variant).
     size_t compiled_programs() const { return shaders_->cached_programs(); }
     void check_errors();
@@ -179,7 +180,7 @@ private:
     };
     ResourcePlan plan_resources(const std::vector<RenderPass*>& chain, const RenderSettings& s, const FrameFacts& f) const;
     static std::string gib(size_t bytes);
-    void upload_lights(const Scene& scene, const glm::mat4& view, int shadow_light);
+    void upload_lights(const Scene& scene, const glm::mat4& view, const ShadowSetup& shadow);
     void destroy_gl_objects();
     // Integrates the specular-albedo table on first use and binds it to its texture unit.
     void bind_specular_albedo();
@@ -195,7 +196,7 @@ private:
     GLuint readback_sampler_ = 0;
     bool pack_invert_ = false;  // GL_MESA_pack_invert: downloads come with rows top first
     bool fetch_by_image_ = false;  // FETCH_BY_IMAGE: the CPU device (llvmpipe), see lib/input_fetch.glsl
-    GLint max_texture_size_ = 0, max_array_layers_ = 0;  // the device's limits, checked per frame
+    GLint max_texture_size_ = 0, max_array_layers_ = 0, max_cube_size_ = 0;  // the device's limits, checked per frame
     Texture specular_albedo_;
 
     struct CachedScene {

@@ -58,7 +58,7 @@ Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& 
         for (const auto& in : p->buffer_inputs(s, f))
             if (!buffers.count(in))
                 throw GLError("pass " + p->name() + " reads the buffer '" + in + "', which no earlier pass writes");
-        for (const auto& d : p->frame_outputs(s, f)) {
+        for (const auto& d : p->outputs(s, f)) {
             descs.push_back(d);
             written.insert(d.name);
         }
@@ -67,20 +67,31 @@ Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& 
     // Every texture within the device's limits before any is allocated (GL would only answer
     // GL_INVALID_VALUE): the message names the texture and the settings that size it.
     for (const auto& d : descs) {
-        if (d.width > max_texture_size_ || d.height > max_texture_size_) {
-            const std::string limit = "this device's GL_MAX_TEXTURE_SIZE (" + std::to_string(max_texture_size_) + ")";
-            if (d.name == "shadow_map")
+        // The shadow maps are sized by Settings.shadow_map_size and counted by the casting lights.
+        const bool shadow = d.name == "shadow_map" || d.name == "shadow_cubes";
+        const int max_size = d.cube ? max_cube_size_ : max_texture_size_;
+        if (d.width > max_size || d.height > max_size) {
+            const std::string limit = std::string("this device's ") +
+                                      (d.cube ? "GL_MAX_CUBE_MAP_TEXTURE_SIZE (" : "GL_MAX_TEXTURE_SIZE (") +
+                                      std::to_string(max_size) + ")";
+            if (shadow)
                 throw std::invalid_argument("Settings.shadow_map_size = " + std::to_string(d.width) + " is beyond " +
-                                            limit);
+                                            limit + (d.cube ? " (the cube maps of the point lights that cast shadows)" : ""));
             throw std::invalid_argument(
                 "Settings.width x Settings.height = " + std::to_string(s.width) + " x " + std::to_string(s.height) +
                 " needs the texture '" + d.name + "' of " + std::to_string(d.width) + " x " + std::to_string(d.height) +
                 " texels, beyond " + limit + ": render a smaller image");
         }
-        if (d.layers > max_array_layers_)
+        if (d.layers > max_array_layers_) {
+            if (shadow)
+                throw std::invalid_argument("the texture '" + d.name + "' needs " + std::to_string(d.layers) +
+                                            " layers (" + (d.cube ? "6 per point light" : "1 per directional or spot light") +
+                                            " that casts a shadow), beyond this device's GL_MAX_ARRAY_TEXTURE_LAYERS (" +
+                                            std::to_string(max_array_layers_) + "): set cast_shadow=False on some lights");
             throw std::invalid_argument("the texture '" + d.name + "' needs " + std::to_string(d.layers) +
                                         " layers, beyond this device's GL_MAX_ARRAY_TEXTURE_LAYERS (" +
                                         std::to_string(max_array_layers_) + "): lower Settings.layers or rays_per_pixel");
+        }
     }
     // Each pass's limits of this device (a buffer it would allocate), refused before anything is.
     for (const RenderPass* p : chain) p->check_device(s);
@@ -89,9 +100,18 @@ Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& 
     // Asked of the system only beyond 256 MiB of new textures, not on every ordinary frame.
     size_t needed = 0;
     for (const auto& d : descs) needed += texture_bytes(d);
+    // The shadow maps' share: shadow_map_size^2 x 4 bytes x (layers + 6 x cubes), one layer per
+    // directional or spot caster, one cube per point caster.
+    int shadow_layers = 0;
+    for (const auto& d : descs)
+        if (d.name == "shadow_map" || d.name == "shadow_cubes") shadow_layers += std::max(d.layers, 1);
     const std::string sized_by = "Settings (" + std::to_string(s.width) + " x " + std::to_string(s.height) +
                                  ", layers " + std::to_string(s.layers) + ", rays_per_pixel " +
-                                 std::to_string(s.rays_per_pixel) + ")";
+                                 std::to_string(s.rays_per_pixel) +
+                                 (shadow_layers > 0 ? ", shadow_map_size " + std::to_string(s.shadow_map_size) + " x " +
+                                                          std::to_string(shadow_layers) + " shadow-map faces"
+                                                    : std::string()) +
+                                 ")";
     if (ctx_->info().chosen == "cpu") {
         size_t reusable = scratch_.bytes();
         for (const auto& r : pool_)
@@ -101,7 +121,8 @@ Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& 
             throw std::invalid_argument(sized_by + " need " + gib(needed) + " of textures, more than the " +
                                         gib(available + reusable) +
                                         " of memory available to the CPU device: render a smaller image or "
-                                        "fewer layers or rays");
+                                        "fewer layers or rays" +
+                                        (shadow_layers > 0 ? std::string(", or lower Settings.shadow_map_size") : ""));
     }
     // Outputs a pass of the chain reads from the previous frame of a sequence live as History.
     for (const RenderPass* p : chain)

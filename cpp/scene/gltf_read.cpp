@@ -813,8 +813,10 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 l.inner_cone = float(gl.spot.innerConeAngle);
                 l.outer_cone = float(gl.spot.outerConeAngle);
                 l.range = float(gl.range);
-                // A spot light casts a shadow like the sun (the first of them gets the shadow map);
-                // a point light's would need a cube map and is not drawn.
+                // KHR_lights_punctual has no shadow flag: directional and spot lights cast one by
+                // default (a layer of the 2D shadow maps each), point lights none unless
+                // extras.cast_shadow asks (a cube map: six draws of the scene, six times the
+                // memory, so not on by default for the many point lights a file may hold).
                 l.cast_shadow = l.type == Light::Type::Spot;
             }
             if (gl.extras.Has("cast_shadow")) {

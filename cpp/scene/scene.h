@@ -117,7 +117,7 @@ struct Light {
     // Point and spot: the distance where the light's influence ends (KHR_lights_punctual's
     // recommended window); 0 = no end.
     float range = 0.0f;
-    bool cast_shadow = false;  // honoured for the first directional or spot light that asks for it
+    bool cast_shadow = false;  // casts a shadow: a directional or spot light a 2D map, a point light a cube map
 };
 
 // What a reflection ray that leaves the screen (or is faded) sees.

@@ -202,8 +202,10 @@ class Light:
     intensity (W/sr) at `position`, falling off as 1/d^2. Spot: a point light shining down
     `direction`, full inside `inner_cone`, nothing beyond `outer_cone` (radians), with
     KHR_lights_punctual's smooth falloff between. Point and spot lights end at `range` with the
-    extension's window (0: no end). The first directional or spot light with cast_shadow=True casts
-    the shadow map (a spot light's is a perspective map of its cone); point lights cast none.
+    extension's window (0: no end). Every light with cast_shadow=True casts a shadow: a directional
+    light an orthographic shadow map over the scene, a spot light a perspective one over its cone, a
+    point light a cube map (six faces). glTF lights cast by default when directional or spot, not
+    when point; extras.cast_shadow overrides either.
     """
     @staticmethod
     def directional(direction: tuple[float, ...], color: tuple[float, ...] = (1.0, 1.0, 1.0), intensity: typing.SupportsFloat | typing.SupportsIndex = 3.0, cast_shadow: bool = True, name: str = 'sun') -> Light:
@@ -219,7 +221,7 @@ class Light:
     @property
     def cast_shadow(self) -> bool:
         """
-        the first directional or spot light with this set casts the shadow map (point lights cast none)
+        casts a shadow: a 2D shadow map (directional, spot) or a cube map (point)
         """
     @cast_shadow.setter
     def cast_shadow(self, arg0: bool) -> None:
@@ -677,7 +679,7 @@ class Frame:
     @property
     def shadow_matrix(self) -> numpy.ndarray:
         """
-        view -> shadow-map clip matrix (4x4) of the shadow-casting light
+        view -> shadow-map texture matrix (4x4) of the first directional or spot light that casts a shadow
         """
     @property
     def stats(self) -> dict[str, float]:

@@ -711,9 +711,10 @@ class Frame:
         The converged reference finds each pixel's surface point exactly (the camera ray traced
         against the triangles) and offsets reflection rays from it robustly (Waechter & Binder,
         Ray Tracing Gems ch. 6), independent of SSR's origin_bias. shadows="traced" (default)
-        traces a shadow ray toward the light the frame shadows from every shaded point, the
-        pixel's own included; shadows="map" uses the frame's shadow map as the lit G-buffer does
-        (isolating what SSR itself gets wrong from the shadow map's blur). Per-ray references
+        traces a shadow ray toward every light that casts a shadow from every shaded point, the
+        pixel's own included; shadows="map" uses the frame's shadow maps as the lit G-buffer does
+        (isolating what SSR itself gets wrong from the maps' blur; rendered again when a later
+        frame took the renderer's shadow textures). Per-ray references
         trace the SSR rays as they were (from SSR's own origins).
 
         tracer: who traces the converged reference's rays. "cpu": Embree on every core with the

@@ -57,15 +57,6 @@ def _vertex_rows(value, what: str, columns: int, vertices: int | None = None) ->
     return f
 
 
-def _warn_unshadowed(light, where: str, stacklevel: int) -> None:
-    # The frame has one 2D shadow map (a directional light's or a spot light's): what a point
-    # light sees in every direction would need a cube map, which is left out.
-    if light.type == "point" and light.cast_shadow:
-        warnings.warn(f"{where}point light {light.name!r} asks for a shadow (cast_shadow=True) but point lights cast "
-                      "none (the shadow map is a directional or spot light's): it is lit unshadowed",
-                      SceneWarning, stacklevel=stacklevel)
-
-
 def _index_array(value, vertices: int) -> np.ndarray:
     """A uint32 index array of shape (m, 3) or (3m,), every value an existing vertex."""
     a = _as_array(value, "indices")
@@ -123,18 +114,14 @@ class Scene(_core.Scene):
         """Adds the default scene of a glTF file, every node's transform premultiplied by `transform`
         (see `load` for `allow_external_files`, errors and warnings)."""
         # The path as the OS spells it (bytes): a name that is not valid UTF-8 still opens.
-        first_light = len(self.lights)
         ids, messages = self._add_gltf(os.fsencode(os.fspath(path)), _matrix(transform), bool(allow_external_files))
         for message in messages:
             warnings.warn(message, SceneWarning, stacklevel=2)
-        for light in self.lights[first_light:]:
-            _warn_unshadowed(light, f"{os.fspath(path)}: ", stacklevel=3)
         return list(ids)
 
     def add_light(self, light) -> int:
-        """Adds a copy of a light; returns its index. A point light that asks for a shadow
-        (cast_shadow=True) is lit unshadowed, with a SceneWarning saying so."""
-        _warn_unshadowed(light, "", stacklevel=3)
+        """Adds a copy of a light; returns its index. Every light with cast_shadow=True casts a
+        shadow (a point light's is a cube map)."""
         return super().add_light(light)
 
     def add_mesh(self, positions, indices=None, *, normals=None, uvs=None, tangents=None,
@@ -245,17 +232,24 @@ def directional_light(direction, color=(1.0, 1.0, 1.0), intensity: float = 3.0, 
     return Light.directional(direction, color, intensity, cast_shadow, name)
 
 
-def point_light(position, color=(1.0, 1.0, 1.0), intensity: float = 10.0, name: str = "point") -> Light:
-    """A point light of radiant intensity `intensity` (W/sr)."""
-    return Light.point(position, color, intensity, name)
+def point_light(position, color=(1.0, 1.0, 1.0), intensity: float = 10.0, name: str = "point", *,
+                cast_shadow: bool = False) -> Light:
+    """A point light of radiant intensity `intensity` (W/sr); with `cast_shadow` it casts a
+    shadow in every direction (a cube shadow map: six faces, six draws of the scene)."""
+    light = Light.point(position, color, intensity, name)
+    light.cast_shadow = bool(cast_shadow)
+    return light
 
 
 def spot_light(position, direction, inner_cone: float = 0.0, outer_cone: float = 0.7853982, color=(1.0, 1.0, 1.0),
-               intensity: float = 10.0, range: float = 0.0, name: str = "spot") -> Light:
+               intensity: float = 10.0, range: float = 0.0, name: str = "spot", *, cast_shadow: bool = False) -> Light:
     """A KHR_lights_punctual spot light at `position` shining down `direction`: radiant intensity
     `intensity` (W/sr) within `inner_cone` of the axis, none beyond `outer_cone` (radians), the
-    extension's smooth falloff between; `range` > 0 ends it with the extension's window."""
-    return Light.spot(position, direction, inner_cone, outer_cone, color, intensity, range, name)
+    extension's smooth falloff between; `range` > 0 ends it with the extension's window. With
+    `cast_shadow` it casts a shadow (a perspective shadow map over its outer cone)."""
+    light = Light.spot(position, direction, inner_cone, outer_cone, color, intensity, range, name)
+    light.cast_shadow = bool(cast_shadow)
+    return light
 
 
 __all__ = ["Scene", "SceneWarning", "Material", "Light", "Environment", "Camera", "directional_light", "point_light",

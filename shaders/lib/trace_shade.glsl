@@ -6,8 +6,8 @@
 // the same radiance for the same ray.
 // Needs frame_uniforms, depth_convention, ssr_settings, scene_data, gbuffer, brdf, lights,
 // normal_mapping, material, environment, bvh, scene_geometry, scene_textures, ray_offset.
-// The including shader defines SHADOWS and TRACED_SHADOWS (0 or 1) and, with SHADOWS,
-// declares `uniform sampler2DShadow u_shadow_map` before including this file.
+// The including shader defines SHADOWS and TRACED_SHADOWS (0 or 1), with SHADOWS also
+// SHADOW_MAPS and SHADOW_CUBES (lib/shadow_map.glsl declares the maps it reads).
 
 // The surface point being shaded, in world space, with its geometric normal on the side its
 // viewer is: what a traced shadow ray leaves from (light_visibility has no room for it).
@@ -15,7 +15,7 @@ vec3 surface_point_w;
 vec3 surface_normal_w;
 
 #if TRACED_SHADOWS
-// The lights the frame shadows (the shadow map's), with a ray instead of the map.
+// The lights that cast shadows (those the shadow maps hold), with a ray instead of a map.
 float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, float light_distance) {
     if (light.direction_shadow.w <= 0.5) return 1.0;
     vec3 l_w = normalize(mat3(frame.inv_view) * l_view);

@@ -24,7 +24,6 @@ layout(binding = 0) uniform sampler2DArray u_depth;
 layout(binding = 1) uniform sampler2DArray u_albedo;
 INPUT_ARRAY(u_normal, 2, 2, rgba16f);  // FETCH_BY_IMAGE: image unit 2 (passes/lighting.cpp)
 layout(binding = 3) uniform sampler2DArray u_material;
-layout(binding = 4) uniform sampler2DShadow u_shadow_map;
 
 layout(binding = 0, rgba16f) writeonly uniform image2DArray o_lit;
 layout(binding = 1, r32f) writeonly uniform image2DArray o_linear_depth;

@@ -18,7 +18,7 @@
 //                  (Waechter and Binder 2019), not by SSR's origin_bias, so contact regions
 //                  are neither darkened nor leaked through.
 // Shadows: SHADOWS with the frame's shadow map (as the lit G-buffer has them), or
-// TRACED_SHADOWS: a shadow ray from every shaded point toward the light the frame shadows.
+// TRACED_SHADOWS: a shadow ray from every shaded point toward each light that casts a shadow.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"
@@ -43,7 +43,6 @@ layout(binding = 0) uniform sampler2DArray u_linear_depth;
 layout(binding = 1) uniform sampler2DArray u_albedo;
 layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
-layout(binding = 4) uniform sampler2DShadow u_shadow_map;
 
 #include "../lib/trace_shade.glsl"
 #include "../lib/gbuffer_emission.glsl"

@@ -65,7 +65,6 @@ layout(binding = 0) uniform sampler2DArray u_linear_depth;
 layout(binding = 1) uniform sampler2DArray u_albedo;
 layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
-layout(binding = 4) uniform sampler2DShadow u_shadow_map;
 #include "../lib/trace_shade.glsl"
 
 #if FALLBACK

@@ -695,6 +695,21 @@ def emissive_texture_crosscheck_scene(factor=(4.0, 2.0, 1.0), cells: int = 4, te
     return s
 
 
+def point_shadow_crosscheck_scene(intensity: float = 6.0):
+    """Point-light shadows: crosscheck_scene's mirror floor, wall, boxes and spheres lit by a
+    shadow-casting point light between them and the wall instead of the sun (ssrlab's shadow
+    cube; traced shadows in the reference), so that the floor reflects the objects' shadows on
+    the wall and on one another, cast in several directions from the light. Object 0 is the floor;
+    object 1 the wall."""
+    from ..scene import point_light
+
+    s = crosscheck_scene(0.0)
+    s.name = "crosscheck_point_shadow"
+    s.clear_lights()
+    s.add_light(point_light((0.0, 1.2, -0.9), intensity=intensity, cast_shadow=True))
+    return s
+
+
 FLOOR = 0  # crosscheck_scene's floor object
 
 

@@ -1,0 +1,86 @@
+"""What each shadow-casting light costs: the shadow_map pass's GPU time (and the lighting pass's,
+which reads every map) against the casting lights.
+
+    python benchmarks/shadows.py [--width 320 --height 180] [--scenes hall] [--repeats 9]
+
+Cases, on each scene's own sun (a directional caster): "1 directional"; "+ spot" adds a casting
+spot light (a second layer of the 2D array); "+ point" adds a casting point light too (a cube:
+six faces, six draws of the scene). The cases run interleaved, one render of each per repeat,
+after a warm-up render of each (compilation and the scene upload are not timed); medians with
+min, max and interquartile range. Settings.shadow_map_size is the default unless --map-size.
+Memory: shadow_map_size^2 x 4 bytes x (layers + 6 x cubes).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from common import benchmark_arguments, open_renderer  # noqa: E402
+
+
+def cases(scene_name: str):
+    """(name, scene, layers, cubes) with 1, 2 and 3 casting lights."""
+    import ssrlab
+
+    base = ssrlab.scenes.load(scene_name)
+    lo, hi = (np.asarray(v, np.float64) for v in base.bounds)
+    centre, size = (lo + hi) / 2, hi - lo
+    top = lo[1] + 0.8 * size[1]
+    spot = ssrlab.spot_light((centre[0] + 0.2 * size[0], top, centre[2]), (-0.3, -1.0, -0.2),
+                             inner_cone=0.4, outer_cone=0.7, intensity=20.0, cast_shadow=True)
+    point = ssrlab.point_light((centre[0] - 0.2 * size[0], lo[1] + 0.4 * size[1], centre[2]), intensity=8.0,
+                               cast_shadow=True)
+    out = []
+    for name, extra, layers, cubes in [("1 directional", [], 1, 0), ("+ spot", [spot], 2, 0),
+                                       ("+ point", [spot, point], 2, 1)]:
+        s = ssrlab.scenes.load(scene_name)
+        for light in extra:
+            s.add_light(light)
+        out.append((name, s, layers, cubes))
+    return out
+
+
+def main(argv=None) -> int:
+    ap = benchmark_arguments(__doc__, repeats=9)
+    ap.set_defaults(width=320, height=180, scenes=["hall"])
+    ap.add_argument("--map-size", type=int, default=None, help="Settings.shadow_map_size (default: the setting's)")
+    args = ap.parse_args(argv)
+    import ssrlab
+    from ssrlab.lab.timing import spread
+
+    r = open_renderer(args)
+    kw = {} if args.map_size is None else dict(shadow_map_size=args.map_size)
+    settings = ssrlab.Settings(width=args.width, height=args.height, **kw)
+    n = settings.shadow_map_size
+    print(f"{args.width}x{args.height}, shadow_map_size {n}; GPU ms, median [min - max] (iqr) of {args.repeats} "
+          f"interleaved renders after a warm-up")
+    for scene_name in args.scenes:
+        runs = cases(scene_name)
+        for _, scene, _, _ in runs:
+            r.render(scene, settings=settings)
+        times = {name: {"shadow_map": [], "lighting": []} for name, *_ in runs}
+        for _ in range(args.repeats):
+            for name, scene, _, _ in runs:
+                t = r.render(scene, settings=settings).timings
+                for key in times[name]:
+                    times[name][key].append(t[key])
+        print(f"{scene_name}:")
+        base = spread(times[runs[0][0]]["shadow_map"])["median"]
+        for name, _, layers, cubes in runs:
+            mib = n * n * 4 * (layers + 6 * cubes) / 2**20
+            parts = []
+            for key, values in times[name].items():
+                st = spread(values)
+                parts.append(f"{key} {st['median']:8.2f} [{st['min']:.2f} - {st['max']:.2f}] ({st['iqr']:.2f})")
+            ratio = spread(times[name]["shadow_map"])["median"] / base
+            print(f"  {name:14s} {layers} layers + {cubes} cubes, {mib:6.0f} MiB: {'   '.join(parts)}   "
+                  f"shadow_map x{ratio:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
