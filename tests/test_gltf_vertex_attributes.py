@@ -343,3 +343,35 @@ def test_normal_texture_frame_follows_its_set(renderer, tmp_path):
     assert ratios["SSR"] > 1.3
     for name in ("reference glsl", "reference cpu"):
         assert abs(ratios[name] / ratios["SSR"] - 1) < 0.05, name
+
+
+@pytest.mark.parametrize("component, normalized, columns", [(5121, True, 3), (5123, True, 4), (5121, False, 4)])
+def test_colour_accessor_kinds(tmp_path, component, normalized, columns):
+    """COLOR_0 as normalised unsigned bytes (VEC3: alpha 1) or shorts (VEC4) loads as values / 255
+    or / 65535; an integer accessor that is not normalised is a SceneError naming COLOR_0."""
+    import base64
+    s = ssrlab.Scene()
+    s.add_mesh(CORNERS, [(0, 1, 2), (0, 2, 3)], name="quad")
+    path = s.save(tmp_path / "colours.gltf")
+    doc = json.loads(path.read_text())
+    top = 255 if component == 5121 else 65535
+    values = (np.arange(4 * columns).reshape(4, columns) * (top // 16)).astype(np.uint8 if component == 5121 else np.uint16)
+    stride = (values.itemsize * columns + 3) // 4 * 4  # glTF: vertex attribute strides are multiples of 4
+    raw = np.zeros((4, stride), np.uint8)
+    raw[:, :values.itemsize * columns] = values.view(np.uint8).reshape(4, -1)
+    doc["buffers"].append({"byteLength": raw.size,
+                           "uri": "data:application/octet-stream;base64," + base64.b64encode(raw.tobytes()).decode()})
+    doc["bufferViews"].append({"buffer": len(doc["buffers"]) - 1, "byteOffset": 0, "byteLength": raw.size,
+                               "byteStride": stride, "target": 34962})
+    doc["accessors"].append({"bufferView": len(doc["bufferViews"]) - 1, "componentType": component,
+                             "normalized": normalized, "count": 4, "type": f"VEC{columns}"})
+    doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = len(doc["accessors"]) - 1
+    path.write_text(json.dumps(doc))
+    if not normalized:
+        with pytest.raises(ssrlab.SceneError, match="COLOR_0.*normalized"):
+            ssrlab.Scene.load(path)
+        return
+    colours = ssrlab.Scene.load(path).object_mesh(0)["colors"]
+    expect = np.ones((4, 4), np.float32)
+    expect[:, :columns] = values / np.float32(top)
+    np.testing.assert_allclose(colours, expect, rtol=1e-6)
