@@ -120,16 +120,18 @@ def test_glossy_floor_within_noise(renderer, mitsuba):
     assert abs(ratio - 1.0) <= 0.01 + 4 * err
 
 
-@pytest.mark.parametrize("case", ["masked", "emissive", "emissive_texture", "point_shadow"])
+@pytest.mark.parametrize("case", ["masked", "emissive", "emissive_texture", "point_shadow", "vertex_colors"])
 def test_mask_and_emission_cases(renderer, mitsuba, case):
     """glTF alphaMode MASK (a checkerboard alpha mask on a quad, Mitsuba's mask BSDF through
     volpath, so that holes pass light in its shadow rays too), emission (an area emitter in
-    Mitsuba), an emissive texture (a checkerboard: the area emitter's bitmap radiance) and a point
-    light's shadows (traced to the casting point light) on a mirror floor: >= 40 dB on the floor
-    pixels, default reference options."""
+    Mitsuba), an emissive texture (a checkerboard: the area emitter's bitmap radiance), a point
+    light's shadows (traced to the casting point light) and vertex colours (the quad's
+    "vertex_color" mesh attribute times the base colour in the BSDF) on a mirror floor: >= 40 dB on
+    the floor pixels, default reference options."""
     scene = {"masked": cc.masked_crosscheck_scene, "emissive": cc.emissive_crosscheck_scene,
              "emissive_texture": cc.emissive_texture_crosscheck_scene,
-             "point_shadow": cc.point_shadow_crosscheck_scene}[case]()
+             "point_shadow": cc.point_shadow_crosscheck_scene,
+             "vertex_colors": cc.vertex_color_crosscheck_scene}[case]()
     ms = cc.mitsuba_scene(scene, width=W, height=H)
     # Beside an area emitter Mitsuba's light sampling picks the sun or the emitter per sample, so
     # at 1 spp the sun's highlight on the emitter's dielectric specular comes 0 or 2x (41 dB for the
@@ -142,6 +144,10 @@ def test_mask_and_emission_cases(renderer, mitsuba, case):
     if case == "masked":
         seen = cc.mirror_objects(ms)[floor]
         assert (seen == 1).sum() > 50 and (seen == 2).sum() > 50
+    elif case == "vertex_colors":
+        # The mirror shows the quad's red and its green corners.
+        c = truth.color[floor]
+        assert (c[:, 0] > 2 * c[:, 1]).sum() > 20 and (c[:, 1] > 2 * c[:, 0]).sum() > 20
     elif case == "emissive":
         assert (truth.color[floor].max(axis=-1) > 1.0).sum() > 50
     elif case == "emissive_texture":

@@ -570,7 +570,8 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
         .def(
             "_add_mesh",
             [](Scene& s, py::object positions, py::object indices, py::object normals, py::object uvs,
-               py::object tangents, const Material& material, const glm::mat4& transform, const std::string& name) {
+               py::object tangents, const Material& material, const glm::mat4& transform, const std::string& name,
+               py::object colors, py::object uvs1) {
                 Mesh mesh;
                 mesh.name = name;
                 mesh.positions = rows_of<float, 3>(positions, "positions");
@@ -579,10 +580,13 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 if (!normals.is_none()) mesh.normals = rows_of<float, 3>(normals, "normals", n);
                 if (!uvs.is_none()) mesh.uvs = rows_of<float, 2>(uvs, "uvs", n);
                 if (!tangents.is_none()) mesh.tangents = rows_of<float, 4>(tangents, "tangents", n);
+                if (!colors.is_none()) mesh.colors = rows_of<float, 4>(colors, "colors", n);
+                if (!uvs1.is_none()) mesh.uvs1 = rows_of<float, 2>(uvs1, "uvs1", n);
                 return add_mesh_object(s, std::move(mesh), material, transform, name);
             },
             py::arg("positions"), py::arg("indices"), py::arg("normals"), py::arg("uvs"), py::arg("tangents"),
-            py::arg("material"), py::arg("transform"), py::arg("name"))
+            py::arg("material"), py::arg("transform"), py::arg("name"), py::arg("colors") = py::none(),
+            py::arg("uvs1") = py::none())
         .def(
             "_add_primitive",
             [](Scene& s, const std::string& kind, const Material& material, const glm::mat4& transform,
@@ -716,9 +720,20 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                     std::memcpy(uv.mutable_data(), mesh.uvs.data(), mesh.uvs.size() * 8);
                     d["uvs"] = uv;
                 }
+                if (!mesh.uvs1.empty()) {
+                    py::array_t<float> uv({py::ssize_t(mesh.uvs1.size()), py::ssize_t(2)});
+                    std::memcpy(uv.mutable_data(), mesh.uvs1.data(), mesh.uvs1.size() * 8);
+                    d["uvs1"] = uv;
+                }
+                if (!mesh.colors.empty()) {
+                    py::array_t<float> c({py::ssize_t(mesh.colors.size()), py::ssize_t(4)});
+                    std::memcpy(c.mutable_data(), mesh.colors.data(), mesh.colors.size() * 16);
+                    d["colors"] = c;
+                }
                 return d;
             },
-            py::arg("object"), "The object's mesh in object space: positions, normals, indices (m, 3), uvs.")
+            py::arg("object"),
+            "The object's mesh in object space: positions, normals, indices (m, 3), uvs, uvs1 and colors (RGBA).")
         .def_property_readonly("lights", [](const Scene& s) { return s.lights; }, "copies of the scene's lights")
         .def(
             "add_light",

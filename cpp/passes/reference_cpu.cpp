@@ -180,6 +180,10 @@ inline vec2 texture_uv(const GpuMaterial& m, int k, vec2 uv) {
     return vec2(glm::dot(vec3(m.uv_transform[2 * k]), vec3(uv, 1.0f)),
                 glm::dot(vec3(m.uv_transform[2 * k + 1]), vec3(uv, 1.0f)));
 }
+inline vec2 texture_set(const GpuMaterial& m, int k, vec4 uvs) {
+    return m.uv_transform[2 * k].w != 0.0f ? vec2(uvs.z, uvs.w) : vec2(uvs.x, uvs.y);
+}
+inline vec2 texture_uv(const GpuMaterial& m, int k, vec4 uvs) { return texture_uv(m, k, texture_set(m, k, uvs)); }
 inline glm::mat2 texture_linear(const GpuMaterial& m, int k) {
     return glm::mat2(m.uv_transform[2 * k].x, m.uv_transform[2 * k + 1].x, m.uv_transform[2 * k].y,
                      m.uv_transform[2 * k + 1].y);
@@ -464,22 +468,26 @@ public:
         const float b0 = 1.0f - h.b1 - h.b2;
         vec3 an(0.0f);
         vec4 at(0.0f);
-        vec2 auv(0.0f);
+        vec4 auv(0.0f);  // xy TEXCOORD_0, zw TEXCOORD_1
+        vec4 vcolor[3];
         vec3 p[3];
-        vec2 uvs[3];
+        vec4 uvs[3];
         for (int k = 0; k < 3; ++k) {
             const uint32_t vi = s_.index_data[size_t(uint32_t(o.material.y) + uint32_t(3 * tri.primitive + k))] +
                                 uint32_t(o.material.z);
-            const float* f = s_.vertex_data.data() + size_t(vi) * 12u;
+            const float* f = s_.vertex_data.data() + size_t(vi) * kVertexFloats;
             p[k] = vec3(f[0], f[1], f[2]);
             const vec3 vn(f[3], f[4], f[5]);
-            uvs[k] = vec2(f[6], f[7]);
+            uvs[k] = vec4(f[6], f[7], f[16], f[17]);
             const vec4 vt(f[8], f[9], f[10], f[11]);
+            const vec4 vc(f[12], f[13], f[14], f[15]);
             const float w = k == 0 ? b0 : (k == 1 ? h.b1 : h.b2);
             an += w * vn;
             auv += w * uvs[k];
             at += w * vt;
+            vcolor[k] = vc;
         }
+        const vec4 acolor = vcolor[0] + h.b1 * (vcolor[1] - vcolor[0]) + h.b2 * (vcolor[2] - vcolor[0]);
         const vec4 tangent(vec3(at), at.w >= 0.0f ? (at.w > 0.0f ? 1.0f : 0.0f) : -1.0f);
         const mat3 model_view = view3_ * mat3(o.model);
         vec3 n = glm::normalize(view3_ * (mat3(o.normal_matrix) * an));
@@ -517,6 +525,7 @@ public:
         }
         GSample g;
         g.albedo = vec3(base);
+        g.albedo *= vec3(acolor);  // glTF COLOR_0 (trace_shade.glsl)
         g.metallic = clampf(metallic, 0.0f, 1.0f);
         g.normal = n;
         g.roughness = clampf(roughness, 0.0f, 1.0f);

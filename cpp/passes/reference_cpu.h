@@ -36,7 +36,7 @@ struct CpuReferenceScene {
     std::vector<GpuLight> lights;     // view space
     std::vector<GpuObject> objects;
     std::vector<GpuMaterial> materials;
-    std::vector<float> vertex_data;   // GpuVertex, 12 floats each
+    std::vector<float> vertex_data;   // GpuVertex, kVertexFloats each
     std::vector<uint32_t> index_data;
     std::vector<BvhTriangle> triangles;  // the BVH's (Embree's primitive ids index them)
     std::vector<uint32_t> image_texels;  // RGBA8 packed (lib/scene_textures.glsl)

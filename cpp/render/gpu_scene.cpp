@@ -37,6 +37,8 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
             v.normal = m.normals[i];
             v.uv = m.uvs.empty() ? glm::vec2(0.0f) : m.uvs[i];
             v.tangent = m.tangents.empty() ? glm::vec4(0.0f) : m.tangents[i];
+            v.color = m.colors.empty() ? glm::vec4(1.0f) : m.colors[i];
+            v.uv1 = m.uvs1.empty() ? v.uv : m.uvs1[i];
             verts.push_back(v);
         }
         idx.insert(idx.end(), m.indices.begin(), m.indices.end());
@@ -49,10 +51,10 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
     glCreateVertexArrays(1, &vao_->id);
     glVertexArrayVertexBuffer(vao_->id, 0, vertices_.id(), 0, sizeof(GpuVertex));
     glVertexArrayElementBuffer(vao_->id, indices_.id());
-    const GLuint offsets[4] = {offsetof(GpuVertex, position), offsetof(GpuVertex, normal), offsetof(GpuVertex, uv),
-                               offsetof(GpuVertex, tangent)};
-    const GLint sizes[4] = {3, 3, 2, 4};
-    for (GLuint a = 0; a < 4; ++a) {
+    const GLuint offsets[6] = {offsetof(GpuVertex, position), offsetof(GpuVertex, normal), offsetof(GpuVertex, uv),
+                               offsetof(GpuVertex, tangent), offsetof(GpuVertex, color), offsetof(GpuVertex, uv1)};
+    const GLint sizes[6] = {3, 3, 2, 4, 4, 2};
+    for (GLuint a = 0; a < 6; ++a) {
         glEnableVertexArrayAttrib(vao_->id, a);
         glVertexArrayAttribFormat(vao_->id, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
         glVertexArrayAttribBinding(vao_->id, a, 0);
@@ -78,7 +80,7 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
         const TextureRef* refs[4] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
                                      &m.emissive_texture};
         for (int k = 0; k < 4; ++k) {
-            g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, 0.0f);
+            g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, refs[k]->texcoord == 1 ? 1.0f : 0.0f);
             g.uv_transform[2 * k + 1] = glm::vec4(refs[k]->transform_v, 0.0f);
         }
         mats.push_back(g);

@@ -20,7 +20,13 @@ struct GpuVertex {
     glm::vec3 normal;
     glm::vec2 uv;
     glm::vec4 tangent;  // w = handedness; all zero when the mesh has no tangents
+    // glTF COLOR_0, white when the mesh has none (the product with the base colour is then exact)
+    glm::vec4 color;
+    glm::vec2 uv1;      // glTF TEXCOORD_1; a copy of uv when the mesh has none (glTF: set 0 instead)
 };
+// Floats per vertex in the vertex storage buffer (lib/scene_geometry.glsl, passes/reference_cpu.cpp).
+constexpr size_t kVertexFloats = 18;
+static_assert(sizeof(GpuVertex) == kVertexFloats * sizeof(float), "GpuVertex must be tightly packed floats");
 
 // std430 elements (see shaders/lib/scene_data.glsl)
 struct GpuObject {
@@ -39,7 +45,9 @@ struct GpuMaterial {
     glm::ivec4 images;
     glm::ivec4 wraps;    // wrap_s | wrap_t << 16 of each texture
     glm::vec4 dielectric_f0;  // rgb: Material::dielectric_f0 (KHR_materials_ior / _specular)
-    glm::vec4 uv_transform[8];  // per texture (base, metal-rough, normal, emissive): TextureRef::transform_u, _v
+    // per texture (base, metal-rough, normal, emissive): TextureRef::transform_u, _v; w of row 2k:
+    // the texture's coordinate set (TextureRef::texcoord, 0 or 1)
+    glm::vec4 uv_transform[8];
 };
 
 struct DrawItem {

@@ -51,6 +51,8 @@ AlphaMasks::AlphaMasks(const Scene& scene, const std::vector<BvhTriangle>& trian
         Triangle& t = triangles_[i];
         t.cutoff = m.visibility_cutoff();
         t.factor = m.base_color.a;
+        if (!mesh.colors.empty())
+            for (int k = 0; k < 3; ++k) t.vertex_alpha[k] = mesh.colors[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]].a;
         const TextureRef& ref = m.base_color_texture;
         if (!ref.valid()) continue;
         int& slot = image_slot[size_t(ref.image)];
@@ -67,11 +69,13 @@ AlphaMasks::AlphaMasks(const Scene& scene, const std::vector<BvhTriangle>& trian
         t.image = slot;
         t.wrap_s = ref.wrap_s;
         t.wrap_t = ref.wrap_t;
-        // Without texture coordinates the GPU reads uv (0, 0) (the vertex buffer's zero fill).
+        // Without texture coordinates the GPU reads uv (0, 0) (the vertex buffer's zero fill); a
+        // texture on set 1 of a mesh without one reads set 0 (GpuScene's copy), as glTF falls back.
+        const std::vector<glm::vec2>& set = ref.texcoord == 1 && !mesh.uvs1.empty() ? mesh.uvs1 : mesh.uvs;
         for (int k = 0; k < 3; ++k) {
             // The transform is affine: applied at the vertices, it interpolates as at the hit.
             const glm::vec2 uv = ref.apply(
-                mesh.uvs.empty() ? glm::vec2(0.0f) : mesh.uvs[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]]);
+                set.empty() ? glm::vec2(0.0f) : set[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]]);
             t.uv[2 * k] = uv.x;
             t.uv[2 * k + 1] = uv.y;
         }
@@ -99,6 +103,10 @@ bool AlphaMasks::hole(size_t triangle, float b1, float b2) const {
         const float bottom = at(x0, y1) + (at(x1, y1) - at(x0, y1)) * fx;
         alpha *= top + (bottom - top) * fy;
     }
+    // COLOR_0's alpha interpolated as lib/scene_geometry.glsl does (exactly 1 without colours), the
+    // last factor as in lib/bvh.glsl.
+    const float* a = t.vertex_alpha;
+    alpha *= a[0] + b1 * (a[1] - a[0]) + b2 * (a[2] - a[0]);
     return alpha < t.cutoff;
 }
 

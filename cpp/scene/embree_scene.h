@@ -65,7 +65,8 @@ private:
         float factor = 1.0f;   // base_color.a
         int image = -1;        // into images_, -1: no texture
         int wrap_s = 10497, wrap_t = 10497;
-        float uv[6] = {};  // the vertices' texture coordinates, KHR_texture_transform applied
+        float uv[6] = {};  // the vertices' texture coordinates (the texture's set), KHR_texture_transform applied
+        float vertex_alpha[3] = {1.0f, 1.0f, 1.0f};  // the vertices' COLOR_0 alpha (a factor of the base colour's)
 
     };
     std::vector<AlphaImage> images_;

@@ -117,6 +117,22 @@ public:
         return out;
     }
 
+    // COLOR_0 as RGBA (an RGB accessor gets alpha 1): float, or normalised unsigned byte or short,
+    // as glTF allows for it.
+    std::vector<glm::vec4> read_colors(int index, const std::string& what) const {
+        const auto& acc = accessor(index, what);
+        const bool normalized_int = acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                                       acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+        if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalized_int)
+            fail(what + ": accessor " + std::to_string(index) +
+                 " must be float or normalized unsigned byte or short (glTF COLOR_n)");
+        if (acc.type == TINYGLTF_TYPE_VEC4) return read_floats<4>(index, what);
+        if (acc.type != TINYGLTF_TYPE_VEC3) fail(what + ": accessor " + std::to_string(index) + " must be VEC3 or VEC4");
+        std::vector<glm::vec4> out;
+        for (const auto& c : read_floats<3>(index, what)) out.emplace_back(c, 1.0f);
+        return out;
+    }
+
 private:
     const tinygltf::Accessor& accessor(int index, const std::string& what) const {
         if (index < 0 || index >= int(model_.accessors.size()))
@@ -597,6 +613,13 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                                          what + ": emissiveTexture", gm.emissiveTexture.extensions);
         // The thesis's explicit reflectivity where ssrlab wrote it; otherwise the material
         // reflects as its metallic-roughness parameters say (kAutoReflectivity).
+        // TEXCOORD_0 and _1 are loaded; a texture on a later set samples set 0.
+        for (TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.emissive_texture})
+            if (t->valid() && t->texcoord > 1) {
+                warnings.push_back(path + ": " + what + ": texCoord " + std::to_string(t->texcoord) +
+                                   " is not loaded (only TEXCOORD_0 and TEXCOORD_1); TEXCOORD_0 is used");
+                t->texcoord = 0;
+            }
         m.reflectivity = kAutoReflectivity;
         if (gm.extras.Has("reflectivity")) m.reflectivity = float(gm.extras.Get("reflectivity").GetNumberAsDouble());
         scene.materials.push_back(m);
@@ -605,6 +628,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         warnings.push_back(path + ": alphaMode BLEND drawn as MASK at alpha 0.5 (a hole below, opaque above; no "
                            "translucent layer): " + blended);
     int default_material = -1;  // glTF's default material, added only when a primitive needs it
+    std::set<int> uv1_warned;   // materials named in a warning about a missing TEXCOORD_1
 
     // Meshes: one ssr::Mesh per glTF primitive, shared by every node that instances it.
     // Primitives that are not triangles are skipped with a warning (points and lines have no
@@ -643,6 +667,10 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             mesh.uvs = r.read_floats<2>(it->second, what + " TEXCOORD_0");
         if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end())
             mesh.tangents = r.read_floats<4>(it->second, what + " TANGENT");
+        if (auto it = prim.attributes.find("TEXCOORD_1"); it != prim.attributes.end())
+            mesh.uvs1 = r.read_floats<2>(it->second, what + " TEXCOORD_1");
+        if (auto it = prim.attributes.find("COLOR_0"); it != prim.attributes.end())
+            mesh.colors = r.read_colors(it->second, what + " COLOR_0");
         for (const auto* attr : {&mesh.normals})
             if (!attr->empty() && attr->size() != mesh.positions.size())
                 r.fail(what + ": NORMAL has " + std::to_string(attr->size()) + " values for " +
@@ -652,6 +680,12 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                    std::to_string(mesh.positions.size()) + " positions");
         if (!mesh.tangents.empty() && mesh.tangents.size() != mesh.positions.size())
             r.fail(what + ": TANGENT has " + std::to_string(mesh.tangents.size()) + " values for " +
+                   std::to_string(mesh.positions.size()) + " positions");
+        if (!mesh.uvs1.empty() && mesh.uvs1.size() != mesh.positions.size())
+            r.fail(what + ": TEXCOORD_1 has " + std::to_string(mesh.uvs1.size()) + " values for " +
+                   std::to_string(mesh.positions.size()) + " positions");
+        if (!mesh.colors.empty() && mesh.colors.size() != mesh.positions.size())
+            r.fail(what + ": COLOR_0 has " + std::to_string(mesh.colors.size()) + " values for " +
                    std::to_string(mesh.positions.size()) + " positions");
         std::vector<uint32_t> idx;
         if (prim.indices >= 0) {
@@ -678,6 +712,18 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 default_material = scene.add_material(dm);
             }
             material = default_material;
+        }
+        // A texture on set 1 of a primitive without TEXCOORD_1 samples set 0 (GpuScene copies it).
+        if (mesh.uvs1.empty() && !uv1_warned.count(material)) {
+            const Material& mat = scene.materials[size_t(material)];
+            for (const TextureRef* t : {&mat.base_color_texture, &mat.metallic_roughness_texture, &mat.normal_texture,
+                                        &mat.emissive_texture})
+                if (t->valid() && t->texcoord == 1) {
+                    warnings.push_back(path + ": material '" + mat.name + "' samples TEXCOORD_1, which " + what +
+                                       " lacks; TEXCOORD_0 is used there");
+                    uv1_warned.insert(material);
+                    break;
+                }
         }
         try {
             result = {scene.add_mesh(std::move(mesh)), material};

@@ -250,7 +250,7 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
     }
 
     // Accessors once per mesh; a glTF mesh per (mesh, material) pair that objects use.
-    struct Attribs { int pos, nrm, uv, tan, idx; };
+    struct Attribs { int pos, nrm, uv, tan, idx, uv1, color; };
     std::vector<Attribs> attribs;
     for (const Mesh& m : scene.meshes) {
         Attribs a{};
@@ -258,6 +258,12 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         a.nrm = b.add_float_accessor(m.normals, TINYGLTF_TYPE_VEC3, false);
         a.uv = m.uvs.empty() ? -1 : b.add_float_accessor(m.uvs, TINYGLTF_TYPE_VEC2, false);
         a.tan = m.tangents.empty() ? -1 : b.add_float_accessor(m.tangents, TINYGLTF_TYPE_VEC4, false);
+        // glTF numbers sets from 0 without gaps: a set 1 without a set 0 gets set 0 as zeros, what
+        // the renderer reads for a mesh without it.
+        if (!m.uvs1.empty() && m.uvs.empty())
+            a.uv = b.add_float_accessor(std::vector<glm::vec2>(m.uvs1.size(), glm::vec2(0.0f)), TINYGLTF_TYPE_VEC2, false);
+        a.uv1 = m.uvs1.empty() ? -1 : b.add_float_accessor(m.uvs1, TINYGLTF_TYPE_VEC2, false);
+        a.color = m.colors.empty() ? -1 : b.add_float_accessor(m.colors, TINYGLTF_TYPE_VEC4, false);
         a.idx = b.add_index_accessor(m.indices);
         attribs.push_back(a);
     }
@@ -273,6 +279,8 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
             p.attributes["NORMAL"] = a.nrm;
             if (a.uv >= 0) p.attributes["TEXCOORD_0"] = a.uv;
             if (a.tan >= 0) p.attributes["TANGENT"] = a.tan;
+            if (a.uv1 >= 0) p.attributes["TEXCOORD_1"] = a.uv1;
+            if (a.color >= 0) p.attributes["COLOR_0"] = a.color;
             p.indices = a.idx;
             p.material = o.material;
             p.mode = kModeTriangles;

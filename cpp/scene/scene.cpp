@@ -88,6 +88,19 @@ int Scene::add_mesh(Mesh m) {
     if (!m.tangents.empty() && m.tangents.size() != m.positions.size())
         throw std::invalid_argument(what + ": " + std::to_string(m.tangents.size()) + " tangents for " +
                                     std::to_string(m.positions.size()) + " vertices");
+    if (!m.colors.empty() && m.colors.size() != m.positions.size())
+        throw std::invalid_argument(what + ": " + std::to_string(m.colors.size()) + " vertex colours for " +
+                                    std::to_string(m.positions.size()) + " vertices");
+    for (const auto& c : m.colors)
+        for (int k = 0; k < 4; ++k)
+            if (!(c[k] >= 0.0f && c[k] <= 1.0f))
+                throw std::invalid_argument(what + ": vertex colours must be in [0, 1], got " + std::to_string(c[k]));
+    if (!m.uvs1.empty() && m.uvs1.size() != m.positions.size())
+        throw std::invalid_argument(what + ": " + std::to_string(m.uvs1.size()) + " texture coordinates (set 1) for " +
+                                    std::to_string(m.positions.size()) + " vertices");
+    for (const auto& uv : m.uvs1)
+        if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+            throw std::invalid_argument(what + ": texture coordinates (set 1) contain NaN or Inf");
     meshes.push_back(std::move(m));
     touch();
     return int(meshes.size()) - 1;
@@ -157,6 +170,8 @@ uint64_t Scene::content_hash() const {
         h.vec(m.normals);
         h.vec(m.uvs);
         h.vec(m.tangents);
+        h.vec(m.colors);
+        h.vec(m.uvs1);
         h.vec(m.indices);
     }
     for (const Material& m : materials) {
@@ -172,6 +187,7 @@ uint64_t Scene::content_hash() const {
             h.pod(t->wrap_t);
             h.pod(t->transform_u);
             h.pod(t->transform_v);
+            h.pod(t->texcoord);
         }
         h.pod(m.normal_scale);
         h.pod(m.double_sided);

@@ -26,7 +26,7 @@ struct Image {
 struct TextureRef {
     int image = -1;                 // index into Scene::images, -1 = none
     int wrap_s = 10497, wrap_t = 10497;  // glTF/GL wrap modes (REPEAT)
-    int texcoord = 0;
+    int texcoord = 0;               // glTF texCoord: the mesh's set 0 (uvs) or 1 (uvs1)
     // KHR_texture_transform: the texture is sampled at (dot(transform_u, (u, v, 1)),
     // dot(transform_v, (u, v, 1))), the extension's offset x rotation x scale (identity without it).
     glm::vec3 transform_u{1.0f, 0.0f, 0.0f};
@@ -90,6 +90,12 @@ struct Mesh {
     std::vector<glm::vec3> normals;   // always filled (computed when the source has none)
     std::vector<glm::vec2> uvs;       // empty when the source has none
     std::vector<glm::vec4> tangents;  // empty when the source has none (derivative TBN is used)
+    // glTF COLOR_0 (linear RGBA in [0, 1]; RGB files get alpha 1): multiplies the base colour and
+    // its alpha. Empty when the source has none (white).
+    std::vector<glm::vec4> colors;
+    // glTF TEXCOORD_1, what a texture with texCoord 1 samples; empty when the source has none
+    // (such a texture then samples uvs).
+    std::vector<glm::vec2> uvs1;
     std::vector<uint32_t> indices;    // triangle list, always indexed after loading
     size_t triangle_count() const { return indices.size() / 3; }
 };

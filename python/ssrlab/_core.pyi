@@ -446,7 +446,7 @@ class Scene:
         ...
     def _add_gltf(self, path: str, transform: numpy.ndarray, allow_external_files: bool = False) -> tuple[list[int], list[str]]:
         ...
-    def _add_mesh(self, positions: typing.Any, indices: typing.Any, normals: typing.Any, uvs: typing.Any, tangents: typing.Any, material: Material, transform: numpy.ndarray, name: str) -> int:
+    def _add_mesh(self, positions: typing.Any, indices: typing.Any, normals: typing.Any, uvs: typing.Any, tangents: typing.Any, material: Material, transform: numpy.ndarray, name: str, colors: typing.Any = None, uvs1: typing.Any = None) -> int:
         ...
     def _add_primitive(self, kind: str, material: Material, transform: numpy.ndarray, name: str, uv_tiles: typing.SupportsFloat | typing.SupportsIndex = 1.0, segments: typing.SupportsInt | typing.SupportsIndex = 48) -> int:
         ...
@@ -486,7 +486,7 @@ class Scene:
         """
     def object_mesh(self, object: typing.SupportsInt | typing.SupportsIndex) -> dict:
         """
-        The object's mesh in object space: positions, normals, indices (m, 3), uvs.
+        The object's mesh in object space: positions, normals, indices (m, 3), uvs, uvs1 and colors (RGBA).
         """
     def object_name(self, object: typing.SupportsInt | typing.SupportsIndex) -> str:
         """

@@ -57,6 +57,23 @@ def _vertex_rows(value, what: str, columns: int, vertices: int | None = None) ->
     return f
 
 
+def _vertex_colors(value, vertices: int) -> np.ndarray:
+    """Vertex colours as a float32 (n, 4) array in [0, 1] (RGB rows get alpha 1), or an error naming `colors`."""
+    a = _as_array(value, "colors")
+    if a.ndim != 2 or a.shape[1] not in (3, 4):
+        raise ValueError(f"colors must be an array of shape (n, 3) or (n, 4), got shape {a.shape}")
+    columns = a.shape[1]
+    c = _vertex_rows(a, "colors", columns, vertices)
+    bad = (c < 0) | (c > 1)
+    if bad.any():
+        row, col = (int(i) for i in np.argwhere(bad)[0])
+        raise ValueError(f"colors must be in [0, 1] (linear RGB(A), glTF COLOR_0): row {row}, component {col} is "
+                         f"{c[row, col].item()!r}")
+    if columns == 3:
+        c = np.ascontiguousarray(np.concatenate([c, np.ones((c.shape[0], 1), np.float32)], axis=1))
+    return c
+
+
 def _index_array(value, vertices: int) -> np.ndarray:
     """A uint32 index array of shape (m, 3) or (3m,), every value an existing vertex."""
     a = _as_array(value, "indices")
@@ -125,10 +142,13 @@ class Scene(_core.Scene):
         return super().add_light(light)
 
     def add_mesh(self, positions, indices=None, *, normals=None, uvs=None, tangents=None,
-                 material: Material | None = None, transform=None, name: str = "mesh") -> int:
+                 material: Material | None = None, transform=None, name: str = "mesh",
+                 colors=None, uvs1=None) -> int:
         """Adds a triangle mesh from arrays: positions (n, 3); indices (m, 3) or (3m,) — or None
         for a non-indexed list; optional normals (n, 3, computed when absent), uvs (n, 2),
-        tangents (n, 4).
+        tangents (n, 4), colors (n, 3) or (n, 4), linear RGB(A) in [0, 1] (glTF COLOR_0: they
+        multiply the material's base colour and alpha), uvs1 (n, 2: glTF TEXCOORD_1, what a
+        texture whose texCoord is 1 samples; such a texture samples uvs without it).
 
         Every array must hold real numbers (TypeError for bool, complex, text, object or date
         arrays) and be finite (ValueError naming the array and the first bad row); indices must
@@ -143,7 +163,10 @@ class Scene(_core.Scene):
         nrm = None if normals is None else _vertex_rows(normals, "normals", 3, n)
         uv = None if uvs is None else _vertex_rows(uvs, "uvs", 2, n)
         tan = None if tangents is None else _vertex_rows(tangents, "tangents", 4, n)
-        return self._add_mesh(p, idx, nrm, uv, tan, material or Material(), _matrix(transform), name)
+        col = None if colors is None else _vertex_colors(colors, n)
+        uv1 = None if uvs1 is None else _vertex_rows(uvs1, "uvs1", 2, n)
+        return self._add_mesh(p, idx, nrm, uv, tan, material or Material(), _matrix(transform), name,
+                              colors=col, uvs1=uv1)
 
     def add_plane(self, center=(0.0, 0.0, 0.0), size=(1.0, 1.0), *, normal=(0.0, 1.0, 0.0),
                   material: Material | None = None, uv_tiles: float = 1.0, name: str = "plane",

@@ -93,12 +93,11 @@ bool intersect_box(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float t_min, flo
 bool bvh_alpha_hole(BvhTriangle tri, float b1, float b2) {
     ObjectData o = objects[floatBitsToInt(tri.v0.w)];
     MaterialData m = materials[o.material.x];
+    // (the vertex colour's alpha is a factor too: glTF COLOR_0)
+    SurfaceAttributes s = triangle_attributes(o, floatBitsToInt(tri.v1.w), b1, b2);
     vec4 base_texel = vec4(1.0);
-    if (m.flags.x != 0) {
-        SurfaceAttributes s = triangle_attributes(o, floatBitsToInt(tri.v1.w), b1, b2);
-        base_texel = sample_image(m.images.x, texture_uv(m, 0, s.uv), m.wraps.x, false);
-    }
-    float alpha = m.base_color.a * base_texel.a;
+    if (m.flags.x != 0) base_texel = sample_image(m.images.x, texture_uv(m, 0, s.uv), m.wraps.x, false);
+    float alpha = m.base_color.a * base_texel.a * s.color.a;
     return m.emissive.w >= 0.0 && alpha < m.emissive.w;
 }
 

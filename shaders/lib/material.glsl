@@ -7,10 +7,12 @@
 // alpha, base colour factor x texture alpha, below the material's cutoff makes the texel a hole
 // (emissive.w < 0 for an opaque material). The rasterised passes discard it and the BVH
 // traversals step through it, so the G-buffer, the shadow map and the reference agree.
-bool material_alpha_hole(MaterialData m, vec4 base_texel) {
-    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0);
+// vertex_alpha: glTF COLOR_0's alpha, a factor of the base colour's (1 without vertex colours).
+bool material_alpha_hole(MaterialData m, vec4 base_texel, float vertex_alpha) {
+    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0) * vertex_alpha;
     return m.emissive.w >= 0.0 && alpha < m.emissive.w;
 }
+bool material_alpha_hole(MaterialData m, vec4 base_texel) { return material_alpha_hole(m, base_texel, 1.0); }
 
 // glTF emission: emissiveFactor x KHR_materials_emissive_strength (m.emissive.rgb), times the
 // emissive texture's texel (sRGB decoded, as the base colour's) where the material has one.

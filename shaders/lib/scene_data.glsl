@@ -15,7 +15,8 @@ struct MaterialData {
     ivec4 images;     // image index of each texture, -1 for none (for scene_textures.glsl); w: emissive
     ivec4 wraps;      // wrap_s | wrap_t << 16 of each texture
     vec4 dielectric_f0;  // rgb: a dielectric's F0 from KHR_materials_ior / _specular (0.04 by default)
-    vec4 uv_transform[8];  // KHR_texture_transform of texture k (0 base colour, 1 metal-rough, 2 normal, 3 emissive): rows 2k, 2k+1
+    vec4 uv_transform[8];  // KHR_texture_transform of texture k (0 base colour, 1 metal-rough, 2 normal, 3 emissive): rows 2k, 2k+1;
+                           // row 2k's w: the texture's coordinate set (glTF texCoord, 0 or 1)
 };
 
 layout(std430, binding = 1) readonly buffer Objects { ObjectData objects[]; };
@@ -25,6 +26,16 @@ layout(std430, binding = 2) readonly buffer Materials { MaterialData materials[]
 // the surface's texture coordinates: KHR_texture_transform's offset x rotation x scale.
 vec2 texture_uv(MaterialData m, int k, vec2 uv) {
     return vec2(dot(m.uv_transform[2 * k].xyz, vec3(uv, 1.0)), dot(m.uv_transform[2 * k + 1].xyz, vec3(uv, 1.0)));
+}
+
+// A surface's two texture coordinate sets, xy TEXCOORD_0 and zw TEXCOORD_1 (a copy of set 0 where
+// the mesh has no set 1, GpuScene): the one texture k reads (glTF texCoord), transformed. Every
+// sampling site passes both sets, so each texture follows its own texCoord.
+vec2 texture_set(MaterialData m, int k, vec4 uvs) {
+    return m.uv_transform[2 * k].w != 0.0 ? uvs.zw : uvs.xy;
+}
+vec2 texture_uv(MaterialData m, int k, vec4 uvs) {
+    return texture_uv(m, k, texture_set(m, k, uvs));
 }
 
 // The linear part of texture k's transform (rotation x scale, without the offset).
@@ -40,6 +51,11 @@ mat2 texture_linear(MaterialData m, int k) {
 vec4 sample_material_texture(sampler2D tex, MaterialData m, int k, vec2 uv, vec2 duv_dx, vec2 duv_dy) {
     mat2 linear = texture_linear(m, k);
     return textureGrad(tex, texture_uv(m, k, uv), linear * duv_dx, linear * duv_dy);
+}
+// The same at texture k's set of a surface's two (texture_set), with their derivatives.
+vec4 sample_material_texture(sampler2D tex, MaterialData m, int k, vec4 uvs, vec4 duvs_dx, vec4 duvs_dy) {
+    return sample_material_texture(tex, m, k, texture_set(m, k, uvs), texture_set(m, k, duvs_dx),
+                                   texture_set(m, k, duvs_dy));
 }
 
 // Specular reflectance at normal incidence of object `object_id`'s surface (glTF metallic

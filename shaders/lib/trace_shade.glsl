@@ -111,6 +111,7 @@ ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w, bool viewer_is_ray) {
                                 sample_image(m.images.y, texture_uv(m, 1, a.uv), m.wraps.y, false),
                                 sample_image(m.images.z, texture_uv(m, 2, a.uv), m.wraps.z, false).xyz, n, t, b, has_frame,
                                 front_facing, s.object);
+    g.albedo *= a.color.rgb;  // glTF COLOR_0, as the G-buffer's shading multiplies it
     vec3 emission = material_emission(m, sample_image(m.images.w, texture_uv(m, 3, a.uv), m.wraps.w, true));
     vec3 viewer = !viewer_is_ray ? normalize(-s.position) : -normalize(mat3(frame.view) * dir_w);
     s.radiance = shade_surface(g, emission, s.position, viewer);

@@ -60,8 +60,9 @@ uniform int u_object;
 in VertexOut {
     vec3 view_position;
     vec3 view_normal;
-    vec2 uv;
+    vec4 uv;  // both sets (texture_set)
     vec4 view_tangent;
+    vec4 color;
 } fs;
 #endif
 
@@ -70,7 +71,7 @@ void main() {
     // The same test as material_alpha_hole (lib/material.glsl), on the same texture sample.
     MaterialData m = materials[objects[u_object].material.x];
     vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, dFdx(fs.uv), dFdy(fs.uv));
-    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0);
+    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0) * fs.color.a;
     if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
 #endif
 #if PEEL_TEST
@@ -109,8 +110,9 @@ uniform int u_layer;
 in VertexOut {
     vec3 view_position;
     vec3 view_normal;
-    vec2 uv;
+    vec4 uv;  // both sets (texture_set)
     vec4 view_tangent;
+    vec4 color;
 } fs;
 
 #if !DEEP_GBUFFER_APPEND
@@ -129,19 +131,19 @@ void main() {
     bool has_frame = false;
 #if MATERIAL_TEXTURES
     // Each texture at its own coordinates (KHR_texture_transform; the identity without it).
-    vec2 duv_dx = dFdx(fs.uv), duv_dy = dFdy(fs.uv);
+    vec4 duv_dx = dFdx(fs.uv), duv_dy = dFdy(fs.uv);
     if (m.flags.z != 0) {
         // The normal texture's coordinates' derivatives: the transform's linear part of the
         // surface's (texture_uv of a derivative minus texture_uv of 0 drops the offset).
-        vec2 n_dx = texture_uv(m, 2, duv_dx) - texture_uv(m, 2, vec2(0.0));
-        vec2 n_dy = texture_uv(m, 2, duv_dy) - texture_uv(m, 2, vec2(0.0));
+        vec2 n_dx = texture_uv(m, 2, duv_dx) - texture_uv(m, 2, vec4(0.0));
+        vec2 n_dy = texture_uv(m, 2, duv_dy) - texture_uv(m, 2, vec4(0.0));
         has_frame = tangent_frame_from_vertex(n, fs.view_tangent, texture_linear(m, 2), t, b) ||
                     tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), n_dx, n_dy, t, b);
     }
     vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, duv_dx, duv_dy);
     // A hole of an alpha-tested material: the lists must not append it (peeling's depth pass
     // already discarded it, so here it only guards against a coplanar surface's equal depth).
-    if (material_alpha_hole(m, base_texel)) discard;
+    if (material_alpha_hole(m, base_texel, fs.color.a)) discard;
     GSample g = material_sample(m, base_texel, sample_material_texture(u_metallic_roughness_texture, m, 1, fs.uv, duv_dx, duv_dy),
                                 sample_material_texture(u_normal_texture, m, 2, fs.uv, duv_dx, duv_dy).xyz, n, t, b,
                                 has_frame, gl_FrontFacing, u_object);
@@ -149,13 +151,15 @@ void main() {
     vec3 emission = material_emission(m, sample_material_texture(u_emissive_texture, m, 3, fs.uv, duv_dx, duv_dy));
 #endif
 #else
-    if (material_alpha_hole(m, vec4(1.0))) discard;
+    if (material_alpha_hole(m, vec4(1.0), fs.color.a)) discard;
     // No texture: material_sample ignores the texel values (its flags are 0).
     GSample g = material_sample(m, vec4(1.0), vec4(1.0), vec3(0.5, 0.5, 1.0), n, t, b, false, gl_FrontFacing, u_object);
 #if EMISSION_TEXTURE
     vec3 emission = material_emission(m, vec4(1.0));
 #endif
 #endif
+    // glTF COLOR_0 multiplies the base colour (a factor of 1 without vertex colours: exact).
+    g.albedo *= fs.color.rgb;
 #if EMISSION_TEXTURE
     vec4 emission_out = vec4(emission, 1.0);
 #else

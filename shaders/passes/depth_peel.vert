@@ -7,14 +7,17 @@ layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
 layout(location = 3) in vec4 a_tangent;
+layout(location = 4) in vec4 a_color;  // glTF COLOR_0 (white without)
+layout(location = 5) in vec2 a_uv1;    // glTF TEXCOORD_1 (set 0's copy without)
 
 uniform int u_object;
 
 out VertexOut {
     vec3 view_position;
     vec3 view_normal;
-    vec2 uv;
+    vec4 uv;            // xy: TEXCOORD_0, zw: TEXCOORD_1 (each texture samples its own set)
     vec4 view_tangent;  // w: bitangent sign; all zero when the mesh has no tangents
+    vec4 color;         // glTF COLOR_0: multiplies the base colour and its alpha
 } vs;
 
 // Every layer re-rasterises the same triangles: `invariant` guarantees bit-identical depth,
@@ -26,7 +29,8 @@ void main() {
     vec4 view = frame.view * (o.model * vec4(a_position, 1.0));
     vs.view_position = view.xyz;
     vs.view_normal = mat3(frame.view) * (mat3(o.normal_matrix) * a_normal);
-    vs.uv = a_uv;
+    vs.uv = vec4(a_uv, a_uv1);
+    vs.color = a_color;
     vs.view_tangent = vec4(mat3(frame.view) * (mat3(o.model) * a_tangent.xyz), a_tangent.w);
     gl_Position = frame.proj * view;
 }

@@ -7,11 +7,12 @@
 layout(binding = 0) uniform sampler2D u_base_color_texture;
 uniform int u_object;
 
-in vec2 v_uv;
+in vec4 v_uv;  // both sets (texture_set)
+in float v_alpha;
 
 void main() {
     MaterialData m = materials[objects[u_object].material.x];
     vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, v_uv, dFdx(v_uv), dFdy(v_uv));
-    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0);
+    float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0) * v_alpha;
     if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
 }

@@ -148,8 +148,12 @@ def _register():
             mi.BSDF.__init__(self, props if props is not None else mi.Properties())
             self.configure((0.8, 0.8, 0.8), 0.0, 0.5)
 
-        def configure(self, base, metallic: float, roughness: float, dielectric_f0=(0.04, 0.04, 0.04)):
+        def configure(self, base, metallic: float, roughness: float, dielectric_f0=(0.04, 0.04, 0.04),
+                      vertex_colors: bool = False):
             self.base = [float(c) for c in base[:3]]
+            # glTF COLOR_0: the mesh's "vertex_color" attribute multiplies the base colour per point.
+            self.vertex_colors = bool(vertex_colors)
+            self.dielectric_f0 = [float(d) for d in dielectric_f0]
             self.metallic = float(np.clip(metallic, 0.0, 1.0))
             self.roughness = float(np.clip(roughness, 0.0, 1.0))
             self.mirror = self.roughness * self.roughness < MIRROR_ROUGHNESS2
@@ -172,9 +176,17 @@ def _register():
             return self
 
         # -- shading.glsl, term by term ------------------------------------------------------
-        def _fresnel(self, c):
+        def _surface(self, si, active=True):
+            """(F0, diffuse colour) at the interaction: the factors', or with vertex colours the
+            base colour times the mesh's interpolated colour (material.glsl, then mixed by metalness)."""
+            if not self.vertex_colors:
+                return mi.Color3f(*self.f0), mi.Color3f(*self.diffuse)
+            base = mi.Color3f(*self.base) * si.shape.eval_attribute_3("vertex_color", si, active)
+            d = mi.Color3f(*self.dielectric_f0)
+            return d + (base - d) * self.metallic, base * (1.0 - self.metallic)
+
+        def _fresnel(self, c, f0):
             f = dr.power(dr.clip(1.0 - c, 0.0, 1.0), 5.0)
-            f0 = mi.Color3f(*self.f0)
             return f0 + (1.0 - f0) * f
 
         def _g1(self, c):
@@ -187,19 +199,19 @@ def _register():
             d = noh * noh * (a2 - 1.0) + 1.0
             return a2 / dr.maximum(dr.pi * d * d, 1e-12)
 
-        def _eval_smooth(self, wi, wo):
+        def _eval_smooth(self, wi, wo, f0, diffuse):
             """f(wi, wo) cos(wo) of the non-delta lobes; wi toward the viewer, wo toward the light."""
             nov = dr.maximum(mi.Frame3f.cos_theta(wi), 1e-4)
             nol = mi.Frame3f.cos_theta(wo)
             h = dr.normalize(wi + wo)
             noh = dr.maximum(h.z, 0.0)
             voh = dr.maximum(dr.dot(wi, h), 0.0)
-            F = self._fresnel(voh)
+            F = self._fresnel(voh, f0)
             value = mi.Color3f(0.0)
             if not self.mirror:
                 value += F * (self._d(noh) * self._g1(nol) * self._g1(nov) / (4.0 * dr.maximum(nol, 1e-8) * nov))
             if self.has_diffuse:
-                value += (1.0 - F) * mi.Color3f(*self.diffuse) / dr.pi
+                value += (1.0 - F) * diffuse / dr.pi
             return value * dr.maximum(nol, 0.0)
 
         def _distribution(self):
@@ -219,7 +231,7 @@ def _register():
 
         def eval(self, ctx, si, wo, active=True):
             ok = self._valid(si, wo, active)
-            return dr.select(ok, self._eval_smooth(si.wi, wo), mi.Color3f(0.0))
+            return dr.select(ok, self._eval_smooth(si.wi, wo, *self._surface(si, ok)), mi.Color3f(0.0))
 
         def pdf(self, ctx, si, wo, active=True):
             ok = self._valid(si, wo, active)
@@ -231,6 +243,7 @@ def _register():
         def sample(self, ctx, si, sample1, sample2, active=True):
             wi = si.wi
             front = active & (mi.Frame3f.cos_theta(wi) > 0.0)
+            f0, diffuse = self._surface(si, front)
             bs = mi.BSDFSample3f()
             bs.eta = 1.0
             pick_spec = sample1 < self.p_spec
@@ -247,9 +260,9 @@ def _register():
             bs.wo = wo
             if self.mirror:
                 # The delta lobe: Schlick's F at the mirror angle, chosen with probability p_spec.
-                spec_weight = self._fresnel(mi.Frame3f.cos_theta(wi)) / self.p_spec
+                spec_weight = self._fresnel(mi.Frame3f.cos_theta(wi), f0) / self.p_spec
                 if self.has_diffuse:
-                    diff_value = self._eval_smooth(wi, wo)
+                    diff_value = self._eval_smooth(wi, wo, f0, diffuse)
                     diff_pdf = (1.0 - self.p_spec) * mi.warp.square_to_cosine_hemisphere_pdf(wo)
                     weight = dr.select(pick_spec, spec_weight, diff_value / dr.maximum(diff_pdf, 1e-12))
                     bs.pdf = dr.select(pick_spec, self.p_spec, diff_pdf)
@@ -263,7 +276,7 @@ def _register():
                     bs.sampled_component = mi.UInt32(0)
             else:
                 pdf = self._pdf_smooth(wi, wo)
-                weight = self._eval_smooth(wi, wo) / dr.maximum(pdf, 1e-12)
+                weight = self._eval_smooth(wi, wo, f0, diffuse) / dr.maximum(pdf, 1e-12)
                 bs.pdf = pdf
                 if self.has_diffuse:
                     bs.sampled_type = dr.select(pick_spec, mi.UInt32(+mi.BSDFFlags.GlossyReflection),
@@ -318,6 +331,11 @@ def check_comparable(scene) -> None:
                              "that holds an alpha mask)")
         if m.base_color_texture >= 0:
             mask_rgb(scene, i)  # raises unless it is an alpha mask of one colour
+        colors = scene.object_mesh(i).get("colors")
+        if colors is not None and m.alpha_mode != "OPAQUE" and np.any(colors[:, 3] < 1.0):
+            raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) has vertex alphas below 1 on an "
+                             "alpha-tested material; the Mitsuba cross-check takes holes from an alpha mask "
+                             "texture only")
         if emissive and i not in emissive and not (m.metallic == 1.0 and m.roughness ** 2 < MIRROR_ROUGHNESS2):
             # ssrlab's emission is seen (in the lit colour and in reflections) but lights nothing;
             # a Mitsuba area emitter lights every surface it sees. Only an ideal metallic mirror
@@ -426,7 +444,9 @@ def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> Mi
         base = tuple(m.base_color)
         if m.base_color_texture >= 0:
             base = tuple(float(b) * float(c) for b, c in zip(base, mask_rgb(scene, i)))
-        bsdf = SsrlabBSDF().configure(base, m.metallic, m.roughness, tuple(m.dielectric_f0))
+        colors = scene.object_mesh(i).get("colors")
+        bsdf = SsrlabBSDF().configure(base, m.metallic, m.roughness, tuple(m.dielectric_f0),
+                                      vertex_colors=colors is not None)
         bsdfs.append(bsdf)
         props = mi.Properties()
         masked = m.base_color_texture >= 0
@@ -452,6 +472,9 @@ def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> Mi
         if has_uv:
             uv = np.asarray(uv, np.float32)
             params["vertex_texcoords"] = dr.ravel(mi.Point2f(uv[:, 0], uv[:, 1]))
+        if colors is not None:
+            # Mitsuba interpolates a mesh attribute barycentrically, as ssrlab's passes do.
+            mesh.add_attribute("vertex_color", 3, np.ascontiguousarray(colors[:, :3], np.float32).ravel())
         params["faces"] = dr.ravel(mi.Vector3u(idx[:, 0], idx[:, 1], idx[:, 2]))
         params.update()
         d[f"object{i:05d}"] = mesh
@@ -707,6 +730,29 @@ def point_shadow_crosscheck_scene(intensity: float = 6.0):
     s.name = "crosscheck_point_shadow"
     s.clear_lights()
     s.add_light(point_light((0.0, 1.2, -0.9), intensity=intensity, cast_shadow=True))
+    return s
+
+
+def vertex_color_crosscheck_scene():
+    """glTF COLOR_0: a mirror floor and a matte quad facing the camera whose vertex colours run
+    red to green across it and dark to bright up it, lit by the sun. Mitsuba's quad carries them
+    as its "vertex_color" attribute, which SsrlabBSDF multiplies into the base colour. Object 0 is
+    the floor."""
+    from ..scene import Camera, Environment, Material, Scene, directional_light
+
+    s = Scene()
+    s.name = "crosscheck_vertex_colors"
+    s.add_plane((0, 0, -2.0), (14, 14), name="floor", material=Material(
+        base_color=(1.0, 1.0, 1.0), metallic=1.0, roughness=0.0, reflectivity=1.0))
+    y0, y1, z = 0.3, 1.9, -3.0
+    colors = [(0.9, 0.1, 0.1), (0.1, 0.9, 0.1), (0.3, 0.9, 0.9), (0.9, 0.3, 0.9)]
+    s.add_mesh([(-1.2, y0, z), (1.2, y0, z), (1.2, y1, z), (-1.2, y1, z)], [(0, 1, 2), (0, 2, 3)],
+               colors=colors, name="coloured_quad", material=Material(
+                   base_color=(1.0, 1.0, 1.0), roughness=0.7, reflectivity=0.0))
+    s.add_light(directional_light((0.45, -0.75, -0.5), intensity=3.0, cast_shadow=True))
+    s.ambient = (0.0, 0.0, 0.0)
+    s.environment = Environment.constant((0.0, 0.0, 0.0))
+    s.camera = Camera(position=(0.0, 1.3, 3.2), target=(0.0, 0.5, -2.5), fov_y=45.0, near=0.1, far=50.0)
     return s
 
 
