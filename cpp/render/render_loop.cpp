@@ -271,7 +271,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
                     defines};
     fc.clear_by_compute = clear_by_compute();
-    fc.facts = FrameFacts{shadows, true, fetch_by_image_, gs.has_emissive_texture()};
+    fc.facts = FrameFacts{shadows, true, fetch_by_image_, gs.has_emissive_texture(), gs.has_specular_texture()};
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
     if (embree) pass.set_tracer(&gs.embree_tracer());

@@ -108,6 +108,10 @@ struct FrameFacts {
     // Some object's material has an emissive texture (GpuScene::has_emissive_texture): the
     // G-buffer then carries the emission (gbuffer.emission), which the lighting pass adds.
     bool emission_texture = false;
+    // Some object's material has a KHR_materials_specular texture (GpuScene::has_specular_texture):
+    // the G-buffer then carries every surface's dielectric F0 (gbuffer.specular), which the passes
+    // that take F0 from the G-buffer read instead of the material's factor value.
+    bool specular_texture = false;
 };
 
 // What a pass may use while it executes.

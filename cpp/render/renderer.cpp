@@ -108,6 +108,7 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
         const RenderPass* p = passes_[i];
         FrameFacts every;  // the facts that switch outputs on
         every.emission_texture = true;
+        every.specular_texture = true;
         for (const auto& s : variants)
             for (const auto& o : p->frame_outputs(s, every)) owner.emplace(o.name, std::make_pair(p->name(), i));
     }
@@ -295,6 +296,7 @@ FrameFacts Renderer::facts(const Scene& scene, const GpuScene& gs, const RenderS
     f.reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
     f.fetch_by_image = fetch_by_image_;
     f.emission_texture = gs.has_emissive_texture();
+    f.specular_texture = gs.has_specular_texture();
     return f;
 }
 
