@@ -8,6 +8,11 @@ texture / factor and a verdict that says 'undecided' where the two ranges overla
 
     python benchmarks/specular_texture.py                       # 640x360, 4 layers, PBR composite
     python benchmarks/specular_texture.py --deep-gbuffer lists
+    python benchmarks/specular_texture.py --base-texture   # both walls textured already
+
+Without textures the wall's material is an untextured kind, whose shading pass samples nothing
+(GpuScene::material_features); with --base-texture both scenes give it a base colour texture, so
+that the comparison is of the specular textures and gbuffer.specular alone.
 """
 
 from __future__ import annotations
@@ -27,12 +32,14 @@ def checker(cells: int, even, odd, texels: int = 256) -> np.ndarray:
     return np.where(((i + j) % 2 == 0)[..., None], np.asarray(even, np.uint8), np.asarray(odd, np.uint8))
 
 
-def scene(textured: bool) -> ssrlab.Scene:
+def scene(textured: bool, base_texture: bool) -> ssrlab.Scene:
     s = ssrlab.Scene()
     s.add_plane((0, 0, 0), (12, 12), material=ssrlab.Material(base_color=(0.9, 0.9, 0.9), roughness=0.05,
                                                                metallic=1.0, reflectivity=1.0), name="floor")
     wall = ssrlab.Material(base_color=(0.02, 0.02, 0.02), roughness=0.4, reflectivity=0.0, name="wall")
     wall.specular_color = (2.0, 1.0, 0.5)
+    if base_texture:
+        wall.base_color_texture = s.add_image(checker(2, (255, 255, 255), (200, 200, 200)), name="base")
     if textured:
         wall.specular_texture = s.add_image(checker(8, (0, 0, 0, 255), (0, 0, 0, 64)), name="specular")
         wall.specular_color_texture = s.add_image(checker(4, (255, 128, 64), (64, 255, 128)), name="specular_color")
@@ -50,9 +57,10 @@ def main() -> None:
     ap.add_argument("--layers", type=int, default=4)
     ap.add_argument("--deep-gbuffer", default="peel", choices=("peel", "lists"))
     ap.add_argument("--composite", default="pbr", choices=("pbr", "linear"))
+    ap.add_argument("--base-texture", action="store_true", help="give the wall a base colour texture in both scenes")
     args = ap.parse_args()
     renderer = open_renderer(args)
-    textured, factor = scene(True), scene(False)
+    textured, factor = scene(True, args.base_texture), scene(False, args.base_texture)
     settings = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers,
                                deep_gbuffer=args.deep_gbuffer, composite=args.composite)
     for s in (textured, factor):
@@ -64,7 +72,7 @@ def main() -> None:
             for p in PARTS:
                 times[name][p].append(t[p])
     print(f"{args.width}x{args.height}, {args.layers} layers, deep_gbuffer={args.deep_gbuffer}, "
-          f"composite={args.composite}, {args.repeats} interleaved repeats; ms (median [min, max], IQR)")
+          f"composite={args.composite}, base texture {args.base_texture}, {args.repeats} interleaved repeats; ms (median [min, max], IQR)")
     for p in PARTS:
         a, b = times["texture"][p], times["factor"][p]
         ratio = paired(a, b)
