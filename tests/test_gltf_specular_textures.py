@@ -265,3 +265,15 @@ def test_texture_transform_and_texcoord_are_kept(renderer, tmp_path):
     path.write_text(json.dumps(doc))
     with pytest.raises(ssrlab.SceneError, match="specularTexture"):
         ssrlab.Scene.load(path)
+
+
+def test_mitsuba_crosscheck_refuses_specular_textures():
+    """The Mitsuba cross-check's BSDF takes the factors' F0: a scene with the textures is refused
+    (checked before Mitsuba is needed)."""
+    from ssrlab import crosscheck as cc
+
+    scene, _ = mirror_scene(False)
+    cc.check_comparable(scene)
+    textured, _ = mirror_scene(True)
+    with pytest.raises(ValueError, match="has textures"):
+        cc.check_comparable(textured)
