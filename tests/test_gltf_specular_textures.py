@@ -277,3 +277,24 @@ def test_mitsuba_crosscheck_refuses_specular_textures():
     textured, _ = mirror_scene(True)
     with pytest.raises(ValueError, match="has textures"):
         cc.check_comparable(textured)
+
+
+@pytest.mark.filterwarnings("ignore::ssrlab.NoReflectionWarning")
+def test_automatic_reflectivity_follows_the_texel_f0(renderer):
+    """A material without an explicit reflectivity reflects its GGX specular albedo F0 A + B,
+    computed in the G-buffer's shading pass: with the textures, from each texel's F0 (the ratio of
+    r between the checker's two A levels is far from 1, where one F0 for the whole material gives 1)."""
+    s = floor_scene(ior=3.0, specular=1.0, specular_color=(1.0, 1.0, 1.0))
+    spec, _ = textures(s)
+    m = s.material(0)
+    m.reflectivity, m.roughness, m.specular_texture = "auto", 0.2, spec
+    s.set_material(0, m)
+    f = renderer.render(s, settings=small(width=96, height=64, method="off"))
+    u, v = floor_uv(f)
+    even, ok = parity(u, v, SPEC_CELLS)
+    ok &= f.gbuffer.coverage[0]
+    r = f.gbuffer.reflectivity[0]
+    hi, lo = np.median(r[ok & even]), np.median(r[ok & ~even])
+    # F0 0.25 against 0.25 x 64 / 255: E = F0 A + B with B small at this roughness.
+    assert (ok & even).sum() > 100 and (ok & ~even).sum() > 100
+    assert hi > 2.5 * lo > 0, (hi, lo)
