@@ -262,7 +262,8 @@ specular_texture, specular_color_texture
             "KHR_materials_specular specularColorFactor (linear RGB, >= 0): tints a dielectric's F0")
         .def_property_readonly(
             "dielectric_f0", [](const Material& x) { return x.dielectric_f0(); },
-            "a dielectric's specular reflectance at normal incidence from ior, specular and specular_color")
+            "a dielectric's specular reflectance at normal incidence from ior, specular and specular_color "
+            "(the factors; specular_texture and specular_color_texture scale them per texel)")
         .def_property(
             "alpha_cutoff", [](const Material& x) { return x.alpha_cutoff; },
             [](Material& x, float c) {

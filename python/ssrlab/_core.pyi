@@ -92,7 +92,7 @@ class Material:
     @property
     def dielectric_f0(self) -> tuple[float, ...]:
         """
-        a dielectric's specular reflectance at normal incidence from ior, specular and specular_color
+        a dielectric's specular reflectance at normal incidence from ior, specular and specular_color (the factors; specular_texture and specular_color_texture scale them per texel)
         """
     @property
     def double_sided(self) -> bool:
