@@ -213,6 +213,9 @@ def test_references_and_tracers_see_the_textured_f0_in_a_mirror(renderer, tmp_pa
         assert seen.sum() > 0.8 * mirrored.sum(), name
         ok = np.all(np.abs(ratio(a, b) - want) < tol * want, axis=-1)
         assert ok[seen].mean() > 0.95, f"{name}: {ok[seen].mean():.3f} of the mirrored cells match"
+    # The probes' capture shades its hits through the same code (lib/trace_shade.glsl).
+    probes = renderer.render(scene, settings=small(width=128, height=96, fallback="probes"))
+    assert np.isfinite(probes.color).all()
 
 
 def test_a_scene_without_specular_textures_has_no_specular_layer(renderer):
@@ -232,7 +235,7 @@ def test_a_scene_without_specular_textures_has_no_specular_layer(renderer):
         f.read("gbuffer.specular")
 
 
-def test_texture_transform_and_texcoord_are_kept(renderer, tmp_path):
+def test_texture_transform_is_kept_and_bad_texture_infos_are_errors(renderer, tmp_path):
     """KHR_texture_transform on the specularColorTexture (an offset of one cell along u) moves the
     pattern in the lit colour and saving keeps it; bad texture infos are clear errors."""
     s = floor_scene(**FACTORS)
