@@ -29,9 +29,10 @@ def assert_same_layers(renderer, scene, camera, what: str, **kw) -> ssrlab.Frame
     lists = renderer.render(scene, camera, tiny(deep_gbuffer="lists", **kw))
     assert lists.stats["deep_gbuffer_method"] == "lists" and "deep_gbuffer_method" not in peel.stats
     # A scene with an emissive texture has a 4th output (gbuffer.emission), in both or neither.
-    emission = "gbuffer.emission" in peel.texture_names
-    assert emission == ("gbuffer.emission" in lists.texture_names)
-    for name in TEXTURES + (("gbuffer.emission",) if emission else ()):
+    # ... and one with a KHR_materials_specular texture an output after it (gbuffer.specular).
+    extra = tuple(n for n in ("gbuffer.emission", "gbuffer.specular") if n in peel.texture_names)
+    assert extra == tuple(n for n in ("gbuffer.emission", "gbuffer.specular") if n in lists.texture_names)
+    for name in TEXTURES + extra:
         a, b = peel.read(name), lists.read(name)
         diff = bits(a) != bits(b)
         if diff.any():
@@ -238,6 +239,37 @@ def test_emissive_textures_are_carried_bit_for_bit(renderer):
         assert f.stats["layers_used"] >= 3
     e = f.read("gbuffer.emission")
     assert len(np.unique(e[0, ..., 0])) > 20  # the texture's texels, not one factor
+
+
+@pytest.mark.parametrize("with_emission", [False, True], ids=["specular", "specular+emission"])
+def test_specular_textures_are_carried_bit_for_bit(renderer, with_emission):
+    """A scene with KHR_materials_specular textures: the lists store each fragment's dielectric F0
+    too (SPECULAR_TEXTURE) and write it to gbuffer.specular as peeling does, after gbuffer.emission
+    where the scene has both, for textured materials, a factor-only one and the default F0."""
+    s = ssrlab.Scene()
+    rng = np.random.default_rng(11)
+    spec = s.add_image(rng.integers(0, 255, size=(16, 16, 4), dtype=np.uint8), name="specular")
+    tint = s.add_image(rng.integers(20, 255, size=(16, 16, 3), dtype=np.uint8), name="tint")
+    textured = ssrlab.Material(base_color=(0.2, 0.2, 0.2), roughness=0.5, specular_texture=spec,
+                               specular_color_texture=tint)
+    textured.specular_color = (3.0, 2.0, 1.0)
+    if with_emission:
+        textured.emissive_texture = tint
+        textured.emissive = (1.0, 1.0, 1.0)
+    s.add_sphere((0, 0, 0), 1.0, segments=24, material=textured)
+    factors = ssrlab.Material(base_color=(0.5, 0.5, 0.5), roughness=0.4)
+    factors.specular, factors.ior = 0.5, 2.0
+    s.add_sphere((0.6, 0.2, -1.5), 1.2, segments=24, material=factors)
+    s.add_plane((0, -1, 0), (8, 8), material=ssrlab.Material(base_color=(0.8, 0.8, 0.8)), uv_tiles=3.0)
+    cam = ssrlab.Camera(position=(0.5, 1.5, 4), target=(0, 0, 0), fov_y=45, near=0.1, far=30)
+    for culling in (False, True):
+        f = assert_same_layers(renderer, s, cam, "specular", layers=4, backface_culling=culling)
+        assert f.stats["layers_used"] >= 3
+    assert ("gbuffer.emission" in f.texture_names) == with_emission
+    f0 = f.read("gbuffer.specular")
+    assert len(np.unique(f0[0, ..., 0])) > 20  # the textures' texels, not one factor
+    floor = f.gbuffer.coverage[0] & (f.gbuffer.object_id[0] == 2)
+    np.testing.assert_allclose(f0[0][floor][:, :3], 0.04, rtol=1e-3)  # the default F0, per texel
 
 
 def test_coplanar_triangles_of_one_draw_keep_peelings_winner(renderer):

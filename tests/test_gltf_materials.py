@@ -70,8 +70,12 @@ def test_extension_values_are_checked(tmp_path):
                                                                    "specularTexture": {"index": 0}}
     doc["extensionsUsed"] = ["KHR_materials_ior", "KHR_materials_specular"]
     path.write_text(json.dumps(doc))
-    with pytest.warns(ssrlab.SceneWarning, match="specularTexture is not rendered"):
-        loaded = ssrlab.Scene.load(path)
+    # The file has no texture 0: a clear error naming the extension's texture.
+    with pytest.raises(ssrlab.SceneError, match="KHR_materials_specular.specularTexture"):
+        ssrlab.Scene.load(path)
+    del doc["materials"][0]["extensions"]["KHR_materials_specular"]["specularTexture"]
+    path.write_text(json.dumps(doc))
+    loaded = ssrlab.Scene.load(path)
     assert loaded.material(0).specular == pytest.approx(0.3) and loaded.material(0).ior == pytest.approx(1.8)
     with pytest.raises(ValueError, match="ior"):
         ssrlab.Material().ior = 0.7

@@ -135,7 +135,7 @@ void validate_material(const Material& m, const Scene* scene) {
         throw std::invalid_argument("Material.alpha_cutoff must be finite and >= 0, got " + std::to_string(m.alpha_cutoff));
     if (scene) {
         for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
-                                    &m.emissive_texture})
+                                    &m.emissive_texture, &m.specular_texture, &m.specular_color_texture})
             if (t->image >= int(scene->images.size()))
                 throw std::invalid_argument("Material texture refers to image " + std::to_string(t->image) +
                                             ", but the scene has " + std::to_string(scene->images.size()) + " images");
@@ -170,12 +170,15 @@ alpha_mode   glTF alphaMode: 'OPAQUE', 'MASK' (alpha = base_color[3] x texture a
              alpha_cutoff is a hole in every pass) or 'BLEND' (tested as MASK at 0.5)
 emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000;
              times the emissive_texture's sRGB-decoded texel where there is one
+specular_texture, specular_color_texture
+             KHR_materials_specular's textures: per texel, specular x the specular_texture's A
+             and specular_color x the specular_color_texture's sRGB-decoded RGB in the F0 above
 *_texture    image index in the scene (-1: none); see Scene.add_image
 )doc")
         .def(py::init([](py::object base_color, float metallic, float roughness, py::object reflectivity, bool double_sided,
                          const std::string& name, int base_color_texture, int metallic_roughness_texture,
                          int normal_texture, float normal_scale, const std::string& alpha_mode, float alpha_cutoff,
-                         int emissive_texture) {
+                         int emissive_texture, int specular_texture, int specular_color_texture) {
                  Material mat;
                  if (!base_color.is_none()) {
                      auto seq = py::cast<std::vector<float>>(base_color);
@@ -192,6 +195,8 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
                  mat.metallic_roughness_texture.image = metallic_roughness_texture;
                  mat.normal_texture.image = normal_texture;
                  mat.emissive_texture.image = emissive_texture;
+                 mat.specular_texture.image = specular_texture;
+                 mat.specular_color_texture.image = specular_color_texture;
                  mat.normal_scale = normal_scale;
                  mat.alpha_mode = alpha_mode_from_python(alpha_mode);
                  mat.alpha_cutoff = alpha_cutoff;
@@ -202,7 +207,8 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
              py::arg("roughness") = 0.5f, py::arg("reflectivity") = 0.0f, py::arg("double_sided") = false,
              py::arg("name") = "", py::arg("base_color_texture") = -1, py::arg("metallic_roughness_texture") = -1,
              py::arg("normal_texture") = -1, py::arg("normal_scale") = 1.0f, py::arg("alpha_mode") = "OPAQUE",
-             py::arg("alpha_cutoff") = 0.5f, py::arg("emissive_texture") = -1)
+             py::arg("alpha_cutoff") = 0.5f, py::arg("emissive_texture") = -1,
+             py::arg("specular_texture") = -1, py::arg("specular_color_texture") = -1)
         .def_readwrite("name", &Material::name, "the material's name (glTF material name)")
         .def_readwrite("base_color", &Material::base_color, "linear RGBA base colour, each >= 0")
         .def_readwrite("metallic", &Material::metallic, "glTF metalness, 0..1")
@@ -256,7 +262,8 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
             "KHR_materials_specular specularColorFactor (linear RGB, >= 0): tints a dielectric's F0")
         .def_property_readonly(
             "dielectric_f0", [](const Material& x) { return x.dielectric_f0(); },
-            "a dielectric's specular reflectance at normal incidence from ior, specular and specular_color")
+            "a dielectric's specular reflectance at normal incidence from ior, specular and specular_color "
+            "(the factors; specular_texture and specular_color_texture scale them per texel)")
         .def_property(
             "alpha_cutoff", [](const Material& x) { return x.alpha_cutoff; },
             [](Material& x, float c) {
@@ -291,6 +298,16 @@ emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strengt
             [](Material& x, int i) { x.emissive_texture.image = i; },
             "image index of the sRGB emissive texture (-1: none): the emitted radiance is emissive x its texel "
             "(glTF emissiveTexture)")
+        .def_property(
+            "specular_texture", [](const Material& x) { return x.specular_texture.image; },
+            [](Material& x, int i) { x.specular_texture.image = i; },
+            "image index of the KHR_materials_specular specularTexture (-1: none): its (linear) A channel "
+            "multiplies specular per texel")
+        .def_property(
+            "specular_color_texture", [](const Material& x) { return x.specular_color_texture.image; },
+            [](Material& x, int i) { x.specular_color_texture.image = i; },
+            "image index of the KHR_materials_specular specularColorTexture (-1: none): its sRGB-decoded RGB "
+            "multiplies specular_color per texel")
         .def("__repr__", [](const Material& x) {
             return "Material(name='" + x.name + "', base_color=(" + std::to_string(x.base_color.r) + ", " +
                    std::to_string(x.base_color.g) + ", " + std::to_string(x.base_color.b) +

@@ -1,6 +1,7 @@
 #include "passes/composite.h"
 
 #include "passes/compute.h"
+#include "passes/depth_peel.h"
 
 namespace ssr {
 
@@ -11,6 +12,7 @@ Defines CompositePass::program_defines(const FrameContext& ctx) const {
     // The formula is compiled in, not chosen per pixel from the settings block: on
     // llvmpipe the unused pbr branch (its table fetch and material lookups) cost 2.5x the pass.
     d["PBR_COMPOSITE"] = ctx.settings.composite == CompositeMode::Pbr ? "1" : "0";
+    if (!reflection.empty() && reads_specular(ctx.settings, ctx.facts)) d["SPECULAR_TEXTURE"] = "1";
     // The lighting pass's lit colour carries coverage and r in its alpha (lighting.h),
     // which saves the material fetch; another direct light (the reference's) does not.
     d["LIT_CARRIES_R"] = direct_ == "lit" ? "1" : "0";
@@ -36,6 +38,7 @@ void CompositePass::execute(FrameContext& ctx) {
         glBindTextureUnit(3, r.get("gbuffer.albedo").id());
         glBindTextureUnit(4, r.get("gbuffer.normal").id());
         glBindTextureUnit(5, r.get("linear_depth").id());
+        if (reads_specular(ctx.settings, ctx.facts)) glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
     }
     bind_image_layered(0, ctx.resources.get(output_), GL_WRITE_ONLY);
     if (ctx.fetch_by_image()) {  // image units 1-4 (lib/input_fetch.glsl)

@@ -1,6 +1,7 @@
 // composite: the final image (shaders/passes/composite.comp).
 //   inputs : lit, gbuffer.material; with reflections also reflection, gbuffer.albedo,
-//            gbuffer.normal, linear_depth
+//            gbuffer.normal, linear_depth; gbuffer.specular for the PBR composite of a scene with
+//            a specular texture (FrameFacts::specular_texture)
 //   outputs: color (RGBA32F, linear radiance)
 // Layer 0's lit colour, blended with the reflection (Settings.composite: the thesis's linear
 // blend or Fresnel-weighted), where a surface covers the pixel; the environment elsewhere.
@@ -27,7 +28,10 @@ public:
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         const std::string reflection = reflection_of(s, f);
         if (reflection.empty()) return {direct_, "gbuffer.material"};
-        return {direct_, "gbuffer.material", reflection, "gbuffer.albedo", "gbuffer.normal", "linear_depth"};
+        std::vector<std::string> in = {direct_, "gbuffer.material", reflection, "gbuffer.albedo", "gbuffer.normal",
+                                       "linear_depth"};
+        if (reads_specular(s, f)) in.push_back("gbuffer.specular");  // F0 per texel (lib/gbuffer_specular.glsl)
+        return in;
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{output_, GL_RGBA32F, s.width, s.height, 0, 1}};
@@ -44,6 +48,10 @@ private:
         return s.denoise == Denoise::Svgf ? "reflection.denoised"
                : s.temporal_reflections  ? "reflection.temporal"
                                          : "reflection";
+    }
+    // The PBR composite's F0 from gbuffer.specular (a scene with a specular texture).
+    static bool reads_specular(const RenderSettings& s, const FrameFacts& f) {
+        return s.composite == CompositeMode::Pbr && f.specular_texture;
     }
     bool fixed_ = false;
     bool reflections_ = true;

@@ -24,6 +24,9 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const 
 std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<ResourceDesc> out = outputs(s);
     if (f.emission_texture) out.push_back({"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1});
+    // F0 in half floats: 2^-11 relative (an 8-bit unorm would round 0.04 to 10/255, 2 % off, and
+    // 0.01 by 18 %; sRGB8 still by 1-3 %), so a texel's F0 reaches the lighting as computed.
+    if (f.specular_texture) out.push_back({"gbuffer.specular", GL_RGBA16F, s.width, s.height, s.layers, 1});
     return out;
 }
 
@@ -57,6 +60,7 @@ void set_min_separation(const RenderSettings& s, GLuint program) {
 void DepthPeelPass::execute(FrameContext& ctx) {
     defines_ = ctx.defines;
     if (ctx.facts.emission_texture) defines_["EMISSION_TEXTURE"] = "1";
+    if (ctx.facts.specular_texture) defines_["SPECULAR_TEXTURE"] = "1";
     list_stats_ = ListStats{};
     prepare_tiles(ctx);
     if (ctx.settings.deep_gbuffer != DeepGBuffer::Lists || !lists(ctx)) {
@@ -108,7 +112,8 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     Texture& albedo = ctx.resources.get("gbuffer.albedo");
     Texture& normal = ctx.resources.get("gbuffer.normal");
     Texture& material = ctx.resources.get("gbuffer.material");
-    Texture* emission = colour_outputs() == 4 ? &ctx.resources.get("gbuffer.emission") : nullptr;
+    Texture* emission = has_emission() ? &ctx.resources.get("gbuffer.emission") : nullptr;
+    Texture* specular = has_specular() ? &ctx.resources.get("gbuffer.specular") : nullptr;
     Texture& previous = ctx.resources.get("depth_peel.previous_depth");
 
     // Each layer is drawn twice. The depth pass rasterises the layer's depth with a
@@ -153,8 +158,8 @@ void DepthPeelPass::peel(FrameContext& ctx) {
 
     if (!fbo_) fbo_ = Framebuffer::create();
     const int outputs = colour_outputs();
-    const GLenum draw_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                    GL_COLOR_ATTACHMENT3};
+    const GLenum draw_buffers[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
     glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, s.width, s.height);
@@ -192,6 +197,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
         if (emission) fbo_.attach(GL_COLOR_ATTACHMENT3, *emission, 0, layer);
+        if (specular) fbo_.attach(specular_attachment(), *specular, 0, layer);
         if (layer == 0) fbo_.check_complete("depth_peel");
         for (int i = 0; i < outputs; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
@@ -275,6 +281,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     glDisable(GL_FRAMEBUFFER_SRGB);
     // A later frame without gbuffer.emission must not keep this one's texture attached.
     if (emission) glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, 0, 0);
+    if (specular) glNamedFramebufferTexture(fbo_.id(), specular_attachment(), 0, 0);
 }
 
 // The store's largest size on this device for a budget of `budget_mib` (0: the device's own
@@ -358,15 +365,16 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     Texture& albedo = ctx.resources.get("gbuffer.albedo");
     Texture& normal = ctx.resources.get("gbuffer.normal");
     Texture& material = ctx.resources.get("gbuffer.material");
-    Texture* emission = colour_outputs() == 4 ? &ctx.resources.get("gbuffer.emission") : nullptr;
+    Texture* emission = has_emission() ? &ctx.resources.get("gbuffer.emission") : nullptr;
+    Texture* specular = has_specular() ? &ctx.resources.get("gbuffer.specular") : nullptr;
     const GLuint write = ctx.shaders.program({"passes/deep_gbuffer_write.vert", "passes/deep_gbuffer_write.frag"},
                                              defines_);
     GpuScope timer(ctx.timer, "deep_gbuffer.write");
     if (!fbo_) fbo_ = Framebuffer::create();
     if (!empty_vao_) glCreateVertexArrays(1, &empty_vao_);
     const int outputs = colour_outputs();
-    const GLenum draw_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                    GL_COLOR_ATTACHMENT3};
+    const GLenum draw_buffers[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
     glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, s.width, s.height);
@@ -396,6 +404,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
         fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
         fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
         if (emission) fbo_.attach(GL_COLOR_ATTACHMENT3, *emission, 0, layer);
+        if (specular) fbo_.attach(specular_attachment(), *specular, 0, layer);
         if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
         if (layer < filled) {
             int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
@@ -426,6 +435,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_FRAMEBUFFER_SRGB);
     if (emission) glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, 0, 0);
+    if (specular) glNamedFramebufferTexture(fbo_.id(), specular_attachment(), 0, 0);
     ctx.depth.apply_gl_state();
     ctx.gpu_scene.bind_geometry();
     return true;

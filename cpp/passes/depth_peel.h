@@ -5,7 +5,9 @@
 //            gbuffer.material (RGBA8: reflectivity, coverage), all 2D arrays of
 //            Settings.layers layers; depth_peel.previous_depth (scratch); and, only where the
 //            scene has an emissive texture (FrameFacts::emission_texture), gbuffer.emission
-//            (RGBA16F: the surface's emitted radiance, glTF emissiveFactor x strength x texel)
+//            (RGBA16F: the surface's emitted radiance, glTF emissiveFactor x strength x texel);
+//            only where it has a KHR_materials_specular texture (FrameFacts::specular_texture),
+//            gbuffer.specular (RGBA16F: rgb every surface's dielectric F0, a 1 where covered)
 // Layer 0 is the ordinary G-buffer. Layer i+1 re-renders the scene and discards every
 // fragment that is not strictly behind layer i's depth at that pixel, so it holds the
 // nearest surface behind layer i. Back-face culling is off by default, as in the thesis,
@@ -44,8 +46,9 @@ public:
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
-    // gbuffer.emission: the lighting pass has no texture coordinates, so a textured emission is
-    // sampled where the material is, in the shading pass, and written as a 4th attachment.
+    // gbuffer.emission and gbuffer.specular: the lighting pass has no texture coordinates, so a
+    // textured emission or specular F0 is sampled where the material is, in the shading pass, and
+    // written as one more attachment each.
     std::vector<ResourceDesc> outputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
         return {"covered_tiles"};
@@ -83,7 +86,9 @@ public:
     // The texture unit the passes that shade G-buffer texels bind gbuffer.emission to
     // (shaders/lib/gbuffer_emission.glsl).
     static constexpr GLuint kEmissionUnit = 11;
-    static constexpr size_t kEmissionFragmentBytes = 80;  // ... with EMISSION_TEXTURE (its emission too)
+    // ... and gbuffer.specular to (shaders/lib/gbuffer_specular.glsl).
+    static constexpr GLuint kSpecularUnit = 16;
+    static constexpr size_t kExtraOutputBytes = 16;  // ... and a vec4 more for each of gbuffer.emission, .specular
     // The fragment store's largest size for Settings.deep_gbuffer_budget (0: the device's largest
     // storage buffer); std::invalid_argument where the budget is beyond what the device can hold.
     static uint64_t store_limit_bytes(int budget_mib);
@@ -105,11 +110,15 @@ private:
     // false: the fragments exceed the budget (nothing written; the caller peels).
     bool lists(FrameContext& ctx);
     void append(FrameContext& ctx, uint64_t capacity);
-    // The G-buffer's colour outputs this frame: 3, or 4 with gbuffer.emission.
-    int colour_outputs() const { return defines_.count("EMISSION_TEXTURE") ? 4 : 3; }
-    size_t fragment_bytes() const { return colour_outputs() == 4 ? kEmissionFragmentBytes : kFragmentBytes; }
+    // The G-buffer's colour outputs this frame: 3, and gbuffer.emission, then gbuffer.specular,
+    // where the facts say so (their attachment and fragment-shader location is their index).
+    bool has_emission() const { return defines_.count("EMISSION_TEXTURE") != 0; }
+    bool has_specular() const { return defines_.count("SPECULAR_TEXTURE") != 0; }
+    int colour_outputs() const { return 3 + int(has_emission()) + int(has_specular()); }
+    GLenum specular_attachment() const { return GLenum(GL_COLOR_ATTACHMENT3 + int(has_emission())); }
+    size_t fragment_bytes() const { return kFragmentBytes + kExtraOutputBytes * size_t(colour_outputs() - 3); }
 
-    Defines defines_;  // the frame's common defines, and EMISSION_TEXTURE where the facts say so
+    Defines defines_;  // the frame's common defines, and EMISSION_TEXTURE / SPECULAR_TEXTURE where the facts say so
 
     Framebuffer fbo_, empty_fbo_;
     std::vector<GLuint> queries_;

@@ -12,6 +12,7 @@ std::vector<std::string> LightingPass::inputs(const RenderSettings& s, const Fra
     std::vector<std::string> in = {"gbuffer.depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     if (f.emission_texture) in.push_back("gbuffer.emission");  // instead of the factor by object id
+    if (f.specular_texture) in.push_back("gbuffer.specular");  // F0 per texel (lib/gbuffer_specular.glsl)
     return in;
 }
 
@@ -25,6 +26,7 @@ void LightingPass::execute(FrameContext& ctx) {
     d["SHADOWS"] = ctx.facts.shadows ? "1" : "0";
     if (ctx.facts.emission_texture) d["EMISSION_TEXTURE"] = "1";  // lib/gbuffer_emission.glsl
     ShadowMapPass::add_defines(d, ctx.facts);
+    if (ctx.facts.specular_texture) d["SPECULAR_TEXTURE"] = "1";  // lib/gbuffer_specular.glsl
     // The PCF radius compiled in, so that llvmpipe runs unrolled taps with constant
     // weights instead of two nested loops over a uniform bound.
     if (ctx.facts.shadows) d["SHADOW_PCF_RADIUS"] = std::to_string(ctx.settings.shadow_pcf_radius);
@@ -66,6 +68,7 @@ void LightingPass::execute(FrameContext& ctx) {
     glBindTextureUnit(3, r.get("gbuffer.material").id());
     ShadowMapPass::bind(r, ctx.facts);
     if (ctx.facts.emission_texture) glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
+    if (ctx.facts.specular_texture) glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
     bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
     bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
     // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a

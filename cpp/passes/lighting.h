@@ -1,7 +1,8 @@
 // lighting: shades every G-buffer layer with direct light, the shadow map and a constant
 // ambient term (shaders/lib/shading.glsl), and writes each layer's linear view depth.
 //   inputs : gbuffer.depth, gbuffer.albedo, gbuffer.normal, gbuffer.material, shadow_map
-//            (when shadows are on), gbuffer.emission (when the scene has an emissive texture)
+//            (when shadows are on), gbuffer.emission (when the scene has an emissive texture),
+//            gbuffer.specular (when it has a KHR_materials_specular texture)
 //   outputs: lit (RGBA16F array: radiance per layer; alpha 0.5 + r / 2 where a surface
 //            covers the texel, r its reflectivity, and 0 where none does), linear_depth (R32F array: positive
 //            view-space depth per layer; the far-plane distance where nothing is covered)

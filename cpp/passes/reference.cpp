@@ -27,6 +27,7 @@ std::vector<std::string> ReferencePass::inputs(const RenderSettings& s, const Fr
         for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     // The pixel's own direct light adds its G-buffer emission (lib/gbuffer_emission.glsl).
     if (!per_ray_ && f.emission_texture) in.push_back("gbuffer.emission");
+    if (!per_ray_ && f.specular_texture) in.push_back("gbuffer.specular");  // its F0 (lib/gbuffer_specular.glsl)
     return in;
 }
 
@@ -50,9 +51,11 @@ GLuint ReferencePass::program(FrameContext& ctx) const {
     ShadowMapPass::add_defines(d, ctx.facts);
     d["EXTERNAL_TRACE"] = tracer_ && !per_ray_ ? "1" : "0";
     if (!per_ray_ && ctx.facts.emission_texture) d["EMISSION_TEXTURE"] = "1";
+    if (!per_ray_ && ctx.facts.specular_texture) d["SPECULAR_TEXTURE"] = "1";
     if (cpu_tracer_ && !per_ray_) {
         Defines g = ctx.defines;
         if (ctx.facts.emission_texture) g["EMISSION_TEXTURE"] = "1";
+        if (ctx.facts.specular_texture) g["SPECULAR_TEXTURE"] = "1";
         return ctx.shaders.program({"passes/reference_gbuffer.comp"}, g);
     }
     return ctx.shaders.program({"passes/reference.comp"}, d);
@@ -69,6 +72,8 @@ void ReferencePass::execute(FrameContext& ctx) {
     if (shadows_ && !traced_shadows_) ShadowMapPass::bind(r, ctx.facts);
     if (!per_ray_ && ctx.facts.emission_texture)
         glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
+    if (!per_ray_ && ctx.facts.specular_texture)
+        glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
     if (cpu_tracer_ && !per_ray_) {
         execute_cpu(ctx, prog);
         return;
@@ -250,7 +255,10 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
     const auto t0 = clock::now();
     // With an emissive texture, each pixel's gbuffer.emission follows the decoded samples.
     const bool emission_texture = ctx.facts.emission_texture;
-    Buffer decoded = Buffer::create(n * (sizeof(CpuGbufferTexel) + (emission_texture ? sizeof(glm::vec4) : 0)));
+    // With a specular texture, each pixel's gbuffer.specular follows them (reference_gbuffer.comp).
+    const bool specular_texture = ctx.facts.specular_texture;
+    const size_t extra = (emission_texture ? 1 : 0) + (specular_texture ? 1 : 0);
+    Buffer decoded = Buffer::create(n * (sizeof(CpuGbufferTexel) + extra * sizeof(glm::vec4)));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, decoded.id());
     dispatch_2d(s.width, s.height, 1, 8, 8);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -261,6 +269,12 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
         emission.resize(n);
         glGetNamedBufferSubData(decoded.id(), GLintptr(n * sizeof(CpuGbufferTexel)), GLsizeiptr(n * sizeof(glm::vec4)),
                                 emission.data());
+    }
+    std::vector<glm::vec4> dielectric_f0;
+    if (specular_texture) {
+        dielectric_f0.resize(n);
+        const size_t at = n * (sizeof(CpuGbufferTexel) + (emission_texture ? sizeof(glm::vec4) : 0));
+        glGetNamedBufferSubData(decoded.id(), GLintptr(at), GLsizeiptr(n * sizeof(glm::vec4)), dielectric_f0.data());
     }
 
     CpuReferenceScene scene;
@@ -292,7 +306,7 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
     scene.embree_scene = cpu_tracer_->scene();
     const auto t1 = clock::now();
 
-    CpuReference ref(scene, s.width, s.height, std::move(gbuffer), std::move(emission));
+    CpuReference ref(scene, s.width, s.height, std::move(gbuffer), std::move(emission), std::move(dielectric_f0));
     ref.begin();
     // Rounds of ray indices, for progress and an interruption between them.
     constexpr int kBatch = 8;

@@ -377,15 +377,12 @@ public:
 
     // lib/shading.glsl with trace_shade.glsl's TRACED_SHADOWS light_visibility; surface_point_w
     // and surface_normal_w are the shaded point's (what its shadow rays leave from).
-    vec3 shade_surface(const GSample& g, vec3 emission, vec3 p, vec3 v, vec3 surface_point_w, vec3 surface_normal_w) {
+    // dielectric: the non-metal part's F0 (KHR_materials_ior and _specular; 0.04 at their defaults).
+    vec3 shade_surface(const GSample& g, vec3 emission, vec3 dielectric, vec3 p, vec3 v, vec3 surface_point_w,
+                       vec3 surface_normal_w) {
         const vec3 n = g.normal;
         const float NoV = std::max(glm::dot(n, v), 1e-4f);
         const float alpha = ggx_alpha(g.roughness);
-        // lib/scene_data.glsl's surface_f0: the material's dielectric F0 (KHR_materials_ior and
-        // _specular; 0.04 at their defaults) for the non-metal part.
-        const vec3 dielectric = g.object_id >= 0
-                                    ? vec3(s_.materials[size_t(s_.objects[size_t(g.object_id)].material.x)].dielectric_f0)
-                                    : vec3(0.04f);
         const vec3 F0 = glm::mix(dielectric, g.albedo, g.metallic);
         const vec3 diffuse_color = g.albedo * (1.0f - g.metallic);
         vec3 radiance = vec3(s_.frame.ambient) * g.albedo;
@@ -537,7 +534,19 @@ public:
         vec3 emission = vec3(m.emissive);
         if (m.images.w >= 0) emission *= vec3(sample_image(m.images.w, texture_uv(m, 3, auv), m.wraps.w, true));
         const vec3 viewer = !viewer_is_ray ? glm::normalize(-position) : -glm::normalize(view3_ * dir_w);
-        s.radiance = shade_surface(g, emission, position, viewer, point_w, normal_w);
+        // lib/material.glsl's material_dielectric_f0, KHR_materials_specular's textures at their
+        // own coordinates (rows 8..11), the factors' value without them.
+        vec3 dielectric = vec3(m.dielectric_f0);
+        if (m.specular_images.x >= 0 || m.specular_images.y >= 0) {
+            vec3 color = vec3(m.specular_f0);
+            if (m.specular_images.y >= 0)
+                color *= vec3(sample_image(m.specular_images.y, texture_uv(m, 5, auv), m.specular_wraps.y, true));
+            float specular = m.specular_f0.w;
+            if (m.specular_images.x >= 0)
+                specular *= sample_image(m.specular_images.x, texture_uv(m, 4, auv), m.specular_wraps.x, false).w;
+            dielectric = glm::min(color, vec3(1.0f)) * specular;
+        }
+        s.radiance = shade_surface(g, emission, dielectric, position, viewer, point_w, normal_w);
         return s;
     }
 
@@ -569,8 +578,9 @@ GSample decode(const CpuGbufferTexel& t) {
 }  // namespace
 
 CpuReference::CpuReference(const CpuReferenceScene& scene, int width, int height, std::vector<CpuGbufferTexel> gbuffer,
-                           std::vector<glm::vec4> emission)
-    : s_(scene), width_(width), height_(height), gbuffer_(std::move(gbuffer)), emission_(std::move(emission)) {
+                           std::vector<glm::vec4> emission, std::vector<glm::vec4> dielectric_f0)
+    : s_(scene), width_(width), height_(height), gbuffer_(std::move(gbuffer)), emission_(std::move(emission)),
+      dielectric_f0_(std::move(dielectric_f0)) {
     const size_t n = size_t(width) * size_t(height);
     state_.resize(n);
     accum_.assign(n, vec4(0.0f));
@@ -730,7 +740,13 @@ void CpuReference::finish() {
                                        : (g.object_id >= 0
                                               ? vec3(s_.materials[size_t(s_.objects[size_t(g.object_id)].material.x)].emissive)
                                               : vec3(0.0f));
-                direct = sh.shade_surface(g, emission, pos, glm::normalize(-pos), point_w, normal_w);
+                // lib/gbuffer_specular.glsl: the G-buffer's F0, or the factors' by object id.
+                const vec3 dielectric =
+                    !dielectric_f0_.empty() ? vec3(dielectric_f0_[i])
+                                            : (g.object_id >= 0
+                                                   ? vec3(s_.materials[size_t(s_.objects[size_t(g.object_id)].material.x)].dielectric_f0)
+                                                   : vec3(0.04f));
+                direct = sh.shade_surface(g, emission, dielectric, pos, glm::normalize(-pos), point_w, normal_w);
             }
             reflection_[i] = vec4(reflection, 1.0f);
             direct_[i] = vec4(direct, 1.0f);

@@ -61,7 +61,7 @@ public:
     // emission: every pixel's gbuffer.emission where the scene has an emissive texture; empty:
     // the material's factor found by object id (lib/gbuffer_emission.glsl).
     CpuReference(const CpuReferenceScene& scene, int width, int height, std::vector<CpuGbufferTexel> gbuffer,
-                 std::vector<glm::vec4> emission = {});
+                 std::vector<glm::vec4> emission = {}, std::vector<glm::vec4> dielectric_f0 = {});
     // The exact surface point of every pixel (the camera ray through its centre).
     void begin();
     // Ray indices [first, first + count) of every reflective pixel, added to its sums.
@@ -85,6 +85,7 @@ private:
     int width_, height_;
     std::vector<CpuGbufferTexel> gbuffer_;
     std::vector<glm::vec4> emission_;
+    std::vector<glm::vec4> dielectric_f0_;  // every pixel's gbuffer.specular (empty: by object id)
     std::vector<PixelState> state_;
     std::vector<glm::vec4> accum_, reflection_, direct_;
     std::atomic<uint64_t> rays_{0};

@@ -18,6 +18,7 @@ std::vector<std::string> TraceBvhPass::inputs(const RenderSettings& s, const Fra
         for (const auto& t : ShadowMapPass::reads(f)) in.push_back(t);
     // The fallback shades screen-space hits from the G-buffer (lib/gbuffer_emission.glsl).
     if (fallback_ && f.emission_texture) in.push_back("gbuffer.emission");
+    if (fallback_ && f.specular_texture) in.push_back("gbuffer.specular");  // lib/gbuffer_specular.glsl
     return in;
 }
 
@@ -42,6 +43,7 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     ShadowMapPass::add_defines(d, ctx.facts);
     d["CONFIDENCE"] = fallback_ && ctx.settings.fallback_confidence ? "1" : "0";
     if (fallback_ && ctx.facts.emission_texture) d["EMISSION_TEXTURE"] = "1";
+    if (fallback_ && ctx.facts.specular_texture) d["SPECULAR_TEXTURE"] = "1";
     // Method "bvh" draws adaptive rays as the screen-space tracers do
     // (lib/ray_generation.glsl's rays_for_roughness); the fallback retraces only the rays the
     // screen-space tracer drew, so it needs no count of its own.
@@ -65,6 +67,8 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     if (!traced) ShadowMapPass::bind(r, ctx.facts);
     if (fallback_ && ctx.facts.emission_texture)
         glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
+    if (fallback_ && ctx.facts.specular_texture)
+        glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
     if (fallback_) {
         bind_image_layered(4, r.get("rays.hit"), GL_READ_WRITE);
         glBindTextureUnit(6, r.get("rays.sample").id());

@@ -77,19 +77,26 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
         g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture),
                              wrap(m.emissive_texture));
         g.dielectric_f0 = glm::vec4(m.dielectric_f0(), 0.0f);
-        const TextureRef* refs[4] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
-                                     &m.emissive_texture};
-        for (int k = 0; k < 4; ++k) {
+        const TextureRef* refs[6] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                     &m.emissive_texture, &m.specular_texture, &m.specular_color_texture};
+        for (int k = 0; k < 6; ++k) {
             g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, refs[k]->texcoord == 1 ? 1.0f : 0.0f);
             g.uv_transform[2 * k + 1] = glm::vec4(refs[k]->transform_v, 0.0f);
         }
+        g.specular_images = glm::ivec4(m.specular_texture.image, m.specular_color_texture.image, -1, -1);
+        g.specular_wraps = glm::ivec4(wrap(m.specular_texture), wrap(m.specular_color_texture), 0, 0);
+        const float r = (m.ior - 1.0f) / (m.ior + 1.0f);  // as Material::dielectric_f0
+        g.specular_f0 = glm::vec4(r * r * m.specular_color, m.specular);
         mats.push_back(g);
         material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
                                       texture_for(scene, m.metallic_roughness_texture, false),
                                       texture_for(scene, m.normal_texture, false),
-                                      texture_for(scene, m.emissive_texture, true)});
+                                      texture_for(scene, m.emissive_texture, true),
+                                      texture_for(scene, m.specular_texture, false),
+                                      texture_for(scene, m.specular_color_texture, true)});
         material_features_.push_back((m.base_color_texture.valid() || m.metallic_roughness_texture.valid() ||
-                                              m.normal_texture.valid() || m.emissive_texture.valid()
+                                              m.normal_texture.valid() || m.emissive_texture.valid() ||
+                                              m.specular_texture.valid() || m.specular_color_texture.valid()
                                           ? 1
                                           : 0) |
                                      (m.auto_reflectivity() ? 2 : 0));
@@ -114,6 +121,10 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
     for (const Object& o : scene.objects) reflective_ = reflective_ || scene.materials[size_t(o.material)].reflectivity != 0.0f;
     for (const Object& o : scene.objects)
         emissive_texture_ = emissive_texture_ || scene.materials[size_t(o.material)].emissive_texture.valid();
+    for (const Object& o : scene.objects) {
+        const Material& m = scene.materials[size_t(o.material)];
+        specular_texture_ = specular_texture_ || m.specular_texture.valid() || m.specular_color_texture.valid();
+    }
 
     if (scene.environment.type == Environment::Type::Map) {
         const FloatImage img = read_float_image(scene.environment.map_path);
@@ -193,6 +204,10 @@ void GpuScene::bind_material_textures(int material) const {
     glBindTextureUnit(1, t[1] ? t[1] : white_.id());
     glBindTextureUnit(2, t[2] ? t[2] : flat_normal_.id());
     if (emissive_texture_) glBindTextureUnit(kEmissiveTextureUnit, t[3] ? t[3] : white_.id());
+    if (specular_texture_) {
+        glBindTextureUnit(kSpecularTextureUnit, t[4] ? t[4] : white_.id());
+        glBindTextureUnit(kSpecularColorTextureUnit, t[5] ? t[5] : white_.id());
+    }
 }
 
 }  // namespace ssr

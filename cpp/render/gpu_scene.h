@@ -45,9 +45,14 @@ struct GpuMaterial {
     glm::ivec4 images;
     glm::ivec4 wraps;    // wrap_s | wrap_t << 16 of each texture
     glm::vec4 dielectric_f0;  // rgb: Material::dielectric_f0 (KHR_materials_ior / _specular)
-    // per texture (base, metal-rough, normal, emissive): TextureRef::transform_u, _v; w of row 2k:
-    // the texture's coordinate set (TextureRef::texcoord, 0 or 1)
-    glm::vec4 uv_transform[8];
+    // per texture (base, metal-rough, normal, emissive, specular, specular colour):
+    // TextureRef::transform_u, _v; w of row 2k: the texture's coordinate set (TextureRef::texcoord, 0 or 1)
+    glm::vec4 uv_transform[12];
+    // KHR_materials_specular's textures: image index (x specular, y specular colour; -1: none)
+    // and wraps; the F0 before them: rgb ((ior-1)/(ior+1))^2 x specular_color, a specular.
+    glm::ivec4 specular_images;
+    glm::ivec4 specular_wraps;
+    glm::vec4 specular_f0;
 };
 
 struct DrawItem {
@@ -76,6 +81,10 @@ public:
     // where the scene has an emissive texture, its emissive texture to unit kEmissiveTextureUnit.
     void bind_material_textures(int material) const;
     static constexpr GLuint kEmissiveTextureUnit = 4;  // shaders/passes/depth_peel.frag
+    // Where the scene has a KHR_materials_specular texture, units 5 and 6 hold them.
+    static constexpr GLuint kSpecularTextureUnit = 5, kSpecularColorTextureUnit = 6;
+    // Whether some object's material has a specular texture (FrameFacts::specular_texture).
+    bool has_specular_texture() const { return specular_texture_; }
     // Whether some object's material has an emissive texture (FrameFacts::emission_texture).
     bool has_emissive_texture() const { return emissive_texture_; }
 
@@ -104,7 +113,7 @@ private:
     std::unique_ptr<VertexArray> vao_;
     Buffer vertices_, indices_, objects_, materials_;
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
-    std::vector<std::array<GLuint, 4>> material_textures_;
+    std::vector<std::array<GLuint, 6>> material_textures_;
     std::vector<int> material_features_;  // per material: bit 0 any texture, bit 1 auto reflectivity
     std::vector<uint8_t> alpha_tested_;   // per material
     Texture white_, flat_normal_, environment_map_;
@@ -117,6 +126,7 @@ private:
     int bvh_depth_ = 0;
     bool reflective_ = false;
     bool emissive_texture_ = false;
+    bool specular_texture_ = false;
     std::vector<DrawItem> draws_;
     Bounds bounds_;
     uint64_t revision_ = 0;

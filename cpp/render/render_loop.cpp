@@ -285,6 +285,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     fc.facts.emission_texture = gs.has_emissive_texture();
     fc.facts.shadow_maps = frame.shadow_maps;
     fc.facts.shadow_cubes = frame.shadow_cubes;
+    fc.facts.specular_texture = gs.has_specular_texture();
     gs.bind_geometry();
     gs.bind_ray_tracing(scene);
     if (embree) pass.set_tracer(&gs.embree_tracer());

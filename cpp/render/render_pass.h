@@ -111,6 +111,10 @@ struct FrameFacts {
     bool emission_texture = false;
     int shadow_maps = 0;          // directional and spot casters: layers of shadow_map
     int shadow_cubes = 0;         // point casters: cubes of shadow_cubes
+    // Some object's material has a KHR_materials_specular texture (GpuScene::has_specular_texture):
+    // the G-buffer then carries every surface's dielectric F0 (gbuffer.specular), which the passes
+    // that take F0 from the G-buffer read instead of the material's factor value.
+    bool specular_texture = false;
 };
 
 // What a pass may use while it executes.

@@ -112,6 +112,7 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
         every.emission_texture = true;
         every.shadows = true;
         every.shadow_maps = every.shadow_cubes = 1;
+        every.specular_texture = true;
         for (const auto& s : variants)
             for (const auto& o : p->outputs(s, every)) owner.emplace(o.name, std::make_pair(p->name(), i));
     }
@@ -303,6 +304,7 @@ FrameFacts Renderer::facts(const Scene& scene, const GpuScene& gs, const RenderS
     f.reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
     f.fetch_by_image = fetch_by_image_;
     f.emission_texture = gs.has_emissive_texture();
+    f.specular_texture = gs.has_specular_texture();
     return f;
 }
 

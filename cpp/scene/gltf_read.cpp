@@ -586,9 +586,23 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             if (it->second.Has("specularColorFactor"))
                 m.specular_color = vec3_from_value(it->second.Get("specularColorFactor"), glm::vec3(1.0f), r,
                                                    ext + ".specularColorFactor", 0.0, 1e6);
-            for (const char* t : {"specularTexture", "specularColorTexture"})
-                if (it->second.Has(t))
-                    warnings.push_back(path + ": " + ext + "." + t + " is not rendered; its factors are");
+            // Its textures (glTF textureInfo objects inside the extension): specularTexture's A
+            // scales specularFactor, specularColorTexture's sRGB-decoded RGB specularColorFactor.
+            auto info = [&](const char* key) {
+                if (!it->second.Has(key)) return TextureRef{};
+                const tinygltf::Value& v = it->second.Get(key);
+                const std::string t = ext + "." + key;
+                if (!v.IsObject() || !v.Has("index")) r.fail(t + " must be an object with an index");
+                const int index = int(number_from_value(v.Get("index"), r, t + ".index", 0, 1e9));
+                const int texcoord = v.Has("texCoord") ? int(number_from_value(v.Get("texCoord"), r, t + ".texCoord", 0, 7)) : 0;
+                tinygltf::ExtensionMap extensions;
+                if (v.Has("extensions") && v.Get("extensions").IsObject())
+                    for (const auto& key_value : v.Get("extensions").Get<tinygltf::Value::Object>())
+                        extensions.insert(key_value);
+                return texture_ref(model, index, texcoord, image_base, r, t, extensions);
+            };
+            m.specular_texture = info("specularTexture");
+            m.specular_color_texture = info("specularColorTexture");
         }
         m.double_sided = gm.doubleSided;
         if (gm.alphaMode == "MASK") {
@@ -614,7 +628,8 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         // The thesis's explicit reflectivity where ssrlab wrote it; otherwise the material
         // reflects as its metallic-roughness parameters say (kAutoReflectivity).
         // TEXCOORD_0 and _1 are loaded; a texture on a later set samples set 0.
-        for (TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.emissive_texture})
+        for (TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.emissive_texture,
+                              &m.specular_texture, &m.specular_color_texture})
             if (t->valid() && t->texcoord > 1) {
                 warnings.push_back(path + ": " + what + ": texCoord " + std::to_string(t->texcoord) +
                                    " is not loaded (only TEXCOORD_0 and TEXCOORD_1); TEXCOORD_0 is used");
@@ -717,7 +732,7 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         if (mesh.uvs1.empty() && !uv1_warned.count(material)) {
             const Material& mat = scene.materials[size_t(material)];
             for (const TextureRef* t : {&mat.base_color_texture, &mat.metallic_roughness_texture, &mat.normal_texture,
-                                        &mat.emissive_texture})
+                                        &mat.emissive_texture, &mat.specular_texture, &mat.specular_color_texture})
                 if (t->valid() && t->texcoord == 1) {
                     warnings.push_back(path + ": material '" + mat.name + "' samples TEXCOORD_1, which " + what +
                                        " lacks; TEXCOORD_0 is used there");

@@ -205,13 +205,6 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
             gm.extensions["KHR_materials_ior"] = tinygltf::Value(ior);
             use_extension("KHR_materials_ior");
         }
-        if (m.specular != 1.0f || m.specular_color != glm::vec3(1.0f)) {
-            tinygltf::Value::Object spec;
-            spec["specularFactor"] = tinygltf::Value(double(m.specular));
-            spec["specularColorFactor"] = vec3_value(m.specular_color);
-            gm.extensions["KHR_materials_specular"] = tinygltf::Value(spec);
-            use_extension("KHR_materials_specular");
-        }
         if (m.alpha_mode != Material::AlphaMode::Opaque) {
             gm.alphaMode = m.alpha_mode == Material::AlphaMode::Mask ? "MASK" : "BLEND";
             gm.alphaCutoff = m.alpha_cutoff;
@@ -244,6 +237,26 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         gm.normalTexture.scale = m.normal_scale;
         gm.emissiveTexture.index = texture(m.emissive_texture);
         gm.emissiveTexture.texCoord = m.emissive_texture.texcoord;
+        if (m.specular != 1.0f || m.specular_color != glm::vec3(1.0f) || m.specular_texture.valid() ||
+            m.specular_color_texture.valid()) {
+            tinygltf::Value::Object spec;
+            spec["specularFactor"] = tinygltf::Value(double(m.specular));
+            spec["specularColorFactor"] = vec3_value(m.specular_color);
+            // The extension's textures are glTF textureInfo objects inside it.
+            auto info = [&](const TextureRef& ref) {
+                tinygltf::Value::Object o;
+                o["index"] = tinygltf::Value(texture(ref));
+                if (ref.texcoord != 0) o["texCoord"] = tinygltf::Value(ref.texcoord);
+                tinygltf::ExtensionMap e;
+                transform(ref, e);
+                if (!e.empty()) o["extensions"] = tinygltf::Value(tinygltf::Value::Object(e.begin(), e.end()));
+                return tinygltf::Value(o);
+            };
+            if (m.specular_texture.valid()) spec["specularTexture"] = info(m.specular_texture);
+            if (m.specular_color_texture.valid()) spec["specularColorTexture"] = info(m.specular_color_texture);
+            gm.extensions["KHR_materials_specular"] = tinygltf::Value(spec);
+            use_extension("KHR_materials_specular");
+        }
         if (!m.auto_reflectivity())
             gm.extras = tinygltf::Value(tinygltf::Value::Object{{"reflectivity", tinygltf::Value(double(m.reflectivity))}});
         model.materials.push_back(gm);

@@ -181,7 +181,7 @@ uint64_t Scene::content_hash() const {
         h.pod(m.reflectivity);
         h.pod(m.emissive);
         for (const TextureRef* t : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
-                                     &m.emissive_texture}) {
+                                     &m.emissive_texture, &m.specular_texture, &m.specular_color_texture}) {
             h.pod(t->image);
             h.pod(t->wrap_s);
             h.pod(t->wrap_t);

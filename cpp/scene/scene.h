@@ -57,6 +57,10 @@ struct Material {
     TextureRef metallic_roughness_texture;  // linear: G = roughness, B = metallic
     TextureRef normal_texture;              // linear, tangent space
     TextureRef emissive_texture;            // sRGB; multiplies `emissive` (glTF emissiveTexture)
+    // KHR_materials_specular's textures: specular_texture's A channel (linear) multiplies
+    // `specular`, specular_color_texture's RGB (sRGB) multiplies `specular_color`, per texel.
+    TextureRef specular_texture;
+    TextureRef specular_color_texture;
     float normal_scale = 1.0f;
     bool double_sided = false;   // back faces get flipped normals (glTF doubleSided)
     // glTF alphaMode: alpha = base_color.a x the base colour texture's alpha. MASK: a texel

@@ -48,9 +48,12 @@ class Material:
                  alpha_cutoff is a hole in every pass) or 'BLEND' (tested as MASK at 0.5)
     emissive     emitted linear RGB radiance (glTF emissiveFactor x emissive strength), each <= 1000;
                  times the emissive_texture's sRGB-decoded texel where there is one
+    specular_texture, specular_color_texture
+                 KHR_materials_specular's textures: per texel, specular x the specular_texture's A
+                 and specular_color x the specular_color_texture's sRGB-decoded RGB in the F0 above
     *_texture    image index in the scene (-1: none); see Scene.add_image
     """
-    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0, alpha_mode: str = 'OPAQUE', alpha_cutoff: typing.SupportsFloat | typing.SupportsIndex = 0.5, emissive_texture: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
+    def __init__(self, *, base_color: typing.Any = None, metallic: typing.SupportsFloat | typing.SupportsIndex = 0.0, roughness: typing.SupportsFloat | typing.SupportsIndex = 0.5, reflectivity: typing.Any = 0.0, double_sided: bool = False, name: str = '', base_color_texture: typing.SupportsInt | typing.SupportsIndex = -1, metallic_roughness_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_texture: typing.SupportsInt | typing.SupportsIndex = -1, normal_scale: typing.SupportsFloat | typing.SupportsIndex = 1.0, alpha_mode: str = 'OPAQUE', alpha_cutoff: typing.SupportsFloat | typing.SupportsIndex = 0.5, emissive_texture: typing.SupportsInt | typing.SupportsIndex = -1, specular_texture: typing.SupportsInt | typing.SupportsIndex = -1, specular_color_texture: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -89,7 +92,7 @@ class Material:
     @property
     def dielectric_f0(self) -> tuple[float, ...]:
         """
-        a dielectric's specular reflectance at normal incidence from ior, specular and specular_color
+        a dielectric's specular reflectance at normal incidence from ior, specular and specular_color (the factors; specular_texture and specular_color_texture scale them per texel)
         """
     @property
     def double_sided(self) -> bool:
@@ -194,6 +197,22 @@ class Material:
         """
     @specular_color.setter
     def specular_color(self, arg1: tuple[float, ...]) -> None:
+        ...
+    @property
+    def specular_color_texture(self) -> int:
+        """
+        image index of the KHR_materials_specular specularColorTexture (-1: none): its sRGB-decoded RGB multiplies specular_color per texel
+        """
+    @specular_color_texture.setter
+    def specular_color_texture(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def specular_texture(self) -> int:
+        """
+        image index of the KHR_materials_specular specularTexture (-1: none): its (linear) A channel multiplies specular per texel
+        """
+    @specular_texture.setter
+    def specular_texture(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
 class Light:
     """

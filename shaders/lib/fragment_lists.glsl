@@ -13,6 +13,11 @@
 #ifndef EMISSION_TEXTURE
 #define EMISSION_TEXTURE 0
 #endif
+// SPECULAR_TEXTURE 1 (a scene with a KHR_materials_specular texture): every fragment carries
+// gbuffer.specular too (16 bytes more).
+#ifndef SPECULAR_TEXTURE
+#define SPECULAR_TEXTURE 0
+#endif
 
 struct ListFragment {
     vec4 albedo_metallic;
@@ -25,6 +30,9 @@ struct ListFragment {
 #if EMISSION_TEXTURE
     vec4 emission;
 #endif
+#if SPECULAR_TEXTURE
+    vec4 specular;
+#endif
 };
 
 layout(std430, binding = 16) buffer FragmentStore { ListFragment fragments[]; };
@@ -36,9 +44,9 @@ layout(std430, binding = 17) coherent buffer FragmentCounter {
 };
 layout(std430, binding = 18) coherent buffer FragmentHeads { uint fragment_head[]; };
 
-// emission: stored only with EMISSION_TEXTURE.
+// emission, specular: stored only with EMISSION_TEXTURE, SPECULAR_TEXTURE.
 void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 normal_roughness, vec4 material,
-                          vec4 emission, uint draw, uint primitive, bool reflective) {
+                          vec4 emission, vec4 specular, uint draw, uint primitive, bool reflective) {
     uint slot = atomicAdd(fragment_counter.x, 1u);
     if (slot >= fragment_counter.y) return;
     ListFragment f;
@@ -50,6 +58,9 @@ void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 n
     f.primitive = primitive;
 #if EMISSION_TEXTURE
     f.emission = emission;
+#endif
+#if SPECULAR_TEXTURE
+    f.specular = specular;
 #endif
     f.next = atomicExchange(fragment_head[pixel.y * int(frame.viewport.x) + pixel.x], slot);
     fragments[slot] = f;

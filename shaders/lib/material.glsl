@@ -20,6 +20,19 @@ vec3 material_emission(MaterialData m, vec4 emissive_texel) {
     return m.images.w >= 0 ? m.emissive.rgb * emissive_texel.rgb : m.emissive.rgb;
 }
 
+// KHR_materials_specular: a dielectric's F0 at a texel, min(((ior - 1) / (ior + 1))^2 x
+// specularColorFactor x specularColorTexture.rgb (sRGB decoded), 1) x specularFactor x
+// specularTexture.a; without either texture the factors' value the materials buffer holds
+// (Material::dielectric_f0), so untextured materials keep their exact F0.
+vec3 material_dielectric_f0(MaterialData m, vec4 specular_texel, vec4 specular_color_texel) {
+    if (m.specular_images.x < 0 && m.specular_images.y < 0) return m.dielectric_f0.rgb;
+    vec3 color = m.specular_f0.rgb;
+    if (m.specular_images.y >= 0) color *= specular_color_texel.rgb;
+    float specular = m.specular_f0.a;
+    if (m.specular_images.x >= 0) specular *= specular_texel.a;
+    return min(color, vec3(1.0)) * specular;
+}
+
 // n: interpolated unit normal (view space); t, b: tangent frame (valid when has_frame);
 // front_facing: the camera sees the side the normal points to.
 GSample material_sample(MaterialData m, vec4 base_texel, vec4 metallic_roughness_texel, vec3 normal_texel,

@@ -15,14 +15,19 @@ struct MaterialData {
     ivec4 images;     // image index of each texture, -1 for none (for scene_textures.glsl); w: emissive
     ivec4 wraps;      // wrap_s | wrap_t << 16 of each texture
     vec4 dielectric_f0;  // rgb: a dielectric's F0 from KHR_materials_ior / _specular (0.04 by default)
-    vec4 uv_transform[8];  // KHR_texture_transform of texture k (0 base colour, 1 metal-rough, 2 normal, 3 emissive): rows 2k, 2k+1;
-                           // row 2k's w: the texture's coordinate set (glTF texCoord, 0 or 1)
+    vec4 uv_transform[12];  // KHR_texture_transform of texture k (0 base colour, 1 metal-rough, 2 normal, 3 emissive,
+                            // 4 specular, 5 specular colour): rows 2k, 2k+1; row 2k's w: the texture's
+                            // coordinate set (glTF texCoord, 0 or 1)
+    ivec4 specular_images;  // KHR_materials_specular: x specularTexture, y specularColorTexture image (-1: none)
+    ivec4 specular_wraps;   // their wrap_s | wrap_t << 16
+    vec4 specular_f0;       // rgb ((ior - 1) / (ior + 1))^2 x specularColorFactor, a specularFactor
 };
 
 layout(std430, binding = 1) readonly buffer Objects { ObjectData objects[]; };
 layout(std430, binding = 2) readonly buffer Materials { MaterialData materials[]; };
 
-// Where texture k (0 base colour, 1 metallic-roughness, 2 normal, 3 emissive) of material m is sampled for
+// Where texture k (0 base colour, 1 metallic-roughness, 2 normal, 3 emissive, 4 specular, 5 specular
+// colour) of material m is sampled for
 // the surface's texture coordinates: KHR_texture_transform's offset x rotation x scale.
 vec2 texture_uv(MaterialData m, int k, vec2 uv) {
     return vec2(dot(m.uv_transform[2 * k].xyz, vec3(uv, 1.0)), dot(m.uv_transform[2 * k + 1].xyz, vec3(uv, 1.0)));

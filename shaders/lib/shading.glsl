@@ -13,12 +13,14 @@ float light_visibility(LightData light, vec3 p_view, vec3 n_view, vec3 l_view, f
 
 // p: view-space position, v: unit vector from p toward the viewer; emission: the radiance the
 // surface emits (glTF emission, lib/material.glsl's material_emission at the surface's texture
-// coordinates, or lib/gbuffer_emission.glsl's for a G-buffer sample).
-vec3 shade_surface(GSample g, vec3 emission, vec3 p, vec3 v) {
+// coordinates, or lib/gbuffer_emission.glsl's for a G-buffer sample); dielectric_f0: the
+// non-metal part's F0 (lib/material.glsl's material_dielectric_f0 at the surface's texture
+// coordinates, or lib/gbuffer_specular.glsl's for a G-buffer sample).
+vec3 shade_surface(GSample g, vec3 emission, vec3 dielectric_f0, vec3 p, vec3 v) {
     vec3 n = g.normal;
     float NoV = max(dot(n, v), 1e-4);
     float alpha = ggx_alpha(g.roughness);
-    vec3 F0 = surface_f0(g.object_id, g.albedo, g.metallic);
+    vec3 F0 = mix(dielectric_f0, g.albedo, g.metallic);  // glTF metallic workflow
     vec3 diffuse_color = g.albedo * (1.0 - g.metallic);
     vec3 radiance = frame.ambient.rgb * g.albedo;
     // glTF emission leaves the surface whatever lights it.

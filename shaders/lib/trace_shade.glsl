@@ -114,7 +114,11 @@ ShadedHit trace_and_shade_w(vec3 origin_w, vec3 dir_w, bool viewer_is_ray) {
     g.albedo *= a.color.rgb;  // glTF COLOR_0, as the G-buffer's shading multiplies it
     vec3 emission = material_emission(m, sample_image(m.images.w, texture_uv(m, 3, a.uv), m.wraps.w, true));
     vec3 viewer = !viewer_is_ray ? normalize(-s.position) : -normalize(mat3(frame.view) * dir_w);
-    s.radiance = shade_surface(g, emission, s.position, viewer);
+    // KHR_materials_specular's textures at their own coordinates (the factors' F0 without them).
+    vec3 dielectric_f0 = material_dielectric_f0(
+        m, sample_image(m.specular_images.x, texture_uv(m, 4, a.uv), m.specular_wraps.x, false),
+        sample_image(m.specular_images.y, texture_uv(m, 5, a.uv), m.specular_wraps.y, true));
+    s.radiance = shade_surface(g, emission, dielectric_f0, s.position, viewer);
     return s;
 }
 

@@ -20,6 +20,7 @@
 #include "../lib/brdf.glsl"
 #include "../lib/scene_data.glsl"
 #include "../lib/specular_albedo.glsl"
+#include "../lib/gbuffer_specular.glsl"
 #endif
 
 #ifndef LIT_CARRIES_R
@@ -82,7 +83,7 @@ void main() {
                 float NoV = max(dot(g.normal, normalize(-pos)), 0.0);
                 vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
                 bool auto_r = g.object_id >= 0 && materials[objects[g.object_id].material.x].params.z < 0.0;
-                c += (auto_r ? 1.0 : r) * specular_albedo(surface_f0(g.object_id, g.albedo, g.metallic), ab) * reflection;
+                c += (auto_r ? 1.0 : r) * specular_albedo(mix(gbuffer_dielectric_f0(ivec3(p, 0), g), g.albedo, g.metallic), ab) * reflection;
             }
 #endif
         }

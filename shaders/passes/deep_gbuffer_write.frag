@@ -19,6 +19,9 @@ layout(location = 2) out vec4 o_material;
 #if EMISSION_TEXTURE
 layout(location = 3) out vec4 o_emission;
 #endif
+#if SPECULAR_TEXTURE
+layout(location = 3 + EMISSION_TEXTURE) out vec4 o_specular;
+#endif
 
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
@@ -31,6 +34,9 @@ void main() {
 #if EMISSION_TEXTURE
         o_emission = vec4(0.0);
 #endif
+#if SPECULAR_TEXTURE
+        o_specular = vec4(0.0);
+#endif
         gl_FragDepth = DEPTH_CLEAR;
         return;
     }
@@ -39,6 +45,9 @@ void main() {
     o_material = fragments[s].material;
 #if EMISSION_TEXTURE
     o_emission = fragments[s].emission;
+#endif
+#if SPECULAR_TEXTURE
+    o_specular = fragments[s].specular;
 #endif
     gl_FragDepth = fragments[s].depth;
 }

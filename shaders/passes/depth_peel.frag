@@ -43,6 +43,12 @@
 #ifndef EMISSION_TEXTURE
 #define EMISSION_TEXTURE 0
 #endif
+// SPECULAR_TEXTURE 1 (a scene with a KHR_materials_specular texture, FrameFacts::specular_texture):
+// the shading pass also writes every surface's dielectric F0 (gbuffer.specular, the output after
+// gbuffer.emission's place), sampled here; the passes that take F0 from the G-buffer read it.
+#ifndef SPECULAR_TEXTURE
+#define SPECULAR_TEXTURE 0
+#endif
 
 // (the shader library includes a file once: includes both variants use come first)
 #include "../lib/frame_uniforms.glsl"
@@ -102,6 +108,10 @@ layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent 
 // (declared only where bound: unit 4 may hold the last frame's shadow map, a comparison sampler)
 layout(binding = 4) uniform sampler2D u_emissive_texture;  // sRGB (GpuScene::kEmissiveTextureUnit)
 #endif
+#if SPECULAR_TEXTURE && MATERIAL_TEXTURES
+layout(binding = 5) uniform sampler2D u_specular_texture;        // A (GpuScene::kSpecularTextureUnit)
+layout(binding = 6) uniform sampler2D u_specular_color_texture;  // sRGB (kSpecularColorTextureUnit)
+#endif
 layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
 
 uniform int u_object;
@@ -121,6 +131,9 @@ layout(location = 1) out vec4 o_normal_roughness;
 layout(location = 2) out vec4 o_material;
 #if EMISSION_TEXTURE
 layout(location = 3) out vec4 o_emission;
+#endif
+#if SPECULAR_TEXTURE
+layout(location = 3 + EMISSION_TEXTURE) out vec4 o_specular;
 #endif
 #endif
 
@@ -150,12 +163,19 @@ void main() {
 #if EMISSION_TEXTURE
     vec3 emission = material_emission(m, sample_material_texture(u_emissive_texture, m, 3, fs.uv, duv_dx, duv_dy));
 #endif
+#if SPECULAR_TEXTURE
+    vec3 dielectric_f0 = material_dielectric_f0(m, sample_material_texture(u_specular_texture, m, 4, fs.uv, duv_dx, duv_dy),
+                                                sample_material_texture(u_specular_color_texture, m, 5, fs.uv, duv_dx, duv_dy));
+#endif
 #else
     if (material_alpha_hole(m, vec4(1.0), fs.color.a)) discard;
     // No texture: material_sample ignores the texel values (its flags are 0).
     GSample g = material_sample(m, vec4(1.0), vec4(1.0), vec3(0.5, 0.5, 1.0), n, t, b, false, gl_FrontFacing, u_object);
 #if EMISSION_TEXTURE
     vec3 emission = material_emission(m, vec4(1.0));
+#endif
+#if SPECULAR_TEXTURE
+    vec3 dielectric_f0 = m.dielectric_f0.rgb;
 #endif
 #endif
     // glTF COLOR_0 multiplies the base colour (a factor of 1 without vertex colours: exact).
@@ -165,24 +185,36 @@ void main() {
 #else
     vec4 emission_out = vec4(0.0);
 #endif
+#if SPECULAR_TEXTURE
+    vec4 specular_out = vec4(dielectric_f0, 1.0);
+#else
+    vec4 specular_out = vec4(0.0);
+#endif
 #if MATERIAL_AUTO_R
     if (m.params.z < 0.0) {
         // A material without the thesis's explicit r (glTF files from other tools): it reflects
         // the share of light its GGX lobe does at this view angle, E = F0 A + B.
         float NoV = max(dot(g.normal, normalize(-fs.view_position)), 0.0);
         vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
+#if SPECULAR_TEXTURE
+        g.reflectivity = specular_reflectivity(mix(dielectric_f0, g.albedo, g.metallic), ab);
+#else
         g.reflectivity = specular_reflectivity(surface_f0(g.object_id, g.albedo, g.metallic), ab);
+#endif
     }
 #endif
 #if DEEP_GBUFFER_APPEND
     vec4 albedo_metallic, normal_roughness, material;
     gbuffer_encode(g, albedo_metallic, normal_roughness, material);
     fragment_list_append(ivec2(gl_FragCoord.xy), gl_FragCoord.z, albedo_metallic, normal_roughness, material,
-                         emission_out, uint(u_draw), uint(gl_PrimitiveID), g.reflectivity > 0.0);
+                         emission_out, specular_out, uint(u_draw), uint(gl_PrimitiveID), g.reflectivity > 0.0);
 #else
     gbuffer_encode(g, o_albedo_metallic, o_normal_roughness, o_material);
 #if EMISSION_TEXTURE
     o_emission = emission_out;
+#endif
+#if SPECULAR_TEXTURE
+    o_specular = specular_out;
 #endif
     // This layer's tile holds a surface (every fragment of it stores the same value).
     ivec2 grid = covered_tile_grid();

@@ -10,6 +10,7 @@
 #include "../lib/lights.glsl"
 #include "../lib/shading.glsl"
 #include "../lib/gbuffer_emission.glsl"
+#include "../lib/gbuffer_specular.glsl"
 
 #include "../lib/covered_tiles.glsl"
 #include "../lib/input_fetch.glsl"
@@ -60,7 +61,7 @@ void main() {
     float z = linear_depth(texelFetch(u_depth, p, 0).r);
     imageStore(o_linear_depth, p, vec4(z));
     vec3 pos = view_position(vec2(p.xy) + 0.5, z);
-    vec3 radiance = shade_surface(g, gbuffer_emission(p, g), pos, normalize(-pos));
+    vec3 radiance = shade_surface(g, gbuffer_emission(p, g), gbuffer_dielectric_f0(p, g), pos, normalize(-pos));
     // Alpha: coverage and the reflectivity r for the composite (0.5 + r / 2 > 0; 0 where nothing is).
     imageStore(o_lit, p, vec4(radiance, 0.5 + 0.5 * g.reflectivity));
 }

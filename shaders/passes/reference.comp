@@ -46,6 +46,7 @@ layout(binding = 3) uniform sampler2DArray u_material;
 
 #include "../lib/trace_shade.glsl"
 #include "../lib/gbuffer_emission.glsl"
+#include "../lib/gbuffer_specular.glsl"
 
 uniform int u_first_ray;   // first ray index of this dispatch
 uniform int u_ray_count;   // rays of this dispatch
@@ -160,7 +161,7 @@ void main() {
                 surface_point_w = (frame.inv_view * vec4(pos + g.normal * (ssr.origin_bias * -pos.z), 1.0)).xyz;
                 surface_normal_w = normalize(mat3(frame.inv_view) * g.normal);
             }
-            direct = shade_surface(g, gbuffer_emission(ivec3(p, 0), g), pos, normalize(-pos));
+            direct = shade_surface(g, gbuffer_emission(ivec3(p, 0), g), gbuffer_dielectric_f0(ivec3(p, 0), g), pos, normalize(-pos));
         }
     }
     // (With rays traced outside the shader, only the run whose every ray was answered writes.)

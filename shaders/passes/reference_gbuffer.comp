@@ -7,6 +7,7 @@
 #include "../lib/gbuffer.glsl"
 #include "../lib/scene_data.glsl"
 #include "../lib/gbuffer_emission.glsl"
+#include "../lib/gbuffer_specular.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -30,5 +31,10 @@ void main() {
 #if EMISSION_TEXTURE
     int pixels = int(frame.viewport.x) * int(frame.viewport.y);
     decoded[3 * pixels + p.y * int(frame.viewport.x) + p.x] = vec4(gbuffer_emission(ivec3(p, 0), g), 1.0);
+#endif
+#if SPECULAR_TEXTURE
+    // ... and every pixel's gbuffer.specular after those (one vec4 per pixel).
+    int at = (3 + EMISSION_TEXTURE) * int(frame.viewport.x) * int(frame.viewport.y);
+    decoded[at + p.y * int(frame.viewport.x) + p.x] = vec4(gbuffer_dielectric_f0(ivec3(p, 0), g), 1.0);
 #endif
 }

@@ -102,6 +102,7 @@ layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint grou
 #endif
 #if FALLBACK
 #include "../lib/gbuffer_emission.glsl"
+#include "../lib/gbuffer_specular.glsl"
 #endif
 
 #if FALLBACK
@@ -120,7 +121,7 @@ vec4 shade_screen_hit(vec4 hit, vec3 origin, vec3 dir) {
         p = origin + t * dir;
     surface_normal_w = normalize(mat3(frame.inv_view) * h.normal);
     surface_point_w = (frame.inv_view * vec4(p + h.normal * (ssr.origin_bias * -p.z), 1.0)).xyz;
-    return vec4(shade_surface(h, gbuffer_emission(hp, h), p, -dir), distance(origin, p));
+    return vec4(shade_surface(h, gbuffer_emission(hp, h), gbuffer_dielectric_f0(hp, h), p, -dir), distance(origin, p));
 }
 #endif
 

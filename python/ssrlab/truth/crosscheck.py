@@ -325,7 +325,8 @@ def check_comparable(scene) -> None:
     emissive = [i for i in range(scene.object_count) if any(float(c) > 0 for c in scene.material(i).emissive)]
     for i in range(scene.object_count):
         m = scene.material(i)
-        if m.metallic_roughness_texture >= 0 or m.normal_texture >= 0:
+        if (m.metallic_roughness_texture >= 0 or m.normal_texture >= 0 or m.specular_texture >= 0
+                or m.specular_color_texture >= 0):
             raise ValueError(f"crosscheck: object {i} ({scene.object_name(i)!r}) has textures; the Mitsuba "
                              "cross-check supports untextured materials only (and a base colour texture "
                              "that holds an alpha mask)")
