@@ -36,3 +36,35 @@ def open_renderer(args):
     renderer = ssrlab.Renderer(args.device)
     print(device_header(renderer))
     return renderer
+
+
+def ab_scenes(renderer, scenes: dict, settings, parts, repeats: int, header: str) -> None:
+    """Times `parts` (keys of Frame.timings) of two scenes, {"texture": a, "factor": b} style (the
+    feature on, then off), rendered interleaved `repeats` times each after one untimed render of
+    each (compilation, uploads), and prints per part both medians with min-max and interquartile
+    range, the paired ratio first / second and ssrlab.lab.timing's verdict (undecided where the
+    ranges overlap)."""
+    import numpy as np
+
+    from ssrlab.lab.timing import median_range, paired, verdict
+
+    (name_a, a_scene), (name_b, b_scene) = scenes.items()
+    for scene in (a_scene, b_scene):
+        renderer.render(scene, settings=settings)  # first use
+    times = {name: {p: [] for p in parts} for name in scenes}
+    for _ in range(repeats):
+        for name, scene in scenes.items():
+            t = renderer.render(scene, settings=settings).timings
+            for p in parts:
+                times[name][p].append(t[p])
+    print(f"{header}, {repeats} interleaved repeats; ms (median [min, max], IQR)")
+
+    def iqr(v):
+        return float(np.subtract(*np.percentile(v, [75, 25])))
+
+    for p in parts:
+        a, b = times[name_a][p], times[name_b][p]
+        ma, mb = median_range(a), median_range(b)
+        print(f"{p:11s} {name_a} {ma[0]:8.2f} [{ma[1]:.2f}, {ma[2]:.2f}] IQR {iqr(a):.2f} | {name_b} {mb[0]:8.2f} "
+              f"[{mb[1]:.2f}, {mb[2]:.2f}] IQR {iqr(b):.2f} | {name_a}/{name_b} {np.median(paired(a, b)):.3f} "
+              f"-> {name_a} {verdict(mb, ma)}")

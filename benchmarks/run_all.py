@@ -56,6 +56,9 @@ BENCHMARKS = {
     "min_separation": ([], ["--width", "96", "--height", "54", "--frames", "2", "--reference-rays", "8"]),
     "input_fetch": (["--width", "640", "--height", "360"], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
     "layers_vs_rays": ([], ["--width", "96", "--height", "54", "--repeats", "3", "--reference-rays", "8"]),
+    "shadows": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--map-size", "256"]),
+    "emissive_texture": ([], ["--width", "96", "--height", "54", "--repeats", "2"]),
+    "specular_texture": (["--base-texture"], ["--width", "96", "--height", "54", "--repeats", "2"]),
 }
 
 

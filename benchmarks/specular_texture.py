@@ -19,10 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from common import benchmark_arguments, open_renderer
+from common import ab_scenes, benchmark_arguments, open_renderer
 
 import ssrlab
-from ssrlab.lab.timing import median_range, paired, verdict
 
 PARTS = ("depth_peel", "lighting", "composite", "total")
 
@@ -63,25 +62,9 @@ def main() -> None:
     textured, factor = scene(True, args.base_texture), scene(False, args.base_texture)
     settings = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers,
                                deep_gbuffer=args.deep_gbuffer, composite=args.composite)
-    for s in (textured, factor):
-        renderer.render(s, settings=settings)  # first use: compilation, uploads
-    times = {"texture": {p: [] for p in PARTS}, "factor": {p: [] for p in PARTS}}
-    for _ in range(args.repeats):
-        for name, s in (("texture", textured), ("factor", factor)):
-            t = renderer.render(s, settings=settings).timings
-            for p in PARTS:
-                times[name][p].append(t[p])
-    print(f"{args.width}x{args.height}, {args.layers} layers, deep_gbuffer={args.deep_gbuffer}, "
-          f"composite={args.composite}, base texture {args.base_texture}, {args.repeats} interleaved repeats; ms (median [min, max], IQR)")
-    for p in PARTS:
-        a, b = times["texture"][p], times["factor"][p]
-        ratio = paired(a, b)
-        iqr = lambda v: float(np.subtract(*np.percentile(v, [75, 25])))  # noqa: E731
-        ma, mb = median_range(a), median_range(b)
-        print(f"{p:11s} texture {ma[0]:8.2f} [{ma[1]:.2f}, {ma[2]:.2f}] IQR {iqr(a):.2f} | factor {mb[0]:8.2f} "
-              f"[{mb[1]:.2f}, {mb[2]:.2f}] IQR {iqr(b):.2f} | texture/factor {np.median(ratio):.3f} "
-              f"-> texture {verdict(mb, ma)}")
-
+    ab_scenes(renderer, {"texture": textured, "factor": factor}, settings, PARTS, args.repeats,
+              f"{args.width}x{args.height}, {args.layers} layers, deep_gbuffer={args.deep_gbuffer}, "
+              f"composite={args.composite}, base texture {args.base_texture}")
 
 if __name__ == "__main__":
     main()

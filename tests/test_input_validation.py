@@ -200,7 +200,8 @@ def test_a_frame_beyond_the_cpu_device_memory_is_refused_before_allocation(rende
     if available > 2**40:
         pytest.skip("this machine has more than 1 TiB available")
     s = ssrlab.Settings(width=16384, height=16384, layers=16, rays_per_pixel=4)
-    with pytest.raises(ValueError, match=r"Settings \(16384 x 16384, layers 16, rays_per_pixel 4\) need .* GiB of "
+    with pytest.raises(ValueError, match=r"Settings \(16384 x 16384, layers 16, rays_per_pixel 4, shadow_map_size 2048 "
+                                         r"for 1 shadow-map face\) need .* GiB of "
                                          r"textures, more than the .* GiB of memory available"):
         renderer.render(ssrlab.scenes.hall(), settings=s)
     assert renderer.render(ssrlab.scenes.hall(), settings=ssrlab.Settings(width=32, height=16)).color.shape == (16, 32, 3)

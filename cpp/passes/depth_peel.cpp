@@ -134,15 +134,13 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     // Alpha-tested materials' depth pass samples the base colour's alpha and discards the holes
     // (compiled only when the scene has such a material: a discard costs the others early tests).
     GLuint depth_first_alpha = 0, depth_peeled_alpha = 0;
-    for (const DrawItem& d : ctx.gpu_scene.draws())
-        if (ctx.gpu_scene.alpha_tested(d.material)) {
-            peel_defines["PEEL_ALPHA_TEST"] = "1";
-            peel_defines["PEEL_TEST"] = "0";
-            depth_first_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
-            peel_defines["PEEL_TEST"] = "1";
-            depth_peeled_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
-            break;
-        }
+    if (ctx.gpu_scene.has_alpha_tested()) {
+        peel_defines["PEEL_ALPHA_TEST"] = "1";
+        peel_defines["PEEL_TEST"] = "0";
+        depth_first_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+        peel_defines["PEEL_TEST"] = "1";
+        depth_peeled_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
+    }
     if (depth_peeled_alpha) set_min_separation(s, depth_peeled_alpha);
     // The shading pass per material kind (bit 0: textures, bit 1: auto reflectivity).
     GLuint shade[4] = {0, 0, 0, 0};
@@ -235,16 +233,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         glDepthMask(GL_TRUE);
         ctx.depth.apply_gl_state();
         glBeginQuery(GL_SAMPLES_PASSED, queries_[size_t(layer)]);
-        GLuint depth_current = depth_prog;
-        for (const DrawItem& d : ctx.gpu_scene.draws()) {
-            const bool alpha = ctx.gpu_scene.alpha_tested(d.material);
-            const GLuint want = alpha ? depth_alpha_prog : depth_prog;
-            if (want != depth_current) glUseProgram(depth_current = want);
-            glUniform1i(alpha ? loc_alpha_object : loc_depth_object, d.object);
-            if (alpha) ctx.gpu_scene.bind_material_textures(d.material);
-            glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
-                                     reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
-        }
+        ctx.gpu_scene.draw_depth(depth_prog, loc_depth_object, depth_alpha_prog, loc_alpha_object);
         glEndQuery(GL_SAMPLES_PASSED);
         // Shading pass: only fragments at the kept depth. Of objects meeting at exactly equal
         // depth the last drawn one's colour stays, where the depth test alone kept the first:

@@ -119,16 +119,7 @@ void ShadowMapPass::draw_scene(FrameContext& ctx, const glm::mat4& light_view_pr
         glUniformMatrix4fv(loc_alpha_vp, 1, GL_FALSE, &light_view_proj[0][0]);
         glUseProgram(prog);
     }
-    GLuint current = prog;
-    for (const DrawItem& d : ctx.gpu_scene.draws()) {
-        const bool alpha = ctx.gpu_scene.alpha_tested(d.material);
-        const GLuint want = alpha ? alpha_prog : prog;
-        if (want != current) glUseProgram(current = want);
-        glUniform1i(alpha ? loc_alpha_object : loc_object, d.object);
-        if (alpha) ctx.gpu_scene.bind_material_textures(d.material);
-        glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
-                                 reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
-    }
+    ctx.gpu_scene.draw_depth(prog, loc_object, alpha_prog, loc_alpha_object);
 }
 
 void ShadowMapPass::execute(FrameContext& ctx) {
@@ -154,13 +145,11 @@ void ShadowMapPass::execute(FrameContext& ctx) {
     // Alpha-tested materials (glTF MASK/BLEND) with a fragment stage that discards their holes.
     GLuint alpha_prog = 0;
     GLint loc_alpha_vp = -1, loc_alpha_object = -1;
-    for (const DrawItem& d : ctx.gpu_scene.draws())
-        if (ctx.gpu_scene.alpha_tested(d.material)) {
-            alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, ctx.defines);
-            loc_alpha_vp = glGetUniformLocation(alpha_prog, "u_light_view_proj");
-            loc_alpha_object = glGetUniformLocation(alpha_prog, "u_object");
-            break;
-        }
+    if (ctx.gpu_scene.has_alpha_tested()) {
+        alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, ctx.defines);
+        loc_alpha_vp = glGetUniformLocation(alpha_prog, "u_light_view_proj");
+        loc_alpha_object = glGetUniformLocation(alpha_prog, "u_object");
+    }
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     // The lights' depth uses GL's standard convention whatever the camera's.

@@ -210,4 +210,24 @@ void GpuScene::bind_material_textures(int material) const {
     }
 }
 
+bool GpuScene::has_alpha_tested() const {
+    for (const DrawItem& d : draws_)
+        if (alpha_tested(d.material)) return true;
+    return false;
+}
+
+void GpuScene::draw_depth(GLuint prog, GLint object_loc, GLuint alpha_prog, GLint alpha_object_loc) const {
+    GLuint current = prog;
+    glUseProgram(current);
+    for (const DrawItem& d : draws_) {
+        const bool alpha = alpha_tested(d.material);
+        const GLuint want = alpha ? alpha_prog : prog;
+        if (want != current) glUseProgram(current = want);
+        glUniform1i(alpha ? alpha_object_loc : object_loc, d.object);
+        if (alpha) bind_material_textures(d.material);
+        glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
+                                 reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
+    }
+}
+
 }  // namespace ssr

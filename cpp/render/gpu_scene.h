@@ -95,6 +95,12 @@ public:
     // Whether the material's alpha makes holes (glTF MASK, BLEND tested at 0.5): the passes that
     // decide visibility test it (Material::visibility_cutoff).
     bool alpha_tested(int material) const { return alpha_tested_[size_t(material)] != 0; }
+    // Whether some material is alpha-tested (the passes then compile their alpha variant).
+    bool has_alpha_tested() const;
+    // Draws every object for a depth-only pass: with `prog`, or `alpha_prog` (which binds the
+    // material's textures and discards the holes) for an alpha-tested material; each program's
+    // uniform u_object at `object_loc` / `alpha_object_loc`. Geometry must be bound.
+    void draw_depth(GLuint prog, GLint object_loc, GLuint alpha_prog, GLint alpha_object_loc) const;
     // True when some object's material has reflectivity > 0: without one, no ray is traced.
     bool has_reflective_surfaces() const { return reflective_; }
     // The equirectangular environment map (0 when the environment is not a map).

@@ -108,8 +108,9 @@ Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& 
     const std::string sized_by = "Settings (" + std::to_string(s.width) + " x " + std::to_string(s.height) +
                                  ", layers " + std::to_string(s.layers) + ", rays_per_pixel " +
                                  std::to_string(s.rays_per_pixel) +
-                                 (shadow_layers > 0 ? ", shadow_map_size " + std::to_string(s.shadow_map_size) + " x " +
-                                                          std::to_string(shadow_layers) + " shadow-map faces"
+                                 (shadow_layers > 0 ? ", shadow_map_size " + std::to_string(s.shadow_map_size) + " for " +
+                                                          std::to_string(shadow_layers) +
+                                                          (shadow_layers == 1 ? " shadow-map face" : " shadow-map faces")
                                                     : std::string()) +
                                  ")";
     if (ctx_->info().chosen == "cpu") {
