@@ -57,6 +57,20 @@ void set_min_separation(const RenderSettings& s, GLuint program) {
 
 }  // namespace
 
+std::map<int, GLuint> DepthPeelPass::shading_programs(FrameContext& ctx, const Defines& base) const {
+    std::map<int, GLuint> programs;
+    for (const DrawItem& d : ctx.gpu_scene.draws()) {
+        const int kind = ctx.gpu_scene.material_features(d.material);
+        if (programs.count(kind)) continue;
+        Defines defines = base;
+        defines["PEEL_DEPTH_ONLY"] = "0";
+        defines["MATERIAL_TEXTURES"] = std::to_string(kind & GpuScene::kTextureFeatures);
+        defines["MATERIAL_AUTO_R"] = kind & GpuScene::kAutoReflectivityFeature ? "1" : "0";
+        programs[kind] = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, defines);
+    }
+    return programs;
+}
+
 void DepthPeelPass::execute(FrameContext& ctx) {
     defines_ = ctx.defines;
     if (ctx.facts.emission_texture) defines_["EMISSION_TEXTURE"] = "1";
@@ -142,17 +156,8 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         depth_peeled_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
     }
     if (depth_peeled_alpha) set_min_separation(s, depth_peeled_alpha);
-    // The shading pass per material kind (bit 0: textures, bit 1: auto reflectivity).
-    GLuint shade[4] = {0, 0, 0, 0};
-    for (const DrawItem& d : ctx.gpu_scene.draws()) {
-        const int kind = ctx.gpu_scene.material_features(d.material);
-        if (shade[kind]) continue;
-        Defines shade_defines = defines_;
-        shade_defines["PEEL_DEPTH_ONLY"] = "0";
-        shade_defines["MATERIAL_TEXTURES"] = kind & 1 ? "1" : "0";
-        shade_defines["MATERIAL_AUTO_R"] = kind & 2 ? "1" : "0";
-        shade[kind] = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, shade_defines);
-    }
+    // The shading pass per material kind (GpuScene::material_features).
+    const std::map<int, GLuint> shade = shading_programs(ctx, defines_);
 
     if (!fbo_) fbo_ = Framebuffer::create();
     const int outputs = colour_outputs();
@@ -249,14 +254,14 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         for (auto it = draws.rbegin(); it != draws.rend(); ++it) {
             const DrawItem& d = *it;
             const int kind = ctx.gpu_scene.material_features(d.material);
-            if (shade[kind] != current) {
-                current = shade[kind];
+            if (shade.at(kind) != current) {
+                current = shade.at(kind);
                 glUseProgram(current);
                 loc_object = glGetUniformLocation(current, "u_object");
                 glUniform1i(glGetUniformLocation(current, "u_layer"), layer);
             }
             glUniform1i(loc_object, d.object);
-            if (kind & 1) ctx.gpu_scene.bind_material_textures(d.material);
+            if (kind & GpuScene::kTextureFeatures) ctx.gpu_scene.bind_material_textures(d.material);
             glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                                      reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
         }
@@ -450,17 +455,9 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 18, heads_.id());
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-    GLuint shade[4] = {0, 0, 0, 0};
-    for (const DrawItem& d : ctx.gpu_scene.draws()) {
-        const int kind = ctx.gpu_scene.material_features(d.material);
-        if (shade[kind]) continue;
-        Defines defines = defines_;
-        defines["PEEL_DEPTH_ONLY"] = "0";
-        defines["DEEP_GBUFFER_APPEND"] = "1";
-        defines["MATERIAL_TEXTURES"] = kind & 1 ? "1" : "0";
-        defines["MATERIAL_AUTO_R"] = kind & 2 ? "1" : "0";
-        shade[kind] = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, defines);
-    }
+    Defines append = defines_;
+    append["DEEP_GBUFFER_APPEND"] = "1";
+    const std::map<int, GLuint> shade = shading_programs(ctx, append);
     if (!empty_fbo_) {
         empty_fbo_ = Framebuffer::create();
         glNamedFramebufferDrawBuffer(empty_fbo_.id(), GL_NONE);
@@ -481,15 +478,15 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     for (size_t i = 0; i < draws.size(); ++i) {
         const DrawItem& d = draws[i];
         const int kind = ctx.gpu_scene.material_features(d.material);
-        if (shade[kind] != current) {
-            current = shade[kind];
+        if (shade.at(kind) != current) {
+            current = shade.at(kind);
             glUseProgram(current);
             loc_object = glGetUniformLocation(current, "u_object");
             loc_draw = glGetUniformLocation(current, "u_draw");
         }
         glUniform1i(loc_object, d.object);
         glUniform1i(loc_draw, GLint(i));
-        if (kind & 1) ctx.gpu_scene.bind_material_textures(d.material);
+        if (kind & GpuScene::kTextureFeatures) ctx.gpu_scene.bind_material_textures(d.material);
         glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                                  reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
     }

@@ -36,6 +36,8 @@
 // Settings.deep_gbuffer_budget; a frame beyond the budget is peeled (never truncated).
 #pragma once
 
+#include <map>
+
 #include "render/render_pass.h"
 
 namespace ssr {
@@ -105,6 +107,9 @@ public:
     }
 
 private:
+    // The shading pass's program for each material kind of the scene (GpuScene::material_features),
+    // compiled from `base` (the pass's defines).
+    std::map<int, GLuint> shading_programs(FrameContext& ctx, const Defines& base) const;
     void prepare_tiles(FrameContext& ctx);
     void peel(FrameContext& ctx);
     // false: the fragments exceed the budget (nothing written; the caller peels).

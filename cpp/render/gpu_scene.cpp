@@ -94,12 +94,10 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
                                       texture_for(scene, m.emissive_texture, true),
                                       texture_for(scene, m.specular_texture, false),
                                       texture_for(scene, m.specular_color_texture, true)});
-        material_features_.push_back((m.base_color_texture.valid() || m.metallic_roughness_texture.valid() ||
-                                              m.normal_texture.valid() || m.emissive_texture.valid() ||
-                                              m.specular_texture.valid() || m.specular_color_texture.valid()
-                                          ? 1
-                                          : 0) |
-                                     (m.auto_reflectivity() ? 2 : 0));
+        int features = m.auto_reflectivity() ? kAutoReflectivityFeature : 0;
+        for (int k = 0; k < 6; ++k)
+            if (refs[k]->valid()) features |= 1 << k;
+        material_features_.push_back(features);
         alpha_tested_.push_back(m.visibility_cutoff() >= 0.0f);
     }
     materials_ = Buffer::create(mats.size() * sizeof(GpuMaterial), mats.data());

@@ -89,8 +89,11 @@ public:
     bool has_emissive_texture() const { return emissive_texture_; }
 
     const std::vector<DrawItem>& draws() const { return draws_; }
-    // What a material's G-buffer shading needs beyond its factors (the peeling compiles
-    // a variant per combination): bit 0 (1) it has a texture, bit 1 (2) its reflectivity is "auto".
+    // What a material's G-buffer shading needs beyond its factors (the peeling compiles a variant
+    // per combination): bit k (k < 6) it has texture slot k (base colour, metallic-roughness,
+    // normal, emissive, specular, specular colour: kTextureFeatures), kAutoReflectivityFeature
+    // its reflectivity is "auto".
+    static constexpr int kTextureFeatures = 63, kAutoReflectivityFeature = 64;
     int material_features(int material) const { return material_features_[size_t(material)]; }
     // Whether the material's alpha makes holes (glTF MASK, BLEND tested at 0.5): the passes that
     // decide visibility test it (Material::visibility_cutoff).
@@ -120,7 +123,7 @@ private:
     Buffer vertices_, indices_, objects_, materials_;
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
     std::vector<std::array<GLuint, 6>> material_textures_;
-    std::vector<int> material_features_;  // per material: bit 0 any texture, bit 1 auto reflectivity
+    std::vector<int> material_features_;  // per material: material_features()
     std::vector<uint8_t> alpha_tested_;   // per material
     Texture white_, flat_normal_, environment_map_;
     Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;

@@ -21,11 +21,14 @@
 #define PEEL_ALPHA_TEST 0
 #endif
 // The shading pass is compiled per material kind (GpuScene::material_features), as
-// llvmpipe runs the texture samples of a branch no lane takes: MATERIAL_TEXTURES 0 for a
-// material without textures, MATERIAL_AUTO_R 0 for one with an explicit reflectivity.
+// llvmpipe runs the texture samples of a branch no lane takes: MATERIAL_TEXTURES has a bit per
+// texture slot the material has (1 base colour, 2 metallic-roughness, 4 normal, 8 emissive,
+// 16 specular, 32 specular colour; 0: none), MATERIAL_AUTO_R 0 for an explicit reflectivity.
+// An absent slot reads white without a sample, what GpuScene binds there: the same values.
 #ifndef MATERIAL_TEXTURES
-#define MATERIAL_TEXTURES 1
+#define MATERIAL_TEXTURES 63
 #endif
+#define MATERIAL_HAS(k) ((MATERIAL_TEXTURES & (1 << (k))) != 0)
 #ifndef MATERIAL_AUTO_R
 #define MATERIAL_AUTO_R 1
 #endif
@@ -145,7 +148,9 @@ void main() {
 #if MATERIAL_TEXTURES
     // Each texture at its own coordinates (KHR_texture_transform; the identity without it).
     vec4 duv_dx = dFdx(fs.uv), duv_dy = dFdy(fs.uv);
-    if (m.flags.z != 0) {
+    // Texture k's texel, or white where the material has none (a constant condition: folded).
+#define MATERIAL_TEXEL(tex, k) (MATERIAL_HAS(k) ? sample_material_texture(tex, m, k, fs.uv, duv_dx, duv_dy) : vec4(1.0))
+    if (MATERIAL_HAS(2) && m.flags.z != 0) {
         // The normal texture's coordinates' derivatives: the transform's linear part of the
         // surface's (texture_uv of a derivative minus texture_uv of 0 drops the offset).
         vec2 n_dx = texture_uv(m, 2, duv_dx) - texture_uv(m, 2, vec4(0.0));
@@ -153,19 +158,19 @@ void main() {
         has_frame = tangent_frame_from_vertex(n, fs.view_tangent, texture_linear(m, 2), t, b) ||
                     tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), n_dx, n_dy, t, b);
     }
-    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, duv_dx, duv_dy);
+    vec4 base_texel = MATERIAL_TEXEL(u_base_color_texture, 0);
     // A hole of an alpha-tested material: the lists must not append it (peeling's depth pass
     // already discarded it, so here it only guards against a coplanar surface's equal depth).
     if (material_alpha_hole(m, base_texel, fs.color.a)) discard;
-    GSample g = material_sample(m, base_texel, sample_material_texture(u_metallic_roughness_texture, m, 1, fs.uv, duv_dx, duv_dy),
-                                sample_material_texture(u_normal_texture, m, 2, fs.uv, duv_dx, duv_dy).xyz, n, t, b,
+    GSample g = material_sample(m, base_texel, MATERIAL_TEXEL(u_metallic_roughness_texture, 1),
+                                MATERIAL_TEXEL(u_normal_texture, 2).xyz, n, t, b,
                                 has_frame, gl_FrontFacing, u_object);
 #if EMISSION_TEXTURE
-    vec3 emission = material_emission(m, sample_material_texture(u_emissive_texture, m, 3, fs.uv, duv_dx, duv_dy));
+    vec3 emission = material_emission(m, MATERIAL_TEXEL(u_emissive_texture, 3));
 #endif
 #if SPECULAR_TEXTURE
-    vec3 dielectric_f0 = material_dielectric_f0(m, sample_material_texture(u_specular_texture, m, 4, fs.uv, duv_dx, duv_dy),
-                                                sample_material_texture(u_specular_color_texture, m, 5, fs.uv, duv_dx, duv_dy));
+    vec3 dielectric_f0 = material_dielectric_f0(m, MATERIAL_TEXEL(u_specular_texture, 4),
+                                                MATERIAL_TEXEL(u_specular_color_texture, 5));
 #endif
 #else
     if (material_alpha_hole(m, vec4(1.0), fs.color.a)) discard;
