@@ -142,6 +142,18 @@ void validate_material(const Material& m, const Scene* scene) {
     }
 }
 
+// A property setter that checks the material as it would be with the new value (validate_material)
+// before changing it: a refused value leaves the material as it was.
+template <class T>
+auto validated_setter(T Material::*field) {
+    return [field](Material& x, const T& v) {
+        Material t = x;
+        t.*field = v;
+        validate_material(t, nullptr);
+        x.*field = v;
+    };
+}
+
 int add_mesh_object(Scene& s, Mesh mesh, const Material& material, const glm::mat4& transform, const std::string& name) {
     validate_material(material, &s);
     const int mi = s.add_mesh(std::move(mesh));
@@ -235,30 +247,15 @@ specular_texture, specular_color_texture
             "visibility pass) or 'BLEND' (tested as MASK at 0.5)")
         .def_property(
             "ior", [](const Material& x) { return x.ior; },
-            [](Material& x, float v) {
-                Material t = x;
-                t.ior = v;
-                validate_material(t, nullptr);
-                x.ior = v;
-            },
+            validated_setter(&Material::ior),
             "index of refraction (KHR_materials_ior; 1.5 gives glTF's dielectric F0 0.04)")
         .def_property(
             "specular", [](const Material& x) { return x.specular; },
-            [](Material& x, float v) {
-                Material t = x;
-                t.specular = v;
-                validate_material(t, nullptr);
-                x.specular = v;
-            },
+            validated_setter(&Material::specular),
             "KHR_materials_specular specularFactor in [0, 1]: scales a dielectric's F0")
         .def_property(
             "specular_color", [](const Material& x) { return x.specular_color; },
-            [](Material& x, const glm::vec3& v) {
-                Material t = x;
-                t.specular_color = v;
-                validate_material(t, nullptr);
-                x.specular_color = v;
-            },
+            validated_setter(&Material::specular_color),
             "KHR_materials_specular specularColorFactor (linear RGB, >= 0): tints a dielectric's F0")
         .def_property_readonly(
             "dielectric_f0", [](const Material& x) { return x.dielectric_f0(); },
