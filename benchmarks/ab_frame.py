@@ -1,4 +1,4 @@
-"""A/B of a whole frame between two builds, interleaved in one run (issue 13).
+"""A/B of a whole frame between two builds, interleaved in one run.
 
     python benchmarks/ab_frame.py --baseline-python /work/venvs/loader/bin/python
                                   [--current-python PY] [--scenes hall spheres_and_boxes]

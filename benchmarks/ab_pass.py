@@ -1,5 +1,5 @@
 """One pass of two shader trees, frames interleaved in one process, and how a SIMD vector's lanes
-use the walk steps it pays for (issue 13).
+use the walk steps it pays for.
 
     python benchmarks/ab_pass.py BEFORE_DIR [AFTER_DIR] [--pass trace_hiz] [--repeats 9]
                                  [--set key=value ...] [--lane-use]

@@ -1,4 +1,4 @@
-"""Depth precision against the near/far ratio, standard and reversed-Z depth (issue 8;
+"""Depth precision against the near/far ratio, standard and reversed-Z depth (
 seed 000 2.3.4, seed 002 4.6.3): view-depth reconstruction error against the exact depth
 (Embree) and SSR hit-position error against the per-ray reference, per distance, for
 far/near = 1e2 ... 1e8 (ssrlab.precision). Prints the table and, per mode, the largest ratio

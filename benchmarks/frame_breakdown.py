@@ -2,7 +2,7 @@
 
     python benchmarks/frame_breakdown.py [--width 1920 --height 1080] [--device gpu] [--repeats 7]
 
-One layer of Hi-Z mirror rays (1 ray, reuse radius 1: issue 13's trace + resolve pair) at the
+One layer of Hi-Z mirror rays (1 ray, reuse radius 1: the trace + resolve pair) at the
 default settings, then one setting changed at a time: skip on, reuse radius 0, Hi-Z start level 0,
 max_steps 64 (how much of the trace is a tail of long walks), 4 layers, and the thesis's
 configuration. Per case: the median GPU ms of every timing key (e.g. `classify.clear`,

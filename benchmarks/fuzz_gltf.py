@@ -1,4 +1,4 @@
-"""Structure-aware fuzzer for ssrlab's glTF loader (issue 8).
+"""Structure-aware fuzzer for ssrlab's glTF loader.
 
     python benchmarks/fuzz_gltf.py --minutes 10 --out fuzz-findings [--seed 1]
 

@@ -1,4 +1,4 @@
-"""Glossy methods (issue 9): error against the converged reference and GPU time, per method and
+"""Glossy methods: error against the converged reference and GPU time, per method and
 floor roughness.
 
     python benchmarks/glossy_methods.py [--width 320 --height 180 --repeats 5 --reference-rays 128]

@@ -1,4 +1,4 @@
-"""Hybrid reflections (issue 12): accuracy and cost of SSR alone, SSR + reflection probes, SSR + BVH
+"""Hybrid reflections (seed 004, thesis 4.3): accuracy and cost of SSR alone, SSR + reflection probes, SSR + BVH
 fallback and pure BVH, and how often SSR's accepted hits are wrong.
 
     python benchmarks/hybrid.py [--width 640 --height 360 --scenes hall hall_floor60 spheres_and_boxes

@@ -1,4 +1,4 @@
-"""Memory of kept and dropped frames (issue 8): N renders whose frames are all kept alive, then
+"""Memory of kept and dropped frames: N renders whose frames are all kept alive, then
 dropped; prints process RSS (/proc/self/statm) at the start (after a warm-up), with every frame
 kept and after dropping them, the bytes each frame holds (Frame.gpu_bytes) and RSS per kept frame.
 

@@ -1,4 +1,4 @@
-"""The converged reference against Mitsuba 3 on the floor of ssrlab.crosscheck's scene (issue 7).
+"""The converged reference against Mitsuba 3 on the floor of ssrlab.crosscheck's scene.
 
 Prints PSNR on floor pixels (all of them, and the interior ones without silhouette pixels) of
 ssrlab's converged reference against Mitsuba's path tracer, for:

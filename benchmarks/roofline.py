@@ -1,4 +1,4 @@
-"""A roofline of the frame (issue 13): every pass against what the device can do, in one run.
+"""A roofline of the frame (Williams et al. 2009): every pass against what the device can do, in one run.
 
     python benchmarks/roofline.py [--width 640 --height 360] [--scenes hall spheres_and_boxes]
                                   [--repeats 5] [--baseline base.json] [--device auto|gpu|cpu] [--quick]
@@ -98,14 +98,14 @@ def work_of(pass_name, s, stats, passes=()):
     trace_px = tw * th
     rays = stats.get("rays_traced", trace_px * s.rays_per_pixel)
     if pass_name == "lighting":
-        # Issue 13: (r+1)^2 hardware-compare taps of 4 texels each; only the covered 8x8 tiles
+        # (r+1)^2 hardware-compare taps of 4 texels each; only the covered 8x8 tiles
         # (stats["tiles_lit"]) are shaded, the rest of each layer is cleared (not counted).
         taps = (s.shadow_pcf_radius + 1) ** 2
         texels = stats["tiles_lit"] * 64 if stats.get("tiles_lit", -1) >= 0 else px * layers_lit
         f = texels * (4 + 4 * taps)
         return f, texels * (4 + 4 + 8 + 4 + taps * 16), texels * (8 + 4), "coherent"
     if pass_name == "classify":
-        # Issue 11: the reflectivity of every pixel of the 32x32 regions the peeling flagged
+        # The reflectivity of every pixel of the 32x32 regions the peeling flagged
         # (gathered 2x2; the examined trace pixels scaled to full resolution), the G-buffer of the
         # reflective ones (3 more fetches; counted as the resolve list's receivers and rough
         # pixels); writes: the clears of rays.sample (RGBA32F per trace pixel and ray) and of the
@@ -146,7 +146,7 @@ def work_of(pass_name, s, stats, passes=()):
         # radius 0 or mirror rays with BRDF weights): each traced pixel's sample flag and its rays'
         # hit, sample, direction, lit colour and hit depth (1 + 5 per ray). Tiled path: an upper
         # bound, as if every group held a receiver: per tile entry its origin (3) and 5 per ray.
-        # With skip (issue 11) only the listed receiving pixels (own rays) or 16x16 tiles run.
+        # With skip only the listed receiving pixels (own rays) or 16x16 tiles run.
         own = s.downscale == 1 and (s.reuse_radius == 0 or (s.sampling == "mirror" and s.reuse_weighting == "brdf"))
         if own:
             run = stats.get("resolve_pixels", px)
@@ -158,7 +158,7 @@ def work_of(pass_name, s, stats, passes=()):
             f = int(run * (3 + tile / group ** 2 * (3 + 5 * s.rays_per_pixel)))
         return f, f * 8, int(run * 8), "coherent"
     if pass_name == "composite":
-        # lit (its alpha carries coverage and r, issue 13) and the reflection; RGBA32F out.
+        # lit (its alpha carries coverage and r) and the reflection; RGBA32F out.
         return px * 2, px * (8 + 8), px * 16, "coherent"
     return None
 
@@ -343,7 +343,7 @@ def main(argv=None) -> int:
                 ab_shaders(before, renderer, scene, s, f"{scene_name}/{cname}", args.repeats, ratios)
     targets = {"composite / copy": ("<=", 2.0), "resolve / trace_hiz": ("<=", 0.6),
                "share of dependent-fetch rate": (">=", 0.25), "speed-up": (">=", 2.0)}
-    print("\nratios (issue 13's targets; median of the repeats' paired ratios [middle half])")
+    print("\nratios (the targets; median of the repeats' paired ratios [middle half])")
     for k, values in ratios.items():
         v = float(np.median(values))
         q1, q3 = np.percentile(values, [25, 75])

@@ -1,4 +1,4 @@
-"""What skipping saves (issue 11): trace + resolve time against the reflective share of the screen.
+"""What skipping saves: trace + resolve time against the reflective share of the screen.
 
     python benchmarks/skip.py [--width W --height H] [--repeats 7] [--sections shares peel adaptive]
 
@@ -98,7 +98,7 @@ def fmt(m, lo, hi):
 
 
 def screen_share_strips(r, args, share: float) -> list[int]:
-    """The strips whose pixels make `share` of the screen (issue 11 varies "the reflective share
+    """The strips whose pixels make `share` of the screen (varying "the reflective share
     of the screen"): each strip's pixels measured once from the G-buffer's object ids, then the
     strips that still fit, every other one first, so the measured share lands within half a strip
     of the target.

@@ -1,4 +1,4 @@
-"""The full numerical stress run (issue 8): tests/test_stress.py with every property drawing
+"""The full numerical stress run: tests/test_stress.py with every property drawing
 --examples examples (the CI run draws 10-24), then prints the result.
 
     python benchmarks/stress.py --examples 500

@@ -1,4 +1,4 @@
-"""The SVGF denoiser of the reflection (issue 12, seed 003): error and cost per pass.
+"""The SVGF denoiser of the reflection (seed 003): error and cost per pass.
 
     python benchmarks/svgf.py [--width 320 --height 180 --frames 8 --repeats 3]
 

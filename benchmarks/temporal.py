@@ -1,4 +1,4 @@
-"""Temporal accumulation of reflections (issue 10): a static camera's sequence of 1-ray frames
+"""Temporal accumulation of reflections: a static camera's sequence of 1-ray frames
 against single frames of more rays, all measured against one converged reference (64 rays), and
 the reproject and temporal passes' GPU time as a share of the frame; ray-result reuse over time
 (temporal_ray_reuse) against the same rays without it; TAA against supersampling; and the cost

@@ -1,4 +1,4 @@
-"""What a ray of the Hi-Z trace pays besides its walk: the pass built up part by part (issue 13).
+"""What a ray of the Hi-Z trace pays besides its walk: the pass built up part by part.
 
     python benchmarks/trace_parts.py [--repeats 11] [--set max_steps=1] [--scenes ...] [--device ...]
 
