@@ -1,4 +1,4 @@
-"""Issue 11: adaptive rays with the BVH tracer (method "bvh"), its compacted ray list (Settings.skip),
+"""Adaptive rays with the BVH tracer (method "bvh"), its compacted ray list (Settings.skip),
 and benchmarks/skip.py's adaptive section (its mixed-roughness scene, ssrlab.scenes.gallery())."""
 
 import math

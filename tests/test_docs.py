@@ -40,7 +40,7 @@ def test_readme_is_a_landing_page():
     assert not re.search(r"\b[Ii]ssue \d+|\bround \d+\b|\b(first|second|third|fourth|fifth|sixth) round\b", text)
 
 
-CODE_ROOTS = ["cpp", "shaders", "python/ssrlab", "benchmarks"]
+CODE_ROOTS = ["cpp", "shaders", "python/ssrlab", "benchmarks", "tests"]
 
 
 def test_code_comments_say_why_not_which_issue():

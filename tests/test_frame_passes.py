@@ -1,4 +1,4 @@
-"""Issue 13's faster G-buffer, lighting and composite: what their shortcuts must keep exact
+"""The faster G-buffer, lighting and composite: what their shortcuts must keep exact
 (the covered-tile lighting leaves no covered texel unlit, the composite's r read from lit's
 alpha is the G-buffer's r), and benchmarks/ab_frame.py (two interpreters, interleaved)."""
 

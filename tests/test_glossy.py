@@ -1,4 +1,4 @@
-"""Glossy methods (issue 9; seed 002, 4.4.2-4.4.5): the glossy setting, the pre-convolved colour
+"""Glossy methods (seed 002, 4.4.2-4.4.5): the glossy setting, the pre-convolved colour
 and pre-integrated visibility pyramids, the GGX cone angle, cone tracing and blurred mips."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Hostile glTF input (issue 8): every reproducer in tests/data/hostile/ must give a SceneError
+"""Hostile glTF input: every reproducer in tests/data/hostile/ must give a SceneError
 (or a SceneWarning) naming the file and the object, never a crash, a hang or a poisoned scene.
 The files are written by ssrlab.lab.hostile_gltf; manifest.json says what each must give."""
 

@@ -1,4 +1,4 @@
-"""Issue 13: the Hi-Z tracer's own copy of the pyramid ("hiz_trace", shaders/lib/hiz_atlas.glsl):
+"""The Hi-Z tracer's own copy of the pyramid ("hiz_trace", shaders/lib/hiz_atlas.glsl):
 every level of the min-max pyramid in one image, texels (min s, slab back s). The tracer's hits are
 checked elsewhere (test_tracing); here, that each level lies where the layout says, holds the
 pyramid's min exactly, and the back of the slab behind the pyramid's max."""

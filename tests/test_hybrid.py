@@ -1,4 +1,4 @@
-"""Hybrid reflections (issue 12): ray-traced reflections (method="bvh") and the BVH fallback
+"""Hybrid reflections: ray-traced reflections (method="bvh") and the BVH fallback
 for rays screen space cannot resolve (fallback="bvh")."""
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""Hybrid reflections (issue 12), the rest: reflection probes (fallback="probes", seed 004's local
+"""Hybrid reflections, the rest: reflection probes (fallback="probes", seed 004's local
 cube maps), traced shadows in the BVH passes (bvh_shadows="traced"), and how often SSR's accepted
 hits are wrong against the per-ray reference (reference.wrong_hits)."""
 import numpy as np

@@ -1,4 +1,4 @@
-"""Issue 13: the passes read their float inputs by imageLoad on the CPU device and by texelFetch on
+"""The passes read their float inputs by imageLoad on the CPU device and by texelFetch on
 a GPU (Renderer(input_fetch=...), shaders/lib/input_fetch.glsl), and with imageLoad the resolve
 takes its neighbours' rays from resolve_fetch's textures instead of its shared tile. Both paths
 run here on llvmpipe (texelFetch is the GPU's path), and every output must be the same."""

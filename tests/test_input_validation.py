@@ -1,4 +1,4 @@
-"""Issue 8: numpy input that is not real numeric data, and Settings' bounds and cross-field
+"""Numpy input that is not real numeric data, and Settings' bounds and cross-field
 constraints, raise errors naming the argument or both fields."""
 
 import datetime
@@ -122,7 +122,7 @@ def test_documented_float_bounds_are_accepted_by_the_native_validation(name, end
         kw["fade_distance_end"] = 1e7
     if name == "fade_distance_end" and value > 0:
         kw["fade_distance_start"] = value / 2
-    ssrlab.Settings(**kw).to_native()  # "must be in [0.000001, ...], got 0.000001" before issue 8
+    ssrlab.Settings(**kw).to_native()  # once refused with "must be in [0.000001, ...], got 0.000001"
 
 
 def test_issue_8_lower_bounds():

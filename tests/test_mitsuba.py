@@ -1,4 +1,4 @@
-"""The converged reference against Mitsuba 3 (issue 7), at 64x48 on ssrlab.crosscheck's scene:
+"""The converged reference against Mitsuba 3, at 64x48 on ssrlab.crosscheck's scene:
 a floor with boxes and spheres of ssrlab's dielectric material, a back wall and a shadow-casting
 sun; no ambient, black environment. Floor pixels only (without silhouette pixels). Mitsuba
 traces rays through the pixel centres with its path integrator (max_depth 3) and a Dr.Jit copy
@@ -68,7 +68,7 @@ def test_mirror_floor_exact_options(renderer, mirror):
 
 
 def test_mirror_floor_default_settings(renderer, mirror):
-    """Default settings, issue 7's bound: >= 45 dB on the mirror floor. The reference's rays leave
+    """Default settings: >= 45 dB on the mirror floor. The reference's rays leave
     the exact floor point (not SSR's origin_bias), its shadows are traced and it views reflected
     surfaces physically (viewer='ray'); with SSR's origin offset and the camera as viewer (the
     defaults before) this scene measured 33-35 dB."""

@@ -151,7 +151,7 @@ def test_numerical_stability_notebook_runs_at_reduced_size(tmp_path, monkeypatch
 
 
 def test_hybrid_notebook_runs_at_reduced_size(tmp_path, monkeypatch):
-    """notebooks/hybrid.ipynb (issue 12): error against time of SSR, SSR + BVH fallback, pure BVH (and
+    """notebooks/hybrid.ipynb: error against time of SSR, SSR + BVH fallback, pure BVH (and
     SSR + probes where the build accepts fallback="probes"), with and without SVGF; at reduced size
     (one timed run) every time-budget verdict is "too small to judge" and says why."""
     model_path("Suzanne/Suzanne.gltf")  # the glTF scene: skip where the sample models are absent

@@ -1,4 +1,4 @@
-"""Readback (issue 13, frame overheads): float textures (the colour and the rays RGBA32F, lit and
+"""Readback (frame overheads): float textures (the colour and the rays RGBA32F, lit and
 the normals RGBA16F, depths R32F, the Hi-Z pyramid RG32F) are downloaded as stored, rows put top
 first by the driver (GL_MESA_pack_invert) or on the CPU; normalised, sRGB and depth formats go through the readback copy pass. Both must give the
 same orientation (row 0 = top) and values."""

@@ -42,7 +42,7 @@ def test_same_inputs_give_the_same_image(renderer):
 def test_timings_cover_every_pass_and_layer(renderer):
     f = renderer.render(ssrlab.scenes.spheres_and_boxes(), settings=small(layers=3, skip=True, deep_gbuffer="peel"))
     t = f.timings
-    # With imageLoad (the CPU device) the resolve's tile fill is a pass of its own (issue 13).
+    # With imageLoad (the CPU device) the resolve's tile fill is a pass of its own.
     fetch = ["resolve_fetch"] if renderer.info["input_fetch"] == "imageLoad" else []
     assert f.passes == ["shadow_map", "depth_peel", "lighting", "classify", "trace_linear", "specular_occlusion",
                         *fetch, "resolve", "composite"]

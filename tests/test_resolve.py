@@ -147,7 +147,7 @@ def test_reuse_reduces_noise(renderer):
     dict(rays_per_pixel=2, sampling="vndf"),                                  # full resolution, radius 1
 ])
 def test_reuse_weights_equal_the_local_frame_formulation(renderer, tmp_path, kw):
-    """Issue 13: the resolve weighs a neighbour's ray by brdf_cosine_over_pdf, the GGX terms
+    """The resolve weighs a neighbour's ray by brdf_cosine_over_pdf, the GGX terms
     rearranged over the cosines in view space, toward hit points precomputed per tile entry. The
     same sums with the plain formulation (local frame, half vector, ggx_D and two ggx_G1, the
     direction rebuilt from origin, direction and distance per pixel) give the same image."""
@@ -225,7 +225,7 @@ def test_frames_without_reflective_surfaces_trace_nothing(renderer):
         g.rays
     np.testing.assert_array_equal(g.reflection, 0)
     h = renderer.render(scene, settings=small(method="hiz", skip=True))
-    fetch = ["resolve_fetch"] if renderer.info["input_fetch"] == "imageLoad" else []  # issue 13
+    fetch = ["resolve_fetch"] if renderer.info["input_fetch"] == "imageLoad" else []
     assert h.passes == ["shadow_map", "depth_peel", "lighting", "hiz_build", "classify", "trace_hiz",
                         "specular_occlusion", *fetch, "resolve", "composite"]
     assert all(h.timings[p] > 0 for p in h.passes)

@@ -1,4 +1,4 @@
-"""Issue 8: frames share per-renderer scratch, release their textures, and memory of dropped
+"""Frames share per-renderer scratch, release their textures, and memory of dropped
 frames goes back to the OS. (benchmarks/memory.py runs the 1000-render version.)"""
 
 import gc
@@ -33,7 +33,7 @@ def test_kept_frames_do_not_hold_a_shadow_map_each(fresh):
     frames = [fresh.render(scene, settings=s) for _ in range(3)]
     assert "shadow_map" in frames[0].passes
     per_frame = [f.gpu_bytes for f in frames]
-    assert max(per_frame) < 1 * MIB, per_frame  # 16 MiB each before issue 8
+    assert max(per_frame) < 1 * MIB, per_frame  # each frame once held 16 MiB
     # The renderer holds one shadow map (2048^2 * 4 bytes) however many frames are kept.
     assert fresh._native.scratch_bytes >= 2048 * 2048 * 4
     assert fresh.gpu_bytes < sum(per_frame) + fresh._native.scratch_bytes + 1

@@ -78,13 +78,13 @@ def test_lane_use_is_one_for_equal_walks_and_the_share_of_the_longest_otherwise(
     assert use["16 consecutive entries"] == pytest.approx(total / (total + 15 * 5))
 
 
-# -- the resolve's fast paths (issue 13) ---------------------------------------------------------
+# -- the resolve's fast paths -------------------------------------------------------------------
 
 def _general_resolve_shaders(tmp_path):
     """A copy of the shader tree whose resolve takes the general path everywhere: no group vote,
     the shared tile even where only a pixel's own rays count or where resolve_fetch's textures
-    serve it (imageLoad, issue 13's sixth round), one ray per chunk (two barriers per ray, as
-    before issue 13)."""
+    serve it (imageLoad), one ray per chunk (two barriers per ray, the plain
+    path)."""
     import shutil
 
     root = tmp_path / "shaders"
@@ -116,7 +116,7 @@ def test_resolve_fast_paths_leave_the_image_unchanged(renderer, tmp_path, scene_
     scene = getattr(ssrlab.scenes, scene_name)()
     s = small(width=128, height=72, **kw)
     # The general path over the whole image (skip off): with skip the resolve runs over the
-    # classify pass's list (issue 11), whose form (pixels or tiles) follows the fast path.
+    # classify pass's list, whose form (pixels or tiles) follows the fast path.
     general_settings = small(width=128, height=72, **{**kw, "skip": False})
     fast, slow = renderer.render(scene, settings=s), general.render(scene, settings=general_settings)
     assert np.asarray(fast.reflection).any(), "nothing reflects: the comparison would prove nothing"

@@ -56,7 +56,7 @@ def test_the_thesis_literal_construction_is_biased(renderer):
 @pytest.mark.parametrize("theta", [0, 60, 85])
 def test_resolve_reuse_weight_reproduces_the_sample_weight(renderer, sampling, alpha, theta):
     """The resolve weighs a reused ray by f_r(v, l)(n.l) / pdf, rearranged over the cosines
-    (brdf.glsl's brdf_cosine_over_pdf, issue 13); for the view a direction was sampled for it is
+    (brdf.glsl's brdf_cosine_over_pdf); for the view a direction was sampled for it is
     that sample's weight (Walter et al. eq. 41; G1(l) for visible normals), and matches the terms
     evaluated here in double precision."""
     v = view(theta)

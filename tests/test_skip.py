@@ -1,4 +1,4 @@
-"""Issue 11: the classify pass and the trace over its ray list (Settings.skip), Frame.stats."""
+"""The classify pass and the trace over its ray list (Settings.skip), Frame.stats."""
 
 import math
 
@@ -356,7 +356,7 @@ def test_nothing_is_read_back_that_nobody_asked_for(renderer):
     after = renderer.stats
     assert after["readbacks"] == before["readbacks"] + 1
     assert after["readback_bytes"] - before["readback_bytes"] == W * H * 4 * 4
-    # The trace keeps no counters (issue 13): its rays and fetches are summed from rays.sample
+    # The trace keeps no counters: its rays and fetches are summed from rays.sample
     # when one of them is first read, once.
     stats = f.stats
     assert "depth_fetches" in stats and "rays_traced" in stats
@@ -453,7 +453,7 @@ def test_skip_agrees_with_adaptive_and_variance_rays(renderer, scene_name):
     assert thesis_error(on.color, off.color) <= 1e-3
 
 
-# The resolve over the classify pass's resolve list (issue 11): the receiving pixels (own rays:
+# The resolve over the classify pass's resolve list: the receiving pixels (own rays:
 # mirror rays with BRDF weights, or reuse radius 0, at full resolution) or the 16x16 tiles
 # holding one; the classify pass writes the other pixels' reflection (0, or the environment
 # where a reflective surface is rougher than the cutoff).

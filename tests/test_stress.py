@@ -1,4 +1,4 @@
-"""The numerical stress suite (issue 8): property-based over scenes, cameras and settings across
+"""The numerical stress suite: property-based over scenes, cameras and settings across
 each field's documented range (hypothesis), plus named edge cases. Every output must be finite,
 every hit must lie on the surface it claims, and results must not depend on the parity of the
 image size.
@@ -190,16 +190,16 @@ def any_settings(draw, **fixed):
         if kw["fade_distance_start"] >= 1e7:
             kw["fade_distance_start"] = 5e6
         kw["fade_distance_end"] = min(1e7, 2 * kw["fade_distance_start"])
-    # method / fallback "bvh" and "probes" hand their radiance to the resolve (issue 12).
+    # method / fallback "bvh" and "probes" hand their radiance to the resolve.
     if kw["glossy"] != "stochastic" or kw["temporal_ray_reuse"]:
         kw["method"] = "linear" if kw["method"] == "bvh" else kw["method"]
         kw["fallback"] = "environment" if kw["fallback"] in ("bvh", "probes") else kw["fallback"]
-    # variance_rays adds the rays adaptive_rays left out to the screen-space stochastic rays (issue 11).
+    # variance_rays adds the rays adaptive_rays left out to the screen-space stochastic rays.
     if kw["variance_rays"]:
         kw["adaptive_rays"] = True
         if kw["method"] not in ("linear", "hiz") or kw["glossy"] != "stochastic":
             kw["variance_rays"] = False
-    # SVGF accumulates its own history (issue 12).
+    # SVGF accumulates its own history.
     if kw["denoise"] == "svgf" and "temporal_reflections" not in fixed:
         kw["temporal_reflections"] = False
     # A probe capture traces 6 * probe_size^2 rays per probe on the CPU here: kept small.

@@ -1,4 +1,4 @@
-"""The SVGF denoiser of the reflection (issue 12; seed 003; Schied et al. 2017)."""
+"""The SVGF denoiser of the reflection (seed 003; Schied et al. 2017)."""
 
 import numpy as np
 import pytest
@@ -32,7 +32,7 @@ def glossy():
 
 
 def test_one_ray_with_svgf_over_8_frames_beats_four_rays_without(renderer, glossy):
-    """Issue 12's "done": 1-ray glossy reflections (roughness 0.2, static camera, 8 frames) with
+    """1-ray glossy reflections (roughness 0.2, static camera, 8 frames) with
     the denoiser score a lower error against the converged reference than 4-ray reflections
     without it. One ray per pixel as seed 003 traces them: no neighbour-ray reuse in the resolve
     (reuse_radius=0) for either."""

@@ -1,4 +1,4 @@
-"""Frames in time (issue 10): sequences, reprojection, temporal accumulation of reflections."""
+"""Frames in time: sequences, reprojection, temporal accumulation of reflections."""
 
 import numpy as np
 import pytest

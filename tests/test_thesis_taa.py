@@ -1,4 +1,4 @@
-"""The thesis's experiments with its TAA on (issue 10): a sweep can time and score the frames of one
+"""The thesis's experiments with its TAA on: a sweep can time and score the frames of one
 running sequence (bench.sweep(sequence=True)), and ssrlab.experiments passes its `taa` through."""
 
 import numpy as np

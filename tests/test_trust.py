@@ -1,4 +1,4 @@
-"""Numbers a researcher can trust at first contact (issue 7): glTF materials reflect as their
+"""Numbers a researcher can trust at first contact: glTF materials reflect as their
 metallic-roughness parameters say, the pbr composite carries the GGX directional albedo, the
 converged reference is exact (robust origins, traced shadows), and timings never include
 compilation or first-use costs."""
