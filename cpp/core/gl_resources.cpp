@@ -189,6 +189,7 @@ std::string format_name(GLenum f) {
     switch (f) {
         case GL_R8: return "R8";
         case GL_R32F: return "R32F";
+        case GL_R32UI: return "R32UI";
         case GL_RG32F: return "RG32F";
         case GL_RGBA8: return "RGBA8";
         case GL_SRGB8_ALPHA8: return "SRGB8_ALPHA8";

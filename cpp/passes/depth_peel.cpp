@@ -30,10 +30,7 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s, const 
     return out;
 }
 
-namespace {
-// Back faces culled as Settings.backface_culling says (counter-clockwise fronts, as glTF), for
-// peeling and the lists' one geometry pass alike.
-void apply_culling(const RenderSettings& s) {
+void apply_peel_culling(const RenderSettings& s) {
     if (s.backface_culling) {
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
@@ -43,9 +40,6 @@ void apply_culling(const RenderSettings& s) {
     }
 }
 
-// Settings.min_separation (Mara et al. 2016) for the peel test and the selection alike
-// (shaders/lib/layer_separation.glsl): 0 compiles the plain "strictly behind" test, so the
-// default builds exactly the layers it built before the setting existed.
 void set_min_separation(const RenderSettings& s, Defines& defines) {
     if (s.min_separation > 0.0f) defines["MIN_SEPARATION"] = "1";
 }
@@ -54,8 +48,6 @@ void set_min_separation(const RenderSettings& s, GLuint program) {
     if (s.min_separation > 0.0f)
         glProgramUniform1f(program, glGetUniformLocation(program, "u_min_separation"), s.min_separation);
 }
-
-}  // namespace
 
 std::map<int, GLuint> DepthPeelPass::shading_programs(FrameContext& ctx, const Defines& base) const {
     std::map<int, GLuint> programs;
@@ -92,32 +84,39 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     }
 }
 
-// The covered-tile flags both constructions set (shaders/lib/covered_tiles.glsl), cleared, with
-// the header the lighting pass's compaction counts into; and one samples query per layer.
-void DepthPeelPass::prepare_tiles(FrameContext& ctx) {
+// The covered-tile flags every construction sets (shaders/lib/covered_tiles.glsl), cleared, with
+// the header the lighting pass's compaction counts into.
+void DepthPeelPass::prepare_covered_tiles(FrameContext& ctx, Buffer& tiles_buffer) {
     const RenderSettings& s = ctx.settings;
     const int tiles = covered_tiles_per_layer(s) * s.layers;
     // Flags and list per layer, then layer 0's reflective regions: dispatch arguments, flags, list.
     const size_t regions = size_t(classify_regions(s));
     const size_t tile_bytes = sizeof(GLuint) * (4 + 2 * size_t(tiles) + 4 + 2 * regions);
-    if (tiles_.size() < tile_bytes) tiles_ = Buffer::create(tile_bytes);
+    if (tiles_buffer.size() < tile_bytes) tiles_buffer = Buffer::create(tile_bytes);
     const GLuint header[4] = {0, 1, 1, 0};
-    tiles_.upload(header, sizeof(header));
+    tiles_buffer.upload(header, sizeof(header));
     const GLuint zero_flag = 0;
-    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, sizeof(header), sizeof(GLuint) * size_t(tiles), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &zero_flag);
+    glClearNamedBufferSubData(tiles_buffer.id(), GL_R32UI, sizeof(header), sizeof(GLuint) * size_t(tiles),
+                              GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_flag);
     const GLuint region_header[4] = {0, 1, 1, 0};  // no region listed yet; a 1 x 1 dispatch layer
-    glNamedBufferSubData(tiles_.id(), GLintptr(classify_regions_offset(s)), sizeof(region_header), region_header);
-    glClearNamedBufferSubData(tiles_.id(), GL_R32UI, GLintptr(classify_regions_offset(s) + sizeof(region_header)),
-                              sizeof(GLuint) * regions, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_flag);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoveredTilesBinding, tiles_.id());
-    ctx.buffers.publish("covered_tiles", FrameBuffer{&tiles_, kCoveredTilesBinding});
-    while (int(queries_.size()) < s.layers) {
+    glNamedBufferSubData(tiles_buffer.id(), GLintptr(classify_regions_offset(s)), sizeof(region_header),
+                         region_header);
+    glClearNamedBufferSubData(tiles_buffer.id(), GL_R32UI,
+                              GLintptr(classify_regions_offset(s) + sizeof(region_header)), sizeof(GLuint) * regions,
+                              GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_flag);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoveredTilesBinding, tiles_buffer.id());
+    ctx.buffers.publish("covered_tiles", FrameBuffer{&tiles_buffer, kCoveredTilesBinding});
+}
+
+// The covered tiles, and one samples query per layer.
+void DepthPeelPass::prepare_tiles(FrameContext& ctx) {
+    prepare_covered_tiles(ctx, tiles_);
+    while (int(queries_.size()) < ctx.settings.layers) {
         GLuint q = 0;
         glGenQueries(1, &q);
         queries_.push_back(q);
     }
-    used_queries_ = s.layers;
+    used_queries_ = ctx.settings.layers;
 }
 
 void DepthPeelPass::peel(FrameContext& ctx) {
@@ -172,7 +171,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     glDisable(GL_BLEND);
     // gbuffer.albedo is sRGB storage: encode on write (and texel fetches decode on read).
     glEnable(GL_FRAMEBUFFER_SRGB);
-    apply_culling(s);
+    apply_peel_culling(s);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);  // the clears below obey the write masks
     ctx.gpu_scene.bind_geometry();
     glBindTextureUnit(3, previous.id());
@@ -470,7 +469,7 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_BLEND);
-    apply_culling(s);
+    apply_peel_culling(s);
     ctx.gpu_scene.bind_geometry();
     const auto& draws = ctx.gpu_scene.draws();
     GLuint current = 0;

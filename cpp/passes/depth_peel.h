@@ -42,10 +42,21 @@
 
 namespace ssr {
 
+// Back faces culled as Settings.backface_culling says (counter-clockwise fronts, as glTF), for
+// every construction of the deep G-buffer alike.
+void apply_peel_culling(const RenderSettings& s);
+// Settings.min_separation (Mara et al. 2016) for the peel test and the lists' selections alike
+// (shaders/lib/layer_separation.glsl): 0 compiles the plain "strictly behind" test, so the
+// default builds exactly the layers it built before the setting existed.
+void set_min_separation(const RenderSettings& s, Defines& defines);
+void set_min_separation(const RenderSettings& s, GLuint program);
+
 class DepthPeelPass : public RenderPass {
 public:
     std::string name() const override { return "depth_peel"; }
-    bool runs(const RenderSettings& s, const FrameFacts& f) const override { return true; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        return !visibility_construction(s.deep_gbuffer);
+    }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     // gbuffer.emission and gbuffer.specular: the lighting pass has no texture coordinates, so a
@@ -98,6 +109,10 @@ public:
     // The covered-tile buffer ("covered_tiles", shaders/lib/covered_tiles.glsl), bound as SSBO
     // kCoveredTilesBinding: flags and a list of tiles per layer, then layer 0's regions.
     static constexpr GLuint kCoveredTilesBinding = 14;
+    // Sizes the covered-tile buffer `tiles` for the frame, clears its flags and lists, binds it as
+    // kCoveredTilesBinding and publishes it as "covered_tiles" (every construction of the deep
+    // G-buffer marks the same tiles in it).
+    static void prepare_covered_tiles(FrameContext& ctx, Buffer& tiles);
     static int covered_tiles_per_layer(const RenderSettings& s) { return ((s.width + 7) / 8) * ((s.height + 7) / 8); }
     // Layer 0's reflective 32x32 regions, listed for the classify pass's indirect
     // dispatch: their count and the byte offset of the dispatch arguments in the buffer.

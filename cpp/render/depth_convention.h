@@ -30,6 +30,8 @@ struct DepthConvention {
     glm::mat4 projection(float fov_y_radians, float aspect, float near_plane, float far_plane) const;
     float clear_depth() const { return mode == DepthMode::Standard ? 1.0f : 0.0f; }
     GLenum compare() const { return mode == DepthMode::Standard ? GL_LESS : GL_GREATER; }
+    // The same test passing equal depths too: a later fragment at the kept depth replaces it.
+    GLenum compare_or_equal() const { return mode == DepthMode::Standard ? GL_LEQUAL : GL_GEQUAL; }
     // Applies clip control, depth function and clear value to the GL state.
     void apply_gl_state() const;
     // Shader defines for shaders/lib/depth_convention.glsl.

@@ -180,6 +180,10 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, bvh_triangles_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, image_texels_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, image_info_.id());
+    bind_vertex_data();
+}
+
+void GpuScene::bind_vertex_data() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, vertices_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, indices_.id());
 }

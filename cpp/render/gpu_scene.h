@@ -73,6 +73,9 @@ public:
     // image texels and their layout, vertex and index data), building the BVH and the texel
     // buffer on first use: frames that trace no reference never pay for them.
     void bind_ray_tracing(const Scene& scene);
+    // Binds the vertex and index data alone (storage buffers 9 and 10, lib/scene_geometry.glsl),
+    // for passes that read triangles without the BVH (the visibility buffer's attribute pass).
+    void bind_vertex_data() const;
     int bvh_depth() const { return bvh_depth_; }
     // The same triangles (bind_ray_tracing's BVH order) in an Embree scene, for tracing the
     // reference's rays on the CPU (built on first use; needs bind_ray_tracing first).
@@ -89,6 +92,12 @@ public:
     bool has_emissive_texture() const { return emissive_texture_; }
 
     const std::vector<DrawItem>& draws() const { return draws_; }
+    // The scene's buffers (GpuVertex, uint32 indices, GpuObject, GpuMaterial), for passes that read
+    // them through views of their own (image buffers).
+    const Buffer& vertex_buffer() const { return vertices_; }
+    const Buffer& index_buffer() const { return indices_; }
+    const Buffer& object_buffer() const { return objects_; }
+    const Buffer& material_buffer() const { return materials_; }
     // What a material's G-buffer shading needs beyond its factors (the peeling compiles a variant
     // per combination): bit k (k < 6) it has texture slot k (base colour, metallic-roughness,
     // normal, emissive, specular, specular colour: kTextureFeatures), kAutoReflectivityFeature

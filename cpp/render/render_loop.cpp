@@ -124,6 +124,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         timer_.begin_frame();
         frame->passes.clear();
         fc.layers_used = -1;
+        fc.layers_filled = -1;
         fc.buffers.clear();
         for (RenderPass* p : chain) {
             try {
@@ -151,9 +152,15 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     }
     frame->timings = timer_.resolve();
     // The deep G-buffer's construction, whatever built it (Settings.deep_gbuffer): the depth_peel
-    // pass's time; its parts are depth_peel.layer<i> (peeling) or deep_gbuffer.<part> (lists).
-    frame->timings["deep_gbuffer"] = frame->timings["depth_peel"];
-    frame->layer_samples = depth_peel_.layer_samples();
+    // pass's time (its parts: depth_peel.layer<i> peeling, deep_gbuffer.<part> lists), or the
+    // visibility buffer's and its attribute pass's together.
+    if (visibility_construction(s.deep_gbuffer)) {
+        frame->timings["deep_gbuffer"] = frame->timings["visibility_buffer"] + frame->timings["gbuffer_attributes"];
+        frame->layer_samples = gbuffer_attributes_.layer_samples();
+    } else {
+        frame->timings["deep_gbuffer"] = frame->timings["depth_peel"];
+        frame->layer_samples = depth_peel_.layer_samples();
+    }
     for (const RenderPass* p : chain) p->report(s, frame->stats);
     frame->stats["passes_run"] = double(chain.size());
     // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):

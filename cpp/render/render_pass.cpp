@@ -11,7 +11,7 @@ size_t texture_bytes(const ResourceDesc& d) {
     size_t texel = 16;
     switch (d.format) {
         case GL_R8: texel = 1; break;
-        case GL_R32F: case GL_DEPTH_COMPONENT32F: case GL_RGBA8: case GL_SRGB8_ALPHA8: case GL_RG16F: texel = 4; break;
+        case GL_R32F: case GL_R32UI: case GL_DEPTH_COMPONENT32F: case GL_RGBA8: case GL_SRGB8_ALPHA8: case GL_RG16F: texel = 4; break;
         case GL_RG32F: case GL_RGBA16F: texel = 8; break;
         default: texel = 16; break;  // RGBA32F and anything wider: an upper bound
     }

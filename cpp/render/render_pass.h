@@ -145,6 +145,9 @@ struct FrameContext {
     // set by the renderer after the peeling with Settings.skip; -1 (skip off, or before the
     // peeling): every allocated layer. The per-layer passes work on these layers only.
     int layers_used = -1;
+    // The G-buffer layers the construction filled, as far as it knows them without waiting for the
+    // GPU (its geometry pass sets it; the layers after them are empty); -1: unknown, every layer.
+    int layers_filled = -1;
     // Clears of float and RGBA8 textures by image stores instead of glClearTexSubImage and
     // framebuffer clears (Renderer.clear_path; on by default on a GPU: passes/compute.h).
     bool clear_by_compute = false;

@@ -250,6 +250,8 @@ void Renderer::destroy_gl_objects() {
     shaders_->release();
     shadow_map_.release();
     depth_peel_.release();
+    visibility_buffer_.release();
+    gbuffer_attributes_.release();
     fallback_probes_.release();
     for (auto& u : user_passes_) u->release();
 }

@@ -20,6 +20,7 @@
 #include "passes/cone_trace.h"
 #include "passes/depth_peel.h"
 #include "passes/fallback_probes.h"
+#include "passes/gbuffer_attributes.h"
 #include "passes/classify.h"
 #include "passes/hiz_build.h"
 #include "passes/lighting.h"
@@ -40,6 +41,7 @@
 #include "passes/trace_linear.h"
 #include "passes/user_pass.h"
 #include "passes/variance_rays.h"
+#include "passes/visibility_buffer.h"
 #include "render/frame.h"
 #include "render/gpu_scene.h"
 #include "render/sequence.h"
@@ -214,6 +216,9 @@ private:
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;
+    // The visibility constructions of the same layers (Settings.deep_gbuffer "visibility*").
+    VisibilityBufferPass visibility_buffer_;
+    GBufferAttributesPass gbuffer_attributes_;
     LightingPass lighting_;  // with or without the shadow map: FrameFacts.shadows
     HizBuildPass hiz_build_;
     ClassifyPass classify_;
@@ -248,7 +253,7 @@ private:
     // Every pass, in the order the papers run them (declared inputs after the outputs they read):
     // a frame's chain is the ones that run. Adding a pass: its member above and its place here.
     const std::vector<RenderPass*> passes_{
-        &shadow_map_, &depth_peel_, &lighting_, &reproject_, &hiz_build_, &preconvolve_, &preintegrate_, &trace_bvh_,
+        &shadow_map_, &depth_peel_, &visibility_buffer_, &gbuffer_attributes_, &lighting_, &reproject_, &hiz_build_, &preconvolve_, &preintegrate_, &trace_bvh_,
         &classify_, &trace_hiz_, &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_,
         &fallback_bvh_, &fallback_probes_, &specular_occlusion_, &cone_trace_, &blur_mips_, &resolve_fetch_,
         &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_, &composite_, &taa_};

@@ -44,7 +44,9 @@ const std::vector<std::pair<BvhShadows, std::string>>& names() {
 template <>
 const std::vector<std::pair<DeepGBuffer, std::string>>& names() {
     static const std::vector<std::pair<DeepGBuffer, std::string>> n = {{DeepGBuffer::Peel, "peel"},
-                                                                       {DeepGBuffer::Lists, "lists"}};
+                                                                       {DeepGBuffer::Lists, "lists"},
+                                                                       {DeepGBuffer::Visibility, "visibility"},
+                                                                       {DeepGBuffer::VisibilityLists, "visibility_lists"}};
     return n;
 }
 template <>

@@ -33,9 +33,15 @@ enum class ConeRemainder { Hit, Environment };
 enum class SpecularOcclusion { Off, Horizon, Exit };
 // Denoiser of the resolved reflection (seed 003): none, or SVGF (Schied et al. 2017).
 enum class Denoise { None, Svgf };
-// How the layered G-buffer is built: depth peeling (one geometry pass per layer) or per-pixel
-// fragment lists (one geometry pass, then a selection; Yang et al. 2010). Python resolves "auto".
-enum class DeepGBuffer { Peel, Lists };
+// How the layered G-buffer is built: depth peeling (one geometry pass per layer), per-pixel
+// fragment lists (one geometry pass, then a selection; Yang et al. 2010), or either of the two
+// rasterising visibility only (depth and a triangle id; Burns and Hunt 2013) with every attribute
+// rebuilt by a compute pass (passes/visibility_buffer.h, gbuffer_attributes.h). Python resolves "auto".
+enum class DeepGBuffer { Peel, Lists, Visibility, VisibilityLists };
+// Whether `d` rasterises visibility only (the visibility_buffer and gbuffer_attributes passes).
+inline bool visibility_construction(DeepGBuffer d) {
+    return d == DeepGBuffer::Visibility || d == DeepGBuffer::VisibilityLists;
+}
 
 // Names <-> values, for Python and for error messages.
 template <typename E> E parse_enum(const std::string& field, const std::string& name);

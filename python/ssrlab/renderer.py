@@ -31,6 +31,19 @@ from ._package import shader_dir  # noqa: E402  (re-exported: ssrlab.shader_dir)
 
 
 DEVICE_ENV = "SSRLAB_DEVICE"
+# The exact constructions of the deep G-buffer (Settings.deep_gbuffer) that 'auto' measures.
+DEEP_GBUFFER_CONSTRUCTIONS = ("peel", "lists", "visibility", "visibility_lists")
+
+
+def choose_deep_gbuffer(measured: dict[str, dict[str, float]]) -> str:
+    """The construction 'auto' takes from its measurements ({method: {median, min, max}}): the
+    smallest median, unless its [min, max] overlaps peeling's, the reference's (a difference within
+    the spread decides nothing)."""
+    best = min(measured, key=lambda m: measured[m]["median"])
+    peel = measured.get("peel")
+    if best != "peel" and peel is not None and measured[best]["max"] >= peel["min"]:
+        return "peel"
+    return best
 
 
 def check_device(device, name: str = "Renderer.device") -> str:
@@ -87,7 +100,7 @@ class Renderer:
         self._frames: "weakref.WeakSet[Frame]" = weakref.WeakSet()
         # Settings.deep_gbuffer 'auto': the method measured faster, per scene, size and layers.
         self._deep_gbuffer_auto: dict[tuple, str] = {}
-        self.deep_gbuffer_measurements: dict[tuple, dict[str, float]] = {}
+        self.deep_gbuffer_measurements: dict[tuple, dict[str, dict[str, float]]] = {}
 
     @property
     def live_frames(self) -> list["Frame"]:
@@ -254,17 +267,22 @@ class Renderer:
             del sequence  # the history's textures go with it
 
     def _decide_deep_gbuffer(self, scene, camera, settings: Settings) -> Settings:
-        """Settings.deep_gbuffer 'auto' made 'peel' or 'lists': the exact method that builds this
-        scene's layers faster on this device, measured once per renderer, scene (and revision),
-        image size, layer count, culling, depth mode and minimum separation: the G-buffer alone (no shadow map, no
-        reflections) is built 3 times with each method after a warm-up render, and the smaller
-        median of Frame.timings['deep_gbuffer'] wins (recorded in deep_gbuffer_measurements).
-        One layer is always peeled: a single geometry pass is what the lists' append is, and the
-        lists add their selection and write (benchmarks/deep_gbuffer.py: 2-5x slower at one layer
-        on every benchmark scene)."""
+        """Settings.deep_gbuffer 'auto' made one exact construction: the one that builds this
+        scene's layers fastest on this device, measured once per renderer, scene (and revision),
+        image size, layer count, culling, depth mode and minimum separation: the G-buffer alone
+        (no shadow map, no reflections) is built 3 times with each after a warm-up render
+        (recorded in deep_gbuffer_measurements: median, min and max GPU ms). The smallest median
+        wins, unless its range overlaps peeling's: a difference within the measurement's own spread
+        decides nothing, and peeling, the reference construction, is kept. The constructions keep
+        the same layers, depths and object ids bit for bit; the visibility ones' attributes differ
+        from peeling's within the tolerance docs/deep_gbuffer.md states, so a script that needs
+        bit-identical reruns names its construction. One layer compares 'peel' and 'visibility'
+        only (the lists' one geometry pass is what one layer is already, plus a selection), and on
+        the CPU device peels without measuring: there the visibility buffer's compute pass costs
+        what peeling's shading pass does (benchmarks/deep_gbuffer.py), within noise of it."""
         if settings.deep_gbuffer != "auto":
             return settings
-        if settings.layers == 1:
+        if settings.layers == 1 and self.info["device"] == "cpu":
             return settings.replace(deep_gbuffer="peel")
         key = (id(scene), scene.revision, settings.width, settings.height, settings.layers,
                settings.backface_culling, settings.depth_mode, settings.min_separation)
@@ -274,19 +292,20 @@ class Renderer:
                             backface_culling=settings.backface_culling, depth_mode=settings.depth_mode,
                             min_separation=settings.min_separation, method="off", shadow_map_size=0)
             try:
-                medians = self._measure_deep_gbuffer(scene, camera, base)
+                measured = self._measure_deep_gbuffer(scene, camera, base)
             except ValueError:
                 # Settings this device refuses (a frame beyond its memory, ...): the render
                 # itself raises its own error, naming the settings as given.
                 return settings.replace(deep_gbuffer="peel")
-            self.deep_gbuffer_measurements[key] = medians
-            self._deep_gbuffer_auto[key] = "lists" if medians["lists"] < medians["peel"] else "peel"
+            self.deep_gbuffer_measurements[key] = measured
+            self._deep_gbuffer_auto[key] = choose_deep_gbuffer(measured)
         return settings.replace(deep_gbuffer=self._deep_gbuffer_auto[key])
 
-    def _measure_deep_gbuffer(self, scene, camera, base: Settings) -> dict[str, float]:
-        """Median GPU milliseconds of the G-buffer's construction with each exact method."""
-        medians = {}
-        for method in ("peel", "lists"):
+    def _measure_deep_gbuffer(self, scene, camera, base: Settings) -> dict[str, dict[str, float]]:
+        """GPU milliseconds of the G-buffer's construction with each exact method: median, min, max."""
+        measured = {}
+        methods = DEEP_GBUFFER_CONSTRUCTIONS if base.layers > 1 else ("peel", "visibility")
+        for method in methods:
             s = base.replace(deep_gbuffer=method).resolved(self.info["device"])
             times = []
             for run in range(4):
@@ -294,13 +313,13 @@ class Renderer:
                 if run > 0:  # the first render compiles and sizes the lists' store
                     times.append(f.timings["deep_gbuffer"])
                 # A frame that fell back to peeling is no measurement of the lists.
-                if method == "lists" and f.stats.get("deep_gbuffer_method") != "lists":
+                if method.endswith("lists") and f.stats.get("deep_gbuffer_method") != method:
                     times = [float("inf")]
                     f.release()
                     break
                 f.release()
-            medians[method] = float(np.median(times))
-        return medians
+            measured[method] = {"median": float(np.median(times)), "min": float(min(times)), "max": float(max(times))}
+        return measured
 
     def prepare(self, settings: Settings | None = None, scene=None, camera=None) -> None:
         """Compiles and warms up every program the frame chain of `settings` uses, so that the
@@ -548,8 +567,9 @@ class Frame:
         estimated visibility is below 1/2). rays_traced and depth_fetches are summed from
         rays.sample (its weight and fetch channels, less the second trace's extra_*) when one of
         them is first read (a read-back; the trace keeps no counter): read them before
-        Frame.release(). With Settings.deep_gbuffer 'lists': deep_gbuffer_method (how the layers
-        were built: 'lists', or 'peel' where the lists fell back), deep_gbuffer_fragments (the frame's fragments),
+        Frame.release(). With Settings.deep_gbuffer 'lists' (or 'visibility_lists'):
+        deep_gbuffer_method (how the layers were built: 'lists' ('visibility_lists'), or 'peel'
+        ('visibility') where the lists fell back), deep_gbuffer_fragments (the frame's fragments),
         deep_gbuffer_bytes (the lists' buffers), deep_gbuffer_redone (1: the fragment store was
         too small and the geometry pass ran again with one that fits) and deep_gbuffer_fell_back (1:
         the fragments exceeded Settings.deep_gbuffer_budget and the layers were peeled)."""
@@ -557,7 +577,11 @@ class Frame:
         # How the deep G-buffer was built (Settings.deep_gbuffer): 'lists' or 'peel' (also where
         # 'lists' fell back to peeling: deep_gbuffer_fell_back 1).
         if "deep_gbuffer_lists" in counts:
-            counts["deep_gbuffer_method"] = "lists" if counts.pop("deep_gbuffer_lists") else "peel"
+            lists = counts.pop("deep_gbuffer_lists")
+            if self.settings.deep_gbuffer == "visibility_lists":
+                counts["deep_gbuffer_method"] = "visibility_lists" if lists else "visibility"
+            else:
+                counts["deep_gbuffer_method"] = "lists" if lists else "peel"
         from .user_pass import declared
 
         user_traces = {n for n, p in declared().items() if p.stage == "trace"}

@@ -35,3 +35,17 @@ uint classify_regions_base(int layers) {
     ivec2 grid = covered_tile_grid();
     return uint(2 * layers * grid.x * grid.y);
 }
+
+// Flags the 32x32 region of layer-0 pixel `pixel` as holding a reflective surface: the first
+// invocation to flag it lists it for the classify pass (the plain read spares the atomic once the
+// region is flagged).
+void flag_reflective_region(ivec2 pixel) {
+    uint base = classify_regions_base(int(frame.clip.z));
+    ivec2 regions = classify_region_grid();
+    ivec2 region = pixel / CLASSIFY_REGION_SIZE;
+    uint i = uint(region.y * regions.x + region.x);
+    if (covered_tile[base + 4u + i] == 0u && atomicExchange(covered_tile[base + 4u + i], 1u) == 0u) {
+        uint n = atomicAdd(covered_tile[base], 1u);
+        covered_tile[base + 4u + uint(regions.x * regions.y) + n] = i;
+    }
+}

@@ -28,10 +28,6 @@
 #ifndef MATERIAL_TEXTURES
 #define MATERIAL_TEXTURES 63
 #endif
-#define MATERIAL_HAS(k) ((MATERIAL_TEXTURES & (1 << (k))) != 0)
-#ifndef MATERIAL_AUTO_R
-#define MATERIAL_AUTO_R 1
-#endif
 // The one-pass deep G-buffer (per-pixel fragment lists, Yang et al. 2010): DEEP_GBUFFER_APPEND 1
 // runs this same shading code for every fragment, without a depth test, and appends the encoded
 // outputs to the pixel's list (lib/fragment_lists.glsl) instead of writing them; the selection
@@ -140,74 +136,32 @@ layout(location = 3 + EMISSION_TEXTURE) out vec4 o_specular;
 #endif
 #endif
 
+#include "../lib/gbuffer_shading.glsl"
+
 void main() {
-    MaterialData m = materials[objects[u_object].material.x];
-    vec3 n = normalize(fs.view_normal);
-    vec3 t = vec3(0.0), b = vec3(0.0);
-    bool has_frame = false;
+    GBufferSurface surface;
+    surface.view_position = fs.view_position;
+    surface.view_normal = fs.view_normal;
+    surface.uv = fs.uv;
+    surface.view_tangent = fs.view_tangent;
+    surface.color = fs.color;
 #if MATERIAL_TEXTURES
-    // Each texture at its own coordinates (KHR_texture_transform; the identity without it).
-    vec4 duv_dx = dFdx(fs.uv), duv_dy = dFdy(fs.uv);
-    // Texture k's texel, or white where the material has none (a constant condition: folded).
-#define MATERIAL_TEXEL(tex, k) (MATERIAL_HAS(k) ? sample_material_texture(tex, m, k, fs.uv, duv_dx, duv_dy) : vec4(1.0))
-    if (MATERIAL_HAS(2) && m.flags.z != 0) {
-        // The normal texture's coordinates' derivatives: the transform's linear part of the
-        // surface's (texture_uv of a derivative minus texture_uv of 0 drops the offset).
-        vec2 n_dx = texture_uv(m, 2, duv_dx) - texture_uv(m, 2, vec4(0.0));
-        vec2 n_dy = texture_uv(m, 2, duv_dy) - texture_uv(m, 2, vec4(0.0));
-        has_frame = tangent_frame_from_vertex(n, fs.view_tangent, texture_linear(m, 2), t, b) ||
-                    tangent_frame_from_gradients(n, dFdx(fs.view_position), dFdy(fs.view_position), n_dx, n_dy, t, b);
-    }
-    vec4 base_texel = MATERIAL_TEXEL(u_base_color_texture, 0);
+    surface.duv_dx = dFdx(fs.uv);
+    surface.duv_dy = dFdy(fs.uv);
+    surface.dpos_dx = dFdx(fs.view_position);
+    surface.dpos_dy = dFdy(fs.view_position);
+#else
+    surface.duv_dx = surface.duv_dy = vec4(0.0);
+    surface.dpos_dx = surface.dpos_dy = vec3(0.0);
+#endif
+    surface.front_facing = gl_FrontFacing;
+    surface.object = u_object;
+    GBufferTexel texel = gbuffer_shade(surface, materials[objects[u_object].material.x]);
     // A hole of an alpha-tested material: the lists must not append it (peeling's depth pass
     // already discarded it, so here it only guards against a coplanar surface's equal depth).
-    if (material_alpha_hole(m, base_texel, fs.color.a)) discard;
-    GSample g = material_sample(m, base_texel, MATERIAL_TEXEL(u_metallic_roughness_texture, 1),
-                                MATERIAL_TEXEL(u_normal_texture, 2).xyz, n, t, b,
-                                has_frame, gl_FrontFacing, u_object);
-#if EMISSION_TEXTURE
-    vec3 emission = material_emission(m, MATERIAL_TEXEL(u_emissive_texture, 3));
-#endif
-#if SPECULAR_TEXTURE
-    vec3 dielectric_f0 = material_dielectric_f0(m, MATERIAL_TEXEL(u_specular_texture, 4),
-                                                MATERIAL_TEXEL(u_specular_color_texture, 5));
-#endif
-#else
-    if (material_alpha_hole(m, vec4(1.0), fs.color.a)) discard;
-    // No texture: material_sample ignores the texel values (its flags are 0).
-    GSample g = material_sample(m, vec4(1.0), vec4(1.0), vec3(0.5, 0.5, 1.0), n, t, b, false, gl_FrontFacing, u_object);
-#if EMISSION_TEXTURE
-    vec3 emission = material_emission(m, vec4(1.0));
-#endif
-#if SPECULAR_TEXTURE
-    vec3 dielectric_f0 = m.dielectric_f0.rgb;
-#endif
-#endif
-    // glTF COLOR_0 multiplies the base colour (a factor of 1 without vertex colours: exact).
-    g.albedo *= fs.color.rgb;
-#if EMISSION_TEXTURE
-    vec4 emission_out = vec4(emission, 1.0);
-#else
-    vec4 emission_out = vec4(0.0);
-#endif
-#if SPECULAR_TEXTURE
-    vec4 specular_out = vec4(dielectric_f0, 1.0);
-#else
-    vec4 specular_out = vec4(0.0);
-#endif
-#if MATERIAL_AUTO_R
-    if (m.params.z < 0.0) {
-        // A material without the thesis's explicit r (glTF files from other tools): it reflects
-        // the share of light its GGX lobe does at this view angle, E = F0 A + B.
-        float NoV = max(dot(g.normal, normalize(-fs.view_position)), 0.0);
-        vec2 ab = texture(u_specular_albedo, specular_albedo_uv(NoV, g.roughness)).rg;
-#if SPECULAR_TEXTURE
-        g.reflectivity = specular_reflectivity(mix(dielectric_f0, g.albedo, g.metallic), ab);
-#else
-        g.reflectivity = specular_reflectivity(surface_f0(g.object_id, g.albedo, g.metallic), ab);
-#endif
-    }
-#endif
+    if (texel.hole) discard;
+    GSample g = texel.g;
+    vec4 emission_out = texel.emission, specular_out = texel.specular;
 #if DEEP_GBUFFER_APPEND
     vec4 albedo_metallic, normal_roughness, material;
     gbuffer_encode(g, albedo_metallic, normal_roughness, material);
@@ -225,18 +179,7 @@ void main() {
     ivec2 grid = covered_tile_grid();
     ivec2 tile = ivec2(gl_FragCoord.xy) / COVERED_TILE_SIZE;
     covered_tile[(u_layer * grid.y + tile.y) * grid.x + tile.x] = 1u;
-    if (u_layer == 0 && g.reflectivity > 0.0) {
-        // Its 32x32 region holds a reflective surface: the first fragment to flag it lists it
-        // for the classify pass (the plain read spares the atomic once the region is flagged).
-        uint base = classify_regions_base(int(frame.clip.z));
-        ivec2 regions = classify_region_grid();
-        ivec2 region = ivec2(gl_FragCoord.xy) / CLASSIFY_REGION_SIZE;
-        uint i = uint(region.y * regions.x + region.x);
-        if (covered_tile[base + 4u + i] == 0u && atomicExchange(covered_tile[base + 4u + i], 1u) == 0u) {
-            uint n = atomicAdd(covered_tile[base], 1u);
-            covered_tile[base + 4u + uint(regions.x * regions.y) + n] = i;
-        }
-    }
+    if (u_layer == 0 && g.reflectivity > 0.0) flag_reflective_region(ivec2(gl_FragCoord.xy));
 #endif
 }
 #endif

@@ -1,0 +1,284 @@
+#include "passes/gbuffer_attributes.h"
+
+#include <algorithm>
+#include <limits>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "passes/compute.h"
+#include "passes/depth_peel.h"
+#include "passes/visibility_buffer.h"
+
+namespace ssr {
+
+namespace {
+// Storage-buffer bindings of passes/gbuffer_attributes.comp.
+constexpr GLuint kBinsBinding = 26, kBinnedBinding = 27, kSortedBinding = 28, kTileListBinding = 30;
+// Its AttributeBins header: stage 2's dispatch (uvec4), then 16 layers' sample counts; then a
+// MaterialBin (two uvec4) per material.
+constexpr size_t kBinsHeaderBytes = 16 + 16 * sizeof(GLuint), kBinBytes = 32;
+constexpr int kMaxLayers = 16;
+// The texture units the shader reads gbuffer.depth and gbuffer.visibility from (units 0-6 hold a
+// material's textures, 13 the specular-albedo table).
+constexpr GLuint kDepthUnit = 7, kVisibilityUnit = 8;
+// With FETCH_BY_IMAGE: the image units of the scene's vertex, index, object and material data and
+// of gbuffer.visibility (after the outputs' 0-4).
+constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialImage = 8, kVisibilityImage = 9;
+
+// A buffer texture over `buffer` read as `format` (an image buffer); deleted with the object.
+struct BufferView {
+    GLuint id = 0;
+    BufferView(const Buffer& buffer, GLenum format) {
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &id);
+        glTextureBuffer(id, format, buffer.id());
+    }
+    ~BufferView() { glDeleteTextures(1, &id); }
+    BufferView(const BufferView&) = delete;
+    BufferView& operator=(const BufferView&) = delete;
+};
+}  // namespace
+
+std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s) const {
+    const int w = s.width, h = s.height, l = s.layers;
+    return {
+        {"gbuffer.albedo", GL_SRGB8_ALPHA8, w, h, l, 1},
+        {"gbuffer.normal", GL_RGBA16F, w, h, l, 1},
+        {"gbuffer.material", GL_RGBA8, w, h, l, 1},
+    };
+}
+
+std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s, const FrameFacts& f) const {
+    std::vector<ResourceDesc> out = outputs(s);
+    // As peeling declares them (DepthPeelPass::outputs): the same textures for the same facts.
+    if (f.emission_texture) out.push_back({"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1});
+    if (f.specular_texture) out.push_back({"gbuffer.specular", GL_RGBA16F, s.width, s.height, s.layers, 1});
+    return out;
+}
+
+void GBufferAttributesPass::execute(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    const GpuScene& gs = ctx.gpu_scene;
+    if (s.layers > kMaxLayers) throw std::invalid_argument("gbuffer_attributes: at most 16 layers");
+    DepthPeelPass::prepare_covered_tiles(ctx, tiles_);
+    layers_ = s.layers;
+    samples_read_ = false;
+    const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+    // The layers holding a sample (the geometry pass says so where it knows without a stall).
+    const int filled = ctx.layers_filled >= 0 ? std::min(ctx.layers_filled, s.layers) : s.layers;
+    if (pixels * uint64_t(std::max(filled, 1)) > uint64_t(std::numeric_limits<GLuint>::max()))
+        throw std::invalid_argument("Settings.deep_gbuffer '" + enum_name(s.deep_gbuffer) +
+                                    "': width x height x layers beyond 2^32 samples");
+
+    // The materials: which have textures (their samples are binned), and whether an untextured one
+    // takes its reflectivity from its lobe (MATERIAL_AUTO_R of the first dispatch).
+    std::set<int> textured;
+    bool auto_untextured = false;
+    for (const DrawItem& d : gs.draws()) {
+        const int kind = gs.material_features(d.material);
+        if (kind & GpuScene::kTextureFeatures) textured.insert(d.material);
+        else if (kind & GpuScene::kAutoReflectivityFeature) auto_untextured = true;
+    }
+    const size_t materials = ctx.scene.materials.size();
+    // On the CPU device the geometry pass marked each layer's covered tiles: layer 0 (mostly
+    // covered) is classified whole and its untextured samples shaded where found, the deeper layers
+    // over their covered tiles only, every sample binned (BIN_ALL; bin `materials` holds the
+    // untextured materials' samples; shaders/passes/gbuffer_attributes.comp says why). A GPU
+    // classifies every layer whole and shades the untextured samples where found.
+    const bool tile_lists = VisibilityBufferPass::marks_tiles(ctx);
+    std::vector<GLuint> deep_tiles;  // layer << 24 | tile, of the layers after the first
+    int filled_tiles = filled;
+    if (tile_lists) {
+        const int per_layer = DepthPeelPass::covered_tiles_per_layer(s);
+        std::vector<GLuint> flags(size_t(per_layer) * size_t(s.layers));
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(ctx.buffers.get("visibility_tiles").data->id(), 0,
+                                GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());
+        filled_tiles = 0;
+        for (int layer = 0; layer < s.layers; ++layer) {
+            bool any = false;
+            for (int i = 0; i < per_layer; ++i)
+                if (flags[size_t(layer) * size_t(per_layer) + size_t(i)]) {
+                    any = true;
+                    if (layer > 0) deep_tiles.push_back(GLuint(layer) << 24 | GLuint(i));
+                }
+            if (any) filled_tiles = layer + 1;
+        }
+    }
+    const bool bin_all = tile_lists && !deep_tiles.empty();
+    const size_t bins_bytes = kBinsHeaderBytes + kBinBytes * (materials + 1);
+    if (bins_.size() < bins_bytes) bins_ = Buffer::create(bins_bytes);
+    const GLuint zero = 0;
+    glClearNamedBufferSubData(bins_.id(), GL_R32UI, 0, GLsizeiptr(bins_bytes), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinsBinding, bins_.id());
+    const bool binning = bin_all || !textured.empty();
+    if (binning) {
+        const uint64_t samples = pixels * uint64_t(std::max(filled, 1));
+        if (binned_.size() < samples * 8) {
+            binned_.reset();
+            sorted_.reset();
+            binned_ = Buffer::create(samples * 8);
+            sorted_ = Buffer::create(samples * 4);
+        }
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinnedBinding, binned_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSortedBinding, sorted_.id());
+    }
+
+    Texture& albedo = ctx.resources.get("gbuffer.albedo");
+    Texture& normal = ctx.resources.get("gbuffer.normal");
+    Texture& material = ctx.resources.get("gbuffer.material");
+    Texture* emission = ctx.facts.emission_texture ? &ctx.resources.get("gbuffer.emission") : nullptr;
+    Texture* specular = ctx.facts.specular_texture ? &ctx.resources.get("gbuffer.specular") : nullptr;
+    // gbuffer.albedo's sRGB storage through an RGBA8 view: image stores take no sRGB format (the
+    // shader encodes). A new view each frame: the pooled texture behind a name may change.
+    GLuint albedo_view = 0;
+    glGenTextures(1, &albedo_view);
+    glTextureView(albedo_view, GL_TEXTURE_2D_ARRAY, albedo.id(), GL_RGBA8, 0, 1, 0, GLuint(s.layers));
+    struct DeleteView {
+        GLuint id;
+        ~DeleteView() { glDeleteTextures(1, &id); }
+    } delete_view{albedo_view};
+    glBindImageTexture(0, albedo_view, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    bind_image_layered(1, normal, GL_WRITE_ONLY);
+    bind_image_layered(2, material, GL_WRITE_ONLY);
+    if (emission) bind_image_layered(3, *emission, GL_WRITE_ONLY);
+    if (specular) bind_image_layered(4, *specular, GL_WRITE_ONLY);
+    glBindTextureUnit(kDepthUnit, ctx.resources.get("gbuffer.depth").id());
+    glBindTextureUnit(kVisibilityUnit, ctx.resources.get("gbuffer.visibility").id());
+    // The scene's data per sample (shaders/passes/gbuffer_attributes.comp): through image buffers on
+    // the device that reads them faster so (FETCH_BY_IMAGE), where they fit its texel-buffer limit.
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    const bool by_image = ctx.fetch_by_image() && gs.vertex_buffer().size() / 4 <= size_t(texels) &&
+                          gs.index_buffer().size() / 4 <= size_t(texels);
+    std::optional<BufferView> vertex_view, index_view, object_view, material_view;
+    if (by_image) {
+        vertex_view.emplace(gs.vertex_buffer(), GL_R32F);
+        index_view.emplace(gs.index_buffer(), GL_R32UI);
+        object_view.emplace(gs.object_buffer(), GL_RGBA32F);
+        material_view.emplace(gs.material_buffer(), GL_RGBA32F);
+        glBindImageTexture(kVertexImage, vertex_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+        glBindImageTexture(kIndexImage, index_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+        glBindImageTexture(kObjectImage, object_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(kMaterialImage, material_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        bind_image_layered(kVisibilityImage, ctx.resources.get("gbuffer.visibility"), GL_READ_ONLY);
+    } else {
+        gs.bind_vertex_data();
+    }
+    const int bits = VisibilityBufferPass::primitive_bits(gs, s.deep_gbuffer);
+
+    Defines base = ctx.defines;
+    base["FETCH_BY_IMAGE"] = by_image ? "1" : "0";
+    base["BIN_ALL"] = bin_all ? "1" : "0";
+    if (ctx.facts.emission_texture) base["EMISSION_TEXTURE"] = "1";
+    if (ctx.facts.specular_texture) base["SPECULAR_TEXTURE"] = "1";
+    auto program = [&](int stage, int kind, bool tile_list = false) {
+        Defines d = base;
+        d["TILE_LIST"] = tile_list ? "1" : "0";
+        d["STORE_EMPTY"] = tile_list ? "0" : "1";
+        if (stage == 0 && !tile_list) d["BIN_ALL"] = "0";
+        d["ATTRIBUTES_STAGE"] = std::to_string(stage);
+        d["MATERIAL_TEXTURES"] = std::to_string(kind & GpuScene::kTextureFeatures);
+        d["MATERIAL_AUTO_R"] = kind & GpuScene::kAutoReflectivityFeature ? "1" : "0";
+        const GLuint prog = ctx.shaders.program({"passes/gbuffer_attributes.comp"}, d);
+        glProgramUniform1i(prog, glGetUniformLocation(prog, "u_primitive_bits"), bits);
+        glProgramUniform1i(prog, glGetUniformLocation(prog, "u_materials"), GLint(materials));
+        return prog;
+    };
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    {
+        GpuScope timer(ctx.timer, "gbuffer_attributes.classify");
+        const float clear[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        if (tile_lists) {
+            // Layer 0 whole; the deeper layers cleared, then their covered tiles classified.
+            if (filled_tiles > 0) {
+                glUseProgram(program(0, auto_untextured ? GpuScene::kAutoReflectivityFeature : 0));
+                dispatch_2d(s.width, s.height, 1, 8, 8);
+            }
+            for (Texture* t : {&albedo, &normal, &material, emission, specular})
+                if (t) clear_layers(ctx, *t, filled_tiles > 0 ? 1 : 0, clear);
+            if (!deep_tiles.empty()) {
+                const size_t bytes = deep_tiles.size() * sizeof(GLuint);
+                if (tile_list_.size() < bytes) tile_list_ = Buffer::create(bytes);
+                tile_list_.upload(deep_tiles.data(), bytes);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileListBinding, tile_list_.id());
+                glUseProgram(program(0, 0, true));
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+                glDispatchCompute(GLuint(deep_tiles.size()), 1, 1);
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+            }
+        } else {
+            if (filled > 0) {
+                glUseProgram(program(0, auto_untextured ? GpuScene::kAutoReflectivityFeature : 0));
+                dispatch_2d(s.width, s.height, filled, 8, 8);
+            }
+            // The layers after the filled ones hold no sample: the clear values peeling gives them.
+            for (Texture* t : {&albedo, &normal, &material, emission, specular})
+                if (t) clear_layers(ctx, *t, filled, clear);
+        }
+    }
+    if (binning && filled_tiles > 0) {
+        {
+            GpuScope timer(ctx.timer, "gbuffer_attributes.bin");
+            glUseProgram(program(1, 0));
+            glDispatchCompute(1, 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+            glUseProgram(program(2, 0));
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, bins_.id());
+            glDispatchComputeIndirect(0);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        }
+        GpuScope timer(ctx.timer, "gbuffer_attributes.shade");
+        // Each bin's samples: the untextured materials' (binned on the CPU device only), then each
+        // textured material's with its textures bound.
+        auto shade_bin = [&](int bin, int kind) {
+            const GLuint prog = program(3, kind);
+            glUseProgram(prog);
+            glUniform1i(glGetUniformLocation(prog, "u_bin"), bin);
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, bins_.id());
+            glDispatchComputeIndirect(GLintptr(kBinsHeaderBytes + kBinBytes * size_t(bin)));
+        };
+        if (bin_all) shade_bin(int(materials), auto_untextured ? GpuScene::kAutoReflectivityFeature : 0);
+        for (int m : textured) {
+            gs.bind_material_textures(m);
+            shade_bin(m, gs.material_features(m));
+        }
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    }
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    // With skip, the later per-layer passes work on the layers holding a surface only. Reading the
+    // counts waits for this pass (peeling's queries do the same).
+    if (s.skip) {
+        const std::vector<uint64_t> counts = layer_samples();
+        int used = 0;
+        while (used < int(counts.size()) && counts[size_t(used)] > 0) ++used;
+        ctx.layers_used = used;
+    }
+}
+
+std::vector<uint64_t> GBufferAttributesPass::layer_samples() {
+    if (!samples_read_) {
+        GLuint counts[kMaxLayers] = {};
+        if (bins_ && layers_ > 0)
+            glGetNamedBufferSubData(bins_.id(), 16, GLsizeiptr(sizeof(GLuint) * size_t(layers_)), counts);
+        samples_.assign(counts, counts + layers_);
+        samples_read_ = true;
+    }
+    return samples_;
+}
+
+void GBufferAttributesPass::release() {
+    tiles_.reset();
+    tile_list_.reset();
+    bins_.reset();
+    binned_.reset();
+    sorted_.reset();
+    layers_ = 0;
+    samples_.clear();
+    samples_read_ = false;
+}
+
+}  // namespace ssr

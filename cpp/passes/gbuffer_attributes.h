@@ -1,0 +1,56 @@
+// gbuffer_attributes: the visibility constructions' attribute pass (Settings.deep_gbuffer
+// "visibility" and "visibility_lists"): every attribute of every sample the visibility buffer
+// kept (passes/visibility_buffer.h), rebuilt from its triangle and the pixel's primary ray and
+// shaded by peeling's own material code, then written by image stores (Burns and Hunt 2013;
+// shaders/passes/gbuffer_attributes.comp says how). No colour target is cleared or drawn: every
+// texel of the filled layers is stored once, the empty layers are cleared.
+//   inputs : gbuffer.depth, gbuffer.visibility; the buffer "visibility_tiles" (the CPU device)
+//   outputs: gbuffer.albedo, gbuffer.normal, gbuffer.material (and gbuffer.emission,
+//            gbuffer.specular where the frame's facts say so): the names, formats and layers
+//            depth peeling writes (passes/depth_peel.h); the buffer "covered_tiles", marked as
+//            peeling marks it
+// Samples of untextured materials are shaded in one dispatch; those of a material with textures
+// are binned by material (a count, a prefix sum and a scatter on the GPU) and shaded by one
+// indirect dispatch per such material with its textures bound, mipmapped as the raster samples
+// them, the level chosen from the differences over the pixel's 2x2 quad (ray differentials one
+// pixel apart) that a fragment shader's derivatives take. On the CPU device every sample is binned
+// (llvmpipe shades both sides of a branch for every lane). Timed as gbuffer_attributes.classify,
+// .bin and .shade.
+#pragma once
+
+#include <map>
+
+#include "render/render_pass.h"
+
+namespace ssr {
+
+class GBufferAttributesPass : public RenderPass {
+public:
+    std::string name() const override { return "gbuffer_attributes"; }
+    bool runs(const RenderSettings& s, const FrameFacts& f) const override {
+        return visibility_construction(s.deep_gbuffer);
+    }
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
+        return {"gbuffer.depth", "gbuffer.visibility"};
+    }
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    std::vector<ResourceDesc> outputs(const RenderSettings& s, const FrameFacts& f) const override;
+    std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override {
+        return {"visibility_tiles"};
+    }
+    std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
+        return {"covered_tiles"};
+    }
+    void execute(FrameContext& ctx) override;
+    // The pixels each layer of the last frame covers (Frame.layer_samples); read after the frame.
+    std::vector<uint64_t> layer_samples();
+    void release();
+
+private:
+    Buffer tiles_, tile_list_, bins_, binned_, sorted_;
+    int layers_ = 0;
+    std::vector<uint64_t> samples_;
+    bool samples_read_ = false;
+};
+
+}  // namespace ssr

@@ -1,0 +1,372 @@
+#include "passes/visibility_buffer.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "passes/compute.h"
+#include "passes/depth_peel.h"
+
+namespace ssr {
+
+namespace {
+// Storage-buffer bindings of lib/visibility_lists.glsl and the selection's kept depths.
+constexpr GLuint kFragmentsBinding = 21, kLinksBinding = 22, kHeadsBinding = 23, kCounterBinding = 24,
+                 kKeptDepthBinding = 25;
+}  // namespace
+
+std::vector<ResourceDesc> VisibilityBufferPass::outputs(const RenderSettings& s) const {
+    const int w = s.width, h = s.height, l = s.layers;
+    std::vector<ResourceDesc> out = {
+        {"gbuffer.depth", GL_DEPTH_COMPONENT32F, w, h, l, 1},
+        // Read by the attribute pass of the same frame only.
+        {"gbuffer.visibility", GL_R32UI, w, h, l, 1, Lifetime::Scratch},
+    };
+    // Layer i samples layer i-1's depth from this copy: sampling the array being rendered into
+    // would be a feedback loop in GL's rules, even on another layer ("visibility_lists" peels too,
+    // beyond its budget).
+    out.push_back({"visibility_buffer.previous_depth", GL_DEPTH_COMPONENT32F, w, h, 0, 1, Lifetime::Scratch});
+    return out;
+}
+
+void VisibilityBufferPass::check_device(const RenderSettings& s) const {
+    if (s.deep_gbuffer == DeepGBuffer::VisibilityLists) DepthPeelPass::store_limit_bytes(s.deep_gbuffer_budget);
+}
+
+void VisibilityBufferPass::report(const RenderSettings& s, std::map<std::string, double>& stats) const {
+    if (s.deep_gbuffer != DeepGBuffer::VisibilityLists) return;
+    stats["deep_gbuffer_lists"] = double(list_stats_.lists);
+    stats["deep_gbuffer_fell_back"] = double(list_stats_.fell_back);
+    stats["deep_gbuffer_redone"] = double(list_stats_.redone);
+    stats["deep_gbuffer_fragments"] = double(list_stats_.fragments);
+    stats["deep_gbuffer_bytes"] = double(list_stats_.bytes);
+}
+
+void VisibilityBufferPass::execute(FrameContext& ctx) {
+    list_stats_ = ListStats{};
+    primitive_bits_ = primitive_bits(ctx.gpu_scene, ctx.settings.deep_gbuffer);
+    const RenderSettings& s = ctx.settings;
+    const size_t tile_bytes = sizeof(GLuint) * size_t(DepthPeelPass::covered_tiles_per_layer(s)) * size_t(s.layers);
+    if (tiles_.size() < tile_bytes) tiles_ = Buffer::create(tile_bytes);
+    if (marks_tiles(ctx)) {
+        const GLuint zero = 0;
+        glClearNamedBufferSubData(tiles_.id(), GL_R32UI, 0, GLsizeiptr(tile_bytes), GL_RED_INTEGER, GL_UNSIGNED_INT,
+                                  &zero);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTilesBinding, tiles_.id());
+    ctx.buffers.publish("visibility_tiles", FrameBuffer{&tiles_, kTilesBinding});
+    if (ctx.settings.deep_gbuffer != DeepGBuffer::VisibilityLists || !lists(ctx)) {
+        if (ctx.settings.deep_gbuffer == DeepGBuffer::VisibilityLists) list_stats_.fell_back = 1;  // never truncated
+        peel(ctx);
+    }
+}
+
+int VisibilityBufferPass::primitive_bits(const GpuScene& scene, DeepGBuffer construction) {
+    const auto& draws = scene.draws();
+    uint64_t largest = 1;
+    for (const DrawItem& d : draws) largest = std::max<uint64_t>(largest, uint64_t(d.index_count) / 3);
+    int bits = 0;
+    while ((uint64_t(1) << bits) < largest) ++bits;
+    // The largest id, (draws - 1) << bits | (2^bits - 1), must stay below VISIBILITY_NONE.
+    if (bits >= 32 || (uint64_t(std::max<size_t>(draws.size(), 1)) << bits) > uint64_t(0xffffffffu))
+        throw std::invalid_argument("Settings.deep_gbuffer '" + enum_name(construction) + "': the scene's " +
+                                    std::to_string(draws.size()) + " objects and its largest mesh's " +
+                                    std::to_string(largest) + " triangles do not fit the visibility buffer's 32-bit "
+                                    "sample ids together: use 'peel' or 'lists'");
+    return bits;
+}
+
+void VisibilityBufferPass::draw_scene(FrameContext& ctx, GLuint prog, GLuint alpha_prog) const {
+    const auto& draws = ctx.gpu_scene.draws();
+    GLuint current = 0;
+    GLint loc_object = -1, loc_base = -1;
+    for (size_t i = draws.size(); i-- > 0;) {
+        const DrawItem& d = draws[i];
+        const bool alpha = ctx.gpu_scene.alpha_tested(d.material);
+        const GLuint want = alpha ? alpha_prog : prog;
+        if (want != current) {
+            glUseProgram(current = want);
+            loc_object = glGetUniformLocation(current, "u_object");
+            loc_base = glGetUniformLocation(current, "u_id_base");
+        }
+        glUniform1i(loc_object, d.object);
+        glUniform1ui(loc_base, GLuint(d.object) << primitive_bits_);
+        if (alpha) ctx.gpu_scene.bind_material_textures(d.material);
+        glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
+                                 reinterpret_cast<const void*>(d.first_index * sizeof(uint32_t)), d.base_vertex);
+    }
+}
+
+void VisibilityBufferPass::peel(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    Texture& depth = ctx.resources.get("gbuffer.depth");
+    Texture& visibility = ctx.resources.get("gbuffer.visibility");
+    Texture& previous = ctx.resources.get("visibility_buffer.previous_depth");
+
+    const std::vector<std::string> stages = {"passes/depth_peel.vert", "passes/visibility_buffer.frag"};
+    Defines d = ctx.defines;
+    set_min_separation(s, d);
+    const bool mark = marks_tiles(ctx);
+    d["MARK_TILES"] = mark ? "1" : "0";
+    GLuint programs[2][2] = {};  // [peel test][alpha test]
+    for (int peel_test = 0; peel_test < 2; ++peel_test)
+        for (int alpha = 0; alpha < 2; ++alpha) {
+            if (alpha && !ctx.gpu_scene.has_alpha_tested()) continue;
+            d["PEEL_TEST"] = std::to_string(peel_test);
+            d["ALPHA_TEST"] = std::to_string(alpha);
+            programs[peel_test][alpha] = ctx.shaders.program(stages, d);
+            if (peel_test) set_min_separation(s, programs[peel_test][alpha]);
+        }
+
+    while (int(queries_.size()) < s.layers) {
+        GLuint q = 0;
+        glGenQueries(1, &q);
+        queries_.push_back(q);
+    }
+    if (!fbo_) fbo_ = Framebuffer::create();
+    glNamedFramebufferDrawBuffer(fbo_.id(), GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, s.width, s.height);
+    ctx.depth.apply_gl_state();
+    // Equal depths pass: with the draws in reverse order the first draw's fragment stays (see the header).
+    glDepthFunc(ctx.depth.compare_or_equal());
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    apply_peel_culling(s);
+    ctx.gpu_scene.bind_geometry();
+    glBindTextureUnit(3, previous.id());
+    const float clear_depth = ctx.depth.clear_depth();
+    const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
+    std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));
+    for (int layer = 0; layer < s.layers; ++layer) {
+        GpuScope timer(ctx.timer, "visibility_buffer.layer" + std::to_string(layer));
+        if (layer > 0)
+            glCopyImageSubData(depth.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer - 1, previous.id(), GL_TEXTURE_2D, 0, 0,
+                               0, 0, s.width, s.height, 1);
+        fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
+        fbo_.attach(GL_COLOR_ATTACHMENT0, visibility, 0, layer);
+        if (layer == 0) fbo_.check_complete("visibility_buffer");
+        // Only the depth is cleared: a triangle id counts where the depth test wrote a depth.
+        glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
+        // On the CPU device layer i > 0 rasterises only the bounding box of layer i-1's covered
+        // tiles, where alone a fragment can lie behind it (as peeling does, passes/depth_peel.cpp).
+        if (layer > 0 && mark) {
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * size_t(layer - 1) * flags.size()),
+                                    GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());
+            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
+            for (int ty = 0; ty < grid_y; ++ty)
+                for (int tx = 0; tx < grid_x; ++tx)
+                    if (flags[size_t(ty * grid_x + tx)]) {
+                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
+                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
+                    }
+            glEnable(GL_SCISSOR_TEST);
+            if (x1 < 0) glScissor(0, 0, 0, 0);
+            else glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+        }
+        for (const auto& row : programs)
+            for (GLuint p : row)
+                if (p && mark) glProgramUniform1i(p, glGetUniformLocation(p, "u_layer"), layer);
+        // Draw only if the previous layer covered something (its query counted samples).
+        if (layer > 0) glBeginConditionalRender(queries_[size_t(layer - 1)], GL_QUERY_WAIT);
+        glBeginQuery(GL_SAMPLES_PASSED, queries_[size_t(layer)]);
+        draw_scene(ctx, programs[layer > 0][0], programs[layer > 0][1]);
+        glEndQuery(GL_SAMPLES_PASSED);
+        if (layer > 0) glEndConditionalRender();
+        glDisable(GL_SCISSOR_TEST);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_CULL_FACE);
+    ctx.depth.apply_gl_state();
+    // On the CPU device the attribute pass works on the layers that hold a sample only (reading
+    // the queries waits for the raster, which llvmpipe runs at once anyway); a GPU is not stalled
+    // for it: there the attribute pass covers every layer, the empty ones at the cost of their
+    // clear values' stores.
+    if (ctx.gl.info().chosen == "cpu") {
+        int filled = 0;
+        for (; filled < s.layers; ++filled) {
+            GLuint64 n = 0;
+            glGetQueryObjectui64v(queries_[size_t(filled)], GL_QUERY_RESULT, &n);
+            if (n == 0) break;
+        }
+        ctx.layers_filled = filled;
+    }
+}
+
+bool VisibilityBufferPass::lists(FrameContext& ctx) {
+    const RenderSettings& s = ctx.settings;
+    const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+    const uint64_t block = DepthPeelPass::store_limit_bytes(0);
+    const uint64_t limit_bytes = DepthPeelPass::store_limit_bytes(s.deep_gbuffer_budget);
+    // Every buffer is one storage block: the fragments' (8 bytes each) is the largest.
+    const uint64_t max_fragments = std::min(limit_bytes / kFragmentBytes, block / 8);
+    const uint64_t kept_bytes = sizeof(float) * pixels * uint64_t(s.layers);
+    if (kept_bytes > block || max_fragments == 0) return false;
+    if (heads_.size() < sizeof(GLuint) * pixels) heads_ = Buffer::create(sizeof(GLuint) * pixels);
+    if (kept_depth_.size() < kept_bytes) kept_depth_ = Buffer::create(kept_bytes);
+    if (!counter_) counter_ = Buffer::create(4 * sizeof(GLuint));
+
+    // The store starts at the last frame's size (two fragments a pixel at first) and grows to
+    // the counted fragments when they did not fit: the counter counts past the capacity.
+    uint64_t capacity = std::min(max_fragments, std::max<uint64_t>(capacity_, 2 * pixels));
+    GLuint counts[4] = {0, 0, 0, 0};
+    {
+        GpuScope timer(ctx.timer, "visibility_buffer.append");
+        append(ctx, capacity);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
+    }
+    if (counts[0] > capacity) {
+        if (counts[0] > max_fragments) {
+            list_stats_.fragments = counts[0];
+            return false;
+        }
+        // 1/8 of slack, so that a frame with slightly more fragments does not redo again.
+        capacity = std::min(max_fragments, uint64_t(counts[0]) + uint64_t(counts[0]) / 8);
+        list_stats_.redone = 1;
+        GpuScope timer(ctx.timer, "visibility_buffer.redo");
+        append(ctx, capacity);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
+        if (counts[0] > capacity) return false;  // the geometry is the same: cannot happen
+    }
+    capacity_ = capacity;
+    list_stats_.lists = 1;
+    list_stats_.fragments = counts[0];
+    list_stats_.bytes = fragments_.size() + links_.size() + heads_.size() + kept_depth_.size() + counter_.size();
+
+    Texture& depth = ctx.resources.get("gbuffer.depth");
+    Texture& visibility = ctx.resources.get("gbuffer.visibility");
+    Defines select_defines = ctx.defines;
+    select_defines["LAYERS"] = std::to_string(s.layers);
+    select_defines["MARK_TILES"] = marks_tiles(ctx) ? "1" : "0";
+    set_min_separation(s, select_defines);
+    const GLuint select = ctx.shaders.program({"passes/visibility_select.comp"}, select_defines);
+    set_min_separation(s, select);
+    glProgramUniform1i(select, glGetUniformLocation(select, "u_primitive_bits"), primitive_bits_);
+    {
+        GpuScope timer(ctx.timer, "visibility_buffer.select");
+        glUseProgram(select);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKeptDepthBinding, kept_depth_.id());
+        bind_image_layered(0, visibility, GL_WRITE_ONLY);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        dispatch_2d(s.width, s.height, 1, 8, 8);
+    }
+    // The most layers any pixel holds: deeper layers are only cleared (peeling's empty layers).
+    glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
+    const int filled = std::min<int>(int(counts[2]), s.layers);
+    ctx.layers_filled = filled;
+
+    // The kept depths into the depth target, one full-screen depth-only draw per filled layer.
+    const GLuint write = ctx.shaders.program({"passes/deep_gbuffer_write.vert", "passes/visibility_depth.frag"},
+                                             ctx.defines);
+    GpuScope timer(ctx.timer, "visibility_buffer.depth");
+    if (!fbo_) fbo_ = Framebuffer::create();
+    if (!empty_vao_) glCreateVertexArrays(1, &empty_vao_);
+    glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, 0, 0);
+    glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, s.width, s.height);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_CULL_FACE);
+    ctx.depth.apply_gl_state();
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_ALWAYS);  // every texel's depth is written as stored (the clear value where none)
+    glBindVertexArray(empty_vao_);
+    glUseProgram(write);
+    const GLint loc_layer = glGetUniformLocation(write, "u_layer");
+    const float clear_depth = ctx.depth.clear_depth();
+    for (int layer = 0; layer < s.layers; ++layer) {
+        fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
+        if (layer == 0) fbo_.check_complete("visibility_buffer.depth");
+        if (layer < filled) {
+            glUniform1i(loc_layer, layer);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        } else {
+            glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    ctx.depth.apply_gl_state();
+    ctx.gpu_scene.bind_geometry();
+    return true;
+}
+
+// The geometry pass of the lists: every fragment of every draw appended to its pixel's list; no
+// depth test and no attachment (the framebuffer only gives the raster its size).
+void VisibilityBufferPass::append(FrameContext& ctx, uint64_t capacity) {
+    const RenderSettings& s = ctx.settings;
+    const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+    if (fragments_.size() < capacity * 8) {
+        fragments_.reset();  // the old store goes before the new one is allocated
+        links_.reset();
+        fragments_ = Buffer::create(capacity * 8);
+        links_ = Buffer::create(capacity * 4);
+    }
+    const GLuint none = 0xffffffffu;
+    glClearNamedBufferSubData(heads_.id(), GL_R32UI, 0, GLsizeiptr(sizeof(GLuint) * pixels), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &none);
+    const GLuint counter[4] = {0, GLuint(capacity), 0, 0};
+    counter_.upload(counter, sizeof(counter));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentsBinding, fragments_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLinksBinding, links_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeadsBinding, heads_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCounterBinding, counter_.id());
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    const std::vector<std::string> stages = {"passes/depth_peel.vert", "passes/visibility_buffer.frag"};
+    Defines d = ctx.defines;
+    d["VISIBILITY_APPEND"] = "1";
+    d["ALPHA_TEST"] = "0";
+    d["MARK_TILES"] = "0";  // the selection marks them
+    const GLuint prog = ctx.shaders.program(stages, d);
+    GLuint alpha_prog = 0;
+    if (ctx.gpu_scene.has_alpha_tested()) {
+        d["ALPHA_TEST"] = "1";
+        alpha_prog = ctx.shaders.program(stages, d);
+    }
+    if (!empty_fbo_) {
+        empty_fbo_ = Framebuffer::create();
+        glNamedFramebufferDrawBuffer(empty_fbo_.id(), GL_NONE);
+    }
+    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, s.width);
+    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, s.height);
+    glBindFramebuffer(GL_FRAMEBUFFER, empty_fbo_.id());
+    glViewport(0, 0, s.width, s.height);
+    ctx.depth.apply_gl_state();  // the clip control: the window depths peeling gets
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    apply_peel_culling(s);
+    ctx.gpu_scene.bind_geometry();
+    draw_scene(ctx, prog, alpha_prog);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void VisibilityBufferPass::release() {
+    tiles_.reset();
+    fragments_.reset();
+    links_.reset();
+    heads_.reset();
+    counter_.reset();
+    kept_depth_.reset();
+    capacity_ = 0;
+    if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+    empty_vao_ = 0;
+    empty_fbo_.reset();
+    if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
+    queries_.clear();
+    fbo_.reset();
+}
+
+}  // namespace ssr

@@ -1,0 +1,19 @@
+// The visibility buffer's sample (Burns and Hunt 2013, "The Visibility Buffer: A Cache-Friendly
+// Approach to Deferred Shading"): one 32-bit id per kept fragment naming its triangle, the draw
+// (GpuScene::draws(): draw i is object i) in the high bits and gl_PrimitiveID within it in the low
+// u_primitive_bits bits (passes/visibility_buffer.h, VisibilityBufferPass::primitive_bits: as few
+// as the scene's largest mesh needs). Decoding is arithmetic, without a table to search.
+#define VISIBILITY_NONE 0xffffffffu
+
+uniform int u_primitive_bits;
+
+int visibility_object(uint id) { return int(id >> uint(u_primitive_bits)); }
+int visibility_primitive(uint id) { return int(id & ((1u << uint(u_primitive_bits)) - 1u)); }
+
+// Of two fragments at exactly the same depth, whether id a is the one depth peeling's shading
+// pass leaves in the G-buffer (passes/depth_peel.cpp: it draws the draws in reverse order and each
+// draw's triangles in order, so the lowest draw wins, and within it the last triangle).
+bool visibility_wins(uint a, uint b) {
+    int oa = visibility_object(a), ob = visibility_object(b);
+    return oa < ob || (oa == ob && visibility_primitive(a) > visibility_primitive(b));
+}

@@ -1,0 +1,349 @@
+#version 450 core
+// gbuffer_attributes: every attribute of every sample the visibility buffer kept
+// (passes/visibility_buffer.cpp), rebuilt from its triangle and the pixel's primary ray
+// (lib/visibility_surface.glsl) and shaded by the peeling's own code (lib/gbuffer_shading.glsl),
+// then stored by image stores: gbuffer.albedo, .normal, .material (and .emission, .specular where
+// the frame has them), the same names, formats and layers as peeling writes. Burns and Hunt 2013's
+// deferred attribute fetch, applied to every layer of the deep G-buffer (seed 000, 2.2).
+// A material's textures are bound samplers (mipmapped, as the raster samples them), so a sample
+// whose material has a texture is shaded in a dispatch of that material's own. Samples are binned:
+// bin m < u_materials holds the samples of textured material m, bin u_materials those of every
+// untextured material. With BIN_ALL 0 (a GPU) the classify stage shades the untextured samples
+// itself; with BIN_ALL 1 (the CPU device) it bins them too, since llvmpipe runs both sides of a
+// branch for every lane of a vector: shading inline would cost every texel, empty ones included,
+// what shading a sample does, where a dispatch over a bin's list shades samples only.
+// ATTRIBUTES_STAGE:
+//   0 (classify): one invocation per pixel and layer (8x8 groups, z the layer): an empty sample
+//     gets the clear values; a sample is binned (its rank in its bin by an atomic count) or shaded.
+//     Each group marks its covered 8x8 tile and counts the layer's covered pixels
+//     (lib/covered_tiles.glsl, layer_samples).
+//   1 (scan): one group: each bin's first slot in the sorted list (an exclusive prefix sum of the
+//     counts) and the indirect dispatch arguments of stages 2 and 3.
+//   2 (scatter): one invocation per binned sample: into its bin's part of the sorted list.
+//   3 (shade): one invocation per sample of bin u_bin, with its material's textures bound,
+//     compiled for its kind (MATERIAL_TEXTURES, MATERIAL_AUTO_R).
+// Layer 0's reflective samples flag their 32x32 region for the classify pass as peeling's shading
+// pass does (flag_reflective_region).
+#ifndef BIN_ALL
+#define BIN_ALL 0
+#endif
+// TILE_LIST 1: the classify stage runs over a list of covered tiles (the CPU device, where the
+// visibility buffer marked them: lib/visibility_tiles.glsl) instead of every tile of its layers;
+// STORE_EMPTY 0: their layers were cleared before, so an empty texel is not stored again.
+#ifndef TILE_LIST
+#define TILE_LIST 0
+#endif
+#ifndef STORE_EMPTY
+#define STORE_EMPTY 1
+#endif
+#ifndef ATTRIBUTES_STAGE
+#define ATTRIBUTES_STAGE 0
+#endif
+// Textures sampled by the kind this program is compiled for; 0 in the classify stage.
+#ifndef MATERIAL_TEXTURES
+#define MATERIAL_TEXTURES 0
+#endif
+
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/depth_convention.glsl"
+#include "../lib/scene_data.glsl"
+#include "../lib/visibility.glsl"
+
+// How the scene's data is read per sample. Unlike a draw, whose object and material are uniform,
+// every invocation reads its own triangle's: on a GPU from the storage buffers; with FETCH_BY_IMAGE
+// (the CPU device, lib/input_fetch.glsl) through image buffers of the same data, which llvmpipe
+// reads inline, where a storage-buffer read at a per-invocation address is a loop over the lanes.
+#if FETCH_BY_IMAGE
+layout(binding = 5, r32f) readonly uniform imageBuffer u_vertex_data;      // GpuVertex floats
+layout(binding = 6, r32ui) readonly uniform uimageBuffer u_index_data;
+layout(binding = 7, rgba32f) readonly uniform imageBuffer u_object_data;   // GpuObject, 9 texels
+layout(binding = 8, rgba32f) readonly uniform imageBuffer u_material_data; // GpuMaterial, 22 texels
+layout(binding = 9, r32ui) readonly uniform uimage2DArray u_visibility;    // gbuffer.visibility
+#define VISIBILITY_VERTEX(i) imageLoad(u_vertex_data, int(i)).r
+#define VISIBILITY_INDEX(i) imageLoad(u_index_data, int(i)).r
+ObjectData load_object(int i) {
+    ObjectData o;
+    int b = 9 * i;
+    o.model = mat4(imageLoad(u_object_data, b), imageLoad(u_object_data, b + 1), imageLoad(u_object_data, b + 2),
+                   imageLoad(u_object_data, b + 3));
+    o.normal_matrix = mat4(imageLoad(u_object_data, b + 4), imageLoad(u_object_data, b + 5),
+                           imageLoad(u_object_data, b + 6), imageLoad(u_object_data, b + 7));
+    o.material = floatBitsToInt(imageLoad(u_object_data, b + 8));
+    return o;
+}
+MaterialData load_material(int i) {
+    MaterialData m;
+    int b = 22 * i;
+    m.base_color = imageLoad(u_material_data, b);
+    m.params = imageLoad(u_material_data, b + 1);
+    m.emissive = imageLoad(u_material_data, b + 2);
+    m.flags = floatBitsToInt(imageLoad(u_material_data, b + 3));
+    m.images = floatBitsToInt(imageLoad(u_material_data, b + 4));
+    m.wraps = floatBitsToInt(imageLoad(u_material_data, b + 5));
+    m.dielectric_f0 = imageLoad(u_material_data, b + 6);
+    for (int k = 0; k < 12; ++k) m.uv_transform[k] = imageLoad(u_material_data, b + 7 + k);
+    m.specular_images = floatBitsToInt(imageLoad(u_material_data, b + 19));
+    m.specular_wraps = floatBitsToInt(imageLoad(u_material_data, b + 20));
+    m.specular_f0 = imageLoad(u_material_data, b + 21);
+    return m;
+}
+uint sample_id(ivec3 t) { return imageLoad(u_visibility, t).r; }
+#else
+#include "../lib/scene_geometry.glsl"
+layout(binding = 8) uniform usampler2DArray u_visibility;  // gbuffer.visibility
+#define VISIBILITY_VERTEX(i) vertex_data[i]
+#define VISIBILITY_INDEX(i) index_data[i]
+ObjectData load_object(int i) { return objects[i]; }
+MaterialData load_material(int i) { return materials[i]; }
+uint sample_id(ivec3 t) { return texelFetch(u_visibility, t, 0).r; }
+#endif
+
+#if ATTRIBUTES_STAGE == 1
+layout(local_size_x = 256) in;
+#elif ATTRIBUTES_STAGE == 0
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+#else
+layout(local_size_x = 64) in;
+#endif
+
+// Per bin: the indirect dispatch of its stage 3 (x groups, y 1, z 1; w its samples), and its first
+// slot in the sorted list.
+struct MaterialBin {
+    uvec4 dispatch;
+    uvec4 segment;  // x: first slot in `sorted`
+};
+layout(std430, binding = 26) coherent buffer AttributeBins {
+    uvec4 scatter_dispatch;   // stage 2's indirect dispatch (x groups, y, z 1); w: samples binned
+    uint layer_samples[16];   // covered pixels of each layer (Frame.layer_samples)
+    MaterialBin bins[];
+};
+layout(std430, binding = 27) buffer BinnedSamples { uvec2 binned[]; };  // (sample, rank in its bin)
+layout(std430, binding = 28) buffer SortedSamples { uint sorted[]; };   // by bin
+uniform int u_materials;  // the scene's materials: bin u_materials holds the untextured ones' samples
+
+// A sample: layer * width * height + pixel.
+uint sample_index(ivec2 p, int layer) {
+    ivec2 size = ivec2(frame.viewport.xy);
+    return uint(layer) * uint(size.x * size.y) + uint(p.y * size.x + p.x);
+}
+ivec3 sample_texel(uint s) {
+    uint plane = uint(frame.viewport.x) * uint(frame.viewport.y);
+    uint pixel = s % plane;
+    return ivec3(int(pixel % uint(frame.viewport.x)), int(pixel / uint(frame.viewport.x)), int(s / plane));
+}
+
+#if ATTRIBUTES_STAGE != 1
+layout(binding = 7) uniform sampler2DArray u_depth;  // gbuffer.depth
+
+// Whether material m has a texture slot (GpuScene::kTextureFeatures): its samples are shaded by
+// its own dispatch.
+bool material_textured(MaterialData m) {
+    return m.flags.x != 0 || m.flags.y != 0 || m.flags.z != 0 || m.images.w >= 0 || m.specular_images.x >= 0 ||
+           m.specular_images.y >= 0;
+}
+// The bin of a sample of material m.
+int sample_bin(int m) { return material_textured(load_material(m)) ? m : u_materials; }
+#endif
+
+#if ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3
+#include "../lib/gbuffer.glsl"
+#include "../lib/normal_mapping.glsl"
+#include "../lib/material.glsl"
+#include "../lib/specular_albedo.glsl"
+#include "../lib/covered_tiles.glsl"
+#include "../lib/visibility_surface.glsl"
+
+#if MATERIAL_TEXTURES
+layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
+layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
+layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent space
+#if EMISSION_TEXTURE
+layout(binding = 4) uniform sampler2D u_emissive_texture;  // sRGB (GpuScene::kEmissiveTextureUnit)
+#endif
+#if SPECULAR_TEXTURE
+layout(binding = 5) uniform sampler2D u_specular_texture;        // A (GpuScene::kSpecularTextureUnit)
+layout(binding = 6) uniform sampler2D u_specular_color_texture;  // sRGB (kSpecularColorTextureUnit)
+#endif
+#endif
+layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
+#include "../lib/gbuffer_shading.glsl"
+
+// gbuffer.albedo is sRGB storage, which no image format names: it is bound through an RGBA8 view
+// and encoded here with the sRGB transfer function (IEC 61966-2-1) the framebuffer applies.
+layout(binding = 0, rgba8) writeonly uniform image2DArray o_albedo_metallic;
+layout(binding = 1, rgba16f) writeonly uniform image2DArray o_normal_roughness;
+layout(binding = 2, rgba8) writeonly uniform image2DArray o_material;
+#if EMISSION_TEXTURE
+layout(binding = 3, rgba16f) writeonly uniform image2DArray o_emission;
+#endif
+#if SPECULAR_TEXTURE
+layout(binding = 4, rgba16f) writeonly uniform image2DArray o_specular;
+#endif
+
+vec3 linear_to_srgb(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+void store_texel(ivec3 t, vec4 albedo_metallic, vec4 normal_roughness, vec4 material, vec4 emission, vec4 specular) {
+    imageStore(o_albedo_metallic, t, vec4(linear_to_srgb(albedo_metallic.rgb), albedo_metallic.a));
+    imageStore(o_normal_roughness, t, normal_roughness);
+    imageStore(o_material, t, material);
+#if EMISSION_TEXTURE
+    imageStore(o_emission, t, emission);
+#endif
+#if SPECULAR_TEXTURE
+    imageStore(o_specular, t, specular);
+#endif
+}
+
+// The window position of pixel p's centre on the plane of a triangle, and the surface there.
+struct PlanePoint {
+    vec3 b;         // barycentrics
+    vec3 position;  // view space
+};
+PlanePoint plane_point(VisibilityTriangle tri, ivec2 p) {
+    PlanePoint q;
+    q.b = visibility_barycentrics(tri, visibility_ray(vec2(p) + 0.5));
+    q.position = visibility_interpolate(q.b, tri.p0, tri.p1, tri.p2);
+    return q;
+}
+
+// Shades the sample kept at texel t (its id `id`) and stores its attributes.
+void shade_sample(ivec3 t, uint id) {
+    int object = visibility_object(id), triangle = visibility_primitive(id);
+    ObjectData o = load_object(object);
+    VisibilityTriangle tri = visibility_triangle(o, triangle);
+    uint v0 = visibility_vertex(o, triangle, 0), v1 = visibility_vertex(o, triangle, 1),
+         v2 = visibility_vertex(o, triangle, 2);
+    VisibilityVertex a0 = visibility_vertex_attributes(o, v0), a1 = visibility_vertex_attributes(o, v1),
+                     a2 = visibility_vertex_attributes(o, v2);
+    PlanePoint here = plane_point(tri, t.xy);
+    GBufferSurface s;
+    s.view_position = here.position;
+    s.view_normal = visibility_interpolate(here.b, a0.normal, a1.normal, a2.normal);
+    s.uv = visibility_interpolate(here.b, a0.uv, a1.uv, a2.uv);
+    s.view_tangent = visibility_interpolate(here.b, a0.tangent, a1.tangent, a2.tangent);
+    s.color = visibility_interpolate(here.b, a0.color, a1.color, a2.color);
+#if MATERIAL_TEXTURES
+    // The differences a fragment shader's derivatives take over the pixel's 2x2 quad (quads at
+    // even window coordinates): along x in the pixel's row, along y in its column.
+    ivec2 q = t.xy & ~1;
+    ivec2 px = ivec2(q.x + 1 - (t.x - q.x), t.y), py = ivec2(t.x, q.y + 1 - (t.y - q.y));
+    PlanePoint nx = plane_point(tri, px), ny = plane_point(tri, py);
+    float sx = t.x == q.x ? 1.0 : -1.0, sy = t.y == q.y ? 1.0 : -1.0;  // here is the quad's first or second
+    s.duv_dx = sx * (visibility_interpolate(nx.b, a0.uv, a1.uv, a2.uv) - s.uv);
+    s.duv_dy = sy * (visibility_interpolate(ny.b, a0.uv, a1.uv, a2.uv) - s.uv);
+    s.dpos_dx = sx * (nx.position - here.position);
+    s.dpos_dy = sy * (ny.position - here.position);
+#else
+    s.duv_dx = s.duv_dy = vec4(0.0);
+    s.dpos_dx = s.dpos_dy = vec3(0.0);
+#endif
+    s.front_facing = visibility_front_facing(tri);
+    s.object = object;
+    // The geometry pass kept the sample (its alpha test there decided any hole), so it is shaded
+    // whatever this sample's alpha says.
+    GBufferTexel texel = gbuffer_shade(s, load_material(o.material.x));
+    vec4 albedo_metallic, normal_roughness, material;
+    gbuffer_encode(texel.g, albedo_metallic, normal_roughness, material);
+    store_texel(t, albedo_metallic, normal_roughness, material, texel.emission, texel.specular);
+    if (t.z == 0 && texel.g.reflectivity > 0.0) flag_reflective_region(t.xy);
+}
+#endif
+
+#if ATTRIBUTES_STAGE == 0
+#if TILE_LIST
+// The covered 8x8 tiles to classify, one a work group: layer << 24 | tile (rows of tiles).
+layout(std430, binding = 30) readonly buffer TileList { uint tile_list[]; };
+#endif
+
+shared uint group_covered;
+
+void main() {
+    ivec2 size = ivec2(frame.viewport.xy);
+#if TILE_LIST
+    uint entry = tile_list[gl_WorkGroupID.x];
+    ivec2 grid = covered_tile_grid();
+    ivec2 tile = ivec2(int(entry & 0xffffffu) % grid.x, int(entry & 0xffffffu) / grid.x);
+    ivec3 t = ivec3(tile * 8 + ivec2(gl_LocalInvocationID.xy), int(entry >> 24));
+#else
+    ivec2 tile = ivec2(gl_WorkGroupID.xy);
+    ivec3 t = ivec3(gl_GlobalInvocationID.xy, int(gl_WorkGroupID.z));
+#endif
+    if (gl_LocalInvocationIndex == 0u) group_covered = 0u;
+    barrier();
+    if (t.x < size.x && t.y < size.y) {
+        float depth = texelFetch(u_depth, t, 0).r;
+        // A texel the layer's depth test never wrote holds the clear value: no sample (whatever
+        // the triangle target holds there).
+        if (is_farther(DEPTH_CLEAR, depth)) {
+            atomicAdd(group_covered, 1u);
+            uint id = sample_id(t);
+            int bin = sample_bin(load_object(visibility_object(id)).material.x);
+            if (BIN_ALL != 0 || bin < u_materials) {
+                uint rank = atomicAdd(bins[bin].dispatch.w, 1u);
+                uint slot = atomicAdd(scatter_dispatch.w, 1u);
+                binned[slot] = uvec2(sample_index(t.xy, t.z), rank);
+            } else {
+                shade_sample(t, id);
+            }
+        } else if (STORE_EMPTY != 0) {
+            store_texel(t, vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+        }
+    }
+    barrier();
+    if (gl_LocalInvocationIndex == 0u && group_covered > 0u) {
+        ivec2 grid = covered_tile_grid();
+        covered_tile[(t.z * grid.y + tile.y) * grid.x + tile.x] = 1u;
+        atomicAdd(layer_samples[t.z], group_covered);
+    }
+}
+#elif ATTRIBUTES_STAGE == 1
+shared uint chunk_sum[256];
+
+void main() {
+    uint lane = gl_LocalInvocationIndex;
+    uint count = uint(u_materials) + 1u;
+    uint per = (count + 255u) / 256u;
+    uint first = lane * per, last = min(first + per, count);
+    uint sum = 0u;
+    for (uint m = first; m < last; ++m) sum += bins[m].dispatch.w;
+    chunk_sum[lane] = sum;
+    barrier();
+    if (lane == 0u) {
+        uint running = 0u;
+        for (uint i = 0u; i < 256u; ++i) {
+            uint c = chunk_sum[i];
+            chunk_sum[i] = running;
+            running += c;
+        }
+        scatter_dispatch.xyz = uvec3((running + 63u) / 64u, 1u, 1u);
+    }
+    barrier();
+    uint offset = chunk_sum[lane];
+    for (uint m = first; m < last; ++m) {
+        uint n = bins[m].dispatch.w;
+        bins[m].segment.x = offset;
+        bins[m].dispatch.xyz = uvec3((n + 63u) / 64u, 1u, 1u);
+        offset += n;
+    }
+}
+#elif ATTRIBUTES_STAGE == 2
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= scatter_dispatch.w) return;
+    uvec2 e = binned[i];
+    int bin = sample_bin(load_object(visibility_object(sample_id(sample_texel(e.x)))).material.x);
+    sorted[bins[bin].segment.x + e.y] = e.x;
+}
+#else
+uniform int u_bin;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= bins[u_bin].dispatch.w) return;
+    ivec3 t = sample_texel(sorted[bins[u_bin].segment.x + i]);
+    shade_sample(t, sample_id(t));
+}
+#endif

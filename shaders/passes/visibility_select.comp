@@ -1,0 +1,105 @@
+#version 450 core
+// visibility_buffer select (deep_gbuffer "visibility_lists"): per pixel, the LAYERS nearest
+// distinct depths of its list of visibility samples (lib/visibility_lists.glsl), in depth order,
+// exactly as depth peeling finds them (the rules of passes/deep_gbuffer_select.comp): layer 0 is
+// the nearest fragment nearer than the depth clear value, layer i+1 the nearest strictly behind
+// layer i (with MIN_SEPARATION 1, behind it by the minimum separation: the list is then walked
+// once per layer), fragments at equal depth make one layer, and of those the one peeling's
+// shading pass leaves stays (visibility_wins).
+//   output: gbuffer.visibility (image unit 0) every layer's triangle, VISIBILITY_NONE where the
+//           pixel has no such layer; visibility_depth[layer * width * height + pixel] its window
+//           depth (the clear value where none), which the depth write draws into gbuffer.depth;
+//           visibility_counter.z the most layers any pixel holds; with MARK_TILES (the CPU
+//           device) the tiles of each layer holding a sample (lib/visibility_tiles.glsl).
+#include "../lib/frame_uniforms.glsl"
+#include "../lib/depth_convention.glsl"
+#include "../lib/visibility.glsl"
+#include "../lib/visibility_lists.glsl"
+#include "../lib/layer_separation.glsl"
+#ifndef MARK_TILES
+#define MARK_TILES 0
+#endif
+#if MARK_TILES
+#include "../lib/visibility_tiles.glsl"
+#endif
+
+#ifndef LAYERS
+#define LAYERS 1
+#endif
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(binding = 0, r32ui) writeonly uniform uimage2DArray o_visibility;
+layout(std430, binding = 25) writeonly buffer VisibilityDepth { float visibility_depth[]; };
+
+shared uint group_layers;
+
+void main() {
+    ivec2 size = ivec2(frame.viewport.xy);
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (gl_LocalInvocationIndex == 0u) group_layers = 0u;
+    barrier();
+    if (p.x < size.x && p.y < size.y) {
+        uint pixel = uint(p.y * size.x + p.x);
+        float depth[LAYERS];
+        uint triangle[LAYERS];
+        int count = 0;
+        uint head = visibility_head[pixel];
+#if MIN_SEPARATION
+        for (int k = 0; k < LAYERS; ++k) {
+            float best = DEPTH_CLEAR;
+            uint best_triangle = VISIBILITY_NONE;
+            for (uint i = head; i != VISIBILITY_LIST_END; i = visibility_next[i]) {
+                float z = uintBitsToFloat(visibility_fragment[i].x);
+                uint t = visibility_fragment[i].y;
+                if (!is_farther(DEPTH_CLEAR, z)) continue;
+                if (k > 0 && !behind_layer(z, depth[k - 1])) continue;
+                if (best_triangle == VISIBILITY_NONE || is_farther(best, z) ||
+                    (z == best && visibility_wins(t, best_triangle))) {
+                    best = z;
+                    best_triangle = t;
+                }
+            }
+            if (best_triangle == VISIBILITY_NONE) break;
+            depth[k] = best;
+            triangle[k] = best_triangle;
+            count = k + 1;
+        }
+#else
+        for (uint i = head; i != VISIBILITY_LIST_END; i = visibility_next[i]) {
+            float z = uintBitsToFloat(visibility_fragment[i].x);
+            uint t = visibility_fragment[i].y;
+            if (!is_farther(DEPTH_CLEAR, z)) continue;  // fails the depth test against the clear value
+            // The first kept depth not nearer than z.
+            int j = 0;
+            while (j < count && is_farther(z, depth[j])) ++j;
+            if (j < count && depth[j] == z) {
+                if (visibility_wins(t, triangle[j])) triangle[j] = t;
+                continue;
+            }
+            if (j >= LAYERS) continue;
+            for (int k = min(count, LAYERS - 1); k > j; --k) {
+                depth[k] = depth[k - 1];
+                triangle[k] = triangle[k - 1];
+            }
+            depth[j] = z;
+            triangle[j] = t;
+            count = min(count + 1, LAYERS);
+        }
+#endif
+        uint plane = uint(size.x * size.y);
+        for (int k = 0; k < LAYERS; ++k) {
+            imageStore(o_visibility, ivec3(p, k), uvec4(k < count ? triangle[k] : VISIBILITY_NONE));
+            visibility_depth[uint(k) * plane + pixel] = k < count ? depth[k] : DEPTH_CLEAR;
+        }
+        if (count > 0) atomicMax(group_layers, uint(count));
+    }
+    barrier();
+    if (gl_LocalInvocationIndex == 0u && group_layers > 0u) {
+        atomicMax(visibility_counter.z, group_layers);
+#if MARK_TILES
+        // Layer k of this 8x8 tile holds a sample where some pixel holds more than k layers.
+        for (int k = 0; k < int(group_layers); ++k) mark_visibility_tile(ivec2(gl_WorkGroupID.xy) * 8, k);
+#endif
+    }
+}
