@@ -1,8 +1,10 @@
 """Shared fixtures. Every test renders on llvmpipe-sized images and passes without a GPU; on
-a machine with one, device="auto" renders there instead."""
+a machine with one, device="auto" renders there instead, and the tests of device="cpu" itself
+(marked needs_cpu_device) skip where there is no software rasteriser."""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import struct
@@ -40,6 +42,43 @@ subprocess.run = _run_with_timeout
 @pytest.fixture(scope="session")
 def renderer():
     return ssrlab.Renderer("auto")
+
+
+# -- the CPU device -------------------------------------------------------------------------------
+# A few tests are about device="cpu" itself (Mesa's llvmpipe): that it opens, that $SSRLAB_DEVICE
+# pins it. A machine with a GPU need not have Mesa's software rasteriser (an NVIDIA image ships
+# NVIDIA's libEGL only), and there those tests skip, saying why. Every other test renders on the
+# device at hand (device="auto").
+
+def cpu_device_absence(open_cpu=None) -> str | None:
+    """None where device="cpu" opens Mesa's software rasteriser; else why not, in words. Decided
+    the way the tests would use it: by opening ssrlab.Renderer("cpu") (`open_cpu`, for a test of this
+    helper), whose DeviceError names what EGL offered instead."""
+    try:
+        r = (open_cpu or (lambda: ssrlab.Renderer("cpu")))()
+    except ssrlab.DeviceError as e:
+        return f"no CPU device (Mesa's llvmpipe) here: {e}"
+    if r.info["device"] != "cpu":
+        return f"device='cpu' opened {r.info['renderer']!r}, which is not a software rasteriser"
+    return None
+
+
+@functools.lru_cache(maxsize=None)
+def cpu_device_absence_here() -> str | None:
+    """cpu_device_absence() of this machine, decided once per test process."""
+    return cpu_device_absence()
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "needs_cpu_device: the test opens device='cpu' (Mesa's llvmpipe) and "
+                                       "skips, naming why, where this machine has none")
+
+
+def pytest_runtest_setup(item):
+    if item.get_closest_marker("needs_cpu_device") is not None:
+        why = cpu_device_absence_here()
+        if why is not None:
+            pytest.skip(why)
 
 
 @pytest.fixture(autouse=True)

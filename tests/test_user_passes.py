@@ -141,7 +141,7 @@ def test_a_sweep_varies_a_user_parameter_and_scores_it_against_the_converged_ref
     rows = bench.sweep({"bilateral_filter.radius": [0, 4]}, [{"name": "box_stack", "floor_roughness": 0.4}],
                        base={**SMALL, "method": "hiz", "sampling": "vndf", "user_passes": ("bilateral_filter",)},
                        repeats=1, warmup=0, reference="converged", reference_rays=16, progress=False,
-                       cache_folder=tmp_path, device="cpu")
+                       cache_folder=tmp_path)
     assert [r["s_bilateral_filter.radius"] for r in rows] == [0, 4]
     assert "bilateral_filter.radius" in bench.varying_settings(rows)
     for r in rows:
@@ -179,7 +179,6 @@ repeats = 1
 warmup = 0
 reference = "converged"
 reference_rays = 4
-device = "cpu"
 [base]
 width = 64
 height = 48
