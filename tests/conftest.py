@@ -17,9 +17,11 @@ import pytest
 import ssrlab
 
 REPO = Path(__file__).resolve().parents[1]
-MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
-# ssrlab.models looks here too (scene builders that use a sample model, e.g. Suzanne).
-os.environ.setdefault("SSRLAB_MODELS", os.pathsep.join(str(p) for p in MODELS))
+# The sample models are part of the repository and of the package (python/ssrlab/sample_models):
+# this checkout's copy, then the one the installed package found for itself (ssrlab.models, which
+# the scene builders use, needs no $SSRLAB_MODELS).
+MODELS = list(dict.fromkeys([REPO / "python" / "ssrlab" / "sample_models",
+                             getattr(ssrlab.models, "PACKAGED", REPO / "python" / "ssrlab" / "sample_models")]))
 # FLIP costs tens to hundreds of milliseconds for each of the suite's small images (docs/metrics.md),
 # more than most of its renders: sweeps here leave FLIP and SSIM out unless a test asks (perceptual=True, or
 # SSRLAB_PERCEPTUAL=1 as the thesis_layers notebook's test does).
@@ -90,14 +92,17 @@ def no_gl_errors(request):
 
 
 def model_path(rel: str) -> Path:
+    """The sample model `rel` (e.g. "Suzanne/Suzanne.gltf"). They come with the checkout, so a
+    missing one is a broken checkout or package: a failure, never a skip."""
     for base in MODELS:
         if (base / rel).is_file():
             return base / rel
-    pytest.skip(f"sample model {rel} not found under {MODELS}")
+    pytest.fail(f"sample model {rel} not found under {', '.join(map(str, MODELS))}: the checkout or the "
+                f"installed package lacks its sample_models")
 
 
 def suzanne_copy(tmp_path: Path) -> Path:
-    """A copy of the Suzanne sample model in tmp_path/model (to edit), or a skip without the models."""
+    """A copy of the Suzanne sample model in tmp_path/model (to edit)."""
     import shutil
 
     src = model_path("Suzanne/Suzanne.gltf").parent
