@@ -40,8 +40,6 @@ from pathlib import Path
 
 from ssrlab.lab import hostile_gltf
 
-REPO = Path(__file__).resolve().parents[1]
-
 # Numbers that broke (or could break) size arithmetic, float conversion and ranges.
 HOSTILE_NUMBERS = [0, -1, 1, 2, 3, 4, 255, 256, 65535, 65536, 2 ** 31 - 1, 2 ** 31, 2 ** 32 - 1, 2 ** 32,
                    2 ** 53, 2 ** 63 - 1, 2 ** 63, 2 ** 64 - 4096, 2 ** 64 - 1, 2 ** 64, 10 ** 30,
@@ -72,9 +70,10 @@ ARRAYS = ["accessors", "bufferViews", "buffers", "images", "textures", "samplers
 # ---------------------------------------------------------------------------------------
 
 def models_folders() -> list[Path]:
-    env = os.environ.get("SSRLAB_MODELS")
-    folders = [Path(p) for p in env.split(os.pathsep)] if env else []
-    return folders + [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
+    """Where ssrlab.models looks for the sample models: $SSRLAB_MODELS, then the package's own."""
+    from ssrlab import models
+
+    return models.search_path()
 
 
 def read_glb(data: bytes):

@@ -9,18 +9,13 @@ figures behind the test's stated bound (docs/reference_tracers.md).
 from __future__ import annotations
 
 import argparse
-import os
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[1]
-MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
-os.environ.setdefault("SSRLAB_MODELS", os.pathsep.join(str(p) for p in MODELS))
-
-import ssrlab  # noqa: E402
-from common import open_renderer  # noqa: E402
+import ssrlab
+from common import open_renderer
 
 
 def psnr(a: np.ndarray, b: np.ndarray) -> float:
@@ -44,8 +39,10 @@ def compare(r, label, scene, width, height, **kw):
 
 
 def model_scene(rel: str, roughness: float):
-    path = next((b / rel for b in MODELS if (b / rel).is_file()), None)
-    if path is None:
+    try:
+        path = ssrlab.models.find(rel)
+    except FileNotFoundError as e:
+        print(e)
         return None
     scene = ssrlab.scenes.load(str(path))
     lo, hi = (np.asarray(b, dtype=float) for b in scene.bounds)
@@ -66,7 +63,6 @@ def main() -> None:
         for roughness in (0.0, 0.35):
             scene = model_scene(rel, roughness)
             if scene is None:
-                print(f"{rel}: not found under {MODELS}")
                 break
             compare(r, f"{rel.split('/')[0]} on a {roughness} floor", scene, 64, 48, rays=3)
     scene = ssrlab.scenes.load("spheres_and_boxes")

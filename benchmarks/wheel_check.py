@@ -18,8 +18,8 @@ Steps, each printed with what it found:
    'WHEEL[images]'`` (numpy, matplotlib, OpenEXR, Pillow from the package index).
 4. In that environment, from a folder outside the source tree: ``ssrlab info`` and
    ``ssrlab render`` of the default scene (color.png, color.exr and the G-buffer EXRs through
-   Pillow and OpenEXR), then a check that the extension loads no OpenImageIO and that the files
-   read back.
+   Pillow and OpenEXR), then a check that the extension loads no OpenImageIO, that the files
+   read back, and that the sample models came with the wheel (ssrlab.models finds them there).
 """
 
 from __future__ import annotations
@@ -97,9 +97,7 @@ def main() -> int:
         render = run([venv / "bin" / "ssrlab", "render", "--width", "160", "--height", "90", "--out", work / "r"],
                      cwd=work, env={**os.environ, "SSRLAB_CACHE": str(work / "cache")})
         print("\n".join("  " + line for line in render.stdout.splitlines()[:4]))
-        models = [m for m in (REPO.parent / "shared" / "models" / "Suzanne" / "Suzanne.gltf",
-                              REPO / "shared" / "models" / "Suzanne" / "Suzanne.gltf") if m.is_file()]
-        check = run([py, "-c", _CHECK, str(work / "r"), *map(str, models[:1])], cwd=work)
+        check = run([py, "-c", _CHECK, str(work / "r")], cwd=work, env={**os.environ, "SSRLAB_MODELS": ""})
         print("\n".join("  " + line for line in check.stdout.splitlines()))
         print("wheel check: OK")
     finally:
@@ -132,8 +130,12 @@ try:  # a file the system will not let the codec write: an OutputError naming it
 except ssrlab.OutputError as e:
     assert "x.exr" in str(e) and e.errno, e
     print("a failed write:", type(e).__name__, e.errno, e)
-if len(sys.argv) > 2:  # a textured glTF model: textures decoded by Pillow, saved as a .glb (PNG encoded) and read back
-    scene = ssrlab.Scene.load(sys.argv[2])
+# The sample models ship in the wheel: found by ssrlab.models without $SSRLAB_MODELS or a checkout.
+model = ssrlab.models.find("Suzanne")
+assert model.is_relative_to(ssrlab.models.PACKAGED), model
+assert ssrlab.models.find("2CylinderEngine").is_relative_to(ssrlab.models.PACKAGED)
+if True:  # a textured glTF model: textures decoded by Pillow, saved as a .glb (PNG encoded) and read back
+    scene = ssrlab.Scene.load(model)
     assert scene.image_count > 0 and scene.material(0).base_color_texture >= 0
     scene.add_light(ssrlab.directional_light((0, -1, -1)))
     cam = ssrlab.Camera(position=(0, 0, 4), target=(0, 0, 0))
@@ -145,7 +147,7 @@ if len(sys.argv) > 2:  # a textured glTF model: textures decoded by Pillow, save
     again = ssrlab.Scene.load(saved)
     g2 = r.render(again, cam, ssrlab.Settings(width=64, height=48)).gbuffer
     assert np.array_equal(g2.albedo[0], g.albedo[0]), "the saved model's textures differ"
-    print("textured glTF:", sys.argv[2].rsplit("/", 2)[-2], scene.image_count, "image(s) decoded, saved as .glb, "
+    print("textured glTF:", model.parent.name, scene.image_count, "image(s) decoded, saved as .glb, "
           "read back with the same albedo")
 """
 

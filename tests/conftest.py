@@ -1,8 +1,10 @@
 """Shared fixtures. Every test renders on llvmpipe-sized images and passes without a GPU; on
-a machine with one, device="auto" renders there instead."""
+a machine with one, device="auto" renders there instead, and the tests of device="cpu" itself
+(marked needs_cpu_device) skip where there is no software rasteriser."""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import struct
@@ -15,9 +17,11 @@ import pytest
 import ssrlab
 
 REPO = Path(__file__).resolve().parents[1]
-MODELS = [REPO.parent / "shared" / "models", REPO / "shared" / "models"]
-# ssrlab.models looks here too (scene builders that use a sample model, e.g. Suzanne).
-os.environ.setdefault("SSRLAB_MODELS", os.pathsep.join(str(p) for p in MODELS))
+# The sample models are part of the repository and of the package (python/ssrlab/sample_models):
+# this checkout's copy, then the one the installed package found for itself (ssrlab.models, which
+# the scene builders use, needs no $SSRLAB_MODELS).
+MODELS = list(dict.fromkeys([REPO / "python" / "ssrlab" / "sample_models",
+                             getattr(ssrlab.models, "PACKAGED", REPO / "python" / "ssrlab" / "sample_models")]))
 # FLIP costs tens to hundreds of milliseconds for each of the suite's small images (docs/metrics.md),
 # more than most of its renders: sweeps here leave FLIP and SSIM out unless a test asks (perceptual=True, or
 # SSRLAB_PERCEPTUAL=1 as the thesis_layers notebook's test does).
@@ -42,6 +46,43 @@ def renderer():
     return ssrlab.Renderer("auto")
 
 
+# -- the CPU device -------------------------------------------------------------------------------
+# A few tests are about device="cpu" itself (Mesa's llvmpipe): that it opens, that $SSRLAB_DEVICE
+# pins it. A machine with a GPU need not have Mesa's software rasteriser (an NVIDIA image ships
+# NVIDIA's libEGL only), and there those tests skip, saying why. Every other test renders on the
+# device at hand (device="auto").
+
+def cpu_device_absence(open_cpu=None) -> str | None:
+    """None where device="cpu" opens Mesa's software rasteriser; else why not, in words. Decided
+    the way the tests would use it: by opening ssrlab.Renderer("cpu") (`open_cpu`, for a test of this
+    helper), whose DeviceError names what EGL offered instead."""
+    try:
+        r = (open_cpu or (lambda: ssrlab.Renderer("cpu")))()
+    except ssrlab.DeviceError as e:
+        return f"no CPU device (Mesa's llvmpipe) here: {e}"
+    if r.info["device"] != "cpu":
+        return f"device='cpu' opened {r.info['renderer']!r}, which is not a software rasteriser"
+    return None
+
+
+@functools.lru_cache(maxsize=None)
+def cpu_device_absence_here() -> str | None:
+    """cpu_device_absence() of this machine, decided once per test process."""
+    return cpu_device_absence()
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "needs_cpu_device: the test opens device='cpu' (Mesa's llvmpipe) and "
+                                       "skips, naming why, where this machine has none")
+
+
+def pytest_runtest_setup(item):
+    if item.get_closest_marker("needs_cpu_device") is not None:
+        why = cpu_device_absence_here()
+        if why is not None:
+            pytest.skip(why)
+
+
 @pytest.fixture(autouse=True)
 def no_gl_errors(request):
     """After every test that rendered, GL must not have reported an error."""
@@ -51,14 +92,17 @@ def no_gl_errors(request):
 
 
 def model_path(rel: str) -> Path:
+    """The sample model `rel` (e.g. "Suzanne/Suzanne.gltf"). They come with the checkout, so a
+    missing one is a broken checkout or package: a failure, never a skip."""
     for base in MODELS:
         if (base / rel).is_file():
             return base / rel
-    pytest.skip(f"sample model {rel} not found under {MODELS}")
+    pytest.fail(f"sample model {rel} not found under {', '.join(map(str, MODELS))}: the checkout or the "
+                f"installed package lacks its sample_models")
 
 
 def suzanne_copy(tmp_path: Path) -> Path:
-    """A copy of the Suzanne sample model in tmp_path/model (to edit), or a skip without the models."""
+    """A copy of the Suzanne sample model in tmp_path/model (to edit)."""
     import shutil
 
     src = model_path("Suzanne/Suzanne.gltf").parent

@@ -8,6 +8,7 @@ import pytest
 
 import ssrlab
 from ssrlab.renderer import check_device, resolve_device
+from conftest import cpu_device_absence, cpu_device_absence_here
 
 
 def _hardware():
@@ -58,9 +59,37 @@ def test_ssrlab_device_pins_auto_only(monkeypatch):
     with pytest.raises(ValueError, match=r"\$SSRLAB_DEVICE"):
         resolve_device("auto")
     monkeypatch.setenv("SSRLAB_DEVICE", "cpu")
+    assert resolve_device("auto") == "cpu"
+    assert check_device("gpu:12") == "gpu:12"
+
+
+@pytest.mark.needs_cpu_device
+def test_a_renderer_pinned_to_the_cpu_device_opens_it(monkeypatch):
+    monkeypatch.setenv("SSRLAB_DEVICE", "cpu")
     r = ssrlab.Renderer()
     assert r.device == "cpu" and r.info["requested"] == "cpu" and r.info["device"] == "cpu"
-    assert check_device("gpu:12") == "gpu:12"
+
+
+class _Opened:
+    def __init__(self, device):
+        self.info = {"device": device, "renderer": "NVIDIA H100 80GB HBM3/PCIe/SSE2" if device == "gpu" else "llvmpipe"}
+
+
+def _refused():
+    raise ssrlab.DeviceError("could not open a headless OpenGL 4.5 core context through EGL; surfaceless: no display")
+
+
+def test_the_cpu_device_marker_skips_with_the_reason_where_there_is_none():
+    """tests/conftest.py's needs_cpu_device: a test of device='cpu' runs where Renderer("cpu") opens
+    Mesa's llvmpipe, and skips naming why where it raises (a GPU machine without Mesa's EGL) or
+    where it would open something else."""
+    assert cpu_device_absence(lambda: _Opened("cpu")) is None
+    why = cpu_device_absence(_refused)
+    assert why.startswith("no CPU device") and "surfaceless: no display" in why
+    assert "not a software rasteriser" in cpu_device_absence(lambda: _Opened("gpu"))
+    # This machine: where EGL lists a software device that opened, the CPU device is here.
+    if any(d["software"] and not d["error"] for d in ssrlab.devices()):
+        assert cpu_device_absence_here() is None
 
 
 def test_cli_info_lists_every_device_with_its_index():

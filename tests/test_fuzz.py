@@ -14,7 +14,7 @@ def test_fuzzer_short_run_has_no_findings(tmp_path):
     out = tmp_path / "fuzz"
     proc = subprocess.run(
         [sys.executable, str(REPO / "benchmarks" / "fuzz_gltf.py"), "--seed", "3", "--max-mutants", "400",
-         "--minutes", "0.75", "--timeout", "30", "--device", "cpu", "--out", str(out)],
+         "--minutes", "0.75", "--timeout", "30", "--out", str(out)],
         capture_output=True, text=True, timeout=300)
     summary = json.loads((out / "summary.json").read_text())
     findings = sorted(p.name for p in out.glob("finding_*"))
@@ -29,7 +29,7 @@ def test_fuzzer_records_crashes_and_hangs(tmp_path):
     out = tmp_path / "fuzz"
     proc = subprocess.run(
         [sys.executable, str(REPO / "benchmarks" / "fuzz_gltf.py"), "--seed", "3", "--max-mutants", "5",
-         "--timeout", "3", "--device", "cpu", "--selftest", "crash", "none", "hang", "--out", str(out)],
+         "--timeout", "3", "--selftest", "crash", "none", "hang", "--out", str(out)],
         capture_output=True, text=True, timeout=300)
     summary = json.loads((out / "summary.json").read_text())
     assert proc.returncode == 1 and summary["findings"] == 2 and summary["mutants"] == 5, (summary, proc.stdout)

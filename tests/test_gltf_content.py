@@ -8,7 +8,7 @@ import pytest
 
 import ssrlab
 from ssrlab.analytic import pixel_rays
-from conftest import small
+from conftest import model_path, small
 
 EMISSIVE = np.array([3.0, 1.5, 0.75])
 BOX_CENTER, BOX_SIZE = np.array([0.0, 0.75, -3.0]), np.array([1.5, 1.5, 1.5])
@@ -148,15 +148,12 @@ def test_spot_light_round_trips_and_is_checked(tmp_path):
         ssrlab.spot_light((0, 1, 0), (0, -1, 0), inner_cone=0.7, outer_cone=0.5)
 
 
-def suzanne_or_skip():
-    try:
-        return ssrlab.models.find("Suzanne")
-    except FileNotFoundError:
-        pytest.skip("the glTF sample models are not installed (SSRLAB_MODELS)")
+def suzanne():
+    return model_path("Suzanne/Suzanne.gltf")
 
 
 def test_mirror_stage_reflects_suzanne(renderer):
-    scene = ssrlab.scenes.load(str(suzanne_or_skip()), stage="mirror")
+    scene = ssrlab.scenes.load(str(suzanne()), stage="mirror")
     stage = scene.object_count - 1
     assert scene.object_name(stage) == "stage" and scene.material(stage).roughness == 0.0
     f = renderer.render(scene, settings=small(width=128, height=96))
@@ -185,12 +182,21 @@ def test_render_cli_stage(tmp_path):
     import subprocess
     import sys
 
-    path = suzanne_or_skip()
+    path = suzanne()
     r = subprocess.run([sys.executable, "-m", "ssrlab", "render", "--scene", str(path), "--stage", "glossy",
                         "--stage-roughness", "0.3", "--width", "64", "--height", "48", "--out", str(tmp_path / "o")],
                        capture_output=True, text=True, cwd=tmp_path)
     assert r.returncode == 0, r.stderr[-2000:]
     assert (tmp_path / "o" / "color.png").is_file()
+    # The stage's material read back from the G-buffer the command wrote: the metal floor
+    # (scenes.add_stage: base colour 0.95, metallic 1) fills the bottom of the framing and holds the
+    # roughness asked for, to the G-buffer's 8 bits.
+    g, names = ssrlab.io.read_image(tmp_path / "o" / "gbuffer_layer0.exr")
+    ch = {n: g[..., i] for i, n in enumerate(names)}
+    stage = ((ch["coverage"] > 0.5) & (ch["metallic"] > 0.99) &
+             (np.abs(np.stack([ch["albedo.R"], ch["albedo.G"], ch["albedo.B"]], -1) - 0.95) < 0.01).all(-1))
+    assert stage.mean() > 0.2 and stage[-4:].mean() > 0.9, (stage.mean(), stage[-4:].mean())
+    np.testing.assert_allclose(ch["roughness"][stage], 0.3, atol=0.5 / 255 + 1e-6)
 
 
 def test_unimplemented_extensions_are_named_in_one_warning(tmp_path):
@@ -243,7 +249,15 @@ def test_spot_light_casts_a_perspective_shadow(renderer, tmp_path):
     print(f"spot shadow: {dark.mean():.4f} of the shadowed pixels dark")
     assert dark.mean() > 0.99
     assert lit[lit_area & in_cone].min() > 0.15 * np.median(lit[lit_area & in_cone])  # distance and cosine vary
-    assert box >= 0
+    # The box the slab tests above assume is the one drawn: the pixels whose camera ray enters
+    # [lo, hi] (the same slab test, from the camera) show it, those whose ray passes clear of it do not.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c0, c1 = (lo - cam) / d, (hi - cam) / d
+    enter, leave = np.minimum(c0, c1).max(-1), np.maximum(c0, c1).min(-1)
+    seen = g.coverage[0] & (g.object_id[0] == box)
+    inside, clear = leave - np.maximum(enter, 0) > 0.05, enter > leave + 0.05
+    assert inside.sum() > 200 and seen[inside].mean() > 0.99 and not seen[clear].any(), \
+        (int(inside.sum()), float(seen[inside].mean()), int(seen[clear].sum()))
     # Through glTF: a spot light casts its shadow by default (KHR_lights_punctual has no flag).
     path = s.save(tmp_path / "spot_shadow.gltf")
     doc = json.loads(path.read_text())

@@ -177,14 +177,19 @@ def test_references_and_tracers_see_the_textured_f0_in_a_mirror(renderer, tmp_pa
     u = np.where(t > 0, (q[..., 0] - WX0) / (WX1 - WX0), np.nan)
     v = np.where(t > 0, (WY1 - q[..., 1]) / (WY1 - WY0), np.nan)
     f0, centred = expected_f0(u, v, 1.5, 1.0, (2.0, 1.0, 0.5))
-    # Schlick's Fresnel at the wall for the light and the mirrored view: only F differs between
-    # the two walls, so the reflections' ratio is F(texel's F0) / F(factors' F0).
+    # Schlick's Fresnel at the wall for the light and the view: only F differs between the two
+    # walls, so the reflections' ratio is F(texel's F0) / F(factors' F0).
     to_light = -np.array([0.0, -0.3, -1.0]) / np.linalg.norm([0.0, -0.3, -1.0])
-    h = to_light - dm
-    h /= np.linalg.norm(h, axis=-1, keepdims=True)
-    k = ((1.0 - np.clip(np.sum(-dm * h, axis=-1), 0.0, 1.0)) ** 5)[..., None]
     plain_f0 = 0.04 * np.array([2.0, 1.0, 0.5])
-    want = (f0 + (1 - f0) * k) / (plain_f0 + (1 - plain_f0) * k)
+
+    def f_ratio(view):
+        """F(texel's F0) / F(factors' F0) for the wall seen along `view` (unit, wall to viewer)."""
+        h = to_light + view
+        h /= np.linalg.norm(h, axis=-1, keepdims=True)
+        k = ((1.0 - np.clip(np.sum(view * h, axis=-1), 0.0, 1.0)) ** 5)[..., None]
+        return (f0 + (1 - f0) * k) / (plain_f0 + (1 - plain_f0) * k)
+
+    want = f_ratio(-dm)  # seen along the mirrored camera ray
     mirrored = g.coverage[0] & (g.object_id[0] == floor) & centred & (d[..., 1] < 0)
     assert mirrored.sum() > 150, mirrored.sum()
     bright = want[..., 1] > 0.5
@@ -213,9 +218,24 @@ def test_references_and_tracers_see_the_textured_f0_in_a_mirror(renderer, tmp_pa
         assert seen.sum() > 0.8 * mirrored.sum(), name
         ok = np.all(np.abs(ratio(a, b) - want) < tol * want, axis=-1)
         assert ok[seen].mean() > 0.95, f"{name}: {ok[seen].mean():.3f} of the mirrored cells match"
-    # The probes' capture shades its hits through the same code (lib/trace_shade.glsl).
-    probes = renderer.render(scene, settings=small(width=128, height=96, fallback="probes"))
-    assert np.isfinite(probes.color).all()
+    # The probes' capture shades its hits through the same code (lib/trace_shade.glsl). One probe
+    # in front of the wall and a one-step trace, so that every ray is the probe's: per ray, the
+    # textured wall's radiance over the plain one's is the same F ratio, at the angle the probe saw
+    # the texel from. The cube map is coarser than the screen (a 128-texel face over 90 degrees),
+    # so the cells are judged a quarter of a cell from their edges (about two of its texels).
+    probe = np.array([0.0, 1.5, 2.5])
+    plain.probes = scene.probes = [tuple(probe)]
+    st = small(width=128, height=96, layers=2, fallback="probes", max_steps=1)
+    rt, rp = (renderer.render(s, settings=st).read("rays.radiance")[0] for s in (scene, plain))
+    inner = np.all([np.abs(np.nan_to_num(c) * SPEC_CELLS % 1.0 - 0.5) < 0.25 for c in (u, v)], axis=0)
+    by_probe = mirrored & inner & (rp[..., 3] >= 0) & (rt[..., 3] >= 0)  # a distance: the probe saw a surface
+    assert by_probe.sum() > 150 and (by_probe & bright).sum() > 30 and (by_probe & ~bright).sum() > 30
+    to_probe = probe - q
+    want_probe = f_ratio(to_probe / np.linalg.norm(to_probe, axis=-1, keepdims=True))
+    r = ratio(rt, rp)[by_probe]
+    print(f"probes: ratio deviates from the texel's F0 ratio by at most {np.abs(r / want_probe[by_probe] - 1).max():.2e} "
+          f"on {int(by_probe.sum())} pixels")
+    np.testing.assert_allclose(r, want_probe[by_probe], rtol=0.01)
 
 
 def test_a_scene_without_specular_textures_has_no_specular_layer(renderer):

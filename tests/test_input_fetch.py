@@ -1,7 +1,8 @@
 """The passes read their float inputs by imageLoad on the CPU device and by texelFetch on
 a GPU (Renderer(input_fetch=...), shaders/lib/input_fetch.glsl), and with imageLoad the resolve
 takes its neighbours' rays from resolve_fetch's textures instead of its shared tile. Both paths
-run here on llvmpipe (texelFetch is the GPU's path), and every output must be the same."""
+run here on the device at hand (llvmpipe without a GPU, where texelFetch is the GPU's path; the GPU
+where there is one, where imageLoad is llvmpipe's), and every output must be the same."""
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ from conftest import small
 
 @pytest.fixture(scope="module")
 def both():
-    return ssrlab.Renderer("cpu", input_fetch="imageLoad"), ssrlab.Renderer("cpu", input_fetch="texelFetch")
+    return ssrlab.Renderer("auto", input_fetch="imageLoad"), ssrlab.Renderer("auto", input_fetch="texelFetch")
 
 
 CONFIGS = {
@@ -77,4 +78,4 @@ def test_the_renderer_says_how_it_reads(both):
 
 def test_input_fetch_is_validated():
     with pytest.raises(ValueError, match="input_fetch must be 'auto', 'imageLoad' or 'texelFetch'"):
-        ssrlab.Renderer("cpu", input_fetch="sampler")
+        ssrlab.Renderer("auto", input_fetch="sampler")

@@ -276,7 +276,7 @@ def test_a_file_size_limit_raises_an_oserror_naming_the_file(tmp_path):
     script = textwrap.dedent(f"""
         import resource, signal, ssrlab, sys
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-        r = ssrlab.Renderer("cpu")
+        r = ssrlab.Renderer()
         f = r.render(ssrlab.scenes.mirror_test(), settings=ssrlab.Settings(width=128, height=96, layers=1))
         resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
         try:

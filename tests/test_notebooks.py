@@ -105,7 +105,7 @@ def test_the_expected_verdicts_name_every_kind_of_verdict():
 ])
 def test_notebook_runs_at_reduced_size(name, figures, tmp_path, monkeypatch):
     if name == "thesis_layers":
-        model_path("Suzanne/Suzanne.gltf")  # the thesis's elephant: skip where the sample models are absent
+        model_path("Suzanne/Suzanne.gltf")  # the thesis's elephant: a clear failure where the model is missing
     nb = execute_small(name, tmp_path, monkeypatch)
     for fig in figures:
         path = tmp_path / "figures" / fig
@@ -154,7 +154,7 @@ def test_hybrid_notebook_runs_at_reduced_size(tmp_path, monkeypatch):
     """notebooks/hybrid.ipynb: error against time of SSR, SSR + BVH fallback, pure BVH (and
     SSR + probes where the build accepts fallback="probes"), with and without SVGF; at reduced size
     (one timed run) every time-budget verdict is "too small to judge" and says why."""
-    model_path("Suzanne/Suzanne.gltf")  # the glTF scene: skip where the sample models are absent
+    model_path("Suzanne/Suzanne.gltf")  # the glTF scene: a clear failure where the model is missing
     from ssrlab import hybrid
 
     nb = execute_small("hybrid", tmp_path, monkeypatch)

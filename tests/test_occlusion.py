@@ -84,8 +84,13 @@ def test_closed_box_is_closer_to_the_reference(renderer):
     for occ in ("off", "horizon", "exit"):
         f = renderer.render(scene, settings=settings(occ))
         err[occ] = float(np.abs(f.color[floor] - truth.color[floor]).sum() / truth.color[floor].sum())
+    print(f"closed box, floor error against the converged reference: off {err['off']:.4f}, horizon "
+          f"{err['horizon']:.4f} ({err['horizon'] / err['off']:.2f} of off), exit {err['exit']:.4f} "
+          f"({err['exit'] / err['off']:.2f})")
     assert err["exit"] < 0.5 * err["off"], err
-    assert err["horizon"] < err["off"], err
+    # GTSO sees the walls only within its search radius over layer 0: it takes away about half of
+    # the sky's error here (llvmpipe: 0.53 of "off"'s error, 0.53-0.55 over ray seeds 0-3).
+    assert err["horizon"] < 0.65 * err["off"], err
 
 
 def test_open_sky_keeps_the_sky(renderer):
@@ -100,6 +105,19 @@ def test_open_sky_keeps_the_sky(renderer):
     assert r[2] > r[0]
 
 
-def test_other_fallbacks_run_no_occlusion(renderer):
-    f = renderer.render(box_scene(closed=True), settings=settings("exit", fallback="none"))
-    assert "specular_occlusion" not in f.passes
+@pytest.mark.parametrize("kw", [dict(fallback="none"), dict(fallback="bvh"), dict(method="bvh")])
+def test_other_fallbacks_run_no_occlusion(renderer, kw):
+    """Where the pass must not run (a fallback that owns rays.radiance, or no screen-space trace),
+    the setting changes nothing: every estimator's frame is specular_occlusion="off"'s, bit for bit.
+    The same closed box with the environment fallback is changed by it (the comparison can fail)."""
+    scene = box_scene(closed=True)
+    base = dict(width=W, height=H, method="hiz", rays_per_pixel=4, sampling="vndf")
+    env_off = renderer.render(scene, settings=ssrlab.Settings(**base, specular_occlusion="off"))
+    env_exit = renderer.render(scene, settings=ssrlab.Settings(**base, specular_occlusion="exit"))
+    assert np.abs(env_exit.color - env_off.color).max() > 0.05
+    off = renderer.render(scene, settings=ssrlab.Settings(**{**base, **kw}, specular_occlusion="off"))
+    for occlusion in ("exit", "horizon"):
+        f = renderer.render(scene, settings=ssrlab.Settings(**{**base, **kw}, specular_occlusion=occlusion))
+        assert "specular_occlusion" not in f.passes and "unresolved_rays" not in f.stats
+        np.testing.assert_array_equal(f.reflection, off.reflection, err_msg=f"{kw} {occlusion}")
+        np.testing.assert_array_equal(f.color, off.color, err_msg=f"{kw} {occlusion}")

@@ -15,6 +15,7 @@ def test_info_reports_the_device(renderer):
     assert "4.5" in info["gl_version"] or "4.6" in info["gl_version"]
 
 
+@pytest.mark.needs_cpu_device
 def test_cpu_device_is_llvmpipe():
     assert ssrlab.Renderer("cpu").info["device"] == "cpu"
 

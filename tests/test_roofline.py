@@ -35,7 +35,8 @@ def test_microbenchmark_rejects_bad_arguments(renderer, args, match):
 
 
 def run_benchmark(name: str, *args: str) -> str:
-    """A benchmark script's standard output, run as the script it is (never imported by path)."""
+    """A benchmark script's standard output, run as the script it is (never imported by path), on
+    the device at hand (the scripts' default, --device auto)."""
     r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *args], capture_output=True,
                        text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
@@ -44,7 +45,7 @@ def run_benchmark(name: str, *args: str) -> str:
 
 def test_roofline_script_prints_finite_positive_figures(tmp_path):
     out = tmp_path / "roofline.json"
-    text = run_benchmark("roofline", "--quick", "--device", "cpu", "--json", str(out))
+    text = run_benchmark("roofline", "--quick", "--json", str(out))
     assert "| copy |" in text and "resolve / trace_hiz" in text
     result = json.loads(out.read_text())
     for p in result["peaks"].values():
@@ -61,7 +62,7 @@ def test_roofline_script_prints_finite_positive_figures(tmp_path):
 def test_ab_pass_same_shaders_give_the_same_hits_and_lane_use_in_range():
     shaders = str(REPO / "shaders")
     text = run_benchmark("ab_pass", shaders, shaders, "--width", "96", "--height", "64", "--scenes", "hall",
-                         "--repeats", "2", "--device", "cpu", "--lane-use")
+                         "--repeats", "2", "--lane-use")
     assert "largest hit difference 0.00e+00 px" in text  # one shader tree, deterministic: same hits
     uses = [float(x) for x in re.findall(r"(?:i\+32|consecutive entries) ([0-9.]+)", text)]
     assert len(uses) == 2 and all(0.0 < u <= 1.0 for u in uses), text
@@ -128,8 +129,8 @@ def test_resolve_fast_paths_leave_the_image_unchanged(renderer, tmp_path, scene_
 
 def test_device_agreement_of_one_device_with_itself_is_exact(tmp_path):
     for name in ("a.npz", "b.npz"):
-        run_benchmark("device_agreement", "save", str(tmp_path / name), "--device", "cpu", "--width", "48",
-                      "--height", "32", "--scenes", "mirror_test")
+        run_benchmark("device_agreement", "save", str(tmp_path / name), "--width", "48", "--height", "32",
+                      "--scenes", "mirror_test")
     text = run_benchmark("device_agreement", "compare", str(tmp_path / "a.npz"), str(tmp_path / "b.npz"))
     rows = [line for line in text.splitlines() if line.startswith("| mirror_test.")]
     assert len(rows) == 6 and all("| 0.00000 | 0.00000 | 0.000 | 0.00 % |" in r for r in rows)
@@ -143,14 +144,14 @@ TRACE_PARTS = ("entries", "+ ray", "+ set-up", "+ walk", "+ hit", "full pass", "
 
 def test_frame_breakdown_prints_every_case_with_its_sub_passes():
     out = run_benchmark("frame_breakdown", "--width", "64", "--height", "48", "--repeats", "1", "--scenes",
-                        "mirror_test", "--device", "cpu")
+                        "mirror_test")
     for case in BREAKDOWN_CASES:
         assert f"mirror_test {case} (skip=" in out
     assert "classify.clear" in out and "depth_peel.layer0" in out and "depth fetches per ray" in out
 
 
 def test_readback_benchmark_times_both_paths():
-    out = run_benchmark("readback", "--sizes", "48x32", "--repeats", "2", "--device", "cpu")
+    out = run_benchmark("readback", "--sizes", "48x32", "--repeats", "2")
     rows = [line for line in out.splitlines() if line.startswith("| 48x32 |")]
     assert {(r.split(" | ")[1], r.split(" | ")[2]) for r in rows} == set(READBACK_TEXTURES.items())
     assert "| staged / download |" in out and all(r.rstrip().endswith(("faster |", "slower |", "overlap) |"))
@@ -158,16 +159,14 @@ def test_readback_benchmark_times_both_paths():
 
 
 def test_trace_parts_builds_every_part_of_the_pass():
-    out = run_benchmark("trace_parts", "--width", "48", "--height", "32", "--repeats", "1", "--scenes", "hall",
-                        "--device", "cpu")
+    out = run_benchmark("trace_parts", "--width", "48", "--height", "32", "--repeats", "1", "--scenes", "hall")
     assert "| scene | " + " | ".join(TRACE_PARTS) + " |" in out
     rows = [line for line in out.splitlines() if line.startswith("| hall |")]
     assert len(rows) == 1 and rows[0].count(" ms") == 0 and rows[0].count("(") == len(TRACE_PARTS)
 
 
 def test_input_fetch_benchmark_compares_both_fetches_and_refuses_a_verdict_on_two_frames():
-    out = run_benchmark("input_fetch", "--width", "48", "--height", "32", "--repeats", "2", "--scenes", "hall",
-                        "--device", "cpu")
+    out = run_benchmark("input_fetch", "--width", "48", "--height", "32", "--repeats", "2", "--scenes", "hall")
     rows = [line for line in out.splitlines() if line.startswith("| hall |")]
     assert {r.split(" | ")[1] for r in rows} == {"hiz_mirror", "thesis"}
     assert any(" | total | " in r for r in rows)

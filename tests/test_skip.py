@@ -193,6 +193,29 @@ def test_stats_count_passes_without_skip(renderer):
     assert f.stats["rays_traced"] > 0 and f.stats["depth_fetches"] > 0
 
 
+@pytest.mark.parametrize("skip", [False, True])
+def test_stats_are_counted_once_per_render(skip):
+    """The first render of a variant runs its chain twice (an untimed first-use run, then the timed
+    one: Frame.warmup_runs); a later render of it runs it once. Every count is the timed run's
+    alone, those a pass keeps in a GPU buffer across runs included: the cold render's stats equal
+    the warm render's, and unresolved_rays is the count of rays the specular_occlusion pass marked
+    in rays.radiance."""
+    r = ssrlab.Renderer("auto")  # its own renderer: nothing warmed yet
+    scene = ssrlab.scenes.load("mirror_test")
+    s = small(width=W, height=H, skip=skip)
+    cold = r.render(scene, settings=s)
+    warm = r.render(scene, settings=s)
+    r.render(ssrlab.scenes.load("box_stack"), settings=s)  # another scene in between
+    again = r.render(scene, settings=s)
+    assert cold.warmup_runs >= 1 and warm.warmup_runs == 0 and again.warmup_runs == 0
+    assert "specular_occlusion" in cold.passes and ("classify" in cold.passes) is skip
+    for f in (cold, warm, again):
+        marked = int(((f.read("rays.radiance")[..., 3] > -1.5) & (f.read("rays.sample")[..., 0] > 0)).sum())
+        assert marked > 0 and f.stats["unresolved_rays"] == marked, (f.warmup_runs, f.stats["unresolved_rays"], marked)
+        assert 0 <= f.stats["occluded_misses"] <= marked
+    assert dict(cold.stats) == dict(warm.stats) == dict(again.stats)
+
+
 def test_layers_used_is_the_depth_complexity_of_the_view(renderer):
     # Three parallel quads one behind the other (no back faces): depth complexity 3.
     s = _quad_scene(1.0, 1.0)

@@ -394,7 +394,7 @@ def test_sweep_renders_sequences_and_scores_their_last_frame(renderer, tmp_path)
         bench.sweep({}, ["mirror_test"], frames=0, progress=False)
     base = dict(width=64, height=48, shadow_map_size=256, rays_per_pixel=4, downscale=2, stride=4.0, max_steps=250)
     rows = bench.sweep({"taa": ["thesis"]}, ["mirror_test"], base=base, repeats=1, warmup=0, frames=3,
-                       reference="converged", reference_rays=4, progress=False, cache_folder=tmp_path, device="cpu")
+                       reference="converged", reference_rays=4, progress=False, cache_folder=tmp_path)
     row = rows[0]
     assert row["frames"] == 3 and "gpu_taa_ms" in row
     # The row scores the sequence's last frame (TAA'd) against the unjittered reference.

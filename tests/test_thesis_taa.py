@@ -14,7 +14,7 @@ BASE = dict(width=64, height=48, shadow_map_size=256, rays_per_pixel=4, downscal
 
 def test_a_sequence_sweep_times_and_scores_every_frame_after_the_warm_up(renderer, tmp_path):
     rows = bench.sweep({"taa": ["thesis"]}, ["mirror_test"], base=BASE, repeats=3, warmup=1, sequence=True,
-                       reference="thesis", progress=False, cache_folder=tmp_path, device="cpu")
+                       reference="thesis", progress=False, cache_folder=tmp_path)
     row = rows[0]
     assert row["sequence"] is True and row["frames"] == 4 and row["repeats"] == 3
     assert row["gpu_taa_ms"] is not None

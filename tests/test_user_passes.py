@@ -141,7 +141,7 @@ def test_a_sweep_varies_a_user_parameter_and_scores_it_against_the_converged_ref
     rows = bench.sweep({"bilateral_filter.radius": [0, 4]}, [{"name": "box_stack", "floor_roughness": 0.4}],
                        base={**SMALL, "method": "hiz", "sampling": "vndf", "user_passes": ("bilateral_filter",)},
                        repeats=1, warmup=0, reference="converged", reference_rays=16, progress=False,
-                       cache_folder=tmp_path, device="cpu")
+                       cache_folder=tmp_path)
     assert [r["s_bilateral_filter.radius"] for r in rows] == [0, 4]
     assert "bilateral_filter.radius" in bench.varying_settings(rows)
     for r in rows:
@@ -179,7 +179,6 @@ repeats = 1
 warmup = 0
 reference = "converged"
 reference_rays = 4
-device = "cpu"
 [base]
 width = 64
 height = 48
@@ -229,12 +228,20 @@ def test_the_user_passes_notebook_places_the_examples_on_the_front(tmp_path, mon
 
 
 def test_a_sequence_runs_the_user_passes_in_every_frame(renderer):
+    """The user's trace (the Hi-Z walk, bit for bit) and filter run in every frame of a sequence:
+    with the filter's radius 0 (every pixel kept) each frame is the built-in sequence's, and with
+    its radius 4 each frame differs from it."""
     scene = scenes.box_stack(floor_roughness=0.4)
     cam = scene.camera
-    s = ssrlab.Settings(**SMALL, method="hiz", temporal_reflections=True,
-                        user_passes=("hiz_copy", "bilateral_filter"))
-    frames = list(renderer.render_sequence(scene, [cam, cam], s))
-    for f in frames:
+    s = ssrlab.Settings(**SMALL, method="hiz", temporal_reflections=True)
+    user = s.replace(user_passes=("hiz_copy", "bilateral_filter"))
+    built_in = list(renderer.render_sequence(scene, [cam] * 3, s))
+    kept = list(renderer.render_sequence(scene, [cam] * 3, user.replace(user_params={"bilateral_filter.radius": 0})))
+    frames = list(renderer.render_sequence(scene, [cam] * 3, user.replace(user_params={"bilateral_filter.radius": 4})))
+    for i, (f, b, k) in enumerate(zip(frames, built_in, kept)):
         assert {"hiz_copy", "bilateral_filter", "temporal"} <= set(f.passes)
         assert f.passes.index("bilateral_filter") < f.passes.index("temporal")  # the filter feeds the accumulation
         assert f.timings["hiz_copy"] > 0.0 and f.timings["bilateral_filter"] > 0.0
+        np.testing.assert_array_equal(k.color, b.color, err_msg=f"frame {i}: radius 0")
+        assert np.abs(f.read("reflection") - b.read("reflection")).max() > 0.01, f"frame {i}: the filter did nothing"
+        assert not np.array_equal(f.color, b.color), f"frame {i}"

@@ -41,12 +41,21 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
         bind_image_layered(1, cells, GL_READ_ONLY);
         dispatch_2d(cells.width(), cells.height(), 1, 8, 8);
     }
+    // Frame.stats counts this run's rays once, whichever run of the chain this is (a variant's
+    // first render runs it twice, render_loop.cpp). The counters are set to zero by a dispatch
+    // (stage 3), ordered after the previous run's atomics on the device's own timeline. With a
+    // buffer update from the host as the reset, an H100 reported unresolved_rays twice the rays the
+    // frame marked in rays.radiance: both runs' counts.
+    if (!counters_) counters_ = Buffer::create(2 * sizeof(uint32_t));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_.id());
+    Defines d3 = ctx.defines;
+    d3["STAGE"] = "3";
+    glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d3));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the previous run's atomics, before the reset
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the reset, before this run's atomics
     d["STAGE"] = "2";
     glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d));
-    const uint32_t zero[2] = {0, 0};
-    if (!counters_) counters_ = Buffer::create(sizeof(zero));
-    counters_.upload(zero, sizeof(zero));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, counters_.id());
     bind_inputs();
     if (exit) {
         glBindTextureUnit(8, r.get("occlusion_enclosure").id());

@@ -52,6 +52,9 @@ public:
     static bool enabled(const RenderSettings& s);
     // frame.stats: occluded_misses, unresolved_rays of the last run.
     std::map<std::string, double> counters() const;
+    // The counters' storage buffer binding (shaders/passes/specular_occlusion.comp); its own, apart
+    // from the covered tiles' (14), which the lighting and classify passes read.
+    static constexpr GLuint kCountersBinding = 15;
     void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
         for (const auto& [k, v] : counters()) stats[k] = v;
     }

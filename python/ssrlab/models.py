@@ -1,7 +1,9 @@
-"""Where the glTF sample models live (they are not part of the package).
+"""Where the glTF sample models live: inside the package (ssrlab/sample_models, with their
+licences and attribution in its README.md).
 
-Search order: the folders in $SSRLAB_MODELS (os.pathsep-separated), then ``shared/models``
-and ``../shared/models`` beside the current folder and beside the source checkout.
+Search order: the folders in $SSRLAB_MODELS (os.pathsep-separated), the package's own
+sample_models, then ``shared/models`` and ``../shared/models`` beside the current folder and
+beside the source checkout.
 """
 
 from __future__ import annotations
@@ -14,9 +16,12 @@ _FILES = {
     "2CylinderEngine": "2CylinderEngine/2CylinderEngine.glb",
 }
 
+PACKAGED = Path(__file__).resolve().parent / "sample_models"
+
 
 def search_path() -> list[Path]:
     paths = [Path(p) for p in os.environ.get("SSRLAB_MODELS", "").split(os.pathsep) if p]
+    paths.append(PACKAGED)
     here = Path(__file__).resolve()
     for base in [Path.cwd(), *here.parents]:
         paths += [base / "shared" / "models", base.parent / "shared" / "models"]

@@ -55,7 +55,7 @@
 #include "../lib/input_fetch.glsl"
 
 // 0: the farthest surface of each enclosure cell; 1: of each cell and its 8 neighbours;
-// 2: the rays.
+// 2: the rays; 3: the counters set to zero (before stage 2, in each run of the chain).
 #ifndef STAGE
 #define STAGE 2
 #endif
@@ -80,7 +80,7 @@ INPUT_ARRAY(u_ray_sample, 5, 6, rgba32f);
 INPUT_ARRAY(u_ray_direction, 6, 7, rgba32f);
 layout(binding = 7) uniform sampler2DArray u_albedo;
 INPUT_2D(u_cells, 8, 8, r32f);  // occlusion_enclosure (stage 1's output)
-layout(std430, binding = 14) buffer OcclusionCounters {
+layout(std430, binding = 15) buffer OcclusionCounters {  // SpecularOcclusionPass::kCountersBinding
     uint unresolved;
     uint occluded;
 } counters;
@@ -345,6 +345,16 @@ void main() {
         for (int x = -1; x <= 1; ++x)
             far_depth = max(far_depth, imageLoad(u_cell_depth, clamp(c + ivec2(x, y), ivec2(0), n - 1)).r);
     imageStore(o_enclosure, c, vec4(far_depth));
+}
+#elif STAGE == 3
+// ---- stage 3: the counters set to zero ----------------------------------------------------------
+// By a shader write, ordered after every earlier dispatch's atomics on the device's own timeline
+// (the untimed first-use run's among them), not by a buffer update from the host.
+void main() {
+    if (gl_GlobalInvocationID.xy == uvec2(0u)) {
+        counters.unresolved = 0u;
+        counters.occluded = 0u;
+    }
 }
 #else
 // ---- stage 2: per ray ---------------------------------------------------------------------------
