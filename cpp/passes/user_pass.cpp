@@ -154,6 +154,11 @@ void UserPass::copy_rewritten(FrameResources& r) {
                 copy = Texture::create_cube_array(t.format(), t.width(), t.layers() / 6, t.levels());
             else
                 copy = Texture::create_2d(t.format(), t.width(), t.height(), t.levels());
+            // Sampled as the original is (the pre-convolved mips filter linearly between levels).
+            GLint min_filter = 0, mag_filter = 0;
+            glGetTextureParameteriv(t.id(), GL_TEXTURE_MIN_FILTER, &min_filter);
+            glGetTextureParameteriv(t.id(), GL_TEXTURE_MAG_FILTER, &mag_filter);
+            copy.set_filter(GLenum(min_filter), GLenum(mag_filter));
         }
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         const int depth = t.target() == GL_TEXTURE_2D ? 1 : t.layers();

@@ -184,9 +184,13 @@ class Renderer:
 
     def register_pass(self, user_pass) -> None:
         """Registers a user pass (ssrlab.UserPass) on this renderer: checked against its passes (a
-        pass reads only what an earlier pass writes, writes only its stage's resources and the
-        textures it creates: ValueError naming the pass, the resource and its owner). A render runs
-        it where Settings.user_passes names it (docs/guide/your-first-technique.md)."""
+        pass reads only what an earlier pass writes, writes only its stage's resources, or, placed
+        without a stage, any declared texture an image store can write, and the textures it
+        creates; a place no chain could give it is refused: ValueError naming the pass, the
+        resource and its owner). A render runs it where Settings.user_passes names it
+        (docs/guide/your-first-technique.md). It serves this renderer only: a pass that other
+        processes (a sweep's workers) must run belongs in a module named by Settings.user_modules,
+        whose passes every renderer rendering with those settings registers itself."""
         from .user_pass import UserPass, declare
 
         if not isinstance(user_pass, UserPass):
