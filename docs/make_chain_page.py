@@ -5,8 +5,9 @@ Renderer.chain reports them from the passes' own declarations (what each reads a
     python docs/make_chain_page.py --check  # exit 1 if the page differs from what the code says
 
 tests/test_docs.py runs the check, so the page cannot drift from the code. The chains are those of
-the built-in `mirror_test` scene (a shadowed sun and a mirror floor: every pass that depends on a
-scene fact runs) with the passes reading their float inputs by imageLoad, as on the CPU device.
+`ssrlab.scenes.stand_in()`, the scene Renderer.chain uses without one (a sun that casts a shadow and a
+mirror floor: every pass that depends on a scene fact runs, the shadow map's included), with the passes
+reading their float inputs by imageLoad, as on the CPU device.
 """
 
 from __future__ import annotations
@@ -35,11 +36,11 @@ def page(renderer) -> str:
              "Made by `python docs/make_chain_page.py` from `Renderer.chain(settings)`, which asks each pass "
              "whether it runs and what it reads and writes (GPU buffers in italics: the work lists a pass "
              "hands to a later one); `tests/test_docs.py` fails when this page and the "
-             "code disagree. Scene: `mirror_test`; float inputs read by imageLoad (the CPU device's path: on a "
+             "code disagree. Scene: `ssrlab.scenes.stand_in()` (what `Renderer.chain(settings)` uses without a scene); float inputs read by imageLoad (the CPU device's path: on a "
              "GPU the resolve reads its neighbours' rays from shared memory and `resolve_fetch` does not run).", ""]
     for title, kw in CONFIGURATIONS:
         settings = ssrlab.Settings(width=64, height=48, **kw)
-        chain = renderer.chain(settings, ssrlab.scenes.mirror_test())
+        chain = renderer.chain(settings, ssrlab.scenes.stand_in())
         changed = ", ".join(f"{k}={v!r}" for k, v in kw.items())
         lines += [f"## {title}", "", f"`Settings({changed})`", "", chain.markdown(), ""]
     return "\n".join(lines)

@@ -234,6 +234,73 @@ def test_write_results_files_and_no_overwriting(layer_rows, tmp_path):
         bench.write_results(layer_rows, tmp_path / "other", time_key="seconds")
 
 
+def _rows_2x2x2():
+    """Rows of a 2 x 2 x 2 sweep (method, rays, glossy) with made-up times and errors: on the front,
+    by construction, rows 0 (fastest), 3 and 6 (least error); every other row is beaten by one of
+    them."""
+    import itertools
+
+    times = [10.0, 11.0, 13.0, 12.0, 30.0, 31.0, 40.0, 41.0]
+    errors = [0.30, 0.35, 0.40, 0.20, 0.25, 0.33, 0.10, 0.12]
+    rows = []
+    for i, (method, rays, glossy) in enumerate(itertools.product(["linear", "hiz"], [1, 4], ["stochastic", "cone"])):
+        rows.append({"index": i, "scene": "box_stack", "view": "default", "gl_renderer": "llvmpipe", "repeats": 3,
+                     "s_method": method, "s_rays_per_pixel": rays, "s_glossy": glossy, "s_width": 96,
+                     "time_frame_ms": times[i], "time_frame_ms_min": times[i] - 1.0,
+                     "time_frame_ms_max": times[i] + 2.0, "thesis_error": errors[i]})
+    return rows
+
+
+def test_the_error_against_time_plot_names_every_point_and_draws_its_time_spread():
+    from matplotlib.collections import LineCollection
+
+    rows = _rows_2x2x2()
+    labels = bench.point_labels(rows)
+    assert labels[0] == "method=linear, rays_per_pixel=1, glossy=stochastic"
+    assert labels[5] == "method=hiz, rays_per_pixel=1, glossy=cone"
+    assert len(set(labels)) == 8  # s_width is the same everywhere: not named
+    assert bench.technique_settings(rows) == ["method", "glossy"]  # rays are a parameter, not a technique
+    groups = bench.technique_groups(rows)
+    assert groups[3] == "method=linear, glossy=cone" and len(set(groups)) == 4
+    assert [r["index"] for r in bench.pareto_front(rows)] == [0, 3, 6]
+
+    fig = bench.plot_error_vs_time(rows)
+    ax, side = fig.axes
+    legend = [t.get_text() for t in side.get_legend().get_texts()]
+    assert legend == ["method=linear, glossy=stochastic", "method=linear, glossy=cone",
+                      "method=hiz, glossy=stochastic", "method=hiz, glossy=cone", "Pareto front (labelled)"]
+    texts = [t.get_text() for t in ax.texts]
+    # The front labelled (long labels wrapped over lines).
+    assert sorted(t.replace("\n", " ") for t in texts if "=" in t) == sorted(labels[i] for i in (0, 3, 6))
+    assert sorted(t for t in texts if "=" not in t) == [str(i) for i in range(8)]  # every point numbered
+    key = "\n".join(t.get_text() for t in side.texts)
+    for i, label in enumerate(labels):  # every point named in the key, the front's marked
+        assert f"{i}: {label}" + ("  (front)" if i in (0, 3, 6) else "") in key.splitlines()
+    # Each point's time spread: a bar from its fastest to its slowest repeat, at its error.
+    bars = sorted((min(x for x, _ in seg), max(x for x, _ in seg), seg[0][1])
+                  for c in ax.collections if isinstance(c, LineCollection) for seg in c.get_segments())
+    assert bars == sorted((r["time_frame_ms_min"], r["time_frame_ms_max"], r["thesis_error"]) for r in rows)
+    # One colour per technique group.
+    colours = {}
+    for c, g in zip([c for c in ax.collections if not isinstance(c, LineCollection)], groups):
+        colours.setdefault(g, set()).add(tuple(c.get_facecolor()[0]))
+    assert all(len(v) == 1 for v in colours.values()) and len({next(iter(v)) for v in colours.values()}) == 4
+    png = bench.SweepRows(rows)._repr_png_()  # how a notebook shows a sweep's rows
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_points_of_several_scenes_are_told_apart_by_marker_and_name():
+    rows = _rows_2x2x2()[:4] + [{**r, "scene": "hall", "index": r["index"] + 4} for r in _rows_2x2x2()[:4]]
+    labels = bench.point_labels(rows)
+    assert labels[4] == "scene=hall, rays_per_pixel=1, glossy=stochastic"  # method is linear throughout
+    fig = bench.plot_error_vs_time(rows)
+    legend = [t.get_text() for t in fig.axes[1].get_legend().get_texts()]
+    assert legend == ["glossy=stochastic", "glossy=cone", "box_stack", "hall", "Pareto front of each (labelled)"]
+    markers = {tuple(c.get_paths()[0].vertices.round(3).ravel()) for c in fig.axes[0].collections
+               if type(c).__name__ == "PathCollection"}
+    assert len(markers) == 2  # one marker per scene
+
+
 # -- sweep files ----------------------------------------------------------------------------------------
 def test_load_sweep_toml_and_json(tmp_path):
     toml = tmp_path / "s.toml"

@@ -187,3 +187,45 @@ def test_cluster_sweep_survives_a_killed_worker_and_resumes(tmp_path, cluster):
         [e for e in lines if e["type"] == "reference"]), "no reference was rendered again"
     assert len(list(store.glob("*.npz"))) == 2
     assert time.monotonic() - start < DEADLINE_S
+
+
+USER_SWEEP = """
+user_modules = ["{module}"]
+scenes = ["mirror_test"]
+repeats = 1
+warmup = 0
+reference = "thesis"
+
+[base]
+width = 48
+height = 32
+shadow_map_size = 128
+user_passes = ["reflection_gain"]
+
+[grid]
+"reflection_gain.gain" = [0.0, 0.5, 1.0]
+"""
+
+
+def test_cluster_sweep_of_a_user_pass_parameter(tmp_path, cluster):
+    """The workers started knowing nothing of the user pass: the sweep's settings name its module
+    (a .py file beside the tests), which every worker imports and registers before rendering."""
+    address, workers, env = cluster
+    module = Path(__file__).with_name("data") / "user_passes" / "gain_module.py"
+    sweep = tmp_path / "user.toml"
+    sweep.write_text(USER_SWEEP.format(module=module))
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "ssrlab", "bench", str(sweep), "--scheduler", address,
+                        "--reference-store", str(tmp_path / "store"), "--out", str(out)],
+                       capture_output=True, env=env, cwd=tmp_path, timeout=DEADLINE_S)
+    assert r.returncode == 0, r.stderr.decode()[-3000:]
+    rows = json.loads((out / "rows.json").read_text())
+    assert [row["s_reflection_gain.gain"] for row in rows] == [0.0, 0.5, 1.0]
+    worker_pids = {w.pid for w in workers}
+    for row in rows:  # every row scored, by a worker, with the user pass timed in its frame
+        assert row["thesis_error"] is not None and row["thesis_error"] >= 0.0
+        assert row["gpu_reflection_gain_ms"] > 0.0
+        assert int(row["worker"].rsplit(":", 1)[1]) in worker_pids
+        assert row["s_user_modules"] == [str(module.resolve())]
+    errors = [row["thesis_error"] for row in rows]
+    assert errors[0] > errors[1] > errors[2]  # the gain acted: less of the true reflection, more error

@@ -40,9 +40,9 @@ def test_the_schema_is_whole():
 
 def test_settings_fields_are_the_schema_fields():
     fields = dataclasses.fields(ssrlab.Settings)
-    # the user passes' two fields come last: not settings of ssrlab's own chain (ssrlab.UserPass)
-    assert [f.name for f in fields[-2:]] == ["user_passes", "user_params"]
-    fields = fields[:-2]
+    # the user passes' three fields come last: not settings of ssrlab's own chain (ssrlab.UserPass)
+    assert [f.name for f in fields[-3:]] == ["user_modules", "user_passes", "user_params"]
+    fields = fields[:-3]
     assert [f.name for f in fields] == [e["name"] for e in SCHEMA]
     native = _core.RenderSettings()
     for f, e in zip(fields, SCHEMA):

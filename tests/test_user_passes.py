@@ -245,3 +245,162 @@ def test_a_sequence_runs_the_user_passes_in_every_frame(renderer):
         np.testing.assert_array_equal(k.color, b.color, err_msg=f"frame {i}: radius 0")
         assert np.abs(f.read("reflection") - b.read("reflection")).max() > 0.01, f"frame {i}: the filter did nothing"
         assert not np.array_equal(f.color, b.color), f"frame {i}"
+
+
+# -- placed passes: where their resources are, anywhere the data allows --------------------------------------
+GAIN_MODULE = str(DATA / "gain_module.py")
+REGISTER_MODULE = str(DATA / "register_module.py")
+
+
+def _image(frame, name, level=0):
+    return np.asarray(frame.read(name, level)).reshape(-1, *frame.read(name, level).shape[-3:])[0]
+
+
+def test_a_placed_pass_runs_between_the_resolve_and_the_composite_and_acts_there():
+    r = ssrlab.Renderer()  # nothing registered: the module named in the settings brings its pass
+    scene = scenes.box_stack(floor_roughness=0.3)
+    s = ssrlab.Settings(**SMALL, method="hiz", sampling="vndf", skip=False)
+    plain = r.render(scene, settings=s)
+    with_gain = s.replace(user_modules=(GAIN_MODULE,), user_passes=("reflection_gain",),
+                          **{"reflection_gain.gain": 0.5})
+    f = r.render(scene, settings=with_gain)
+    i = f.passes.index("reflection_gain")
+    assert f.passes[i - 1:i + 2] == ["resolve", "reflection_gain", "composite"]
+    assert f.passes[:i] + f.passes[i + 1:] == plain.passes
+    assert r.chain(with_gain, scene).names == f.passes
+    # Its output, known without it: half the reflection the resolve wrote (exact in half floats).
+    before = _image(plain, "reflection")
+    assert np.abs(before).max() > 0.05
+    np.testing.assert_allclose(_image(f, "reflection"), 0.5 * before, rtol=1e-3, atol=1e-6)
+    assert not np.array_equal(f.color, plain.color)
+    assert f.timings["reflection_gain"] > 0.0 and f.stats["reflection_gain.groups"] == 12 * 8
+
+
+def test_a_placed_pass_named_before_the_composite_follows_svgf():
+    r = ssrlab.Renderer()
+    r.register_pass(ssrlab.UserPass("denoised_gain", DATA / "scale32.comp", reads=("reflection.denoised",),
+                                    writes=("reflection.denoised",), before="composite",
+                                    params=(ssrlab.Param("gain", "float", 1.0, 0.0, 4.0),)))
+    scene = scenes.box_stack(floor_roughness=0.3)
+    s = ssrlab.Settings(**SMALL, method="hiz", sampling="vndf", skip=False, denoise="svgf")
+    plain = r.render(scene, settings=s)
+    f = r.render(scene, settings=s.replace(user_passes=("denoised_gain",), **{"denoised_gain.gain": 2.0}))
+    assert f.passes[-3:] == ["svgf_atrous", "denoised_gain", "composite"]
+    before = _image(plain, "reflection.denoised")
+    np.testing.assert_allclose(_image(f, "reflection.denoised"), 2.0 * before, rtol=1e-6, atol=1e-7)
+
+
+def test_a_second_pass_over_the_rays_runs_after_the_trace_on_every_ray_layer():
+    r = ssrlab.Renderer()
+    scene = scenes.box_stack(floor_roughness=0.3)
+    s = ssrlab.Settings(**SMALL, method="linear", sampling="vndf", skip=False, rays_per_pixel=2,
+                        user_modules=(REGISTER_MODULE,))
+    plain = r.render(scene, settings=s)
+    kept = r.render(scene, settings=s.replace(user_passes=("drop_hits",)))
+    dropped = r.render(scene, settings=s.replace(user_passes=("drop_hits",), **{"drop_hits.keep": False}))
+    assert kept.passes[kept.passes.index("trace_linear") + 1] == "drop_hits"
+    assert kept.passes.index("drop_hits") < kept.passes.index("resolve")
+    # Kept: every layer of the copy it read is the trace's, so the frame is the plain one bit for bit.
+    for name in (*RAYS, "reflection", "color"):
+        assert np.array_equal(kept.read(name), plain.read(name)), name
+    assert plain.read("rays.hit")[1][..., 2].max() > 0  # the second ray layer holds hits to keep
+    # Dropped: no hit on any ray layer reaches the resolve.
+    assert not dropped.read("rays.hit").any()
+    assert not np.array_equal(dropped.color, plain.color)
+
+
+def test_a_glossy_filter_reads_the_preconvolved_mips():
+    r = ssrlab.Renderer()
+    scene = scenes.box_stack(floor_roughness=0.3)
+    s = ssrlab.Settings(**SMALL, method="linear", glossy="blur_mips", skip=False, user_modules=(REGISTER_MODULE,),
+                        user_passes=("preconvolved_level",), **{"preconvolved_level.level": 1})
+    f = r.render(scene, settings=s)
+    assert f.passes[-3:] == ["blur_mips", "preconvolved_level", "composite"]
+    # Each pixel's reflection is the texel over it at mip level 1 of the nearest surface's layer.
+    level1 = np.asarray(f.read("lit_preconvolved", 1))[0]
+    expected = np.repeat(np.repeat(level1, 2, axis=0), 2, axis=1)[:SMALL["height"], :SMALL["width"], :3]
+    got = _image(f, "reflection")
+    assert np.abs(expected).max() > 0.05
+    np.testing.assert_allclose(got[..., :3], expected, rtol=2e-3, atol=1e-4)
+    assert np.all(got[..., 3] == 1.0)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(reads=("reflection",), writes=("reflection",), before="resolve"),
+     r"cannot run before 'resolve': it rewrites 'reflection', which no pass before that place writes "
+     r"\('resolve' writes it\)"),
+    (dict(reads=("lit",), after="depth_peel"),
+     r"cannot run after 'depth_peel': it reads 'lit', which no pass before that place writes "
+     r"\('lighting' writes it later\)"),
+    (dict(reads=("reflection",), after="nowhere"), r"runs after 'nowhere', which is no pass"),
+    (dict(reads=("reflection",), writes=("gbuffer.depth",)), r"rewrites 'gbuffer.depth', whose format an image "
+                                                             r"store cannot write"),
+    (dict(reads=("no_such",)), r"reads 'no_such', which no pass writes"),
+])
+def test_an_impossible_place_is_refused_at_registration_naming_the_input(kwargs, match):
+    r = ssrlab.Renderer()
+    p = ssrlab.UserPass("misplaced", DATA / "scale.comp", **kwargs)
+    with pytest.raises(ValueError, match=match):
+        r.register_pass(p)
+    assert "misplaced" not in r.user_passes
+
+
+def test_a_place_these_settings_cannot_hold_is_refused_at_render_naming_the_input():
+    r = ssrlab.Renderer()
+    scene = scenes.box_stack()
+    s = ssrlab.Settings(**SMALL, skip=False, user_modules=(REGISTER_MODULE, GAIN_MODULE))
+    # Stochastic glossy reflections pre-convolve nothing: the filter's input is missing.
+    with pytest.raises(ValueError, match=r"user pass 'preconvolved_level': it reads 'lit_preconvolved', which no "
+                                         r"pass of this frame's chain writes \('preconvolve' declares it"):
+        r.render(scene, settings=s.replace(user_passes=("preconvolved_level",)))
+    with pytest.raises(ValueError, match=r"user pass 'preconvolved_level': it reads 'lit_preconvolved'"):
+        r.chain(s.replace(user_passes=("preconvolved_level",)), scene)
+    # Nothing traced: no reflection to rewrite.
+    with pytest.raises(ValueError, match=r"'reflection_gain': it rewrites 'reflection', which no pass of this "
+                                         r"frame's chain writes"):
+        r.render(scene, settings=s.replace(method="off", user_passes=("reflection_gain",)))
+    r.register_pass(ssrlab.UserPass("after_temporal", DATA / "scale.comp", reads=("reflection",),
+                                    writes=("reflection",), after="temporal"))
+    with pytest.raises(ValueError, match=r"'after_temporal' runs after 'temporal', which this frame's chain does "
+                                         r"not run"):
+        r.render(scene, settings=s.replace(user_passes=("after_temporal",)))
+
+
+def test_user_modules_are_settings_that_load_their_passes(monkeypatch):
+    monkeypatch.chdir(DATA)
+    s = ssrlab.Settings(user_modules=("gain_module.py",))
+    assert s.user_modules == (str(Path(GAIN_MODULE).resolve()),)  # absolute: workers elsewhere find it
+    assert "reflection_gain" in ssrlab.user_pass.declared()
+    assert ssrlab.Settings.from_dict(s.to_dict()) == s
+    assert "reflection_gain.gain = 1.0" in ssrlab.Settings.describe()
+    passes = ssrlab.user_pass.load_module(REGISTER_MODULE)
+    assert [p.name for p in passes] == ["drop_hits", "preconvolved_level"] and passes[0].place == "placed by its resources"
+    again = ssrlab.user_pass.load_module(REGISTER_MODULE + ":register")  # the register function alone
+    assert [p.native_args() for p in again] == [p.native_args() for p in passes]
+    with pytest.raises(FileNotFoundError, match="nowhere.py"):
+        ssrlab.Settings(user_modules=("nowhere.py",))
+    with pytest.raises(ImportError, match="'no_such_module'.*importable"):
+        ssrlab.Settings(user_modules=("no_such_module",))
+    with pytest.raises(ValueError, match="declares no user pass"):
+        ssrlab.Settings(user_modules=("json",))
+    with pytest.raises(ValueError, match="not both"):
+        ssrlab.UserPass("x", DATA / "scale.comp", reads=("reflection",), after="resolve", before="composite")
+    with pytest.raises(ValueError, match="has its stage's place"):
+        ssrlab.UserPass("x", DATA / "scale.comp", "reflection_filter", reads=("reflection",), after="resolve")
+
+
+def test_a_process_pool_worker_loads_the_module_and_scores_every_row(tmp_path):
+    import concurrent.futures
+    import multiprocessing
+
+    # A spawned worker starts with nothing declared: only the settings tell it the module.
+    with concurrent.futures.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        rows = bench.sweep({"reflection_gain.gain": [0.0, 1.0]}, ["mirror_test"],
+                           base={"width": 48, "height": 32, "user_modules": [GAIN_MODULE],
+                                 "user_passes": ["reflection_gain"]},
+                           repeats=1, warmup=0, reference="thesis", progress=False, cache_folder=tmp_path,
+                           device="cpu", executor=pool)
+    assert [r["s_reflection_gain.gain"] for r in rows] == [0.0, 1.0]
+    assert all(np.isfinite(r["thesis_error"]) and r["gpu_reflection_gain_ms"] > 0 for r in rows)
+    assert {int(r["worker"].rsplit(":", 1)[1]) for r in rows} != {__import__("os").getpid()}
+    assert rows[0]["thesis_error"] > rows[1]["thesis_error"]  # no reflection at all is further from the truth

@@ -236,7 +236,8 @@ void bind_render(py::module_& m) {
             [](Renderer& r, const std::string& name, const std::string& shader, const std::string& stage,
                const std::string& dispatch, const std::vector<std::string>& reads, const std::vector<std::string>& writes,
                const std::vector<std::tuple<std::string, std::string, std::string>>& creates,
-               const std::vector<std::tuple<std::string, std::string, double>>& params) {
+               const std::vector<std::tuple<std::string, std::string, double>>& params, const std::string& after,
+               const std::string& before) {
                 UserPassDesc d;
                 d.name = name;
                 d.shader = shader;
@@ -244,14 +245,16 @@ void bind_render(py::module_& m) {
                 d.dispatch = dispatch;
                 d.reads = reads;
                 d.writes = writes;
+                d.after = after;
+                d.before = before;
                 for (const auto& [n, f, s] : creates) d.creates.push_back({n, f, s});
                 for (const auto& [n, ty, v] : params) d.params.push_back({n, ty, v});
                 r.register_user_pass(d);
             },
             py::arg("name"), py::arg("shader"), py::arg("stage"), py::arg("dispatch"), py::arg("reads"),
-            py::arg("writes"), py::arg("creates"), py::arg("params"),
+            py::arg("writes"), py::arg("creates"), py::arg("params"), py::arg("after") = "", py::arg("before") = "",
             "Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass "
-            "and the resource it may not read or write.")
+            "and the resource it may not read or write, or the place it cannot run at.")
         .def(
             "chain",
             [](Renderer& r, const Scene& scene, const RenderSettings& s) {

@@ -39,12 +39,23 @@ GLenum UserPass::parse_format(const std::string& f) {
     return 0;
 }
 
+bool UserPass::image_format(GLenum format) {
+    for (const char* f : {"rgba8", "rgba16f", "rgba32f", "rg16f", "rg32f", "r16f", "r32f"})
+        if (parse_format(f) == format) return true;
+    return false;
+}
+
 std::vector<std::string> UserPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in;
     if (desc_.stage == "trace")
         for (const auto& g : generation_inputs()) in.push_back(g);
     for (const auto& r : desc_.reads)
         if (!contains(in, r)) in.push_back(r);
+    // What a filter or a placed pass rewrites must be there before it: an input too (a trace's
+    // writes are its own outputs).
+    if (desc_.stage != "trace")
+        for (const auto& w : desc_.writes)
+            if (!contains(in, w)) in.push_back(w);
     return in;
 }
 
@@ -106,23 +117,16 @@ void UserPass::execute(FrameContext& ctx) {
                       : double((s.trace_width() + 7) / 8) * ((s.trace_height() + 7) / 8) * s.traced_rays();
         return;
     }
-    // reflection_filter: reads at texture units 0, 1, ... in declared order (what it rewrites
-    // from a copy taken now), writes then creates at image units 0, 1, ...
-    for (const auto& w : desc_.writes) {
-        const Texture& t = r.get(w);
-        if (!source_copy_ || source_copy_.width() != t.width() || source_copy_.height() != t.height() ||
-            source_copy_.format() != t.format())
-            source_copy_ = Texture::create_2d(t.format(), t.width(), t.height(), 1);
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glCopyImageSubData(t.id(), GL_TEXTURE_2D, 0, 0, 0, 0, source_copy_.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
-                           t.width(), t.height(), 1);
-    }
+    // reflection_filter and placed passes: reads at texture units 0, 1, ... in declared order
+    // (what it also rewrites from a copy taken now), writes then creates at image units 0, 1, ...
+    copy_rewritten(r);
     const GLuint prog = ctx.shaders.program({desc_.shader}, ctx.defines);
     glUseProgram(prog);
     set_params(ctx, prog);
     for (GLuint unit = 0; unit < GLuint(desc_.reads.size()); ++unit) {
         const std::string& in = desc_.reads[unit];
-        glBindTextureUnit(unit, contains(desc_.writes, in) ? source_copy_.id() : r.get(in).id());
+        const auto copy = copies_.find(in);
+        glBindTextureUnit(unit, copy != copies_.end() ? copy->second.id() : r.get(in).id());
     }
     GLuint image = 0;
     for (const auto& w : desc_.writes) bind_image_layered(image++, r.get(w), GL_WRITE_ONLY);
@@ -134,6 +138,33 @@ void UserPass::execute(FrameContext& ctx) {
     } else {
         dispatch_2d(s.width, s.height, 1, 8, 8);
         groups_ = double((s.width + 7) / 8) * ((s.height + 7) / 8);
+    }
+}
+
+void UserPass::copy_rewritten(FrameResources& r) {
+    for (const auto& w : desc_.writes) {
+        if (!contains(desc_.reads, w)) continue;
+        const Texture& t = r.get(w);
+        Texture& copy = copies_[w];
+        if (!copy || copy.width() != t.width() || copy.height() != t.height() || copy.format() != t.format() ||
+            copy.target() != t.target() || copy.layers() != t.layers() || copy.levels() != t.levels()) {
+            if (t.target() == GL_TEXTURE_2D_ARRAY)
+                copy = Texture::create_2d_array(t.format(), t.width(), t.height(), t.layers(), t.levels());
+            else if (t.target() == GL_TEXTURE_CUBE_MAP_ARRAY)
+                copy = Texture::create_cube_array(t.format(), t.width(), t.layers() / 6, t.levels());
+            else
+                copy = Texture::create_2d(t.format(), t.width(), t.height(), t.levels());
+            // Sampled as the original is (the pre-convolved mips filter linearly between levels).
+            GLint min_filter = 0, mag_filter = 0;
+            glGetTextureParameteriv(t.id(), GL_TEXTURE_MIN_FILTER, &min_filter);
+            glGetTextureParameteriv(t.id(), GL_TEXTURE_MAG_FILTER, &mag_filter);
+            copy.set_filter(GLenum(min_filter), GLenum(mag_filter));
+        }
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        const int depth = t.target() == GL_TEXTURE_2D ? 1 : t.layers();
+        for (int level = 0; level < t.levels(); ++level)
+            glCopyImageSubData(t.id(), t.target(), level, 0, 0, 0, copy.id(), copy.target(), level, 0, 0, 0,
+                               std::max(1, t.width() >> level), std::max(1, t.height() >> level), depth);
     }
 }
 

@@ -72,7 +72,9 @@ public:
     std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings);
     // Registers a user pass (passes/user_pass.h) after checking its declaration against the passes
     // this renderer has: a name no other pass has; reads that an earlier pass (or an earlier user
-    // pass) writes; writes only its stage's resources; new textures no pass declares. Throws
+    // pass) writes; writes only its stage's resources (a placed pass: any declared texture an
+    // image store can write); a pass it names to run after or before that exists and a place
+    // where what it reads is written; new textures no pass declares. Throws
     // std::invalid_argument naming the pass and the resource (and the pass that owns it).
     void register_user_pass(const UserPassDesc& desc);
     std::vector<UserPassDesc> user_passes() const;
@@ -167,6 +169,15 @@ private:
     std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
     // The passes of a frame with these settings and facts: those of passes_ that say they run.
     std::vector<RenderPass*> build_chain(const RenderSettings& s, const FrameFacts& facts) const;
+    // Puts a placed user pass into `chain` where its resources are (invalid_argument naming the
+    // texture it would read before a pass writes it).
+    void place_user_pass(std::vector<RenderPass*>& chain, UserPass& u, const RenderSettings& s,
+                         const FrameFacts& facts) const;
+    // The place of a placed user pass in `chain` (at), or why it has none there, naming the input.
+    std::string placement(const std::vector<RenderPass*>& chain, const UserPass& u, const RenderSettings& s,
+                          const FrameFacts& facts, size_t& at) const;
+    // Settings whose chains together hold every built-in pass (a placement checked at registration).
+    static std::vector<RenderSettings> placement_variants();
     FrameFacts facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const;
     // Settings.user_passes and user_params against the registered user passes (invalid_argument
     // naming them); returns the chosen passes.

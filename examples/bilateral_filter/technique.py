@@ -7,6 +7,11 @@ describes it) as an ssrlab user pass: ``filter.comp`` beside this file and this 
     r.register_pass(bilateral_filter())
     frame = r.render(scene, settings=ssrlab.Settings(user_passes=("bilateral_filter",),
                                                      user_params={"bilateral_filter.radius": 3}))
+
+or, without registering it, in settings any process (a sweep's workers) can use:
+
+    ssrlab.Settings(user_modules=("examples/bilateral_filter/technique.py:bilateral_filter",),
+                    user_passes=("bilateral_filter",))
 """
 
 from pathlib import Path

@@ -4,6 +4,8 @@ file and this declaration. It takes the place of the screen-space trace:
 
     r.register_pass(view_space_march())
     frame = r.render(scene, settings=ssrlab.Settings(method="linear", user_passes=("view_space_march",)))
+
+or, without registering it: Settings(user_modules=("examples/view_space_march/technique.py:view_space_march",), ...).
 """
 
 from pathlib import Path

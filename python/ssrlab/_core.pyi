@@ -770,9 +770,9 @@ class Renderer:
         """
         Traces the reference pass for a frame ('per_ray' or 'converged'); returns its milliseconds per stage. tracer: 'cpu' (Embree and C++ shading on every core), 'embree' (Embree for the GLSL shading), 'glsl' or 'auto' ('cpu' on the CPU device with traced shadows, else 'glsl') (the converged reference's rays; per-ray references trace in GLSL). progress(done, total) is called after each sample round; returning False stops it with an error.
         """
-    def register_user_pass(self, name: str, shader: str, stage: str, dispatch: str, reads: collections.abc.Sequence[str], writes: collections.abc.Sequence[str], creates: collections.abc.Sequence[tuple[str, str, str]], params: collections.abc.Sequence[tuple[str, str, typing.SupportsFloat | typing.SupportsIndex]]) -> None:
+    def register_user_pass(self, name: str, shader: str, stage: str, dispatch: str, reads: collections.abc.Sequence[str], writes: collections.abc.Sequence[str], creates: collections.abc.Sequence[tuple[str, str, str]], params: collections.abc.Sequence[tuple[str, str, typing.SupportsFloat | typing.SupportsIndex]], after: str = '', before: str = '') -> None:
         """
-        Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass and the resource it may not read or write.
+        Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass and the resource it may not read or write, or the place it cannot run at.
         """
     def render(self, scene: Scene, camera: Camera, settings: RenderSettings, sequence: typing.Sequence = None) -> Frame:
         """

@@ -182,6 +182,7 @@ class Renderer:
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
         _warn_depth_precision(camera, settings)
+        self._register_modules(settings)
         settings = self._decide_deep_gbuffer(scene, camera, settings)
         settings = settings.resolved(self.info["device"])  # 'auto' decided for this device
         native = self._native.render(scene, camera, settings.to_native())
@@ -196,9 +197,13 @@ class Renderer:
 
     def register_pass(self, user_pass) -> None:
         """Registers a user pass (ssrlab.UserPass) on this renderer: checked against its passes (a
-        pass reads only what an earlier pass writes, writes only its stage's resources and the
-        textures it creates: ValueError naming the pass, the resource and its owner). A render runs
-        it where Settings.user_passes names it (docs/guide/your-first-technique.md)."""
+        pass reads only what an earlier pass writes, writes only its stage's resources, or, placed
+        without a stage, any declared texture an image store can write, and the textures it
+        creates; a place no chain could give it is refused: ValueError naming the pass, the
+        resource and its owner). A render runs it where Settings.user_passes names it
+        (docs/guide/your-first-technique.md). It serves this renderer only: a pass that other
+        processes (a sweep's workers) must run belongs in a module named by Settings.user_modules,
+        whose passes every renderer rendering with those settings registers itself."""
         from .user_pass import UserPass, declare
 
         if not isinstance(user_pass, UserPass):
@@ -213,18 +218,31 @@ class Renderer:
         """The user passes registered on this renderer, by name."""
         return dict(self.__dict__.get("_user_passes", {}))
 
+    def _register_modules(self, settings: Settings) -> None:
+        """Registers the passes of every module Settings.user_modules names that this renderer has
+        not registered yet (the modules were loaded, once per process, when the settings were made)."""
+        from .user_pass import load_module
+
+        for spec in settings.user_modules:
+            for p in load_module(spec):
+                have = self.user_passes.get(p.name)
+                if have is None or have.native_args() != p.native_args():
+                    self.register_pass(p)  # a different pass of that name: refused, naming it
+
     def chain(self, settings: Settings | None = None, scene: _core.Scene | None = None, **overrides) -> "Chain":
         """The passes a render with `settings` runs, in order, each with the resources it reads and
         writes: what ``render(scene, settings=settings).passes`` lists, without rendering. Which
         passes run depends on the scene too (a shadow-casting light, surfaces that reflect); without
-        one, a small built-in scene with a shadowed sun and a mirror floor stands in."""
+        one, ``ssrlab.scenes.stand_in()`` stands in: a mirror floor and a wall lit by a sun that casts
+        a shadow, so that the chain is the one a render of that scene runs (``shadow_map`` first)."""
         settings = settings if settings is not None else Settings()
         if overrides:
             settings = settings.replace(**overrides)
         if scene is None:
-            from .scenes import mirror_test
+            from .scenes import stand_in
 
-            scene = mirror_test()
+            scene = stand_in()
+        self._register_modules(settings)
         settings = settings.resolved(self.info["device"])
         return Chain([ChainPass(name, tuple(ins), tuple(outs), tuple(hist), tuple(scratch), tuple(bins), tuple(bouts))
                       for name, ins, outs, hist, scratch, bins, bouts in self._native.chain(scene, settings.to_native())])
@@ -252,6 +270,7 @@ class Renderer:
         return self._sequence(scene, cameras, settings)
 
     def _sequence(self, scene, cameras, settings):
+        self._register_modules(settings)
         # deep_gbuffer 'auto' is measured before the sequence starts, on its first camera.
         settings = self._decide_deep_gbuffer(scene, cameras[0], settings)
         sequence = self._native.begin_sequence()
@@ -325,12 +344,12 @@ class Renderer:
         """Compiles and warms up every program the frame chain of `settings` uses, so that the
         first timed render pays no compilation (render() also does this by itself: the first
         render of a new variant runs the chain once untimed, see Frame.warmup_runs). Without a
-        scene, a small built-in scene with a shadowed sun and a mirror floor stands in, which
-        needs every pass of the chain."""
+        scene, ``ssrlab.scenes.stand_in()`` stands in (a mirror floor and a wall lit by a sun that
+        casts a shadow: what Renderer.chain lists without a scene)."""
         if scene is None:
-            from .scenes import mirror_test
+            from .scenes import stand_in
 
-            scene = mirror_test()
+            scene = stand_in()
         self.render(scene, camera, settings)
 
     @property

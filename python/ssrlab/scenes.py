@@ -141,6 +141,10 @@ MIRROR_COLORS = ((0.9, 0.9, 0.9), (0.1, 0.25, 0.6))
 
 def mirror_test() -> Scene:
     """A perfect mirror floor (y = 0) and a checkerboard wall of flat tiles (z = -8)."""
+    return _mirror_scene(cast_shadow=False)
+
+
+def _mirror_scene(cast_shadow: bool) -> Scene:
     s = Scene()
     s.name = "mirror_test"
     s.add_plane((0, 0, -2), (16, 16), name="mirror", material=Material(
@@ -163,10 +167,21 @@ def mirror_test() -> Scene:
         s.add_mesh(np.array(positions, dtype=np.float32), np.array(indices), name=f"wall{colour_index}",
                    normals=np.tile(np.float32([0, 0, 1]), (len(positions), 1)),
                    material=Material(base_color=colour, roughness=0.9))
-    s.add_light(directional_light((0.2, -0.4, -1.0), intensity=2.5, cast_shadow=False))
+    s.add_light(directional_light((0.2, -0.4, -1.0), intensity=2.5, cast_shadow=cast_shadow))
     s.ambient = (0.05, 0.05, 0.05)
     s.environment = Environment.constant((0.02, 0.02, 0.03))
     s.camera = Camera(position=(0.0, 2.0, 5.0), target=(0.0, 1.0, -8.0), fov_y=50.0, near=0.1, far=50.0)
+    return s
+
+
+def stand_in() -> Scene:
+    """The scene Renderer.chain and Renderer.prepare use without one: mirror_test's mirror floor
+    and checkerboard wall, a box on the floor, and its sun casting the box's shadow, so that a
+    render of it runs every pass the settings choose, the shadow map's included."""
+    s = _mirror_scene(cast_shadow=True)
+    s.name = "stand_in"
+    s.add_box((1.5, 0.5, -4.0), (1.0, 1.0, 1.0), rotation_y=30.0, name="box",
+              material=Material(base_color=(0.8, 0.3, 0.2), roughness=0.5))
     return s
 
 

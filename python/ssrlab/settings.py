@@ -203,6 +203,23 @@ def _check_names(names) -> None:
 
 def _check(f: dataclasses.Field, value: Any) -> Any:
     m, name, typ = f.metadata, f"Settings.{f.name}", f.type
+    if f.name == "user_modules":
+        if isinstance(value, str):
+            value = (value,)
+        if not isinstance(value, (tuple, list)):
+            raise ValueError(f"{name} must be a tuple of module names or .py paths, got {value!r}")
+        from .user_pass import load_module, module_spec
+
+        specs = []
+        for v in value:
+            try:
+                spec = module_spec(v)
+            except (ValueError, FileNotFoundError) as e:
+                raise type(e)(f"{name}: {e}") from None
+            load_module(spec)  # declares its passes here: user_params and user_passes may name them
+            if spec not in specs:
+                specs.append(spec)
+        return tuple(specs)
     if f.name == "user_passes":
         if isinstance(value, str):
             value = (value,)
@@ -324,12 +341,20 @@ def _declare_fields(cls):
         setattr(cls, e["name"], _setting(e["default"], e["doc"], e["unit"], e["lo"], e["hi"], e["choices"],
                                          e["group"], e["off"], e["place"], e["reference"]))
     # The user passes a render runs and their parameters: not settings of ssrlab's own chain, so
-    # not in the schema (their names and ranges are declared by each ssrlab.UserPass).
+    # not in the schema (their names and ranges are declared by each ssrlab.UserPass). The modules
+    # come first: checking them declares their passes, which user_params is checked against.
+    cls.__annotations__["user_modules"] = tuple
+    cls.user_modules = field(default=(), metadata=dict(
+        doc="modules that declare user passes, each imported (once per process) wherever these settings are "
+            "used, a sweep's workers included, and its passes registered on the renderer: 'package.module' "
+            "(importable there) or a .py path (made absolute), optionally ':attribute' (ssrlab.user_pass."
+            "load_module)", unit="", lo=None, hi=None, choices=None, group="user passes", off=None, place="pass",
+        reference=False))
     cls.__annotations__["user_passes"] = tuple
     cls.user_passes = field(default=(), metadata=dict(
-        doc="user passes this render runs, by name (registered with Renderer.register_pass); each takes its "
-            "stage's place (a 'trace' replaces the screen-space trace, a 'reflection_filter' follows the "
-            "resolve)", unit="", lo=None, hi=None, choices=None, group="user passes", off=None, place="pass",
+        doc="user passes this render runs, by name (registered with Renderer.register_pass or declared by "
+            "user_modules); each takes its stage's place (a 'trace' replaces the screen-space trace, a "
+            "'reflection_filter' follows the resolve) or, without a stage, the place its resources give it", unit="", lo=None, hi=None, choices=None, group="user passes", off=None, place="pass",
         reference=False))
     cls.__annotations__["user_params"] = dict
     cls.user_params = field(default_factory=dict, metadata=dict(

@@ -20,7 +20,7 @@ from ..settings import Settings
 SETTINGS_PREFIX = "s_"
 VIEW_KEYS = ("name", "position", "target", "up", "fov_y", "near", "far")
 SWEEP_FILE_KEYS = ("description", "scenes", "views", "base", "grid", "repeats", "warmup", "reference",
-                   "reference_rays", "device", "frames", "sequence", "user_passes")
+                   "reference_rays", "device", "frames", "sequence", "user_modules", "user_passes")
 SETTINGS_FIELDS = tuple(f.name for f in fields(Settings))
 
 
@@ -225,9 +225,13 @@ def load_sweep(path) -> dict:
 
     Top-level keys: scenes (required), views, repeats, warmup, reference, reference_rays,
     device, frames (N > 1: render N frames of a static camera, score the last), sequence (true:
-    one sequence of warmup + repeats frames, see sweep), description (free text, not passed on), and the tables base (Settings fields of
-    every run) and grid (Settings field -> list of values). Other keys raise ValueError
-    naming them. A relative glTF path is looked up beside the sweep file first.
+    one sequence of warmup + repeats frames, see sweep), description (free text, not passed on),
+    user_modules (modules that declare user passes, Settings.user_modules: 'package.module' or a
+    .py path, relative to the sweep file, optionally ':attribute'; user_passes, a list of
+    '<file.py>:<function>', is the same), and the tables base (Settings fields of every run) and
+    grid (Settings field -> list of values). The modules join base's user_modules, so that every
+    worker of the sweep loads them. Other keys raise ValueError naming them. A relative glTF path
+    is looked up beside the sweep file first.
     """
     path = Path(path)
     if not path.is_file():
@@ -262,16 +266,34 @@ def load_sweep(path) -> dict:
                 spec = str((path.parent / spec).resolve())
             resolved.append(spec)
         scenes = resolved
-    # user_passes: "<file.py>:<function>" returning an ssrlab.UserPass (relative to the sweep file),
-    # declared here so that base and grid may name it and its parameters ("<pass>.<param>", quoted).
-    from ..user_pass import load as load_user_pass
+    # user_modules (and user_passes, '<file.py>:<function>'): modules that declare user passes,
+    # paths relative to the sweep file; loaded here so that base and grid may name their passes and
+    # parameters ("<pass>.<param>", quoted), and put into base.user_modules so that every worker
+    # of the sweep, in this process or on a cluster, loads them too (Settings.user_modules).
+    from ..user_pass import load_module, module_spec
 
-    specs = data.get("user_passes", [])
-    if not isinstance(specs, list):
-        raise ValueError(f"sweep file {path}: 'user_passes' must be a list of '<file.py>:<function>'")
+    specs = []
+    for key in ("user_modules", "user_passes"):
+        listed = data.get(key, [])
+        if not isinstance(listed, list) or not all(isinstance(v, str) for v in listed):
+            raise ValueError(f"sweep file {path}: '{key}' must be a list of modules ('package.module', 'file.py', "
+                             f"either with ':attribute')")
+        specs += listed
+    base = data.get("base", {})
+    listed = base.get("user_modules", [])
+    specs += [listed] if isinstance(listed, str) else list(listed) if isinstance(listed, list) else []
+    modules = []
     for spec in specs:
-        load_user_pass(spec, path.parent)
-    kwargs = {k: v for k, v in data.items() if k not in ("description", "user_passes")}
+        try:
+            spec = module_spec(spec, path.parent)
+        except (ValueError, FileNotFoundError) as e:
+            raise type(e)(f"sweep file {path}: {e}") from None
+        load_module(spec)
+        if spec not in modules:
+            modules.append(spec)
+    if modules:
+        data["base"] = {**base, "user_modules": modules}
+    kwargs = {k: v for k, v in data.items() if k not in ("description", "user_modules", "user_passes")}
     kwargs["scenes"] = scenes
     kwargs.setdefault("grid", {})
     return kwargs

@@ -160,7 +160,9 @@ def worker_renderer(device: str = "auto"):
         state.renderers[device] = Renderer(device)
         _OPENED.append((os.getpid(), threading.get_ident(), device))
     renderer = state.renderers[device]
-    # The user passes registered in this process (ssrlab.UserPass) serve every sweep's renderer.
+    # The user passes registered in this process (ssrlab.UserPass) serve every sweep's renderer
+    # (in-process and thread executors); those of Settings.user_modules are registered by every
+    # worker's render, wherever it runs.
     from ..user_pass import declared
 
     for name, p in declared().items():
@@ -419,7 +421,8 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
           frames: int = 1, sequence: bool = False, journal=None, force_mix: bool = False) -> list[dict]:
     """Measures every (scene, view, grid point) configuration; returns one row per
     configuration, in that order (scenes outermost, grid points innermost), whatever order
-    the executor completes them in.
+    the executor completes them in (a list of dicts, SweepRows, which a notebook shows as the
+    error against time of plot_error_vs_time).
 
     grid       Settings field -> list of values; the cartesian product is swept (expand_grid)
     scenes     scene specs: a procedural scene name (ssrlab.scenes.SCENES), a .gltf/.glb path,
@@ -581,7 +584,9 @@ def sweep(grid: dict[str, list], scenes: list, views: list | None = None, base: 
         if bar is not None:
             bar.close()
     _warn_shared_gpus(rows)  # type: ignore[arg-type]
-    return rows  # type: ignore[return-value]
+    from .report import SweepRows
+
+    return SweepRows(rows)  # a list of dicts; a notebook shows it as its error against time
 
 
 def _warn_shared_gpus(rows: list[dict]) -> None:

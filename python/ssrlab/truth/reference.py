@@ -43,7 +43,7 @@ _CONVERGED_KEY_FIELDS = tuple(f.name for f in dataclasses.fields(Settings) if f.
 
 def thesis_ground_truth_settings(settings: Settings) -> Settings:
     """`settings` with the thesis's ground-truth tracing: 32 rays per pixel, 16 layers, stride 1."""
-    return settings.replace(**THESIS_GROUND_TRUTH, user_passes=(), user_params={})
+    return settings.replace(**THESIS_GROUND_TRUTH, user_passes=(), user_params={}, user_modules=())
 
 
 @dataclasses.dataclass
