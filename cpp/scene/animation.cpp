@@ -86,8 +86,8 @@ std::string check_sampler(AnimationSampler& s) {
     const size_t per = cubic ? 3 : 1, c = size_t(s.components);
     if (s.values.size() != n * per * c)
         return "has " + std::to_string(s.values.size() / c) + " output values for " + std::to_string(n) + " keyframes; " +
-               interpolation_name(s.interpolation) + " needs " + (cubic ? "3 per keyframe (in-tangent, value, out-tangent)" : "1 per keyframe") +
-               ", " + std::to_string(n * per);
+               interpolation_name(s.interpolation) + " needs " +
+               (cubic ? "3 per keyframe (in-tangent, value, out-tangent): " : "1 per keyframe: ") + std::to_string(n * per);
     for (size_t i = 0; i < s.values.size(); ++i)
         if (!std::isfinite(s.values[i]))
             return "output value " + std::to_string(i / c) + " is not finite";

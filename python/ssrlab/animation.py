@@ -47,9 +47,10 @@ def clip_time(t: float, duration: float, loop: bool) -> float:
     clamped (the channels clamp), wrapped into (0, duration] when looping (see the module)."""
     if not loop or duration <= 0.0:
         return t
-    if t > 0.0:
-        return t - duration * (math.ceil(t / duration) - 1.0)
-    return t - duration * math.floor(t / duration)
+    r = math.fmod(t, duration)  # exact, with the sign of t
+    if r < 0.0:
+        r += duration
+    return duration if r == 0.0 and t > 0.0 else r + 0.0  # + 0.0: no -0.0
 
 
 class Keyframes:
