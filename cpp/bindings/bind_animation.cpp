@@ -81,8 +81,9 @@ slerp for rotations, CUBICSPLINE). Scene.play(name or index) plays it.)doc")
             },
             "(node, path, interpolation, keyframes) of each channel; node indexes the scene's animated nodes")
         .def("__repr__", [](const Animation& a) {
-            return "Animation('" + a.name + "', " + std::to_string(a.channels.size()) + " channels, " +
-                   std::to_string(a.duration) + " s)";
+            char seconds[32];
+            std::snprintf(seconds, sizeof seconds, "%g", double(a.duration));
+            return "Animation('" + a.name + "', " + std::to_string(a.channels.size()) + " channels, " + seconds + " s)";
         });
 
     auto scene = py::reinterpret_borrow<py::class_<Scene>>(m.attr("Scene"));

@@ -15,11 +15,7 @@ namespace ssr {
 
 namespace {
 
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.9g", v);
-    return buf;
-}
+std::string num(double v) { return number_text(v); }
 
 // Spherical linear interpolation of unit quaternions a -> b at u in [0, 1], along the shorter
 // arc (q and -q are the same rotation), as glTF's Appendix C describes it. Computed in double:

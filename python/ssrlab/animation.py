@@ -42,6 +42,19 @@ def _seconds(t, what: str) -> float:
     return t
 
 
+def seconds_array(values, what: str) -> np.ndarray:
+    """A non-empty 1-D float64 array of finite seconds, or a ValueError naming `what`."""
+    try:
+        a = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{what} must be a list of seconds: {e}") from None
+    if a.ndim != 1 or a.size == 0:
+        raise ValueError(f"{what} must be a non-empty 1-D list of seconds, got shape {a.shape}")
+    if not np.isfinite(a).all():
+        raise ValueError(f"{what} must be finite, value {int(np.argmin(np.isfinite(a)))} is not")
+    return a
+
+
 def clip_time(t: float, duration: float, loop: bool) -> float:
     """The time inside a clip of `duration` seconds that scene time `t` shows: `t` itself when
     clamped (the channels clamp), wrapped into (0, duration] when looping (see the module)."""
@@ -69,12 +82,7 @@ class Keyframes:
     """
 
     def __init__(self, times, *, translation=None, rotation=None, scale=None, interpolation: str = "linear"):
-        try:
-            t = np.asarray(times, dtype=np.float64)
-        except (TypeError, ValueError) as e:
-            raise ValueError(f"Keyframes.times must be a list of seconds: {e}") from None
-        if t.ndim != 1 or t.size == 0:
-            raise ValueError(f"Keyframes.times must be a non-empty 1-D list of seconds, got shape {t.shape}")
+        t = seconds_array(times, "Keyframes.times")
         if translation is None and rotation is None and scale is None:
             raise ValueError("Keyframes needs at least one of translation, rotation, scale")
         if not isinstance(interpolation, str):

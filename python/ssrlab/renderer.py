@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _core
+from .animation import seconds_array
 from .settings import Settings
 
 
@@ -238,7 +239,7 @@ class Renderer:
         if overrides:
             settings = settings.replace(**overrides)
         if times is not None:
-            times = _sequence_times(times)
+            times = [float(t) for t in seconds_array(times, "render_sequence: times")]
             if not hasattr(scene, "set_time"):
                 raise TypeError("render_sequence: times needs an ssrlab.Scene (it poses the scene with Scene.set_time)")
             if isinstance(cameras, _core.Camera):
@@ -482,19 +483,6 @@ class FrameStats(Mapping):
 # Counts the trace passes keep no counter for (their atomics were 4-13 % of the Hi-Z
 # trace on llvmpipe): Frame.stats sums them from the rays the trace wrote, when first read.
 TRACE_SUMS = ("rays_traced", "depth_fetches")
-
-
-def _sequence_times(times) -> list[float]:
-    """render_sequence's times: a non-empty 1-D list of finite seconds."""
-    try:
-        a = np.asarray(times, dtype=np.float64)
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"render_sequence: times must be a list of seconds: {e}") from None
-    if a.ndim != 1 or a.size == 0:
-        raise ValueError(f"render_sequence: times must be a non-empty 1-D list of seconds, got shape {a.shape}")
-    if not np.isfinite(a).all():
-        raise ValueError(f"render_sequence: times must be finite, time {int(np.argmin(np.isfinite(a)))} is not")
-    return [float(x) for x in a]
 
 
 class Frame:
