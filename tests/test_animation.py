@@ -99,7 +99,8 @@ def animated_file(path, suffix=".gltf"):
                            (parent, "translation", "LINEAR", KEYS, T_KEYS),
                            (child, "scale", "LINEAR", KEYS, S_KEYS)])
     b.animation("step", [(parent, "translation", "STEP", KEYS, T_KEYS),
-                         (child, "rotation", "STEP", KEYS, CHILD_ROT_STEP)])
+                         (child, "rotation", "STEP", KEYS, CHILD_ROT_STEP),
+                         (child, "scale", "STEP", KEYS, S_KEYS)])
     b.animation("cubic", [(parent, "translation", "CUBICSPLINE", KEYS, T_CUBIC),
                           (parent, "rotation", "CUBICSPLINE", KEYS, R_CUBIC),
                           (child, "scale", "CUBICSPLINE", KEYS, S_CUBIC)])
@@ -129,7 +130,7 @@ def expected_linear(t, child_translation=CHILD_REST["t"]):
 def expected_step(t):
     k = 0 if t <= KEYS[0] else int(np.searchsorted(KEYS, t, side="right")) - 1
     parent = trs(T_KEYS[k])
-    return parent, parent @ trs(CHILD_REST["t"], CHILD_ROT_STEP[k], CHILD_REST["s"])
+    return parent, parent @ trs(CHILD_REST["t"], CHILD_ROT_STEP[k], S_KEYS[k])
 
 
 def cubic_values(t):
@@ -232,7 +233,7 @@ def test_several_animations_by_name_and_index(animated):
     scene.play(1, "short")  # step moves the parent, short the child's translation
     scene.set_time(1.0)
     parent = trs(T_KEYS[1])
-    child = parent @ trs((0, 2.5, 0.5), CHILD_ROT_STEP[1], CHILD_REST["s"])
+    child = parent @ trs((0, 2.5, 0.5), CHILD_ROT_STEP[1], S_KEYS[1])
     np.testing.assert_allclose(scene.object_transform(ids["Child"]), child, atol=4e-6)
     with pytest.raises(KeyError, match="no animation named 'walk'.*'linear'"):
         scene.play("walk")
@@ -422,3 +423,21 @@ def test_a_stage_model_moves_in_its_frames(renderer, tmp_path):
     frames = [f.color.copy() for f in renderer.render_sequence(scene, scene.camera, settings, times=[0.0, 0.75])]
     assert all(np.isfinite(f).all() for f in frames)
     assert np.abs(frames[0] - frames[1]).max() > 0.05
+
+
+def test_an_object_moved_by_hand_is_saved_relative_to_its_node(animated, tmp_path):
+    """Saved as a child of its node holding the offset: it loads where it was, and follows its
+    node (keeping the offset) when the animation plays."""
+    scene = load(animated)
+    ids = objects(scene)
+    moved = T.translate((0.0, 0.0, 2.0)) @ scene.object_transform(ids["Child"])
+    scene.set_object_transform(ids["Child"], moved)
+    back = load(scene.save(tmp_path / "moved.glb"))
+    np.testing.assert_allclose(back.object_transform(objects(back)["Child"]), moved, atol=1e-6)
+    back.play("linear")  # it follows its node again when the animation plays
+    back.set_time(1.0)
+    parent = back.object_transform(objects(back)["Parent"])
+    np.testing.assert_allclose(back.object_transform(objects(back)["Child"]),
+                               parent @ trs(CHILD_REST["t"], None, S_KEYS[1]) @ np.linalg.inv(
+                                   trs(PARENT_REST["t"]) @ trs(CHILD_REST["t"], None, CHILD_REST["s"])) @ moved,
+                               atol=1e-5)
