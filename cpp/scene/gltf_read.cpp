@@ -143,7 +143,6 @@ public:
     }
 
 private:
-
     struct View {
         const uint8_t* data;
         size_t stride;
