@@ -142,7 +142,7 @@ class Motion:
     def object_transform(self, t: float) -> np.ndarray:
         if isinstance(self.motion, Keyframes):
             return self.motion.matrix(clip_time(t, self.motion.duration, self.loop))
-        m = self._call(t)
+        m = self.motion(t)
         try:
             a = np.asarray(m, dtype=np.float32)
         except (TypeError, ValueError) as e:
@@ -160,7 +160,7 @@ class Motion:
             if "rotation" in values:
                 base.direction = tuple(rotate_direction(values["rotation"]))
             return base
-        out = self._call(t)
+        out = self.motion(t)
         if isinstance(out, Light):
             return out
         if not isinstance(out, dict):
@@ -172,9 +172,6 @@ class Motion:
                                  f"{', '.join(LIGHT_FIELDS)}")
             setattr(base, key, value)
         return base
-
-    def _call(self, t: float):
-        return self.motion(t)
 
 
 class AnimationState:

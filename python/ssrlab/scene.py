@@ -239,8 +239,13 @@ class Scene(_core.Scene):
         `loop` repeats each clip over its own duration (ssrlab.animation). An animated parent
         moves its children; several animations on one node apply in the order given."""
         state = self._animation_state()
+        before = state.playing
         state.playing = [(i, bool(loop)) for i in resolve_animations(self, animations)]
-        pose(self, state, state.time)
+        try:
+            pose(self, state, state.time)
+        except Exception:
+            state.playing = before  # a pose that fails leaves the scene playing what it played
+            raise
 
     def stop(self) -> None:
         """Plays no glTF animation any more; objects and lights stay where they are."""
@@ -269,8 +274,16 @@ class Scene(_core.Scene):
         if motion is None:
             state.motions.pop(key, None)
             return
+        before = state.motions.get(key)
         state.motions[key] = Motion(kind, int(index), motion, loop)
-        pose(self, state, state.time)
+        try:
+            pose(self, state, state.time)
+        except Exception:  # a motion that fails at once is not kept
+            if before is None:
+                del state.motions[key]
+            else:
+                state.motions[key] = before
+            raise
 
     def save(self, path: str | Path, *, overwrite: bool = False) -> Path:
         """Writes the scene as glTF 2.0 (.gltf + .bin, or .glb). Refuses to replace an existing
