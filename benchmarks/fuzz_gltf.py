@@ -8,10 +8,14 @@ not its bytes alone: numbers become huge, negative, 2^64-ish, NaN-strings or the
 keys and array entries are deleted or duplicated; indices point past their arrays; values get nested thousands deep; uris point
 at /dev/zero, a FIFO, a folder, '..', absolute paths and a symlink leading out of the folder;
 primitive modes, component types and sampler enums get invalid values; GLB chunk headers
-are rewritten; a few byte-level edits (truncation, invalid UTF-8) on top.
+are rewritten; animation samplers get keyframes that are NaN, negative, out of order, too few or
+too many, interpolations and target paths that do not exist; a few byte-level edits (truncation,
+invalid UTF-8) on top.
 
 Each batch of mutants is loaded by a child process (`Scene.load`), and every scene that
-loads is rendered at 32x24 and its image checked to be finite. A finding is anything else
+loads is rendered at 32x24 and its image checked to be finite; a scene with animations plays
+them all, posed (`Scene.set_time`) at a few times, looped or clamped, before it is rendered (a
+pose that cannot be drawn must be a SceneError too). A finding is anything else
 than a SceneError (or FileNotFoundError) or a finite image: another exception type, a crash
 (the child's signal is recorded, with the Python stack from faulthandler), a hang (no answer
 within --timeout seconds), or a non-finite image. Each finding is saved under --out as the
@@ -38,7 +42,7 @@ import sys
 import time
 from pathlib import Path
 
-from ssrlab.lab import hostile_gltf
+from ssrlab.lab import animated_gltf, hostile_gltf
 
 # Numbers that broke (or could break) size arithmetic, float conversion and ranges.
 HOSTILE_NUMBERS = [0, -1, 1, 2, 3, 4, 255, 256, 65535, 65536, 2 ** 31 - 1, 2 ** 31, 2 ** 32 - 1, 2 ** 32,
@@ -60,7 +64,15 @@ ENUM_FIELDS = {
     "minFilter": [9728, 9729, 9984, 9985, 9986, 9987, 0, -1],
     "target": [34962, 34963, 0, 1],
     "mimeType": ["image/png", "image/jpeg", "image/ktx2", "text/plain", ""],
+    "interpolation": ["LINEAR", "STEP", "CUBICSPLINE", "SMOOTH", "", 3],
+    "path": ["translation", "rotation", "scale", "weights", "pointer", "", 7],
 }
+# Keyframe data an animation sampler's input or output is pointed at (times, or values).
+HOSTILE_KEYFRAMES = [[0.0, 0.0, 1.0], [1.0, 0.5], [-1.0, 1.0], [float("nan"), 1.0], [float("inf")], [0.0],
+                     [3.4e38, -3.4e38, 1e-45], [0.0] * 16, [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0],
+                     [1e30, 0.0, 0.0, 1.0] * 4, [0.0, 0.0, 0.0, 0.0] * 3]
+# Scene times the child poses animations at (seconds).
+HOSTILE_TIMES = [0.0, 0.25, 1.0, 2.9, -3.0, 1e30, -1e30, 1e-30, 7.5]
 ARRAYS = ["accessors", "bufferViews", "buffers", "images", "textures", "samplers", "materials", "meshes",
           "nodes", "scenes", "cameras", "skins", "animations"]
 
@@ -132,6 +144,8 @@ def seed_corpus(extra: list[Path], work: Path) -> list[Seed]:
     hostile = work / "hostile"
     manifest = hostile_gltf.write(hostile)
     paths.append(work / "base.gltf")
+    # An animated model: node trees and every interpolation of every path, for the animation edits.
+    paths.append(animated_gltf.write_stage(work / "stage.gltf"))
     for folder in models_folders():
         if folder.is_dir():
             paths += sorted(p for p in folder.rglob("*") if p.suffix in (".gltf", ".glb"))
@@ -168,7 +182,7 @@ def mutate_doc(rng: random.Random, doc: dict) -> list[str]:
     done = []
     for _ in range(rng.choice((1, 1, 1, 2, 3))):
         paths = all_paths(doc)
-        op = rng.randrange(12)
+        op = rng.randrange(13)
         if op == 0 and paths:  # a number becomes a hostile number
             nums = [p for p in paths if isinstance(p[0][p[1]], (int, float)) and not isinstance(p[0][p[1]], bool)]
             if nums:
@@ -238,7 +252,7 @@ def mutate_doc(rng: random.Random, doc: dict) -> list[str]:
             else:
                 idx = [p for p in paths if p[1] in ("bufferView", "buffer", "source", "sampler", "index", "material",
                                                     "mesh", "camera", "light", "indices", "POSITION", "NORMAL",
-                                                    "TEXCOORD_0", "scene", "skin")]
+                                                    "TEXCOORD_0", "scene", "skin", "input", "output", "node")]
                 if idx:
                     c, k, path = rng.choice(idx)
                     c[k] = rng.choice((-1, -2, 1, 2 ** 31 - 1, 2 ** 31, 10 ** 6, 2 ** 64 - 1)) + (
@@ -287,6 +301,25 @@ def mutate_doc(rng: random.Random, doc: dict) -> list[str]:
                     size = {"matrix": 16, "translation": 3, "rotation": 4, "scale": 3}[key]
                     n[key] = [rng.choice(HOSTILE_NUMBERS) for _ in range(size + rng.choice((0, 0, 0, -1, 1)))]
                     done.append(f"node transform {key}")
+        elif op == 12:  # an animation sampler's keyframes: new data for its input or output
+            anims = doc.get("animations")
+            samplers = [s for a in anims if isinstance(a, dict) and isinstance(a.get("samplers"), list)
+                        for s in a["samplers"] if isinstance(s, dict)] if isinstance(anims, list) else []
+            if samplers:
+                sampler = rng.choice(samplers)
+                key = rng.choice(("input", "output"))
+                values = rng.choice(HOSTILE_KEYFRAMES)
+                width = rng.choice((1, 1, 3, 4)) if key == "output" else 1
+                count = max(1, len(values) // width)
+                data = struct.pack(f"<{count * width}f", *(values * width)[:count * width])
+                doc.setdefault("buffers", []).append({"byteLength": len(data),
+                                                      "uri": hostile_gltf.data_uri(data)})
+                doc.setdefault("bufferViews", []).append({"buffer": len(doc["buffers"]) - 1, "byteLength": len(data)})
+                doc.setdefault("accessors", []).append(
+                    {"bufferView": len(doc["bufferViews"]) - 1, "componentType": 5126, "count": count,
+                     "type": {1: "SCALAR", 3: "VEC3", 4: "VEC4"}[width]})
+                sampler[key] = len(doc["accessors"]) - 1
+                done.append(f"animation {key} -> {values[:4]!r} x{width}")
     return done
 
 
@@ -422,11 +455,17 @@ def child_main() -> None:
                         r = max(float(np.linalg.norm(hi - lo)) / 2, 1e-4 * float(np.abs(c).max()), 1e-3)
                         camera = ssrlab.Camera(position=tuple(c + [0, 0, 3 * r]), target=tuple(c),
                                                near=r * 0.01, far=r * 10)
+                    if scene.animations:  # posed at the job's times first; the last pose is rendered
+                        scene.play(loop=job.get("loop", False))
+                        for t in job.get("times", []):
+                            scene.set_time(t)
                     frame = renderer.render(scene, camera, settings)
                     color = np.asarray(frame.color)
                     result["outcome"] = "rendered"
                     if not np.isfinite(color).all():
                         result.update(outcome="nonfinite", message=f"{int((~np.isfinite(color)).sum())} non-finite values")
+                except ssrlab.SceneError as e:  # a pose that cannot be drawn, refused by name
+                    result.update(outcome="refused", message=str(e)[:300])
                 except BaseException as e:  # noqa: BLE001
                     result.update(outcome="render-exception", exception=type(e).__name__, message=str(e)[:2000],
                                   stack=traceback.format_exc())
@@ -518,7 +557,8 @@ def run(args) -> dict:
             child = Child(args.device)
             if child.readline(120) != "READY":
                 raise SystemExit("fuzz child did not start:\n" + child.stderr_tail())
-        job = {"id": n, "path": str(mutant), "external": external, "selftest": selftest}
+        job = {"id": n, "path": str(mutant), "external": external, "selftest": selftest,
+               "times": rng.sample(HOSTILE_TIMES, 3), "loop": rng.random() < 0.5}
         child.proc.stdin.write(json.dumps(job) + "\n")
         child.proc.stdin.flush()
         begin = child.readline(30)

@@ -756,6 +756,7 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
         .def("clear_lights",
              [](Scene& s) {
                  s.lights.clear();
+                 for (SceneNode& n : s.nodes) n.light = -1;  // animated nodes carry no light any more
                  s.touch();
              },
              "Removes every light.")

@@ -9,6 +9,7 @@
 namespace ssr {
 
 void bind_scene(pybind11::module_& m);
+void bind_animation(pybind11::module_& m);
 void bind_render(pybind11::module_& m);
 void bind_io(pybind11::module_& m);
 

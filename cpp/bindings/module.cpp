@@ -62,6 +62,7 @@ PYBIND11_MODULE(_core, m) {
     });
 
     ssr::bind_scene(m);
+    ssr::bind_animation(m);
     ssr::bind_render(m);
     ssr::bind_io(m);
 }

@@ -486,6 +486,44 @@ void precheck_json(const nlohmann::json& j, const PathPolicy& pol, const std::st
     }
     if (scenes)
         for (size_t i = 0; i < scenes->size(); ++i) index_list((*scenes)[i], "nodes", "scene " + std::to_string(i), n_nodes, "nodes");
+    // Animations: tinygltf reads indices here as int without a range check and skips a target
+    // that is not an object; each index and field is checked against what it names.
+    const size_t n_animations = count_of("animations");
+    for (size_t i = 0; i < n_animations; ++i) {
+        const auto& anim = j["animations"][i];
+        const std::string what = "animation " + std::to_string(i);
+        size_t n_samplers_here = 0;
+        if (const auto it = anim.find("samplers"); it != anim.end()) {
+            if (!it->is_array()) fail(what + ": samplers is not an array");
+            n_samplers_here = it->size();
+            for (size_t k = 0; k < n_samplers_here; ++k) {
+                const auto& smp = (*it)[k];
+                const std::string sw = what + " sampler " + std::to_string(k);
+                object(smp, sw);
+                for (const char* key : {"input", "output"}) {
+                    if (!smp.contains(key)) fail(sw + ": '" + key + "' is missing");
+                    index_field(smp, key, sw, n_accessors, "accessors");
+                }
+                if (const auto ip = smp.find("interpolation"); ip != smp.end() && !ip->is_string())
+                    fail(sw + ": interpolation is not a string");
+            }
+        }
+        if (const auto it = anim.find("channels"); it != anim.end()) {
+            if (!it->is_array()) fail(what + ": channels is not an array");
+            for (size_t k = 0; k < it->size(); ++k) {
+                const auto& ch = (*it)[k];
+                const std::string cw = what + " channel " + std::to_string(k);
+                object(ch, cw);
+                if (!ch.contains("sampler")) fail(cw + ": 'sampler' is missing");
+                index_field(ch, "sampler", cw, n_samplers_here, "samplers in the animation");
+                const auto* target = sub_object(ch, "target", cw);
+                if (!target) fail(cw + ": 'target' is missing");
+                index_field(*target, "node", cw + " target", n_nodes, "nodes");
+                const auto p = target->find("path");
+                if (p == target->end() || !p->is_string()) fail(cw + ": target.path is missing or not a string");
+            }
+        }
+    }
     for (size_t i = 0; i < n_skins; ++i) {
         const auto& sk = j["skins"][i];
         const std::string what = "skin " + std::to_string(i);

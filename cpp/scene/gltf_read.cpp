@@ -16,6 +16,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <glm/gtc/vec1.hpp>
 #include <map>
 #include <new>
 #include <nlohmann/json.hpp>
@@ -24,6 +25,7 @@
 #include <string_view>
 
 #include "core/errors.h"
+#include "scene/animation.h"
 #include "scene/image_io.h"
 #include "scene/scene_limits.h"
 
@@ -133,7 +135,6 @@ public:
         return out;
     }
 
-private:
     const tinygltf::Accessor& accessor(int index, const std::string& what) const {
         if (index < 0 || index >= int(model_.accessors.size()))
             fail(what + ": accessor index " + std::to_string(index) + " is out of range (the file has " +
@@ -141,6 +142,7 @@ private:
         return model_.accessors[size_t(index)];
     }
 
+private:
     struct View {
         const uint8_t* data;
         size_t stride;
@@ -214,20 +216,24 @@ void check_finite_list(const GltfReader& r, const std::vector<double>& v, const 
         if (!in_range(x, -3.0e38, 3.0e38)) r.fail(what + " holds " + num(x) + ", not a finite float");
 }
 
-glm::mat4 node_local_transform(const tinygltf::Node& n, const GltfReader& r, const std::string& what) {
+// A node's local transform as the file gives it: a matrix, or translation, rotation (normalised)
+// and scale; NodeTransform::local() composes it.
+NodeTransform node_local_transform(const tinygltf::Node& n, const GltfReader& r, const std::string& what) {
+    NodeTransform out;
     if (!n.matrix.empty()) {
         if (n.matrix.size() != 16) r.fail(what + ": matrix has " + std::to_string(n.matrix.size()) + " values, not 16");
         check_finite_list(r, n.matrix, what + ": matrix");
         glm::mat4 m;
         for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(n.matrix[size_t(i)]);  // column-major
         if (const std::string p = affine_problem(m); !p.empty()) r.fail(what + ": matrix " + p);
-        return m;
+        out.has_matrix = true;
+        out.matrix = m;
+        return out;
     }
-    glm::mat4 t(1.0f), rot(1.0f), s(1.0f);
     if (!n.translation.empty()) {
         if (n.translation.size() != 3) r.fail(what + ": translation does not have 3 values");
         check_finite_list(r, n.translation, what + ": translation");
-        t = glm::translate(glm::mat4(1.0f), glm::vec3(n.translation[0], n.translation[1], n.translation[2]));
+        out.translation = glm::vec3(n.translation[0], n.translation[1], n.translation[2]);
     }
     if (!n.rotation.empty()) {  // glTF stores (x, y, z, w)
         if (n.rotation.size() != 4) r.fail(what + ": rotation does not have 4 values");
@@ -235,14 +241,14 @@ glm::mat4 node_local_transform(const tinygltf::Node& n, const GltfReader& r, con
         const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
         const double len = glm::length(q);
         if (!(len > 1e-6) || !std::isfinite(len)) r.fail(what + ": rotation quaternion has (near) zero length");
-        rot = glm::mat4_cast(glm::quat(glm::normalize(q)));
+        out.rotation = glm::normalize(q);
     }
     if (!n.scale.empty()) {
         if (n.scale.size() != 3) r.fail(what + ": scale does not have 3 values");
         check_finite_list(r, n.scale, what + ": scale");
-        s = glm::scale(glm::mat4(1.0f), glm::vec3(n.scale[0], n.scale[1], n.scale[2]));
+        out.scale = glm::vec3(n.scale[0], n.scale[1], n.scale[2]);
     }
-    return t * rot * s;
+    return out;
 }
 
 bool finite_matrix(const glm::mat4& m) {
@@ -441,6 +447,141 @@ bool usable_direction(const glm::vec3& v) {
     return std::isfinite(len) && len > 1e-20f && std::isfinite(1.0f / len);
 }
 
+// The pose ssrlab saved an animated node in (extras.ssrlab.pose: translation, rotation, scale,
+// written exactly; the node's own fields are its rest pose, what other viewers animate from).
+NodeTransform saved_pose(const tinygltf::Value& x, const NodeTransform& rest, const GltfReader& r, const std::string& what) {
+    const std::string w = what + ": extras.ssrlab";
+    if (!x.IsObject()) r.fail(w + " is not an object");
+    if (!x.Has("pose")) return rest;
+    const tinygltf::Value& p = x.Get("pose");
+    const std::string pw = w + ".pose";
+    if (!p.IsObject()) r.fail(pw + " is not an object");
+    if (rest.has_matrix) r.fail(pw + ": the node is given by a matrix, which has no pose");
+    NodeTransform out = rest;
+    auto numbers = [&](const char* key, size_t n) {
+        std::vector<double> v;
+        const tinygltf::Value& a = p.Get(key);
+        if (!a.IsArray() || a.ArrayLen() != n) r.fail(pw + "." + key + " must be an array of " + std::to_string(n) + " numbers");
+        for (size_t i = 0; i < n; ++i) {
+            const tinygltf::Value& e = a.Get(int(i));
+            if (!e.IsNumber() && !e.IsInt()) r.fail(pw + "." + key + " must be an array of " + std::to_string(n) + " numbers");
+            const double d = e.GetNumberAsDouble();
+            if (!in_range(d, -3.0e38, 3.0e38)) r.fail(pw + "." + key + " holds " + num(d) + ", not a finite float");
+            v.push_back(d);
+        }
+        return v;
+    };
+    if (p.Has("translation")) {
+        const auto v = numbers("translation", 3);
+        out.translation = glm::vec3(v[0], v[1], v[2]);
+    }
+    if (p.Has("rotation")) {  // as saved: already unit, not normalised again
+        const auto v = numbers("rotation", 4);
+        out.rotation = glm::dquat(v[3], v[0], v[1], v[2]);
+        if (!(std::abs(glm::length(out.rotation) - 1.0) < 1e-3)) r.fail(pw + ".rotation is not a unit quaternion");
+    }
+    if (p.Has("scale")) {
+        const auto v = numbers("scale", 3);
+        out.scale = glm::vec3(v[0], v[1], v[2]);
+    }
+    return out;
+}
+
+// The file's animations, their channels on the nodes of the default scene (scene_node: the
+// Scene::nodes index of each file node, -1 for nodes outside it). Every index, accessor and
+// keyframe is checked; a message names the animation, the channel, its node and path.
+void read_animations(const tinygltf::Model& model, const GltfReader& r, Scene& scene, const std::vector<int>& scene_node,
+                     const std::string& path, std::vector<std::string>& warnings) {
+    for (size_t a = 0; a < model.animations.size(); ++a) {
+        const auto& ga = model.animations[a];
+        Animation anim;
+        anim.name = ga.name.empty() ? "animation" + std::to_string(a) : ga.name;
+        anim.source = path;
+        const std::string aw = "animation " + std::to_string(a) + (ga.name.empty() ? "" : " ('" + ga.name + "')");
+        std::set<std::pair<int, int>> seen;
+        int weights = 0, outside = 0;
+        std::set<std::string> other_paths;
+        for (size_t c = 0; c < ga.channels.size(); ++c) {
+            const auto& ch = ga.channels[c];
+            const std::string cw = aw + " channel " + std::to_string(c);
+            if (ch.sampler < 0 || ch.sampler >= int(ga.samplers.size()))
+                r.fail(cw + ": sampler " + std::to_string(ch.sampler) + " is out of range (the animation has " +
+                       std::to_string(ga.samplers.size()) + " samplers)");
+            if (ch.target_node < 0) continue;  // a target without a node (extensions): nothing here to move
+            if (ch.target_node >= int(model.nodes.size()))
+                r.fail(cw + ": target node " + std::to_string(ch.target_node) + " is out of range (the file has " +
+                       std::to_string(model.nodes.size()) + " nodes)");
+            const auto& gn = model.nodes[size_t(ch.target_node)];
+            const std::string nw = cw + " (node " + std::to_string(ch.target_node) +
+                                   (gn.name.empty() ? "" : " '" + gn.name + "'") + ", " + ch.target_path + ")";
+            AnimationChannel out;
+            if (ch.target_path == "translation") out.path = AnimationChannel::Path::Translation;
+            else if (ch.target_path == "rotation") out.path = AnimationChannel::Path::Rotation;
+            else if (ch.target_path == "scale") out.path = AnimationChannel::Path::Scale;
+            else {
+                if (ch.target_path == "weights") ++weights;
+                else other_paths.insert(ch.target_path);
+                continue;
+            }
+            if (!gn.matrix.empty())
+                r.fail(nw + ": the node is given by a matrix, and glTF animates only nodes given by translation, "
+                            "rotation and scale");
+            if (!seen.insert({ch.target_node, int(out.path)}).second)
+                r.fail(nw + ": a second channel for the same node and path (glTF allows one per animation)");
+            const auto& gs = ga.samplers[size_t(ch.sampler)];
+            const std::string sw = nw + ": sampler " + std::to_string(ch.sampler);
+            AnimationSampler& s = out.sampler;
+            if (gs.interpolation == "LINEAR" || gs.interpolation.empty()) s.interpolation = AnimationSampler::Interpolation::Linear;
+            else if (gs.interpolation == "STEP") s.interpolation = AnimationSampler::Interpolation::Step;
+            else if (gs.interpolation == "CUBICSPLINE") s.interpolation = AnimationSampler::Interpolation::CubicSpline;
+            else r.fail(sw + ": interpolation '" + gs.interpolation + "' is not LINEAR, STEP or CUBICSPLINE");
+            s.components = out.path == AnimationChannel::Path::Rotation ? 4 : 3;
+            // Times are float scalars; translation and scale float vectors; rotations float or
+            // normalised integers (glTF 2.0, animation samplers).
+            const auto& in = r.accessor(gs.input, sw + " input");
+            if (in.type != TINYGLTF_TYPE_SCALAR || in.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+                r.fail(sw + ": input accessor " + std::to_string(gs.input) + " must hold float scalars (keyframe times)");
+            for (const auto& t : r.read_floats<1>(gs.input, sw + " input")) s.times.push_back(t.x);
+            const auto& o = r.accessor(gs.output, sw + " output");
+            const bool float_values = o.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
+            const bool normalized = o.normalized && (o.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+                                                     o.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                                     o.componentType == TINYGLTF_COMPONENT_TYPE_SHORT ||
+                                                     o.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+            if (s.components == 3 && (o.type != TINYGLTF_TYPE_VEC3 || !float_values))
+                r.fail(sw + ": output accessor " + std::to_string(gs.output) + " must hold float VEC3 values for " +
+                       ch.target_path);
+            if (s.components == 4 && (o.type != TINYGLTF_TYPE_VEC4 || !(float_values || normalized)))
+                r.fail(sw + ": output accessor " + std::to_string(gs.output) +
+                       " must hold VEC4 quaternions, float or normalized integers");
+            if (s.components == 3)
+                for (const auto& v : r.read_floats<3>(gs.output, sw + " output")) s.values.insert(s.values.end(), {v.x, v.y, v.z});
+            else
+                for (const auto& v : r.read_floats<4>(gs.output, sw + " output")) s.values.insert(s.values.end(), {v.x, v.y, v.z, v.w});
+            if (const std::string p = check_sampler(s); !p.empty()) r.fail(sw + ": " + p);
+            out.node = scene_node[size_t(ch.target_node)];
+            if (out.node < 0) {
+                ++outside;
+                continue;
+            }
+            anim.duration = std::max(anim.duration, s.times.back());
+            anim.channels.push_back(std::move(out));
+        }
+        if (weights)
+            warnings.push_back(path + ": " + aw + ": " + std::to_string(weights) +
+                               " channel(s) animate morph target weights, which are not rendered (ignored)");
+        if (outside)
+            warnings.push_back(path + ": " + aw + ": " + std::to_string(outside) +
+                               " channel(s) move nodes outside the default scene (ignored)");
+        if (!other_paths.empty()) {
+            std::string names;
+            for (const auto& p : other_paths) names += (names.empty() ? "'" : ", '") + p + "'";
+            warnings.push_back(path + ": " + aw + ": channels with target path " + names + " are not rendered (ignored)");
+        }
+        scene.animations.push_back(std::move(anim));
+    }
+}
+
 int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& transform, const GltfLoadOptions& options,
                       std::vector<std::string>& warnings) {
     if (!fs::exists(path)) throw FileNotFound("glTF file not found: " + path);
@@ -516,8 +657,6 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
     if (!model.skins.empty())
         warnings.push_back(path + ": " + std::to_string(model.skins.size()) +
                            " skin(s) ignored: skinned meshes are drawn in their bind pose");
-    if (!model.animations.empty())
-        warnings.push_back(path + ": " + std::to_string(model.animations.size()) + " animation(s) ignored");
     {
         // Extensions the file uses that change what it looks like but ssrlab does not implement:
         // named together, so a user knows what the image leaves out (required ones failed above).
@@ -773,9 +912,14 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
         int depth;
         bool leave;  // true: the node's subtree is done
         glm::mat4 parent;
+        int parent_node;  // its parent in Scene::nodes (animated files), -1 for a root
     };
+    // A file with animations keeps its node tree (Scene::nodes, in this visiting order: parents
+    // before children) so that its objects can be posed at any time; scene_node[file index].
+    const bool animated = !model.animations.empty();
+    std::vector<int> scene_node(model.nodes.size(), -1);
     std::vector<Visit> stack;
-    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, 1, false, transform});
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, 1, false, transform, -1});
     while (!stack.empty()) {
         const Visit v = stack.back();
         stack.pop_back();
@@ -794,7 +938,21 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
             r.fail(what + " is nested deeper than " + std::to_string(kMaxNodeDepth) + " levels in the node hierarchy");
         state[size_t(ni)] = 1;
         const auto& node = model.nodes[size_t(ni)];
-        const glm::mat4 world = v.parent * node_local_transform(node, r, what);
+        const NodeTransform local = node_local_transform(node, r, what);
+        int me = -1;
+        if (animated) {
+            SceneNode sn;
+            sn.rest = sn.current = local;
+            if (node.extras.Has("ssrlab")) sn.current = saved_pose(node.extras.Get("ssrlab"), local, r, what);
+            sn.name = node.name;
+            sn.file_index = ni;
+            sn.parent = v.parent_node;
+            if (v.parent_node < 0) sn.root_transform = transform;
+            scene.nodes.push_back(std::move(sn));
+            me = scene_node[size_t(ni)] = int(scene.nodes.size()) - 1;
+        }
+        // An animated file saved by ssrlab stands in the pose it was saved in.
+        const glm::mat4 world = v.parent * (me >= 0 ? scene.nodes[size_t(me)].current : local).local();
         if (!finite_matrix(world)) r.fail(what + ": its world transform overflows to Inf or NaN");
         if (node.mesh >= 0 || node.mesh < -1) {
             if (node.mesh >= int(model.meshes.size()) || node.mesh < 0)
@@ -820,7 +978,8 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 }
                 std::string name = node.name.empty() ? scene.meshes[size_t(mesh)].name : node.name;
                 if (gmesh.primitives.size() > 1) name += "/" + std::to_string(p);
-                scene.add_object(mesh, material, world, name);
+                const int object = scene.add_object(mesh, material, world, name);
+                if (me >= 0) scene.nodes[size_t(me)].objects.push_back(object);
             }
         }
         if (node.skin >= int(model.skins.size()) || node.skin < -1)
@@ -893,11 +1052,15 @@ int load_gltf_checked(Scene& scene, const std::string& path, const glm::mat4& tr
                 r.fail(explicit_dir ? lwhat + ": extras.direction is a zero vector"
                                     : what + ": light " + std::to_string(li) + " has no direction (its node's transform is degenerate)");
             l.direction = usable_direction(l.direction) ? glm::normalize(l.direction) : glm::vec3(0.0f, -1.0f, 0.0f);
-            scene.add_light(l);
+            const int light = scene.add_light(l);
+            if (me >= 0) scene.nodes[size_t(me)].light = light;
         }
-        stack.push_back({ni, v.depth, true, glm::mat4(1.0f)});
-        for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, v.depth + 1, false, world});
+        stack.push_back({ni, v.depth, true, glm::mat4(1.0f), -1});
+        for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
+            stack.push_back({*c, v.depth + 1, false, world, me});
     }
+
+    if (animated) read_animations(model, r, scene, scene_node, path, warnings);
 
     // Scene-level extras written by save_gltf.
     if (!model.scenes.empty()) {

@@ -85,6 +85,27 @@ public:
         return int(model.accessors.size()) - 1;
     }
 
+    // `count` elements of `comps` floats (animation keyframes: no buffer target); with bounds
+    // (glTF requires them on a sampler's input).
+    int add_keyframe_accessor(const std::vector<float>& values, int comps, int type, bool with_bounds) {
+        tinygltf::Accessor acc;
+        acc.bufferView = add_view(values.data(), values.size() * sizeof(float), 0);
+        acc.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+        acc.count = values.size() / size_t(comps);
+        acc.type = type;
+        if (with_bounds) {
+            acc.minValues.assign(size_t(comps), 1e300);
+            acc.maxValues.assign(size_t(comps), -1e300);
+            for (size_t i = 0; i < values.size(); ++i) {
+                const size_t c = i % size_t(comps);
+                acc.minValues[c] = std::min(acc.minValues[c], double(values[i]));
+                acc.maxValues[c] = std::max(acc.maxValues[c], double(values[i]));
+            }
+        }
+        model.accessors.push_back(acc);
+        return int(model.accessors.size()) - 1;
+    }
+
     int add_index_accessor(const std::vector<uint32_t>& idx) {
         tinygltf::Accessor acc;
         acc.bufferView = add_view(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
@@ -280,38 +301,54 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         a.idx = b.add_index_accessor(m.indices);
         attribs.push_back(a);
     }
+    // Objects and lights on a node of an animated file are written in its node tree below.
+    std::vector<int> object_node(scene.objects.size(), -1), light_node(scene.lights.size(), -1);
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        for (int o : scene.nodes[i].objects) object_node[size_t(o)] = int(i);
+        if (scene.nodes[i].light >= 0 && scene.nodes[i].light < int(scene.lights.size()))
+            light_node[size_t(scene.nodes[i].light)] = int(i);
+    }
+    auto primitive = [&](const Object& o) {
+        const Attribs& a = attribs[size_t(o.mesh)];
+        tinygltf::Primitive p;
+        p.attributes["POSITION"] = a.pos;
+        p.attributes["NORMAL"] = a.nrm;
+        if (a.uv >= 0) p.attributes["TEXCOORD_0"] = a.uv;
+        if (a.tan >= 0) p.attributes["TANGENT"] = a.tan;
+        if (a.uv1 >= 0) p.attributes["TEXCOORD_1"] = a.uv1;
+        if (a.color >= 0) p.attributes["COLOR_0"] = a.color;
+        p.indices = a.idx;
+        p.material = o.material;
+        p.mode = kModeTriangles;
+        return p;
+    };
     std::map<std::pair<int, int>, int> gltf_mesh;
-    tinygltf::Scene gs;
-    gs.name = scene.name;
-    for (const Object& o : scene.objects) {
+    auto single_mesh = [&](const Object& o) {  // a glTF mesh per (mesh, material) pair that objects use
         auto key = std::make_pair(o.mesh, o.material);
         if (!gltf_mesh.count(key)) {
-            const Attribs& a = attribs[size_t(o.mesh)];
-            tinygltf::Primitive p;
-            p.attributes["POSITION"] = a.pos;
-            p.attributes["NORMAL"] = a.nrm;
-            if (a.uv >= 0) p.attributes["TEXCOORD_0"] = a.uv;
-            if (a.tan >= 0) p.attributes["TANGENT"] = a.tan;
-            if (a.uv1 >= 0) p.attributes["TEXCOORD_1"] = a.uv1;
-            if (a.color >= 0) p.attributes["COLOR_0"] = a.color;
-            p.indices = a.idx;
-            p.material = o.material;
-            p.mode = kModeTriangles;
             tinygltf::Mesh gm;
             gm.name = scene.meshes[size_t(o.mesh)].name;
-            gm.primitives.push_back(p);
+            gm.primitives.push_back(primitive(o));
             model.meshes.push_back(gm);
             gltf_mesh[key] = int(model.meshes.size()) - 1;
         }
+        return gltf_mesh[key];
+    };
+    tinygltf::Scene gs;
+    gs.name = scene.name;
+    for (size_t oi = 0; oi < scene.objects.size(); ++oi) {
+        if (object_node[oi] >= 0) continue;
+        const Object& o = scene.objects[oi];
         tinygltf::Node n;
         n.name = o.name;
-        n.mesh = gltf_mesh[key];
+        n.mesh = single_mesh(o);
         n.matrix = matrix_values(o.transform);
         model.nodes.push_back(n);
         gs.nodes.push_back(int(model.nodes.size()) - 1);
     }
 
-    for (const Light& l : scene.lights) {
+    // A KHR_lights_punctual light; its extras keep the exact vectors for a lossless reload.
+    auto add_light = [&](const Light& l) {
         tinygltf::Light gl;
         gl.name = l.name;
         gl.type = l.type == Light::Type::Directional ? "directional" : (l.type == Light::Type::Spot ? "spot" : "point");
@@ -322,12 +359,17 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         if (l.type != Light::Type::Directional) gl.range = l.range;
         gl.color = {l.color.r, l.color.g, l.color.b};
         gl.intensity = l.intensity;
-        // The node carries the light's frame; extras keep the exact vectors for a lossless reload.
         gl.extras = tinygltf::Value(tinygltf::Value::Object{{"cast_shadow", tinygltf::Value(l.cast_shadow)},
                                                             {"direction", vec3_value(l.direction)},
                                                             {"position", vec3_value(l.position)}});
         model.lights.push_back(gl);
-        // A light shines down its node's -z: build a frame whose -z is the light direction.
+        return tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(int(model.lights.size()) - 1)}});
+    };
+    for (size_t li = 0; li < scene.lights.size(); ++li) {
+        if (light_node[li] >= 0) continue;
+        const Light& l = scene.lights[li];
+        const tinygltf::Value light = add_light(l);
+        // The node carries the light's frame: a light shines down its node's -z.
         glm::vec3 z = -glm::normalize(l.direction);
         glm::vec3 up = std::abs(z.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
         glm::vec3 x = glm::normalize(glm::cross(up, z)), y = glm::cross(z, x);
@@ -335,10 +377,103 @@ void save_gltf(const Scene& scene, const std::string& path, const std::string& f
         tinygltf::Node n;
         n.name = l.name.empty() ? "light" + std::to_string(model.lights.size() - 1) : l.name;
         n.matrix = matrix_values(m);
-        n.extensions["KHR_lights_punctual"] =
-            tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(int(model.lights.size()) - 1)}});
+        n.extensions["KHR_lights_punctual"] = light;
         model.nodes.push_back(n);
         gs.nodes.push_back(int(model.nodes.size()) - 1);
+    }
+
+    // The node trees of animated files, in their current pose, with their animations: a node
+    // keeps its objects as the primitives of its mesh (an object moved away from its node by
+    // hand becomes a child node holding the difference) and its light.
+    if (!scene.nodes.empty()) {
+        const std::vector<glm::mat4> world = node_world_transforms(scene);
+        std::vector<int> gltf_node(scene.nodes.size(), -1);
+        for (size_t i = 0; i < scene.nodes.size(); ++i) {
+            const SceneNode& sn = scene.nodes[i];
+            tinygltf::Node n;
+            n.name = sn.name;
+            // The rest pose in the node's fields (what any viewer animates from), the pose the
+            // scene stands in, when another, in extras.ssrlab.pose.
+            const NodeTransform &t = sn.rest, &c = sn.current;
+            if (t.has_matrix) {
+                n.matrix = matrix_values(t.matrix);
+            } else {
+                if (t.translation != glm::vec3(0.0f)) n.translation = {t.translation.x, t.translation.y, t.translation.z};
+                if (t.rotation != glm::dquat(1.0, 0.0, 0.0, 0.0))
+                    n.rotation = {t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w};
+                if (t.scale != glm::vec3(1.0f)) n.scale = {t.scale.x, t.scale.y, t.scale.z};
+                if (c.translation != t.translation || c.rotation != t.rotation || c.scale != t.scale) {
+                    auto numbers = [](std::initializer_list<double> v) {
+                        tinygltf::Value::Array a;
+                        for (double x : v) a.emplace_back(x);
+                        return tinygltf::Value(a);
+                    };
+                    tinygltf::Value::Object pose{
+                        {"translation", numbers({c.translation.x, c.translation.y, c.translation.z})},
+                        {"rotation", numbers({c.rotation.x, c.rotation.y, c.rotation.z, c.rotation.w})},
+                        {"scale", numbers({c.scale.x, c.scale.y, c.scale.z})}};
+                    n.extras = tinygltf::Value(tinygltf::Value::Object{
+                        {"ssrlab", tinygltf::Value(tinygltf::Value::Object{{"pose", tinygltf::Value(pose)}})}});
+                }
+            }
+            tinygltf::Mesh gm;
+            std::vector<tinygltf::Node> moved;
+            for (int o : sn.objects) {
+                const Object& ob = scene.objects[size_t(o)];
+                if (ob.transform == world[i]) {
+                    gm.primitives.push_back(primitive(ob));
+                    continue;
+                }
+                tinygltf::Node c;
+                c.name = ob.name;
+                c.mesh = single_mesh(ob);
+                c.matrix = matrix_values(glm::inverse(world[i]) * ob.transform);
+                moved.push_back(c);
+            }
+            if (!gm.primitives.empty()) {
+                gm.name = sn.name.empty() ? scene.meshes[size_t(scene.objects[size_t(sn.objects[0])].mesh)].name : sn.name;
+                model.meshes.push_back(gm);
+                n.mesh = int(model.meshes.size()) - 1;
+            }
+            if (sn.light >= 0 && sn.light < int(scene.lights.size()))
+                n.extensions["KHR_lights_punctual"] = add_light(scene.lights[size_t(sn.light)]);
+            model.nodes.push_back(n);
+            gltf_node[i] = int(model.nodes.size()) - 1;
+            for (auto& c : moved) {
+                model.nodes.push_back(c);
+                model.nodes[size_t(gltf_node[i])].children.push_back(int(model.nodes.size()) - 1);
+            }
+            if (sn.parent >= 0) {
+                model.nodes[size_t(gltf_node[size_t(sn.parent)])].children.push_back(gltf_node[i]);
+            } else if (sn.root_transform == glm::mat4(1.0f)) {
+                gs.nodes.push_back(gltf_node[i]);
+            } else {  // the transform the file was added with, as a parent of its root
+                tinygltf::Node parent;
+                parent.matrix = matrix_values(sn.root_transform);
+                parent.children.push_back(gltf_node[i]);
+                model.nodes.push_back(parent);
+                gs.nodes.push_back(int(model.nodes.size()) - 1);
+            }
+        }
+        for (const Animation& anim : scene.animations) {
+            tinygltf::Animation ga;
+            ga.name = anim.name;
+            for (const AnimationChannel& ch : anim.channels) {
+                const AnimationSampler& s = ch.sampler;
+                tinygltf::AnimationSampler gsm;
+                gsm.input = b.add_keyframe_accessor(s.times, 1, TINYGLTF_TYPE_SCALAR, true);
+                gsm.output = b.add_keyframe_accessor(s.values, s.components,
+                                                     s.components == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, false);
+                gsm.interpolation = interpolation_name(s.interpolation);
+                ga.samplers.push_back(gsm);
+                tinygltf::AnimationChannel gc;
+                gc.sampler = int(ga.samplers.size()) - 1;
+                gc.target_node = gltf_node[size_t(ch.node)];
+                gc.target_path = path_name(ch.path);
+                ga.channels.push_back(gc);
+            }
+            model.animations.push_back(ga);
+        }
     }
     if (!scene.lights.empty()) model.extensionsUsed.push_back("KHR_lights_punctual");
 

@@ -2,8 +2,10 @@
 // world transforms, punctual lights, an ambient term and an environment.
 //
 // Node hierarchies of loaded glTF files are flattened into objects (one per mesh primitive)
-// with their world transforms; Scene::save writes them back as glTF 2.0, so a scene made
-// here opens in Blender, Mitsuba or any viewer and loads back identically.
+// with their world transforms; a file with animations also keeps its node tree and its
+// animations (animation.h), so the objects can be posed at any time. Scene::save writes them
+// back as glTF 2.0, so a scene made here opens in Blender, Mitsuba or any viewer and loads
+// back identically.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -12,6 +14,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "scene/animation.h"
 
 namespace ssr {
 
@@ -172,6 +176,9 @@ public:
     // Reflection probes placed by the user (world space, seed 004's local cube maps):
     // where fallback "probes" captures its cube maps. Empty: placed by Settings.probe_grid.
     std::vector<glm::vec3> probes;
+    // The node trees of animated glTF files (empty for everything else) and their animations.
+    std::vector<SceneNode> nodes;
+    std::vector<Animation> animations;
 
     // Renderers cache GPU copies of a scene; any change bumps the revision.
     uint64_t revision() const { return revision_; }

@@ -8,12 +8,14 @@
 
 namespace ssr {
 
-namespace {
-std::string num(double v) {
+std::string number_text(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return buf;
 }
+
+namespace {
+std::string num(double v) { return number_text(v); }
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace
 

@@ -40,5 +40,7 @@ std::string light_problem(const Light& l);
 std::string radiance_problem(const glm::vec3& rgb, float intensity);
 // A world-space point a camera stands at or looks at.
 std::string world_point_problem(const glm::vec3& p);
+// A number for a message (6 significant digits).
+std::string number_text(double v);
 
 }  // namespace ssr

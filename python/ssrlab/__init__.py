@@ -9,7 +9,7 @@
     frame.timings           # GPU milliseconds per pass
 
 The package has three rooms. The library, imported with the package: the renderer, settings,
-scenes, io, display and sequences (this folder). The truth (``ssrlab.truth``: references,
+scenes, io, display, sequences and animation (this folder). The truth (``ssrlab.truth``: references,
 analytic answers, metrics, the Mitsuba cross-check) and the lab (``ssrlab.lab``: sweeps,
 experiments, the studies of one technique, timing statistics) are imported on first use; their
 modules keep their old names too (``ssrlab.metrics`` is ``ssrlab.truth.metrics``,
@@ -28,6 +28,7 @@ install_moved_modules(__name__)  # `import ssrlab.metrics` finds ssrlab.truth.me
 from . import io, models, scenes, transforms  # noqa: E402
 from .renderer import Frame, GBuffer, NoReflectionWarning, Renderer, Reprojection, devices, shader_dir  # noqa: E402
 from .sequence import CameraPath  # noqa: E402
+from .animation import Keyframes  # noqa: E402
 from .scene import Scene, SceneWarning, directional_light, point_light, spot_light  # noqa: E402
 from .settings import Settings  # noqa: E402
 from .user_pass import Param, UserPass  # noqa: E402
@@ -49,7 +50,7 @@ def __getattr__(name: str):
 
 
 __all__ = [
-    "Camera", "CameraPath", "DeviceError", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
+    "Camera", "CameraPath", "DeviceError", "Keyframes", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
     "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings", "UserPass", "Param",
     "ShaderError", "directional_light", "models", "point_light", "scenes", "spot_light",
     "shader_dir", "transforms", "display", "devices", "__version__",

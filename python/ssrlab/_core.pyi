@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_schema', 'ssr_settings_glsl', 'write_image']
+__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_schema', 'ssr_settings_glsl', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -473,6 +473,10 @@ class Scene:
         """
         Makes this scene a deep copy of `other` (a different scene for GPU caches).
         """
+    def _pose(self, played: collections.abc.Sequence[tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex]]) -> tuple[list, list]:
+        """
+        Poses the animated nodes for [(animation, seconds)]: sets the nodes' transforms and returns ([(object, 4x4 world transform)], [(light, Light)]) for the objects and lights they move.
+        """
     def _save(self, path: str, folder: str = '') -> None:
         ...
     def add_image(self, rgba: typing.Annotated[numpy.typing.ArrayLike, numpy.uint8], name: str = 'image') -> int:
@@ -515,6 +519,10 @@ class Scene:
         """
         An object's object -> world matrix (4x4).
         """
+    def set_light(self, index: typing.SupportsInt | typing.SupportsIndex, light: Light) -> None:
+        """
+        Replaces light `index` by a copy of `light` (Scene.lights gives copies).
+        """
     def set_material(self, object: typing.SupportsInt | typing.SupportsIndex, material: Material) -> None:
         """
         Gives an object a copy of `material` (others sharing its old one keep it).
@@ -531,6 +539,11 @@ class Scene:
     @ambient.setter
     def ambient(self, arg1: tuple[float, ...]) -> None:
         ...
+    @property
+    def animations(self) -> list[Animation]:
+        """
+        the glTF animations of the files loaded into this scene (copies), in load order
+        """
     @property
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """
@@ -581,6 +594,11 @@ class Scene:
     def name(self, arg0: str) -> None:
         ...
     @property
+    def node_names(self) -> list[str]:
+        """
+        names of the nodes of animated glTF files (Animation.channels index them)
+        """
+    @property
     def object_count(self) -> int:
         """
         objects (mesh instances)
@@ -602,6 +620,45 @@ class Scene:
     def triangle_count(self) -> int:
         """
         Triangles over all objects (an instanced mesh counts once per instance).
+        """
+class Animation:
+    """
+    A glTF animation of a loaded scene (Scene.animations): channels that move nodes' translation,
+    rotation and scale, sampled as the glTF 2.0 specification's Appendix C says (STEP, LINEAR with
+    slerp for rotations, CUBICSPLINE). Scene.play(name or index) plays it.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def channels(self) -> list:
+        """
+        (node, path, interpolation, keyframes) of each channel; node indexes the scene's animated nodes
+        """
+    @property
+    def duration(self) -> float:
+        """
+        seconds: the last keyframe time over its channels
+        """
+    @property
+    def name(self) -> str:
+        """
+        the animation's name in the file ('animationN' when it has none)
+        """
+    @property
+    def source(self) -> str:
+        """
+        the file it was loaded from
+        """
+class _Keyframes:
+    def __init__(self, times: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], translation: typing.Any, rotation: typing.Any, scale: typing.Any, interpolation: str) -> None:
+        ...
+    def matrix(self, t: typing.SupportsFloat | typing.SupportsIndex) -> numpy.ndarray:
+        """
+        translate x rotate x scale at t (a channel not given: identity)
+        """
+    def sample(self, t: typing.SupportsFloat | typing.SupportsIndex) -> tuple[tuple, tuple, tuple]:
+        """
+        (translation, rotation x y z w, scale) at t; an empty tuple for a channel not given
         """
 class RenderSettings:
     """

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _core
+from .animation import seconds_array
 from .settings import Settings
 
 
@@ -247,39 +248,60 @@ class Renderer:
         return Chain([ChainPass(name, tuple(ins), tuple(outs), tuple(hist), tuple(scratch), tuple(bins), tuple(bouts))
                       for name, ins, outs, hist, scratch, bins, bouts in self._native.chain(scene, settings.to_native())])
 
-    def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, **overrides):
-        """Renders the frames of a camera path as one sequence and yields their Frames in order.
+    def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, *, times=None,
+                        **overrides):
+        """Renders the frames of a sequence and yields their Frames in order.
 
-        `cameras`: a list of ssrlab.Camera or an ssrlab.CameraPath. Frame i is rendered with seed
-        ``settings.seed + i`` (so every frame draws new rays) and, with a temporal technique on
-        (Settings.temporal_reflections), reads the previous frame's textures: the renderer keeps them
-        between the frames of this sequence and drops them at its end (when the generator is exhausted
-        or closed). Each Frame reports its own timings, the temporal passes' included.
+        `cameras`: a list of ssrlab.Camera, an ssrlab.CameraPath, or with `times` one Camera that
+        every frame shares. `times`: the scene time of each frame in seconds (frame.time); before
+        rendering frame i the scene is posed at times[i] (Scene.set_time: its glTF animations
+        and the motions given with Scene.animate), so a fixed camera with moving objects works
+        as well as a moving camera. Without `times` the scene is left as it is.
+
+        Frame i is rendered with seed ``settings.seed + i`` (so every frame draws new rays) and,
+        with a temporal technique on (Settings.temporal_reflections), reads the previous frame's
+        textures: the renderer keeps them between the frames of this sequence and drops them at
+        its end (when the generator is exhausted or closed). Each Frame reports its own timings,
+        the temporal passes' included.
         """
         settings = settings if settings is not None else Settings()
         if not isinstance(settings, Settings):
             raise TypeError(f"settings must be an ssrlab.Settings, got {type(settings).__name__}")
         if overrides:
             settings = settings.replace(**overrides)
+        if times is not None:
+            times = [float(t) for t in seconds_array(times, "render_sequence: times")]
+            if not hasattr(scene, "set_time"):
+                raise TypeError("render_sequence: times needs an ssrlab.Scene (it poses the scene with Scene.set_time)")
+            if isinstance(cameras, _core.Camera):
+                cameras = [cameras] * len(times)
         cameras = list(cameras)
         if not cameras:
             raise ValueError("render_sequence: cameras is empty")
         for i, c in enumerate(cameras):
             if not isinstance(c, _core.Camera):
                 raise TypeError(f"render_sequence: cameras[{i}] must be an ssrlab.Camera, got {type(c).__name__}")
-        return self._sequence(scene, cameras, settings)
+        if times is not None and len(times) != len(cameras):
+            raise ValueError(f"render_sequence: {len(times)} times for {len(cameras)} cameras; give one time per "
+                             "camera, or one Camera for every time")
+        return self._sequence(scene, cameras, settings, times)
 
-    def _sequence(self, scene, cameras, settings):
+    def _sequence(self, scene, cameras, settings, times=None):
         self._register_modules(settings)
+        if times is not None:
+            scene.set_time(times[0])  # the state 'auto' measures below
         # deep_gbuffer 'auto' is measured before the sequence starts, on its first camera.
         settings = self._decide_deep_gbuffer(scene, cameras[0], settings)
         sequence = self._native.begin_sequence()
         try:
             for i, camera in enumerate(cameras):
+                if times is not None:
+                    scene.set_time(times[i])
                 s = settings.replace(seed=(settings.seed + i) % 2**31).resolved(self.info["device"])
                 _warn_depth_precision(camera, s)
                 native = self._native.render(scene, camera, s.to_native(), sequence)
                 frame = Frame(native, s, renderer=self, scene=scene)
+                frame.time = None if times is None else times[i]
                 self._frames.add(frame)
                 yield frame
         finally:
@@ -502,7 +524,11 @@ TRACE_SUMS = ("rays_traced", "depth_fetches")
 
 
 class Frame:
-    """One rendered frame. Image properties read from the GPU on first access."""
+    """One rendered frame. Image properties read from the GPU on first access.
+
+    time: the scene time it showed, seconds (render_sequence's `times`), or None."""
+
+    time: float | None = None
 
     def __init__(self, native: _core.Frame, settings: Settings, renderer: "Renderer | None" = None, scene=None):
         self._native = native

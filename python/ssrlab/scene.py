@@ -14,6 +14,7 @@ import numpy as np
 from . import _core
 from . import transforms as T
 from ._core import Camera, Environment, Light, Material
+from .animation import AnimationState, Motion, _seconds, pose, resolve_animations
 
 
 def _matrix(transform) -> np.ndarray:
@@ -105,8 +106,8 @@ def _index_array(value, vertices: int) -> np.ndarray:
 
 
 class SceneWarning(UserWarning):
-    """Something in a scene file was skipped (points, lines, skins, morph targets, spot cones,
-    orthographic cameras) or the file gave nothing to draw; the message names the file and object."""
+    """Something in a scene file was skipped (points, lines, skins, morph targets and their animated
+    weights, orthographic cameras) or the file gave nothing to draw; the message names the file and object."""
 
 
 class Scene(_core.Scene):
@@ -116,7 +117,8 @@ class Scene(_core.Scene):
     @classmethod
     def load(cls, path: str | Path, *, allow_external_files: bool = False) -> "Scene":
         """Loads a glTF 2.0 file (.gltf or .glb) with its node hierarchy, materials, textures,
-        KHR_lights_punctual lights and first perspective camera.
+        KHR_lights_punctual lights, first perspective camera and animations (Scene.animations;
+        Scene.play plays them, Scene.set_time poses them; the file loads in its rest pose).
 
         Files the model refers to (buffers, images, an environment map) must lie inside the
         model's folder unless `allow_external_files` is true; devices, FIFOs and folders are
@@ -211,9 +213,83 @@ class Scene(_core.Scene):
             raise ValueError(f"Scene.probes: at most 64 probes, got {len(rows)}")
         _core.Scene.probes.fset(self, [tuple(float(c) for c in r) for r in rows])
 
+    # -- things that move (ssrlab.animation) ---------------------------------------------------
+    def _animation_state(self) -> AnimationState:
+        state = self.__dict__.get("_animation")
+        if state is None:
+            state = self.__dict__["_animation"] = AnimationState()
+        return state
+
+    @property
+    def time(self) -> float:
+        """The time (seconds) the scene's moving things were last posed at by set_time (0 at first)."""
+        return self._animation_state().time
+
+    def set_time(self, t: float) -> None:
+        """Poses everything that moves at `t` seconds: the glTF animations being played (play)
+        and the motions given with animate, in that order (a motion given for an object that an
+        animation also moves wins). Objects move through set_object_transform, lights through
+        set_light, as if set by hand. See ssrlab.animation for sampling and time outside clips."""
+        pose(self, self._animation_state(), _seconds(t, "Scene.set_time: t"))
+
+    def play(self, *animations: int | str, loop: bool = False) -> None:
+        """Plays glTF animations (Scene.animations), each given by name or index; with none, all
+        of the scene's. Replaces what was played before, and poses the scene at its current time
+        (Scene.time). Channels hold their first and last values outside their keyframes unless
+        `loop` repeats each clip over its own duration (ssrlab.animation). An animated parent
+        moves its children; several animations on one node apply in the order given."""
+        state = self._animation_state()
+        before = state.playing
+        state.playing = [(i, bool(loop)) for i in resolve_animations(self, animations)]
+        try:
+            pose(self, state, state.time)
+        except Exception:
+            state.playing = before  # a pose that fails leaves the scene playing what it played
+            raise
+
+    def stop(self) -> None:
+        """Plays no glTF animation any more; objects and lights stay where they are."""
+        self._animation_state().playing = []
+
+    def animate(self, object: int | None = None, motion=None, *, light: int | None = None,
+                loop: bool = False) -> None:
+        """Moves an object or a light over time: ``animate(object, motion)`` or
+        ``animate(light=index, motion=...)``.
+
+        motion: ssrlab.Keyframes, or a function of time t (seconds) returning an object's 4x4
+        transform (object to world), or for a light an ssrlab.Light or a dict of the fields it
+        changes (position, direction, color, intensity, inner_cone, outer_cone, range,
+        cast_shadow); None removes the target's motion. `loop` repeats Keyframes over their
+        duration. The scene is posed at its current time (Scene.time) at once."""
+        if (object is None) == (light is None):
+            raise ValueError("Scene.animate: give an object index or light=index (one of them)")
+        kind, index = ("object", object) if light is None else ("light", light)
+        count = self.object_count if kind == "object" else len(self.lights)
+        if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
+            raise TypeError(f"Scene.animate: the {kind} is an index, got {type(index).__name__}")
+        if not 0 <= int(index) < count:
+            raise IndexError(f"Scene.animate: {kind} index {int(index)} is out of range (the scene has {count})")
+        state = self._animation_state()
+        key = (kind, int(index))
+        if motion is None:
+            state.motions.pop(key, None)
+            return
+        before = state.motions.get(key)
+        state.motions[key] = Motion(kind, int(index), motion, loop)
+        try:
+            pose(self, state, state.time)
+        except Exception:  # a motion that fails at once is not kept
+            if before is None:
+                del state.motions[key]
+            else:
+                state.motions[key] = before
+            raise
+
     def save(self, path: str | Path, *, overwrite: bool = False) -> Path:
         """Writes the scene as glTF 2.0 (.gltf + .bin, or .glb). Refuses to replace an existing
-        file unless overwrite=True."""
+        file unless overwrite=True. The node trees of animated files are written in their current
+        pose with their glTF animations, which play the same after loading; motions given from
+        Python (Scene.animate: functions and Keyframes) and what is playing are not saved."""
         path = Path(path)
         targets = [path] + ([path.with_suffix(".bin")] if path.suffix == ".gltf" else [])
         existing = [p for p in targets if p.exists()]
@@ -239,8 +315,11 @@ class Scene(_core.Scene):
         return path
 
     def copy(self) -> "Scene":
+        """A deep copy (another scene for GPU caches), with what it plays and its motions."""
         out = Scene()
         out._assign(self)
+        if "_animation" in self.__dict__:
+            out.__dict__["_animation"] = self._animation_state().copy()
         return out
 
     def __repr__(self) -> str:

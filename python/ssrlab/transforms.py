@@ -40,6 +40,17 @@ def rotate(axis, degrees: float) -> np.ndarray:
     return m
 
 
+def quaternion(axis, degrees: float) -> np.ndarray:
+    """The unit quaternion (x, y, z, w), glTF's order, of the rotation by `degrees` about `axis`
+    (the same rotation as rotate(axis, degrees)); for ssrlab.Keyframes and glTF rotations."""
+    a = np.asarray(axis, dtype=np.float64)
+    n = np.linalg.norm(a)
+    if n == 0:
+        raise ValueError("quaternion: axis must be non-zero")
+    h = np.radians(degrees) / 2
+    return np.concatenate([a / n * np.sin(h), [np.cos(h)]])
+
+
 def align_y(normal) -> np.ndarray:
     """A rotation taking +y to `normal` (for planes)."""
     n = np.asarray(normal, dtype=np.float64)

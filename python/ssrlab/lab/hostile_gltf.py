@@ -473,6 +473,150 @@ def _(d):
     return d
 
 
+# --- animations: keyframes, samplers and channels that are malformed -----------------------
+def animated(d, times=(0.0, 1.0), values=((0, 0, 0), (1, 0, 0)), path="translation", interpolation=None, node=0,
+             output_type=None, input_component=5126):
+    """Adds an animation "move" of one channel, its keyframes in a second buffer."""
+    values = [float(x) for v in values for x in v]
+    width = {"translation": 3, "scale": 3, "rotation": 4, "weights": 1}.get(path, 3)
+    times_bytes = struct.pack(f"<{len(times)}f", *times)
+    data = times_bytes + struct.pack(f"<{len(values)}f", *values)
+    d["buffers"].append({"byteLength": len(data), "uri": data_uri(data)})
+    buffer = len(d["buffers"]) - 1
+    d["bufferViews"] += [{"buffer": buffer, "byteOffset": 0, "byteLength": len(times_bytes)},
+                         {"buffer": buffer, "byteOffset": len(times_bytes), "byteLength": 4 * len(values)}]
+    views = len(d["bufferViews"])
+    d["accessors"] += [{"bufferView": views - 2, "componentType": input_component, "count": len(times),
+                        "type": "SCALAR", "min": [min(times)], "max": [max(times)]},
+                       {"bufferView": views - 1, "componentType": 5126, "count": len(values) // width,
+                        "type": output_type or {1: "SCALAR", 3: "VEC3", 4: "VEC4"}[width]}]
+    sampler = {"input": len(d["accessors"]) - 2, "output": len(d["accessors"]) - 1}
+    if interpolation:
+        sampler["interpolation"] = interpolation
+    d["animations"] = [{"name": "move", "samplers": [sampler],
+                        "channels": [{"sampler": 0, "target": {"node": node, "path": path}}]}]
+    return d
+
+
+MOVE = ("animation 0 ('move') channel 0 (node 0 'tri', translation)",)
+
+
+@case("anim_times_not_increasing.gltf", err(*MOVE, "sampler 0", "increase strictly", "time 2"))
+def _(d):
+    return animated(d, times=(0.0, 1.0, 1.0), values=((0, 0, 0),) * 3)
+
+
+@case("anim_time_negative.gltf", err(*MOVE, "first keyframe time is -1"))
+def _(d):
+    return animated(d, times=(-1.0, 1.0))
+
+
+@case("anim_output_count.gltf", err(*MOVE, "3 output values for 2 keyframes"))
+def _(d):
+    return animated(d, values=((0, 0, 0), (1, 0, 0), (2, 0, 0)))
+
+
+@case("anim_cubic_one_key.gltf", err(*MOVE, "CUBICSPLINE needs at least 2 keyframes"))
+def _(d):
+    return animated(d, times=(0.0,), values=((0, 0, 0),) * 3, interpolation="CUBICSPLINE")
+
+
+@case("anim_cubic_no_tangents.gltf", err(*MOVE, "2 output values for 2 keyframes", "in-tangent, value, out-tangent"))
+def _(d):
+    return animated(d, interpolation="CUBICSPLINE")
+
+
+@case("anim_interpolation_unknown.gltf", err(*MOVE, "interpolation 'SMOOTH'"))
+def _(d):
+    return animated(d, interpolation="SMOOTH")
+
+
+@case("anim_value_nan.gltf", err(*MOVE, "sampler 0 output", "NaN or Inf"))
+def _(d):
+    return animated(d, values=((0, 0, 0), (float("nan"), 0, 0)))
+
+
+@case("anim_input_not_float.gltf", err(*MOVE, "input accessor 2 must hold float scalars"))
+def _(d):
+    return animated(d, times=(0.0, 1.0), input_component=5125)  # the same bytes read as integers
+
+
+@case("anim_output_vec4_translation.gltf", err(*MOVE, "output accessor 3 must hold float VEC3"))
+def _(d):
+    return animated(d, values=((0, 0, 0), (1, 0, 0), (0, 0, 0), (1, 0, 0)), output_type="VEC4")
+
+
+@case("anim_rotation_zero.gltf", err("animation 0 ('move') channel 0 (node 0 'tri', rotation)", "keyframe 1",
+                                     "zero quaternion"))
+def _(d):
+    return animated(d, path="rotation", values=((0, 0, 0, 1), (0, 0, 0, 0)))
+
+
+@case("anim_node_with_matrix.gltf", err(*MOVE, "given by a matrix"))
+def _(d):
+    d["nodes"][0]["matrix"] = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+    return animated(d)
+
+
+@case("anim_channel_twice.gltf", err("animation 0 ('move') channel 1", "second channel for the same node and path"))
+def _(d):
+    d = animated(d)
+    d["animations"][0]["channels"].append(dict(d["animations"][0]["channels"][0]))
+    return d
+
+
+@case("anim_sampler_out_of_range.gltf", err("animation 0 channel 0", "sampler 4 is out of range"))
+def _(d):
+    d = animated(d)
+    d["animations"][0]["channels"][0]["sampler"] = 4
+    return d
+
+
+@case("anim_node_out_of_range.gltf", err("animation 0 channel 0 target", "node 9 is out of range"))
+def _(d):
+    return animated(d, node=9)
+
+
+@case("anim_input_out_of_range.gltf", err("animation 0 sampler 0", "input 2147483648 is out of range"))
+def _(d):
+    d = animated(d)
+    d["animations"][0]["samplers"][0]["input"] = 2 ** 31
+    return d
+
+
+@case("anim_target_not_object.gltf", err("animation 0 channel 0", "target is not a JSON object"))
+def _(d):
+    d = animated(d)
+    d["animations"][0]["channels"][0]["target"] = 0
+    return d
+
+
+@case("anim_output_past_view.gltf", err(*MOVE, "sampler 0 output: accessor 3", "read past the end of bufferView 3"))
+def _(d):
+    d = animated(d)
+    d["accessors"][3]["count"] = 3
+    return d
+
+
+@case("anim_pose_not_unit.gltf", err("node 0", "extras.ssrlab.pose.rotation is not a unit quaternion"))
+def _(d):
+    d["nodes"][0]["extras"] = {"ssrlab": {"pose": {"rotation": [0, 0, 0, 3]}}}
+    return animated(d)
+
+
+@case("anim_weights.gltf", warn("animation 0 ('move')", "morph target weights", "not rendered"))
+def _(d):
+    d["meshes"][0]["weights"] = [0.0]
+    return animated(d, path="weights", values=((0,), (1,)))
+
+
+@case("anim_path_unknown.gltf", warn("animation 0 ('move')", "target path 'pointer'", "not rendered"))
+def _(d):
+    d = animated(d)
+    d["animations"][0]["channels"][0]["target"]["path"] = "pointer"
+    return d
+
+
 # --- exceptions that escaped without the file's name ---------------------------------------
 @case("invalid_utf8.gltf", err("not valid UTF-8"))
 def _(d):
