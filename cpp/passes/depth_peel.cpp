@@ -27,7 +27,23 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s, const 
     // F0 in half floats: 2^-11 relative (an 8-bit unorm would round 0.04 to 10/255, 2 % off, and
     // 0.01 by 18 %; sRGB8 still by 1-3 %), so a texel's F0 reaches the lighting as computed.
     if (f.specular_texture) out.push_back({"gbuffer.specular", GL_RGBA16F, s.width, s.height, s.layers, 1});
+    // Motion in pixels (lib/motion.glsl): float32, as a half float holds 0.01 px only below 16 px.
+    if (s.motion_vectors) out.push_back({"gbuffer.motion", GL_RG32F, s.width, s.height, s.layers, 1});
     return out;
+}
+
+void DepthPeelPass::attach_outputs(FrameContext& ctx, int layer) {
+    fbo_.attach(GL_COLOR_ATTACHMENT0, ctx.resources.get("gbuffer.albedo"), 0, layer);
+    fbo_.attach(GL_COLOR_ATTACHMENT1, ctx.resources.get("gbuffer.normal"), 0, layer);
+    fbo_.attach(GL_COLOR_ATTACHMENT2, ctx.resources.get("gbuffer.material"), 0, layer);
+    if (has_emission()) fbo_.attach(GL_COLOR_ATTACHMENT3, ctx.resources.get("gbuffer.emission"), 0, layer);
+    if (has_specular()) fbo_.attach(specular_attachment(), ctx.resources.get("gbuffer.specular"), 0, layer);
+    if (has_motion()) fbo_.attach(motion_attachment(), ctx.resources.get("gbuffer.motion"), 0, layer);
+}
+
+// A later frame without them must not keep this one's textures attached.
+void DepthPeelPass::detach_optional_outputs() {
+    for (int i = 3; i < colour_outputs(); ++i) glNamedFramebufferTexture(fbo_.id(), GLenum(GL_COLOR_ATTACHMENT0 + i), 0, 0);
 }
 
 void apply_peel_culling(const RenderSettings& s) {
@@ -67,6 +83,7 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     defines_ = ctx.defines;
     if (ctx.facts.emission_texture) defines_["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) defines_["SPECULAR_TEXTURE"] = "1";
+    if (ctx.settings.motion_vectors) defines_["MOTION_VECTORS"] = "1";
     list_stats_ = ListStats{};
     prepare_tiles(ctx);
     if (ctx.settings.deep_gbuffer != DeepGBuffer::Lists || !lists(ctx)) {
@@ -122,11 +139,6 @@ void DepthPeelPass::prepare_tiles(FrameContext& ctx) {
 void DepthPeelPass::peel(FrameContext& ctx) {
     const RenderSettings& s = ctx.settings;
     Texture& depth = ctx.resources.get("gbuffer.depth");
-    Texture& albedo = ctx.resources.get("gbuffer.albedo");
-    Texture& normal = ctx.resources.get("gbuffer.normal");
-    Texture& material = ctx.resources.get("gbuffer.material");
-    Texture* emission = has_emission() ? &ctx.resources.get("gbuffer.emission") : nullptr;
-    Texture* specular = has_specular() ? &ctx.resources.get("gbuffer.specular") : nullptr;
     Texture& previous = ctx.resources.get("depth_peel.previous_depth");
 
     // Each layer is drawn twice. The depth pass rasterises the layer's depth with a
@@ -160,8 +172,8 @@ void DepthPeelPass::peel(FrameContext& ctx) {
 
     if (!fbo_) fbo_ = Framebuffer::create();
     const int outputs = colour_outputs();
-    const GLenum draw_buffers[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                    GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+    const GLenum draw_buffers[6] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
     glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, s.width, s.height);
@@ -195,11 +207,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
             glCopyImageSubData(depth.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer - 1, previous.id(), GL_TEXTURE_2D, 0, 0,
                                0, 0, s.width, s.height, 1);
         fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
-        fbo_.attach(GL_COLOR_ATTACHMENT0, albedo, 0, layer);
-        fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
-        fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
-        if (emission) fbo_.attach(GL_COLOR_ATTACHMENT3, *emission, 0, layer);
-        if (specular) fbo_.attach(specular_attachment(), *specular, 0, layer);
+        attach_outputs(ctx, layer);
         if (layer == 0) fbo_.check_complete("depth_peel");
         for (int i = 0; i < outputs; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
@@ -272,9 +280,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_CULL_FACE);
     glDisable(GL_FRAMEBUFFER_SRGB);
-    // A later frame without gbuffer.emission must not keep this one's texture attached.
-    if (emission) glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, 0, 0);
-    if (specular) glNamedFramebufferTexture(fbo_.id(), specular_attachment(), 0, 0);
+    detach_optional_outputs();
 }
 
 // The store's largest size on this device for a budget of `budget_mib` (0: the device's own
@@ -355,19 +361,14 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     list_samples_.assign(counted + 4, counted + 4 + s.layers);
 
     Texture& depth = ctx.resources.get("gbuffer.depth");
-    Texture& albedo = ctx.resources.get("gbuffer.albedo");
-    Texture& normal = ctx.resources.get("gbuffer.normal");
-    Texture& material = ctx.resources.get("gbuffer.material");
-    Texture* emission = has_emission() ? &ctx.resources.get("gbuffer.emission") : nullptr;
-    Texture* specular = has_specular() ? &ctx.resources.get("gbuffer.specular") : nullptr;
     const GLuint write = ctx.shaders.program({"passes/deep_gbuffer_write.vert", "passes/deep_gbuffer_write.frag"},
                                              defines_);
     GpuScope timer(ctx.timer, "deep_gbuffer.write");
     if (!fbo_) fbo_ = Framebuffer::create();
     if (!empty_vao_) glCreateVertexArrays(1, &empty_vao_);
     const int outputs = colour_outputs();
-    const GLenum draw_buffers[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                    GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+    const GLenum draw_buffers[6] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4, GL_COLOR_ATTACHMENT5};
     glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     glViewport(0, 0, s.width, s.height);
@@ -393,11 +394,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
                                 flags.data());
     for (int layer = 0; layer < s.layers; ++layer) {
         fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
-        fbo_.attach(GL_COLOR_ATTACHMENT0, albedo, 0, layer);
-        fbo_.attach(GL_COLOR_ATTACHMENT1, normal, 0, layer);
-        fbo_.attach(GL_COLOR_ATTACHMENT2, material, 0, layer);
-        if (emission) fbo_.attach(GL_COLOR_ATTACHMENT3, *emission, 0, layer);
-        if (specular) fbo_.attach(specular_attachment(), *specular, 0, layer);
+        attach_outputs(ctx, layer);
         if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
         if (layer < filled) {
             int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
@@ -427,8 +424,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_FRAMEBUFFER_SRGB);
-    if (emission) glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, 0, 0);
-    if (specular) glNamedFramebufferTexture(fbo_.id(), specular_attachment(), 0, 0);
+    detach_optional_outputs();
     ctx.depth.apply_gl_state();
     ctx.gpu_scene.bind_geometry();
     return true;

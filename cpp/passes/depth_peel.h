@@ -101,7 +101,7 @@ public:
     static constexpr GLuint kEmissionUnit = 11;
     // ... and gbuffer.specular to (shaders/lib/gbuffer_specular.glsl).
     static constexpr GLuint kSpecularUnit = 16;
-    static constexpr size_t kExtraOutputBytes = 16;  // ... and a vec4 more for each of gbuffer.emission, .specular
+    static constexpr size_t kExtraOutputBytes = 16;  // ... and a vec4 more for each of gbuffer.emission, .specular, .motion
     // The fragment store's largest size for Settings.deep_gbuffer_budget (0: the device's largest
     // storage buffer); std::invalid_argument where the budget is beyond what the device can hold.
     static uint64_t store_limit_bytes(int budget_mib);
@@ -134,11 +134,20 @@ private:
     // where the facts say so (their attachment and fragment-shader location is their index).
     bool has_emission() const { return defines_.count("EMISSION_TEXTURE") != 0; }
     bool has_specular() const { return defines_.count("SPECULAR_TEXTURE") != 0; }
-    int colour_outputs() const { return 3 + int(has_emission()) + int(has_specular()); }
+    bool has_motion() const { return defines_.count("MOTION_VECTORS") != 0; }
+    int colour_outputs() const { return 3 + int(has_emission()) + int(has_specular()) + int(has_motion()); }
     GLenum specular_attachment() const { return GLenum(GL_COLOR_ATTACHMENT3 + int(has_emission())); }
+    GLenum motion_attachment() const {
+        return GLenum(GL_COLOR_ATTACHMENT3 + int(has_emission()) + int(has_specular()));
+    }
+    // Attaches layer `layer` of every colour output the frame has to fbo_.
+    void attach_outputs(FrameContext& ctx, int layer);
+    void detach_optional_outputs();
     size_t fragment_bytes() const { return kFragmentBytes + kExtraOutputBytes * size_t(colour_outputs() - 3); }
 
-    Defines defines_;  // the frame's common defines, and EMISSION_TEXTURE / SPECULAR_TEXTURE where the facts say so
+    // the frame's common defines, and EMISSION_TEXTURE / SPECULAR_TEXTURE where the facts say so,
+    // MOTION_VECTORS where the settings do
+    Defines defines_;
 
     Framebuffer fbo_, empty_fbo_;
     std::vector<GLuint> queries_;

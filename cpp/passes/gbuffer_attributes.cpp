@@ -27,6 +27,8 @@ constexpr GLuint kDepthUnit = 7, kVisibilityUnit = 8;
 // With FETCH_BY_IMAGE: the image units of the scene's vertex, index, object and material data and
 // of gbuffer.visibility (after the outputs' 0-4).
 constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialImage = 8, kVisibilityImage = 9;
+// gbuffer.motion's image unit (Settings.motion_vectors): after the outputs, or after those inputs.
+constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
 
 // A buffer texture over `buffer` read as `format` (an image buffer); deleted with the object.
 struct BufferView {
@@ -43,11 +45,13 @@ struct BufferView {
 
 std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s) const {
     const int w = s.width, h = s.height, l = s.layers;
-    return {
+    std::vector<ResourceDesc> out = {
         {"gbuffer.albedo", GL_SRGB8_ALPHA8, w, h, l, 1},
         {"gbuffer.normal", GL_RGBA16F, w, h, l, 1},
         {"gbuffer.material", GL_RGBA8, w, h, l, 1},
     };
+    if (s.motion_vectors) out.push_back({"gbuffer.motion", GL_RG32F, w, h, l, 1});
+    return out;
 }
 
 std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s, const FrameFacts& f) const {
@@ -145,6 +149,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     bind_image_layered(2, material, GL_WRITE_ONLY);
     if (emission) bind_image_layered(3, *emission, GL_WRITE_ONLY);
     if (specular) bind_image_layered(4, *specular, GL_WRITE_ONLY);
+    Texture* motion = s.motion_vectors ? &ctx.resources.get("gbuffer.motion") : nullptr;
     glBindTextureUnit(kDepthUnit, ctx.resources.get("gbuffer.depth").id());
     glBindTextureUnit(kVisibilityUnit, ctx.resources.get("gbuffer.visibility").id());
     // The scene's data per sample (shaders/passes/gbuffer_attributes.comp): through image buffers on
@@ -167,11 +172,13 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     } else {
         gs.bind_vertex_data();
     }
+    if (motion) bind_image_layered(by_image ? kMotionImageByImage : kMotionImage, *motion, GL_WRITE_ONLY);
     const int bits = VisibilityBufferPass::primitive_bits(gs, s.deep_gbuffer);
 
     Defines base = ctx.defines;
     base["FETCH_BY_IMAGE"] = by_image ? "1" : "0";
     base["BIN_ALL"] = bin_all ? "1" : "0";
+    base["MOTION_VECTORS"] = motion ? "1" : "0";
     if (ctx.facts.emission_texture) base["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) base["SPECULAR_TEXTURE"] = "1";
     auto program = [&](int stage, int kind, bool tile_list = false) {
@@ -197,7 +204,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
                 glUseProgram(program(0, auto_untextured ? GpuScene::kAutoReflectivityFeature : 0));
                 dispatch_2d(s.width, s.height, 1, 8, 8);
             }
-            for (Texture* t : {&albedo, &normal, &material, emission, specular})
+            for (Texture* t : {&albedo, &normal, &material, emission, specular, motion})
                 if (t) clear_layers(ctx, *t, filled_tiles > 0 ? 1 : 0, clear);
             if (!deep_tiles.empty()) {
                 const size_t bytes = deep_tiles.size() * sizeof(GLuint);
@@ -215,7 +222,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
                 dispatch_2d(s.width, s.height, filled, 8, 8);
             }
             // The layers after the filled ones hold no sample: the clear values peeling gives them.
-            for (Texture* t : {&albedo, &normal, &material, emission, specular})
+            for (Texture* t : {&albedo, &normal, &material, emission, specular, motion})
                 if (t) clear_layers(ctx, *t, filled, clear);
         }
     }

@@ -27,8 +27,13 @@ struct FrameUniforms {
     glm::vec4 env_zenith;      // rgb sky radiance straight up
     glm::vec4 env_horizon;     // rgb sky radiance at the horizon
     glm::vec4 env_ground;      // rgb radiance below the horizon
+    // Motion vectors (Settings.motion_vectors): this frame's world -> clip without the TAA jitter,
+    // and the previous frame's of the sequence (this frame's where there is none).
+    glm::mat4 view_proj_unjittered;
+    glm::mat4 previous_view_proj;
 };
-static_assert(sizeof(FrameUniforms) == 5 * 64 + 9 * 16, "std140 layout of FrameUniforms");
+static_assert(sizeof(FrameUniforms) == 7 * 64 + 9 * 16, "std140 layout of FrameUniforms");
+constexpr int kPreviousModelsBinding = 31;  // SSBO: each object's model matrix in the previous frame
 
 // std430 element of the lights buffer, in view space.
 struct GpuLight {

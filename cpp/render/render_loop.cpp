@@ -56,6 +56,26 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     u.env_zenith = glm::vec4(env.sky_zenith, 0.0f);
     u.env_horizon = glm::vec4(env.sky_horizon, 0.0f);
     u.env_ground = glm::vec4(env.ground, 0.0f);
+    // Motion vectors: both frames' transforms without the jitter. The previous frame's objects are
+    // the sequence's where it showed this scene with as many objects (moved or not), else this
+    // frame's: no motion.
+    u.view_proj_unjittered = unjittered_proj * u.view;
+    u.previous_view_proj = u.view_proj_unjittered;
+    std::vector<glm::mat4> models;
+    models.reserve(scene.objects.size());
+    for (const Object& o : scene.objects) models.push_back(o.transform);
+    const bool motion_history = sequence && sequence->previous && sequence->scene_id == scene.id() &&
+                                sequence->previous_models.size() == models.size() &&
+                                sequence->previous_settings.width == s.width &&
+                                sequence->previous_settings.height == s.height;
+    if (motion_history) u.previous_view_proj = sequence->previous_unjittered_proj * sequence->previous_uniforms.view;
+    if (s.motion_vectors) {
+        const std::vector<glm::mat4>& previous = motion_history ? sequence->previous_models : models;
+        const size_t bytes = std::max<size_t>(previous.size(), 1) * sizeof(glm::mat4);
+        if (previous_models_.size() < bytes) previous_models_ = Buffer::create(bytes);
+        if (!previous.empty()) previous_models_.upload(previous.data(), previous.size() * sizeof(glm::mat4));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPreviousModelsBinding, previous_models_.id());
+    }
     frame_ubo_.upload(&u, sizeof(u));
     glBindBufferBase(GL_UNIFORM_BUFFER, kFrameUniformsBinding, frame_ubo_.id());
 
@@ -188,6 +208,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         sequence->previous = resources;
         sequence->previous_uniforms = u;
         sequence->previous_unjittered_proj = unjittered_proj;
+        sequence->previous_models = std::move(models);
         sequence->previous_settings = s;
         sequence->scene_id = scene.id();
         sequence->scene_revision = scene.revision();

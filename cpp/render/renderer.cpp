@@ -344,6 +344,7 @@ void Renderer::destroy_gl_objects() {
     frame_ubo_.reset();
     ssr_ubo_.reset();
     lights_ssbo_.reset();
+    previous_models_.reset();
     readback_ssbo_.reset();
     readback_staging_.reset();
     specular_albedo_.reset();

@@ -204,6 +204,7 @@ private:
     std::unique_ptr<ShaderLibrary> shaders_;
     GpuTimer timer_;
     Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_, readback_staging_;
+    Buffer previous_models_;  // motion vectors: the previous frame's model matrices (lib/motion.glsl)
     std::string readback_path_ = "auto";
     std::string clear_path_ = "auto";
     GLuint readback_sampler_ = 0;

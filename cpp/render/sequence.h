@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "core/egl_context.h"
 #include "render/frame_uniforms.h"
@@ -31,6 +32,7 @@ public:
     std::shared_ptr<FrameResources> previous;  // the previous frame's textures (null: no history)
     FrameUniforms previous_uniforms{};
     glm::mat4 previous_unjittered_proj{1.0f};  // its projection without the TAA jitter
+    std::vector<glm::mat4> previous_models;    // its objects' model matrices (motion vectors)
     RenderSettings previous_settings;
     uint64_t scene_id = 0, scene_revision = 0;
     int frames = 0;  // frames rendered so far in this sequence

@@ -875,6 +875,10 @@ class GBuffer:
     metallic, reflectivity
     coverage     True where the layer holds a surface
     lit          direct lighting of every layer (the colour a reflection ray fetches)
+    motion       (layers, height, width, 2) with Settings.motion_vectors: where each sample was in
+                 the previous frame of the sequence minus where it is, in pixels of these arrays
+                 (x right, y down: previous (row, col) = (row + motion[..., 1], col + motion[..., 0]));
+                 0 outside a sequence and where nothing moved
     """
 
     def __init__(self, frame: Frame):
@@ -895,6 +899,15 @@ class GBuffer:
     @property
     def normal(self) -> np.ndarray:
         return self._frame.read("gbuffer.normal")[..., :3]
+
+    @property
+    def motion(self) -> np.ndarray:
+        if "gbuffer.motion" not in self._frame.texture_names:
+            raise KeyError("gbuffer.motion: this frame was rendered without Settings.motion_vectors=True")
+        m = np.array(self._frame.read("gbuffer.motion")[..., :2])
+        m[..., 1] *= -1.0  # the texture's y runs up the image (GL window coordinates), the arrays' rows down
+        m.setflags(write=False)
+        return m
 
     @property
     def roughness(self) -> np.ndarray:

@@ -18,6 +18,10 @@
 #ifndef SPECULAR_TEXTURE
 #define SPECULAR_TEXTURE 0
 #endif
+// MOTION_VECTORS 1 (Settings.motion_vectors): gbuffer.motion too (16 bytes more).
+#ifndef MOTION_VECTORS
+#define MOTION_VECTORS 0
+#endif
 
 struct ListFragment {
     vec4 albedo_metallic;
@@ -33,6 +37,9 @@ struct ListFragment {
 #if SPECULAR_TEXTURE
     vec4 specular;
 #endif
+#if MOTION_VECTORS
+    vec4 motion;
+#endif
 };
 
 layout(std430, binding = 16) buffer FragmentStore { ListFragment fragments[]; };
@@ -44,9 +51,9 @@ layout(std430, binding = 17) coherent buffer FragmentCounter {
 };
 layout(std430, binding = 18) coherent buffer FragmentHeads { uint fragment_head[]; };
 
-// emission, specular: stored only with EMISSION_TEXTURE, SPECULAR_TEXTURE.
+// emission, specular, motion: stored only with EMISSION_TEXTURE, SPECULAR_TEXTURE, MOTION_VECTORS.
 void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 normal_roughness, vec4 material,
-                          vec4 emission, vec4 specular, uint draw, uint primitive, bool reflective) {
+                          vec4 emission, vec4 specular, vec4 motion, uint draw, uint primitive, bool reflective) {
     uint slot = atomicAdd(fragment_counter.x, 1u);
     if (slot >= fragment_counter.y) return;
     ListFragment f;
@@ -61,6 +68,9 @@ void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 n
 #endif
 #if SPECULAR_TEXTURE
     f.specular = specular;
+#endif
+#if MOTION_VECTORS
+    f.motion = motion;
 #endif
     f.next = atomicExchange(fragment_head[pixel.y * int(frame.viewport.x) + pixel.x], slot);
     fragments[slot] = f;

@@ -15,4 +15,6 @@ layout(std140, binding = 0) uniform FrameUniforms {
     vec4 env_zenith;      // rgb sky radiance straight up
     vec4 env_horizon;     // rgb sky radiance at the horizon
     vec4 env_ground;      // rgb radiance below the horizon
+    mat4 view_proj_unjittered;  // world -> clip without the TAA jitter (motion vectors)
+    mat4 previous_view_proj;    // ... of the previous frame of the sequence (this frame's without one)
 } frame;

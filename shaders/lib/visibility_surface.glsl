@@ -13,23 +13,26 @@
 struct VisibilityTriangle {
     vec3 p0, p1, p2;   // view-space positions
     vec3 e1, e2;       // p1 - p0, p2 - p0
+    vec3 q0, q1, q2;   // object-space positions
 };
 
 uint visibility_vertex(ObjectData o, int triangle, int k) {
     return VISIBILITY_INDEX(uint(o.material.y) + uint(3 * triangle + k)) + uint(o.material.z);
 }
 
-vec3 visibility_vertex_position(ObjectData o, uint v) {
+vec3 visibility_object_position(uint v) {
     uint f = v * 18u;
-    vec3 a = vec3(VISIBILITY_VERTEX(f), VISIBILITY_VERTEX(f + 1u), VISIBILITY_VERTEX(f + 2u));
-    return (frame.view * (o.model * vec4(a, 1.0))).xyz;
+    return vec3(VISIBILITY_VERTEX(f), VISIBILITY_VERTEX(f + 1u), VISIBILITY_VERTEX(f + 2u));
 }
 
 VisibilityTriangle visibility_triangle(ObjectData o, int triangle) {
     VisibilityTriangle t;
-    t.p0 = visibility_vertex_position(o, visibility_vertex(o, triangle, 0));
-    t.p1 = visibility_vertex_position(o, visibility_vertex(o, triangle, 1));
-    t.p2 = visibility_vertex_position(o, visibility_vertex(o, triangle, 2));
+    t.q0 = visibility_object_position(visibility_vertex(o, triangle, 0));
+    t.q1 = visibility_object_position(visibility_vertex(o, triangle, 1));
+    t.q2 = visibility_object_position(visibility_vertex(o, triangle, 2));
+    t.p0 = (frame.view * (o.model * vec4(t.q0, 1.0))).xyz;
+    t.p1 = (frame.view * (o.model * vec4(t.q1, 1.0))).xyz;
+    t.p2 = (frame.view * (o.model * vec4(t.q2, 1.0))).xyz;
     t.e1 = t.p1 - t.p0;
     t.e2 = t.p2 - t.p0;
     return t;

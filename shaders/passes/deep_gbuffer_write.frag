@@ -22,6 +22,9 @@ layout(location = 3) out vec4 o_emission;
 #if SPECULAR_TEXTURE
 layout(location = 3 + EMISSION_TEXTURE) out vec4 o_specular;
 #endif
+#if MOTION_VECTORS
+layout(location = 3 + EMISSION_TEXTURE + SPECULAR_TEXTURE) out vec4 o_motion;
+#endif
 
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
@@ -37,6 +40,9 @@ void main() {
 #if SPECULAR_TEXTURE
         o_specular = vec4(0.0);
 #endif
+#if MOTION_VECTORS
+        o_motion = vec4(0.0);
+#endif
         gl_FragDepth = DEPTH_CLEAR;
         return;
     }
@@ -48,6 +54,9 @@ void main() {
 #endif
 #if SPECULAR_TEXTURE
     o_specular = fragments[s].specular;
+#endif
+#if MOTION_VECTORS
+    o_motion = fragments[s].motion;
 #endif
     gl_FragDepth = fragments[s].depth;
 }

@@ -42,6 +42,8 @@
 #ifndef EMISSION_TEXTURE
 #define EMISSION_TEXTURE 0
 #endif
+// MOTION_VECTORS 1 (Settings.motion_vectors): the shading pass also writes gbuffer.motion, the
+// output after gbuffer.specular's place (lib/motion.glsl).
 // SPECULAR_TEXTURE 1 (a scene with a KHR_materials_specular texture, FrameFacts::specular_texture):
 // the shading pass also writes every surface's dielectric F0 (gbuffer.specular, the output after
 // gbuffer.emission's place), sampled here; the passes that take F0 from the G-buffer read it.
@@ -124,6 +126,15 @@ in VertexOut {
     vec4 color;
 } fs;
 
+#ifndef MOTION_VECTORS
+#define MOTION_VECTORS 0
+#endif
+#if MOTION_VECTORS
+#include "../lib/motion.glsl"
+in vec4 vs_motion_clip;
+in vec4 vs_motion_previous_clip;
+#endif
+
 #if !DEEP_GBUFFER_APPEND
 layout(location = 0) out vec4 o_albedo_metallic;
 layout(location = 1) out vec4 o_normal_roughness;
@@ -133,6 +144,9 @@ layout(location = 3) out vec4 o_emission;
 #endif
 #if SPECULAR_TEXTURE
 layout(location = 3 + EMISSION_TEXTURE) out vec4 o_specular;
+#endif
+#if MOTION_VECTORS
+layout(location = 3 + EMISSION_TEXTURE + SPECULAR_TEXTURE) out vec4 o_motion;  // gbuffer.motion (RG32F)
 #endif
 #endif
 
@@ -162,11 +176,17 @@ void main() {
     if (texel.hole) discard;
     GSample g = texel.g;
     vec4 emission_out = texel.emission, specular_out = texel.specular;
+#if MOTION_VECTORS
+    vec4 motion_out = motion_texel(vs_motion_clip, vs_motion_previous_clip);
+#else
+    vec4 motion_out = vec4(0.0);
+#endif
 #if DEEP_GBUFFER_APPEND
     vec4 albedo_metallic, normal_roughness, material;
     gbuffer_encode(g, albedo_metallic, normal_roughness, material);
     fragment_list_append(ivec2(gl_FragCoord.xy), gl_FragCoord.z, albedo_metallic, normal_roughness, material,
-                         emission_out, specular_out, uint(u_draw), uint(gl_PrimitiveID), g.reflectivity > 0.0);
+                         emission_out, specular_out, motion_out, uint(u_draw), uint(gl_PrimitiveID),
+                         g.reflectivity > 0.0);
 #else
     gbuffer_encode(g, o_albedo_metallic, o_normal_roughness, o_material);
 #if EMISSION_TEXTURE
@@ -174,6 +194,9 @@ void main() {
 #endif
 #if SPECULAR_TEXTURE
     o_specular = specular_out;
+#endif
+#if MOTION_VECTORS
+    o_motion = motion_out;
 #endif
     // This layer's tile holds a surface (every fragment of it stores the same value).
     ivec2 grid = covered_tile_grid();

@@ -12,6 +12,17 @@ layout(location = 5) in vec2 a_uv1;    // glTF TEXCOORD_1 (set 0's copy without)
 
 uniform int u_object;
 
+#ifndef MOTION_VECTORS
+#define MOTION_VECTORS 0
+#endif
+#if MOTION_VECTORS
+#include "../lib/motion.glsl"
+// The vertex through this frame's and the previous frame's transforms (lib/motion.glsl): both
+// interpolate, perspective-correct, to the clip positions of the fragment's surface point.
+out vec4 vs_motion_clip;
+out vec4 vs_motion_previous_clip;
+#endif
+
 out VertexOut {
     vec3 view_position;
     vec3 view_normal;
@@ -33,4 +44,8 @@ void main() {
     vs.color = a_color;
     vs.view_tangent = vec4(mat3(frame.view) * (mat3(o.model) * a_tangent.xyz), a_tangent.w);
     gl_Position = frame.proj * view;
+#if MOTION_VECTORS
+    vs_motion_clip = motion_clip(o, a_position);
+    vs_motion_previous_clip = motion_previous_clip(u_object, a_position);
+#endif
 }

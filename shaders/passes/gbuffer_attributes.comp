@@ -36,6 +36,9 @@
 #ifndef STORE_EMPTY
 #define STORE_EMPTY 1
 #endif
+#ifndef MOTION_VECTORS
+#define MOTION_VECTORS 0
+#endif
 #ifndef ATTRIBUTES_STAGE
 #define ATTRIBUTES_STAGE 0
 #endif
@@ -170,6 +173,11 @@ layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // 
 
 // gbuffer.albedo is sRGB storage, which no image format names: it is bound through an RGBA8 view
 // and encoded here with the sRGB transfer function (IEC 61966-2-1) the framebuffer applies.
+#if MOTION_VECTORS
+#include "../lib/motion.glsl"
+// gbuffer.motion (Settings.motion_vectors): after the scene's images where they are bound.
+layout(binding = FETCH_BY_IMAGE != 0 ? 10 : 5, rg32f) writeonly uniform image2DArray o_motion;
+#endif
 layout(binding = 0, rgba8) writeonly uniform image2DArray o_albedo_metallic;
 layout(binding = 1, rgba16f) writeonly uniform image2DArray o_normal_roughness;
 layout(binding = 2, rgba8) writeonly uniform image2DArray o_material;
@@ -248,6 +256,11 @@ void shade_sample(ivec3 t, uint id) {
     vec4 albedo_metallic, normal_roughness, material;
     gbuffer_encode(texel.g, albedo_metallic, normal_roughness, material);
     store_texel(t, albedo_metallic, normal_roughness, material, texel.emission, texel.specular);
+#if MOTION_VECTORS
+    // The sample's object-space point, through both frames' transforms.
+    vec3 q = visibility_interpolate(here.b, tri.q0, tri.q1, tri.q2);
+    imageStore(o_motion, t, motion_texel(motion_clip(o, q), motion_previous_clip(object, q)));
+#endif
     if (t.z == 0 && texel.g.reflectivity > 0.0) flag_reflective_region(t.xy);
 }
 #endif
@@ -290,6 +303,9 @@ void main() {
             }
         } else if (STORE_EMPTY != 0) {
             store_texel(t, vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+#if MOTION_VECTORS
+            imageStore(o_motion, t, vec4(0.0));
+#endif
         }
     }
     barrier();
