@@ -186,7 +186,9 @@ def test_setting_values_and_timings(renderer):
     r = ssrlab.Renderer("auto")
     auto = r.render(scene, NEAR, tiny(layers=4))
     (key, measured), = r.deep_gbuffer_measurements.items()
-    assert set(measured) == {"peel", "lists", "visibility", "visibility_lists"}
+    # The CPU device measures peeling and its lists only (their images are the same bit for bit).
+    cpu = r.info["device"] == "cpu"
+    assert set(measured) == ({"peel", "lists"} if cpu else {"peel", "lists", "visibility", "visibility_lists"})
     assert all(0 < m["min"] <= m["median"] <= m["max"] for m in measured.values()), measured
     fastest = min(measured, key=lambda m: measured[m]["median"])
     undecided = fastest != "peel" and measured[fastest]["max"] >= measured["peel"]["min"]

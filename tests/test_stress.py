@@ -220,8 +220,8 @@ def field_strategy(name: str):
 
 @st.composite
 def any_settings(draw, **fixed):
-    # (user_passes and user_params name passes registered on a renderer: none here)
-    kw = {n: draw(field_strategy(n)) for n in _FIELDS if n not in fixed and n not in ("user_passes", "user_params")}
+    # (user_passes, user_params and user_modules name passes and the modules that declare them: none here)
+    kw = {n: draw(field_strategy(n)) for n in _FIELDS if n not in fixed and n not in ("user_passes", "user_params", "user_modules")}
     kw.update(fixed)
     # Satisfy the cross-field constraints (Settings.describe(), [constraints]).
     kw["hiz_max_level"] = max(kw["hiz_max_level"], kw["hiz_stop_level"], kw["hiz_start_level"])

@@ -318,12 +318,16 @@ class Renderer:
         the same layers, depths and object ids bit for bit; the visibility ones' attributes differ
         from peeling's within the tolerance docs/deep_gbuffer.md states, so a script that needs
         bit-identical reruns names its construction. One layer compares 'peel' and 'visibility'
-        only (the lists' one geometry pass is what one layer is already, plus a selection), and on
-        the CPU device peels without measuring: there the visibility buffer's compute pass costs
-        what peeling's shading pass does (benchmarks/deep_gbuffer.py), within noise of it."""
+        only (the lists' one geometry pass is what one layer is already, plus a selection). On the
+        CPU device 'auto' measures peeling and its lists only, and peels one layer without
+        measuring: there the visibility constructions' compute pass costs what peeling's shading
+        pass does or more (benchmarks/deep_gbuffer.py), so measuring them would let noise choose
+        between images that differ in their last bits; a GPU, where the visibility buffer is
+        several times faster, measures all four."""
         if settings.deep_gbuffer != "auto":
             return settings
-        if settings.layers == 1 and self.info["device"] == "cpu":
+        cpu = self.info["device"] == "cpu"
+        if settings.layers == 1 and cpu:
             return settings.replace(deep_gbuffer="peel")
         key = (id(scene), scene.revision, settings.width, settings.height, settings.layers,
                settings.backface_culling, settings.depth_mode, settings.min_separation)
@@ -345,7 +349,10 @@ class Renderer:
     def _measure_deep_gbuffer(self, scene, camera, base: Settings) -> dict[str, dict[str, float]]:
         """GPU milliseconds of the G-buffer's construction with each exact method: median, min, max."""
         measured = {}
-        methods = DEEP_GBUFFER_CONSTRUCTIONS if base.layers > 1 else ("peel", "visibility")
+        if self.info["device"] == "cpu":
+            methods = ("peel", "lists")
+        else:
+            methods = DEEP_GBUFFER_CONSTRUCTIONS if base.layers > 1 else ("peel", "visibility")
         for method in methods:
             s = base.replace(deep_gbuffer=method).resolved(self.info["device"])
             times = []
