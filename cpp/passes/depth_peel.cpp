@@ -32,6 +32,46 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s, const 
     return out;
 }
 
+TileBounds tile_bounds(const GLuint* flags, int grid_x, int grid_y) {
+    TileBounds b{grid_x, grid_y, -1, -1};
+    for (int ty = 0; ty < grid_y; ++ty)
+        for (int tx = 0; tx < grid_x; ++tx)
+            if (flags[size_t(ty * grid_x + tx)]) {
+                b.x0 = std::min(b.x0, tx), b.x1 = std::max(b.x1, tx);
+                b.y0 = std::min(b.y0, ty), b.y1 = std::max(b.y1, ty);
+            }
+    return b;
+}
+
+void TileBounds::scissor() const {
+    glEnable(GL_SCISSOR_TEST);
+    if (empty()) glScissor(0, 0, 0, 0);
+    else glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+}
+
+StoreGrowth grow_fragment_store(FrameContext& ctx, const std::string& prefix, uint64_t& capacity_state,
+                                uint64_t pixels, uint64_t max_fragments,
+                                const std::function<uint64_t(uint64_t)>& append) {
+    StoreGrowth g;
+    uint64_t capacity = std::min(max_fragments, std::max<uint64_t>(capacity_state, 2 * pixels));
+    {
+        GpuScope timer(ctx.timer, prefix + ".append");
+        g.fragments = append(capacity);
+    }
+    if (g.fragments > capacity) {
+        if (g.fragments > max_fragments) return g;
+        // 1/8 of slack, so that a frame with slightly more fragments does not redo again.
+        capacity = std::min(max_fragments, g.fragments + g.fragments / 8);
+        g.redone = true;
+        GpuScope timer(ctx.timer, prefix + ".redo");
+        g.fragments = append(capacity);
+        if (g.fragments > capacity) return g;  // the geometry is the same: cannot happen
+    }
+    capacity_state = capacity;
+    g.fits = true;
+    return g;
+}
+
 void DepthPeelPass::attach_outputs(FrameContext& ctx, int layer) {
     fbo_.attach(GL_COLOR_ATTACHMENT0, ctx.resources.get("gbuffer.albedo"), 0, layer);
     fbo_.attach(GL_COLOR_ATTACHMENT1, ctx.resources.get("gbuffer.normal"), 0, layer);
@@ -220,16 +260,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
             glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * (4 + size_t(layer - 1) * flags.size())),
                                     GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());
-            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
-            for (int ty = 0; ty < grid_y; ++ty)
-                for (int tx = 0; tx < grid_x; ++tx)
-                    if (flags[size_t(ty * grid_x + tx)]) {
-                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
-                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
-                    }
-            glEnable(GL_SCISSOR_TEST);
-            if (x1 < 0) glScissor(0, 0, 0, 0);
-            else glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+            tile_bounds(flags.data(), grid_x, grid_y).scissor();
         }
         // Draw only if the previous layer covered something (its query counted samples).
         if (layer > 0) glBeginConditionalRender(queries_[size_t(layer - 1)], GL_QUERY_WAIT);
@@ -311,33 +342,19 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     if (kept_.size() < kept_bytes) kept_ = Buffer::create(kept_bytes);
     if (!counter_) counter_ = Buffer::create((4 + 16) * sizeof(GLuint));  // header, pixels per layer (<= 16)
 
-    // The store starts at the last frame's size (two fragments a pixel at first) and grows to
-    // the counted fragments when they did not fit: the counter counts past the capacity.
-    uint64_t capacity = std::min(max_fragments, std::max<uint64_t>(capacity_, 2 * pixels));
-    GLuint counts[4] = {0, 0, 0, 0};
-    {
-        GpuScope timer(ctx.timer, "deep_gbuffer.append");
-        append(ctx, capacity);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-    }
-    if (counts[0] > capacity) {
-        if (counts[0] > max_fragments) {
-            list_stats_.fragments = counts[0];
-            return false;
-        }
-        // 1/8 of slack, so that a frame with slightly more fragments does not redo again.
-        capacity = std::min(max_fragments, uint64_t(counts[0]) + uint64_t(counts[0]) / 8);
-        list_stats_.redone = 1;
-        GpuScope timer(ctx.timer, "deep_gbuffer.redo");
-        append(ctx, capacity);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-        if (counts[0] > capacity) return false;  // the geometry is the same: cannot happen
-    }
-    capacity_ = capacity;
+    // The counter counts past the capacity: the store grows to the counted fragments.
+    const StoreGrowth grown = grow_fragment_store(ctx, "deep_gbuffer", capacity_, pixels, max_fragments,
+                                                  [&](uint64_t capacity) {
+                                                      append(ctx, capacity);
+                                                      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                                                      GLuint counts[4] = {};
+                                                      glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
+                                                      return uint64_t(counts[0]);
+                                                  });
+    list_stats_.redone = grown.redone ? 1 : 0;
+    list_stats_.fragments = grown.fragments;
+    if (!grown.fits) return false;
     list_stats_.lists = 1;
-    list_stats_.fragments = counts[0];
     list_stats_.bytes = store_.size() + heads_.size() + kept_.size() + counter_.size();
 
     Defines select_defines = defines_;
@@ -397,20 +414,12 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
         attach_outputs(ctx, layer);
         if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
         if (layer < filled) {
-            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
-            const GLuint* f = flags.data() + size_t(layer) * size_t(grid_x) * size_t(grid_y);
-            for (int ty = 0; ty < grid_y; ++ty)
-                for (int tx = 0; tx < grid_x; ++tx)
-                    if (f[size_t(ty * grid_x + tx)]) {
-                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
-                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
-                    }
-            const bool whole = x0 == 0 && y0 == 0 && x1 == grid_x - 1 && y1 == grid_y - 1;
-            if (!whole) {
+            const TileBounds box =
+                tile_bounds(flags.data() + size_t(layer) * size_t(grid_x) * size_t(grid_y), grid_x, grid_y);
+            if (!box.whole(grid_x, grid_y)) {
                 for (int i = 0; i < outputs; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
                 glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
-                glEnable(GL_SCISSOR_TEST);
-                glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+                box.scissor();
             }
             // Every texel within is written (the clear values where the layer has no fragment).
             glDepthFunc(GL_ALWAYS);  // every kept fragment's depth is written as stored

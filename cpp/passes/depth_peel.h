@@ -36,6 +36,7 @@
 // Settings.deep_gbuffer_budget; a frame beyond the budget is peeled (never truncated).
 #pragma once
 
+#include <functional>
 #include <map>
 
 #include "render/render_pass.h"
@@ -50,6 +51,31 @@ void apply_peel_culling(const RenderSettings& s);
 // default builds exactly the layers it built before the setting existed.
 void set_min_separation(const RenderSettings& s, Defines& defines);
 void set_min_separation(const RenderSettings& s, GLuint program);
+
+// The bounding box, in 8x8 tiles, of the flagged tiles of one layer (`flags`: grid_x x grid_y,
+// rows of tiles); x1 < 0 where none is flagged.
+struct TileBounds {
+    int x0, y0, x1, y1;
+    bool empty() const { return x1 < 0; }
+    bool whole(int grid_x, int grid_y) const { return x0 == 0 && y0 == 0 && x1 == grid_x - 1 && y1 == grid_y - 1; }
+    // Scissors the raster to the box (a zero-sized scissor where it is empty).
+    void scissor() const;
+};
+TileBounds tile_bounds(const GLuint* flags, int grid_x, int grid_y);
+
+// The fragment store of a one-pass construction (the shaded lists, the visibility lists): sized by
+// the previous frame (two fragments a pixel at first); where the counted fragments did not fit, the
+// geometry pass runs again with a store of the count plus 1/8 (timed as `<prefix>.redo`), so a list
+// is never truncated; beyond `max_fragments` nothing is kept and the caller peels instead.
+// `append(capacity)` runs the geometry pass into a store of that capacity and returns the fragments
+// it counted (also those beyond the capacity).
+struct StoreGrowth {
+    bool fits = false;       // the frame's fragments are in the store
+    bool redone = false;     // ... after a second geometry pass
+    uint64_t fragments = 0;  // counted
+};
+StoreGrowth grow_fragment_store(FrameContext& ctx, const std::string& prefix, uint64_t& capacity, uint64_t pixels,
+                                uint64_t max_fragments, const std::function<uint64_t(uint64_t)>& append);
 
 class DepthPeelPass : public RenderPass {
 public:

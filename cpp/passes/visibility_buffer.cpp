@@ -159,16 +159,7 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
             glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * size_t(layer - 1) * flags.size()),
                                     GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());
-            int x0 = grid_x, y0 = grid_y, x1 = -1, y1 = -1;
-            for (int ty = 0; ty < grid_y; ++ty)
-                for (int tx = 0; tx < grid_x; ++tx)
-                    if (flags[size_t(ty * grid_x + tx)]) {
-                        x0 = std::min(x0, tx), x1 = std::max(x1, tx);
-                        y0 = std::min(y0, ty), y1 = std::max(y1, ty);
-                    }
-            glEnable(GL_SCISSOR_TEST);
-            if (x1 < 0) glScissor(0, 0, 0, 0);
-            else glScissor(x0 * 8, y0 * 8, (x1 - x0 + 1) * 8, (y1 - y0 + 1) * 8);
+            tile_bounds(flags.data(), grid_x, grid_y).scissor();
         }
         for (const auto& row : programs)
             for (GLuint p : row)
@@ -212,33 +203,19 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
     if (kept_depth_.size() < kept_bytes) kept_depth_ = Buffer::create(kept_bytes);
     if (!counter_) counter_ = Buffer::create(4 * sizeof(GLuint));
 
-    // The store starts at the last frame's size (two fragments a pixel at first) and grows to
-    // the counted fragments when they did not fit: the counter counts past the capacity.
-    uint64_t capacity = std::min(max_fragments, std::max<uint64_t>(capacity_, 2 * pixels));
-    GLuint counts[4] = {0, 0, 0, 0};
-    {
-        GpuScope timer(ctx.timer, "visibility_buffer.append");
-        append(ctx, capacity);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-    }
-    if (counts[0] > capacity) {
-        if (counts[0] > max_fragments) {
-            list_stats_.fragments = counts[0];
-            return false;
-        }
-        // 1/8 of slack, so that a frame with slightly more fragments does not redo again.
-        capacity = std::min(max_fragments, uint64_t(counts[0]) + uint64_t(counts[0]) / 8);
-        list_stats_.redone = 1;
-        GpuScope timer(ctx.timer, "visibility_buffer.redo");
-        append(ctx, capacity);
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-        if (counts[0] > capacity) return false;  // the geometry is the same: cannot happen
-    }
-    capacity_ = capacity;
+    // The counter counts past the capacity: the store grows to the counted fragments.
+    const StoreGrowth grown = grow_fragment_store(ctx, "visibility_buffer", capacity_, pixels, max_fragments,
+                                                  [&](uint64_t capacity) {
+                                                      append(ctx, capacity);
+                                                      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                                                      GLuint counts[4] = {};
+                                                      glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
+                                                      return uint64_t(counts[0]);
+                                                  });
+    list_stats_.redone = grown.redone ? 1 : 0;
+    list_stats_.fragments = grown.fragments;
+    if (!grown.fits) return false;
     list_stats_.lists = 1;
-    list_stats_.fragments = counts[0];
     list_stats_.bytes = fragments_.size() + links_.size() + heads_.size() + kept_depth_.size() + counter_.size();
 
     Texture& depth = ctx.resources.get("gbuffer.depth");
@@ -259,6 +236,7 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
         dispatch_2d(s.width, s.height, 1, 8, 8);
     }
     // The most layers any pixel holds: deeper layers are only cleared (peeling's empty layers).
+    GLuint counts[4] = {};
     glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
     const int filled = std::min<int>(int(counts[2]), s.layers);
     ctx.layers_filled = filled;
