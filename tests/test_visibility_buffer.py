@@ -273,3 +273,31 @@ def test_a_scene_beyond_the_ids_is_refused():
     with pytest.raises(ValueError, match="deep_gbuffer 'visibility'.*32-bit"):
         r.render(s, cam, tiny(deep_gbuffer="visibility", width=16, height=16))
     assert r.render(s, cam, tiny(deep_gbuffer="peel", width=16, height=16)).gbuffer.coverage.any()
+
+
+@pytest.fixture(scope="module")
+def gpu_path_renderer():
+    """The attribute pass as a GPU runs it, on any device: the scene read from storage buffers
+    (texelFetch inputs), every layer classified whole, untextured samples shaded where found."""
+    r = ssrlab.Renderer("auto", input_fetch="texelFetch")
+    r.visibility_tiles = "off"
+    assert r.info["visibility_tiles"] == "off" and r.info["input_fetch"] == "texelFetch"
+    return r
+
+
+@pytest.mark.parametrize("construction", CONSTRUCTIONS)
+@pytest.mark.parametrize("name", ["spheres_and_boxes", "hall", "model:Suzanne"])
+def test_the_gpu_path_equals_peeling_too(gpu_path_renderer, name, construction):
+    for layers in (1, 4):
+        assert_equal_to_peeling(gpu_path_renderer, load(name), None, name, construction, layers=layers)
+
+
+def test_the_paths_give_the_same_image(renderer, gpu_path_renderer):
+    """Tiles or not, image buffers or storage buffers: the same attributes bit for bit."""
+    scene, cam = textured_scene()
+    s = tiny(deep_gbuffer="visibility", layers=4)
+    a, b = renderer.render(scene, cam, s), gpu_path_renderer.render(scene, cam, s)
+    for name in ("gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.depth"):
+        np.testing.assert_array_equal(bits(a.read(name)), bits(b.read(name)), err_msg=name)
+    with pytest.raises(ValueError, match="visibility_tiles"):
+        renderer.visibility_tiles = "sometimes"

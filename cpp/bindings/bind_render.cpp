@@ -276,6 +276,10 @@ void bind_render(py::module_& m) {
                       "How the passes clear textures: 'auto' (compute on a GPU, gl on the CPU device), 'gl' "
                       "(glClearTexSubImage and framebuffer clears) or 'compute' (image stores). The images are "
                       "the same either way.")
+        .def_property("visibility_tiles", &Renderer::visibility_tiles, &Renderer::set_visibility_tiles,
+                      "Whether the visibility constructions of the deep G-buffer mark each layer's covered tiles "
+                      "and rebuild attributes over those only: 'auto' (on the CPU device), 'on' or 'off'. The "
+                      "images are the same either way.")
         .def("begin_sequence", &Renderer::begin_sequence,
              "A new sequence: frames rendered with it read the previous frame's textures (temporal passes); "
              "its history is dropped with it.")
@@ -289,6 +293,7 @@ void bind_render(py::module_& m) {
                 d["input_fetch"] = r.fetch_by_image() ? "imageLoad" : "texelFetch";
                 d["readback_path"] = r.readback_staged() ? "staged" : "download";
                 d["clear_path"] = r.clear_by_compute() ? "compute" : "gl";
+                d["visibility_tiles"] = r.marks_visibility_tiles() ? "on" : "off";
                 return d;
             },
             "Vendor, renderer, GL version and the device chosen; how float textures' rows are put top first; "

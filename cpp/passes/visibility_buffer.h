@@ -52,9 +52,9 @@ public:
 
     static constexpr size_t kFragmentBytes = 12;  // lib/visibility_lists.glsl: depth, id, link
     static constexpr GLuint kTilesBinding = 29;    // lib/visibility_tiles.glsl
-    // Whether the tiles are marked on this device (the CPU device: llvmpipe rasterises and shades
-    // whatever it is given; a GPU is not stalled to read them back).
-    static bool marks_tiles(const FrameContext& ctx) { return ctx.gl.info().chosen == "cpu"; }
+    // Whether the tiles are marked (Renderer.visibility_tiles: on the CPU device by default, where
+    // llvmpipe rasterises and shades whatever it is given; a GPU is not stalled to read them back).
+    static bool marks_tiles(const FrameContext& ctx) { return ctx.visibility_tiles; }
     // The low bits of a sample id that hold the triangle (lib/visibility.glsl): as many as the
     // scene's largest draw needs; the draw takes the rest. A scene whose draws and triangles do not
     // fit 32 bits together is refused (std::invalid_argument naming the setting).

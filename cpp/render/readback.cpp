@@ -62,6 +62,17 @@ void Renderer::set_clear_path(const std::string& path) {
     clear_path_ = path;
 }
 
+void Renderer::set_visibility_tiles(const std::string& mode) {
+    if (mode != "auto" && mode != "on" && mode != "off")
+        throw std::invalid_argument("Renderer.visibility_tiles must be 'auto', 'on' or 'off', got '" + mode + "'");
+    visibility_tiles_ = mode;
+}
+
+bool Renderer::marks_visibility_tiles() const {
+    if (visibility_tiles_ == "auto") return ctx_->info().chosen == "cpu";
+    return visibility_tiles_ == "on";
+}
+
 bool Renderer::clear_by_compute() const {
     if (clear_path_ == "auto") return ctx_->info().chosen != "cpu";
     return clear_path_ == "compute";

@@ -115,6 +115,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     const Defines defines = common_defines(scene, gs, depth);
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, camera, depth, u, *resources, defines};
     fc.clear_by_compute = clear_by_compute();
+    fc.visibility_tiles = marks_visibility_tiles();
     fc.facts = frame_facts;
     if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
         fc.history = sequence->previous.get();
@@ -307,6 +308,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     FrameContext fc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, depth, frame.uniforms, frame.resources(),
                     defines};
     fc.clear_by_compute = clear_by_compute();
+    fc.visibility_tiles = marks_visibility_tiles();
     fc.facts.shadows = shadows;
     fc.facts.reflections = true;
     fc.facts.fetch_by_image = fetch_by_image_;

@@ -151,6 +151,8 @@ struct FrameContext {
     // Clears of float and RGBA8 textures by image stores instead of glClearTexSubImage and
     // framebuffer clears (Renderer.clear_path; on by default on a GPU: passes/compute.h).
     bool clear_by_compute = false;
+    // The visibility constructions mark and use each layer's covered tiles (Renderer.visibility_tiles).
+    bool visibility_tiles = false;
     // The frame's facts (FrameFacts): the passes choose their variant from them and the settings.
     FrameFacts facts{};
     int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }

@@ -111,6 +111,13 @@ public:
     const std::string& clear_path() const { return clear_path_; }
     void set_clear_path(const std::string& path);
     bool clear_by_compute() const;
+    // Whether the visibility constructions mark each layer's covered tiles as they build them and
+    // the attribute pass works over those tiles only (passes/visibility_buffer.h): "auto" (on the
+    // CPU device: llvmpipe shades every pixel it is given; a GPU is not stalled to read the tiles
+    // back), "on" or "off". The images are the same either way.
+    const std::string& visibility_tiles() const { return visibility_tiles_; }
+    void set_visibility_tiles(const std::string& mode);
+    bool marks_visibility_tiles() const;
     // Whether the passes read their float inputs by imageLoad (lib/input_fetch.glsl).
     bool fetch_by_image() const { return fetch_by_image_; }
     int max_texture_size() const { return max_texture_size_; }
@@ -207,6 +214,7 @@ private:
     Buffer previous_models_;  // motion vectors: the previous frame's model matrices (lib/motion.glsl)
     std::string readback_path_ = "auto";
     std::string clear_path_ = "auto";
+    std::string visibility_tiles_ = "auto";
     GLuint readback_sampler_ = 0;
     bool pack_invert_ = false;  // GL_MESA_pack_invert: downloads come with rows top first
     bool fetch_by_image_ = false;  // FETCH_BY_IMAGE: the CPU device (llvmpipe), see lib/input_fetch.glsl

@@ -880,6 +880,14 @@ class Renderer:
         """
         Work outside the frame chain: scene_uploads, bvh_builds, readbacks, readback_bytes.
         """
+    @property
+    def visibility_tiles(self) -> str:
+        """
+        Whether the visibility constructions of the deep G-buffer mark each layer's covered tiles and rebuild attributes over those only: 'auto' (on the CPU device), 'on' or 'off'. The images are the same either way.
+        """
+    @visibility_tiles.setter
+    def visibility_tiles(self, arg1: str) -> None:
+        ...
 def _set_image_codec(codec: typing.Any) -> None:
     """
     Registers the Python image codec of an extension built without OpenImageIO (ssrlab.io does).

@@ -162,6 +162,23 @@ class Renderer:
         self._native.clear_path = path
         self.__dict__.pop("info", None)
 
+    @property
+    def visibility_tiles(self) -> str:
+        """Whether the visibility constructions of the deep G-buffer (Settings.deep_gbuffer
+        'visibility', 'visibility_lists') mark each layer's covered 8x8 tiles as they build them, and
+        the attribute pass classifies the deeper layers over those tiles only: "auto" (on the CPU
+        device, where llvmpipe shades every pixel a dispatch covers; a GPU is not stalled to read the
+        tiles back), "on" or "off". The images are the same either way
+        (tests/test_visibility_buffer.py)."""
+        return self._native.visibility_tiles
+
+    @visibility_tiles.setter
+    def visibility_tiles(self, mode: str) -> None:
+        if mode not in ("auto", "on", "off"):
+            raise ValueError(f"Renderer.visibility_tiles must be 'auto', 'on' or 'off', got {mode!r}")
+        self._native.visibility_tiles = mode
+        self.__dict__.pop("info", None)
+
     @functools.cached_property
     def info(self) -> dict:
         """Vendor, renderer, GL version and the device chosen."""
