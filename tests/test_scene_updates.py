@@ -35,7 +35,7 @@ def render_fresh(fresh, scene, settings):
 def shadow_textures(frame):
     """The frame's shadow maps: per-renderer scratch, read right after the render (a later render
     may reuse or redraw them)."""
-    return {name: frame.read(name) for name in ("shadow_map", "shadow_cubes") if frame._native.has(name)}
+    return {name: frame.read(name) for name in ("shadow_map", "shadow_cubes") if name in frame.texture_names}
 
 
 def snap(frame):
