@@ -193,10 +193,13 @@ EmbreeTracer::EmbreeTracer(const SceneBvh& bvh, const AlphaMasks* masks) : masks
     RTCScene rs = rtcNewScene(device);
     scene_ = rs;
     // Robust: no traversal shortcuts that lose accuracy, so edges and corners are not missed
-    // (the GLSL test is watertight, Woop et al. 2013). Dynamic: a tree per geometry and one over
-    // them, so a commit after a move rebuilds the moved objects' trees only.
+    // (the GLSL test is watertight, Woop et al. 2013). Dynamic with the scene's quality low:
+    // Embree's two-level structure, a tree per geometry (each built at the geometry's quality,
+    // high as before) and one over them, so a commit after a move rebuilds the moved objects'
+    // trees and the top one only (a high-quality scene is one tree over every triangle, built
+    // again whole at every commit).
     rtcSetSceneFlags(rs, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_DYNAMIC);
-    rtcSetSceneBuildQuality(rs, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(rs, RTC_BUILD_QUALITY_LOW);
     geometries_.resize(bvh.object_count());
     for (size_t o = 0; o < bvh.object_count(); ++o) fill(bvh, int(o), true);
     rtcCommitScene(rs);
@@ -221,6 +224,7 @@ void EmbreeTracer::fill(const SceneBvh& bvh, int object, bool attach) {
         auto* idx = static_cast<unsigned*>(
             rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
         for (size_t i = 0; i < 3 * n; ++i) idx[i] = unsigned(i);
+        rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
     } else {
         v = static_cast<float*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_VERTEX, 0));
     }
