@@ -59,6 +59,7 @@ BENCHMARKS = {
     "shadows": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--map-size", "256"]),
     "emissive_texture": ([], ["--width", "96", "--height", "54", "--repeats", "2"]),
     "specular_texture": (["--base-texture"], ["--width", "96", "--height", "54", "--repeats", "2"]),
+    "scene_updates": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--suzannes", "10", "--moved", "1", "5"]),
 }
 
 

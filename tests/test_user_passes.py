@@ -42,7 +42,10 @@ def test_a_user_trace_that_is_the_hiz_walk_equals_method_hiz_bit_for_bit(rendere
         assert np.array_equal(built_in.read(name), user.read(name)), name
     stats = dict(user.stats)
     assert stats.pop("hiz_copy.groups") > 0  # the user pass named in the stats
-    assert stats == dict(built_in.stats)
+    # (the second frame reuses the first's shadow maps: those counts differ by design)
+    def same(st):
+        return {k: v for k, v in st.items() if not k.startswith("shadow_maps_")}
+    assert same(stats) == same(dict(built_in.stats))
     assert user.timings["hiz_copy"] > 0.0 and "trace_hiz" not in user.timings
 
 

@@ -123,7 +123,7 @@ slerp for rotations, CUBICSPLINE). Scene.play(name or index) plays it.)doc")
                 if (const std::string p = light_problem(l); !p.empty())
                     throw std::invalid_argument("light " + std::to_string(index) + " ('" + l.name + "'): " + p);
                 s.lights[size_t(index)] = l;
-                s.touch();
+                s.touch_lights();  // the lights alone: no geometry, no history lost
             },
             py::arg("index"), py::arg("light"), "Replaces light `index` by a copy of `light` (Scene.lights gives copies).");
 

@@ -341,7 +341,9 @@ void bind_render(py::module_& m) {
             "glTF materials' reflectivity use: float32 (32, 32, 2), rows perceptual roughness 0..1, columns "
             "n.v 0..1 (cell centres at both ends), integrated with the tracers' own VNDF sampler.")
         .def_property_readonly("stats", &Renderer::stats,
-                               "Work outside the frame chain: scene_uploads, bvh_builds, readbacks, readback_bytes.")
+                               "Work outside the frame chain: scene_uploads, scene_updates, object_updates, material_updates, "
+                               "bvh_builds, bvh_updates, bvh_updated_triangles, bvh_update_ms, "
+                               "bvh_update_last_triangles, readbacks, readback_bytes.")
         .def_property_readonly("compiled_programs", &Renderer::compiled_programs,
                                "Shader programs this renderer has compiled (each once per variant).")
         .def_property_readonly("gpu_bytes", &Renderer::gpu_bytes,

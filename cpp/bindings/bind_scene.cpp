@@ -512,6 +512,14 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
         .def(py::init<>())
         .def_readwrite("name", &Scene::name, "the scene's name")
         .def_property_readonly("revision", &Scene::revision, "counts changes; GPU copies are refreshed when it moves")
+        .def_property_readonly("geometry_revision", &Scene::geometry_revision,
+                               "the revision of the last change that rebuilds GPU copies (geometry, images, objects "
+                               "added, the environment map)")
+        .def_property_readonly("transforms_revision", &Scene::transforms_revision,
+                               "the revision of the last change of an object's transform or material index")
+        .def_property_readonly("materials_revision", &Scene::materials_revision,
+                               "the revision of the last change of a material's parameters")
+        .def_property_readonly("lights_revision", &Scene::lights_revision, "the revision of the last change of the lights")
         .def_property_readonly("object_count", [](const Scene& s) { return s.objects.size(); }, "objects (mesh instances)")
         .def_property_readonly("mesh_count", [](const Scene& s) { return s.meshes.size(); }, "distinct meshes")
         .def_property_readonly("material_count", [](const Scene& s) { return s.materials.size(); }, "materials")
@@ -535,7 +543,7 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 if (const std::string p = radiance_problem(a, 1.0f); !p.empty())
                     throw std::invalid_argument("Scene.ambient " + p);
                 s.ambient = a;
-                s.touch();
+                s.touch_frame();
             },
             "ambient radiance, linear RGB >= 0, added to every surface's diffuse term")
         .def_property(
@@ -547,7 +555,7 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                                                     " must have finite coordinates");
                 if (p.size() > 64) throw std::invalid_argument("Scene.probes: at most 64 probes, got " + std::to_string(p.size()));
                 s.probes = p;
-                s.touch();
+                s.touch_frame();
             },
             "reflection-probe positions (world space) for fallback 'probes'; each must lie inside the scene "
             "bounds (checked at render); empty: placed by Settings.probe_grid")
@@ -562,8 +570,12 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 for (const auto& [name, rgb] : terms)
                     if (const std::string p = radiance_problem(rgb, e.intensity); !p.empty())
                         throw std::invalid_argument(std::string("Scene.environment: ") + name + " " + p);
+                // Only a map is a texture of the scene's GPU copy; the rest is read per frame.
+                const bool map = e.type == Environment::Type::Map || s.environment.type == Environment::Type::Map;
+                const bool same_map = e.type == s.environment.type && e.map_path == s.environment.map_path;
                 s.environment = e;
-                s.touch();
+                if (map && !same_map) s.touch();
+                else s.touch_frame();
             },
             "what the background and rays that leave the screen see")
         .def_property(
@@ -578,7 +590,7 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                     cam.validate();
                     s.camera = static_cast<CameraDesc>(cam);
                 }
-                s.touch();
+                s.touch_frame();
             },
             "the scene's own camera (a copy), or None")
         .def(
@@ -686,9 +698,13 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
                 int& idx = s.objects[size_t(obj)].material;
                 int users = 0;
                 for (const auto& o : s.objects) users += o.material == idx;
-                if (users == 1) s.materials[size_t(idx)] = m;  // only this object uses it
-                else idx = s.add_material(m);                 // shared: give this object its own
-                s.touch();
+                if (users == 1) {  // only this object uses it
+                    s.materials[size_t(idx)] = m;
+                    s.touch_material(idx);
+                } else {  // shared: give this object its own
+                    idx = s.add_material(m);
+                    s.touch_object(obj);
+                }
             },
             py::arg("object"), py::arg("material"), "Gives an object a copy of `material` (others sharing its old one keep it).")
         .def(
@@ -709,10 +725,12 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
             "set_object_transform",
             [](Scene& s, int obj, const glm::mat4& t) {
                 check_object(s, obj);
-                s.objects[size_t(obj)].transform = t;
-                s.touch();
+                s.set_object_transform(obj, t);
             },
-            py::arg("object"), py::arg("transform"), "Sets an object's object -> world matrix (4x4).")
+            py::arg("object"), py::arg("transform"),
+            "Sets an object's object -> world matrix (4x4; ValueError naming the object when it is singular, "
+            "not finite or reaches beyond the scene limits). The next render updates that object's matrix "
+            "and its part of the BVH only.")
         .def(
             "object_mesh",
             [](const Scene& s, int obj) {
@@ -757,7 +775,7 @@ The aspect ratio comes from the image (Settings.width / Settings.height).)doc")
              [](Scene& s) {
                  s.lights.clear();
                  for (SceneNode& n : s.nodes) n.light = -1;  // animated nodes carry no light any more
-                 s.touch();
+                 s.touch_lights();
              },
              "Removes every light.")
         .def(

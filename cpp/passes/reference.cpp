@@ -303,7 +303,7 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
         scene.environment_height = h;
     }
     scene.viewer_is_ray = viewer_is_ray_;
-    scene.embree_scene = cpu_tracer_->scene();
+    scene.tracer = cpu_tracer_;
     const auto t1 = clock::now();
 
     CpuReference ref(scene, s.width, s.height, std::move(gbuffer), std::move(emission), std::move(dielectric_f0));

@@ -248,7 +248,8 @@ struct ShadedHit {
 // computes per ray).
 class Shader {
 public:
-    explicit Shader(const CpuReferenceScene& s) : s_(s), scene_(static_cast<RTCScene>(const_cast<void*>(s.embree_scene))) {
+    explicit Shader(const CpuReferenceScene& s)
+        : s_(s), scene_(static_cast<RTCScene>(const_cast<void*>(s.tracer->scene()))) {
         rtcInitIntersectContext(&ctx_);
         view3_ = mat3(s.frame.view);
         inv_view3_ = mat3(s.frame.inv_view);
@@ -279,7 +280,7 @@ public:
         rtcIntersect1(scene_, &ctx_, &rh);
         ++rays;
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
-        return Hit{rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v};
+        return Hit{rh.ray.tfar, s_.tracer->triangle_of(rh.hit.geomID, rh.hit.primID), rh.hit.u, rh.hit.v};
     }
     bool trace_occluded(vec3 o, vec3 d, float t_min, float t_max) {
         if (!finite(o) || !finite(d) || !(t_max >= t_min)) return false;

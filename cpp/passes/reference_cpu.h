@@ -26,6 +26,7 @@
 #include "render/gpu_scene.h"
 #include "render/ssr_uniforms.h"
 #include "scene/bvh.h"
+#include "scene/embree_scene.h"
 
 namespace ssr {
 
@@ -45,7 +46,7 @@ struct CpuReferenceScene {
     std::vector<glm::vec4> environment_map;  // level 0 of the map, rows from v = 0
     int environment_width = 0, environment_height = 0;
     bool viewer_is_ray = true;
-    const void* embree_scene = nullptr;  // RTCScene over `triangles` (EmbreeTracer::scene)
+    const EmbreeTracer* tracer = nullptr;  // Embree's scene over `triangles` (EmbreeTracer::scene)
 };
 
 // The G-buffer sample of a pixel as lib/gbuffer.glsl's gbuffer_decode returns it, and the

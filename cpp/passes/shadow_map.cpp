@@ -2,6 +2,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace ssr {
 
 std::vector<ResourceDesc> ShadowMapPass::outputs(const RenderSettings& s) const {
@@ -109,7 +112,8 @@ glm::mat4 cube_face_view(const glm::vec3& eye, int face) {
 }  // namespace
 
 void ShadowMapPass::draw_scene(FrameContext& ctx, const glm::mat4& light_view_proj, GLuint prog, GLint loc_vp,
-                               GLint loc_object, GLuint alpha_prog, GLint loc_alpha_vp, GLint loc_alpha_object) {
+                               GLint loc_object, GLuint alpha_prog, GLint loc_alpha_vp, GLint loc_alpha_object,
+                               const std::vector<uint8_t>* only) {
     const float one = 1.0f;
     glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &one);
     glUseProgram(prog);
@@ -119,12 +123,89 @@ void ShadowMapPass::draw_scene(FrameContext& ctx, const glm::mat4& light_view_pr
         glUniformMatrix4fv(loc_alpha_vp, 1, GL_FALSE, &light_view_proj[0][0]);
         glUseProgram(prog);
     }
-    ctx.gpu_scene.draw_depth(prog, loc_object, alpha_prog, loc_alpha_object);
+    ctx.gpu_scene.draw_depth(prog, loc_object, alpha_prog, loc_alpha_object, only);
 }
+
+void ShadowMapPass::begin_frame() {
+    maps_at_start_ = maps_;
+    cubes_at_start_ = cubes_;
+}
+
+void ShadowMapPass::report(const RenderSettings&, std::map<std::string, double>& stats) const {
+    stats["shadow_maps_reused"] = double(reused_);
+    stats["shadow_maps_updated"] = double(updated_);
+    stats["shadow_maps_rendered"] = double(rendered_);
+}
+
+uint64_t ShadowMapPass::frustum_key(const ShadowCaster& c, int size) {
+    // FNV-1a over what decides where a slot's texels look: the map's size and the frustum (a
+    // layer's matrix; a cube's position and depth range). The light's colour, intensity and
+    // range and the receivers' settings (PCF, normal offset) change nothing a map stores.
+    uint64_t h = 1469598103934665603ull;
+    auto bytes = [&h](const void* p, size_t n) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+    };
+    bytes(&size, sizeof size);
+    const int cube = c.cube ? 1 : 0;
+    bytes(&cube, sizeof cube);
+    if (c.cube) {
+        bytes(&c.position, sizeof c.position);
+        bytes(&c.near_plane, sizeof c.near_plane);
+        bytes(&c.far_plane, sizeof c.far_plane);
+    } else {
+        bytes(&c.light_view_proj, sizeof c.light_view_proj);
+    }
+    return h ? h : 1;
+}
+
+namespace {
+// The texels of a size x size view through `vp` that a world box can cover: the bounding
+// rectangle of its corners' projections, widened by a texel for rasterisation (a box with a
+// corner behind the light's eye: the whole view). Returns false when it covers none.
+struct TexelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) x [y0, y1)
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+TexelRect texel_rect(const glm::mat4& vp, const Bounds& b, int size) {
+    TexelRect r;
+    if (b.empty()) return r;
+    float lo_x = 1e30f, lo_y = 1e30f, hi_x = -1e30f, hi_y = -1e30f;
+    for (int k = 0; k < 8; ++k) {
+        const glm::vec3 corner((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z);
+        const glm::vec4 clip = vp * glm::vec4(corner, 1.0f);
+        if (!(clip.w > 1e-6f)) return TexelRect{0, 0, size, size};
+        const float x = (clip.x / clip.w * 0.5f + 0.5f) * float(size), y = (clip.y / clip.w * 0.5f + 0.5f) * float(size);
+        lo_x = std::min(lo_x, x);
+        lo_y = std::min(lo_y, y);
+        hi_x = std::max(hi_x, x);
+        hi_y = std::max(hi_y, y);
+    }
+    auto clamp = [size](float v) { return int(std::clamp(v, 0.0f, float(size))); };
+    r.x0 = clamp(std::floor(lo_x) - 1.0f);
+    r.y0 = clamp(std::floor(lo_y) - 1.0f);
+    r.x1 = clamp(std::ceil(hi_x) + 1.0f);
+    r.y1 = clamp(std::ceil(hi_y) + 1.0f);
+    return r;
+}
+bool overlap(const TexelRect& a, const TexelRect& b) {
+    return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+}  // namespace
 
 void ShadowMapPass::execute(FrameContext& ctx) {
     Texture* map = setup_.maps > 0 ? &ctx.resources.get("shadow_map") : nullptr;
     Texture* cubes = setup_.cubes > 0 ? &ctx.resources.get("shadow_cubes") : nullptr;
+    const GpuScene& gs = ctx.gpu_scene;
+    // What each slot holds, in this texture allocation (a replaced texture holds nothing known).
+    auto track = [&ctx](Held& held, const char* name, int slots) {
+        const uint64_t generation = ctx.resources.has(name) ? ctx.resources.generation(name) : 0;
+        if (held.generation != generation) held = Held{generation, {}};
+        held.slots.resize(size_t(slots));
+    };
+    track(maps_, "shadow_map", setup_.maps);
+    track(cubes_, "shadow_cubes", setup_.cubes);
+    reused_ = updated_ = rendered_ = 0;
     // Hardware PCF: a compare sampler with linear filtering gives a 2x2 filtered test per tap.
     // The cubes compare the point's depth in the face its direction selects (lib/shadow_map.glsl):
     // the same vertex-only program as the layers (a distance written as gl_FragDepth would give
@@ -145,7 +226,7 @@ void ShadowMapPass::execute(FrameContext& ctx) {
     // Alpha-tested materials (glTF MASK/BLEND) with a fragment stage that discards their holes.
     GLuint alpha_prog = 0;
     GLint loc_alpha_vp = -1, loc_alpha_object = -1;
-    if (ctx.gpu_scene.has_alpha_tested()) {
+    if (gs.has_alpha_tested()) {
         alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, ctx.defines);
         loc_alpha_vp = glGetUniformLocation(alpha_prog, "u_light_view_proj");
         loc_alpha_object = glGetUniformLocation(alpha_prog, "u_object");
@@ -160,20 +241,67 @@ void ShadowMapPass::execute(FrameContext& ctx) {
     glDisable(GL_CULL_FACE);  // thin and open geometry must cast shadows too
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.5f, 2.0f);  // slope-scaled bias, complementing the receiver's normal offset
-    ctx.gpu_scene.bind_geometry();
+    gs.bind_geometry();
+    std::vector<Bounds> regions;
+    std::vector<uint8_t> drawn(gs.draws().size());
     for (const ShadowCaster& c : setup_.casters) {
         Texture& t = c.cube ? *cubes : *map;
-        glViewport(0, 0, t.width(), t.height());
+        Held& held = c.cube ? cubes_ : maps_;
+        const int size = t.width();
+        const Slot want{frustum_key(c, size), gs.caster_state()};
+        // What the slot held as the frame began (so that the timed run draws what the untimed
+        // first-use run drew): the same allocation, the same frustum, the scene's casters then.
+        const Held& start = c.cube ? cubes_at_start_ : maps_at_start_;
+        const Slot was = start.generation == held.generation && size_t(c.slot) < start.slots.size()
+                             ? start.slots[size_t(c.slot)]
+                             : Slot{};
+        if (was.frustum == want.frustum && was.state == want.state) {
+            ++reused_;
+            continue;
+        }
+        // The same frustum and a scene whose changes since are known (moved objects, alpha tests):
+        // only the texels those changes can reach are cleared and drawn again, by the objects that
+        // reach them. Depth testing keeps the nearest fragment whatever the draw order, and each
+        // fragment's depth and bias are its own triangle's, so those texels get the very values
+        // a full redraw writes and the others hold them already.
+        const bool partial = was.frustum == want.frustum && gs.caster_changes_since(was.state, regions);
+        held.slots[size_t(c.slot)] = Slot{};  // unknown until drawn
+        glViewport(0, 0, size, size);
         // A layer: one view. A cube: its six faces, layer-faces 6 slot + face of the array, each
         // a 90-degree square frustum from the light.
         const int faces = c.cube ? 6 : 1;
         const glm::mat4 face_proj = glm::perspective(glm::radians(90.0f), 1.0f, c.near_plane, c.far_plane);
+        bool any = false;
         for (int face = 0; face < faces; ++face) {
+            const glm::mat4 vp = c.cube ? face_proj * cube_face_view(c.position, face) : c.light_view_proj;
+            TexelRect rect;
+            if (partial) {
+                for (const Bounds& b : regions) {
+                    const TexelRect r = texel_rect(vp, b, size);
+                    if (r.empty()) continue;
+                    rect = rect.empty() ? r
+                                        : TexelRect{std::min(rect.x0, r.x0), std::min(rect.y0, r.y0),
+                                                    std::max(rect.x1, r.x1), std::max(rect.y1, r.y1)};
+                }
+                if (rect.empty()) continue;  // nothing that changed reaches this face
+                for (size_t i = 0; i < drawn.size(); ++i)
+                    drawn[i] = overlap(rect, texel_rect(vp, gs.world_bounds(int(i)), size)) ? 1 : 0;
+            }
+            any = true;
             fbo_.attach(GL_DEPTH_ATTACHMENT, t, 0, c.cube ? 6 * c.slot + face : c.slot);
             fbo_.check_complete("shadow_map");
-            const glm::mat4 vp = c.cube ? face_proj * cube_face_view(c.position, face) : c.light_view_proj;
-            draw_scene(ctx, vp, prog, loc_vp, loc_object, alpha_prog, loc_alpha_vp, loc_alpha_object);
+            if (partial) {
+                glEnable(GL_SCISSOR_TEST);  // the clear and the draws stay inside the rectangle
+                glScissor(rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
+            }
+            draw_scene(ctx, vp, prog, loc_vp, loc_object, alpha_prog, loc_alpha_vp, loc_alpha_object,
+                       partial ? &drawn : nullptr);
+            if (partial) glDisable(GL_SCISSOR_TEST);
         }
+        held.slots[size_t(c.slot)] = want;
+        if (!partial) ++rendered_;
+        else if (any) ++updated_;
+        else ++reused_;  // nothing that changed is seen by this light
     }
     glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <stdexcept>
 
 #include "render/frame_uniforms.h"
@@ -24,13 +26,21 @@ Texture solid_texture(uint8_t r, uint8_t g, uint8_t b, uint8_t a) {
 }
 }  // namespace
 
-GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_builds), revision_(scene.revision()) {
+namespace {
+std::atomic<uint64_t> caster_states{1};
+uint64_t next_caster_state() { return caster_states++; }
+}  // namespace
+
+GpuScene::GpuScene(const Scene& scene, SceneWork* work)
+    : work_(work),
+      geometry_revision_(scene.geometry_revision()),
+      caster_state_(next_caster_state()),
+      caster_log_start_(caster_state_),
+      revision_(scene.revision()) {
     std::vector<GpuVertex> verts;
     std::vector<uint32_t> idx;
-    struct Range { size_t first_index; GLsizei count; GLint base_vertex; };
-    std::vector<Range> ranges;
     for (const Mesh& m : scene.meshes) {
-        Range r{idx.size(), GLsizei(m.indices.size()), GLint(verts.size())};
+        mesh_ranges_.push_back(MeshRange{idx.size(), GLsizei(m.indices.size()), GLint(verts.size())});
         for (size_t i = 0; i < m.positions.size(); ++i) {
             GpuVertex v{};
             v.position = m.positions[i];
@@ -42,7 +52,6 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
             verts.push_back(v);
         }
         idx.insert(idx.end(), m.indices.begin(), m.indices.end());
-        ranges.push_back(r);
     }
     vertices_ = Buffer::create(verts.size() * sizeof(GpuVertex), verts.data());
     indices_ = Buffer::create(idx.size() * sizeof(uint32_t), idx.data());
@@ -63,66 +72,21 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
     white_ = solid_texture(255, 255, 255, 255);
     flat_normal_ = solid_texture(128, 128, 255, 255);
 
-    std::vector<GpuMaterial> mats;
-    for (const Material& m : scene.materials) {
-        GpuMaterial g{};
-        g.base_color = m.base_color;
-        g.params = glm::vec4(m.metallic, m.roughness, m.reflectivity, m.normal_scale);
-        g.emissive = glm::vec4(m.emissive, m.visibility_cutoff());
-        g.flags = glm::ivec4(m.base_color_texture.valid(), m.metallic_roughness_texture.valid(),
-                             m.normal_texture.valid(), m.double_sided);
-        auto wrap = [](const TextureRef& t) { return t.wrap_s | (t.wrap_t << 16); };
-        g.images = glm::ivec4(m.base_color_texture.image, m.metallic_roughness_texture.image, m.normal_texture.image,
-                              m.emissive_texture.image);
-        g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture),
-                             wrap(m.emissive_texture));
-        g.dielectric_f0 = glm::vec4(m.dielectric_f0(), 0.0f);
-        const TextureRef* refs[6] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
-                                     &m.emissive_texture, &m.specular_texture, &m.specular_color_texture};
-        for (int k = 0; k < 6; ++k) {
-            g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, refs[k]->texcoord == 1 ? 1.0f : 0.0f);
-            g.uv_transform[2 * k + 1] = glm::vec4(refs[k]->transform_v, 0.0f);
-        }
-        g.specular_images = glm::ivec4(m.specular_texture.image, m.specular_color_texture.image, -1, -1);
-        g.specular_wraps = glm::ivec4(wrap(m.specular_texture), wrap(m.specular_color_texture), 0, 0);
-        const float r = (m.ior - 1.0f) / (m.ior + 1.0f);  // as Material::dielectric_f0
-        g.specular_f0 = glm::vec4(r * r * m.specular_color, m.specular);
-        mats.push_back(g);
-        material_textures_.push_back({texture_for(scene, m.base_color_texture, true),
-                                      texture_for(scene, m.metallic_roughness_texture, false),
-                                      texture_for(scene, m.normal_texture, false),
-                                      texture_for(scene, m.emissive_texture, true),
-                                      texture_for(scene, m.specular_texture, false),
-                                      texture_for(scene, m.specular_color_texture, true)});
-        int features = m.auto_reflectivity() ? kAutoReflectivityFeature : 0;
-        for (int k = 0; k < 6; ++k)
-            if (refs[k]->valid()) features |= 1 << k;
-        material_features_.push_back(features);
-        alpha_tested_.push_back(m.visibility_cutoff() >= 0.0f);
-    }
-    materials_ = Buffer::create(mats.size() * sizeof(GpuMaterial), mats.data());
+    for (size_t m = 0; m < scene.materials.size(); ++m) set_material(scene, m);
+    materials_ = Buffer::create(material_data_.size() * sizeof(GpuMaterial), material_data_.data());
 
     std::vector<GpuObject> objs;
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
-        GpuObject g{};
-        g.model = o.transform;
-        g.normal_matrix = glm::transpose(glm::inverse(o.transform));
-        const Range& r = ranges[size_t(o.mesh)];
-        g.material = glm::ivec4(o.material, int(r.first_index), r.base_vertex, 0);
-        objs.push_back(g);
+        objs.push_back(object_entry(scene, i));
+        const MeshRange& r = mesh_ranges_[size_t(o.mesh)];
         draws_.push_back(DrawItem{int(i), o.material, r.count, r.first_index, r.base_vertex});
         triangles_ += size_t(r.count) / 3;
+        object_transforms_.push_back(o.transform);
+        object_bounds_.push_back(compute_object_bounds(scene, i));
     }
     objects_ = Buffer::create(objs.size() * sizeof(GpuObject), objs.data());
-    bounds_ = scene.bounds();
-    for (const Object& o : scene.objects) reflective_ = reflective_ || scene.materials[size_t(o.material)].reflectivity != 0.0f;
-    for (const Object& o : scene.objects)
-        emissive_texture_ = emissive_texture_ || scene.materials[size_t(o.material)].emissive_texture.valid();
-    for (const Object& o : scene.objects) {
-        const Material& m = scene.materials[size_t(o.material)];
-        specular_texture_ = specular_texture_ || m.specular_texture.valid() || m.specular_color_texture.valid();
-    }
+    refresh_summary(scene);
 
     if (scene.environment.type == Environment::Type::Map) {
         const FloatImage img = read_float_image(scene.environment.map_path);
@@ -137,6 +101,172 @@ GpuScene::GpuScene(const Scene& scene, uint64_t* bvh_builds) : bvh_builds_(bvh_b
         environment_map_.set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
         environment_map_.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);
     }
+}
+
+GpuScene::~GpuScene() = default;
+
+void GpuScene::set_material(const Scene& scene, size_t index) {
+    const Material& m = scene.materials[index];
+    GpuMaterial g{};
+    g.base_color = m.base_color;
+    g.params = glm::vec4(m.metallic, m.roughness, m.reflectivity, m.normal_scale);
+    g.emissive = glm::vec4(m.emissive, m.visibility_cutoff());
+    g.flags = glm::ivec4(m.base_color_texture.valid(), m.metallic_roughness_texture.valid(), m.normal_texture.valid(),
+                         m.double_sided);
+    auto wrap = [](const TextureRef& t) { return t.wrap_s | (t.wrap_t << 16); };
+    g.images = glm::ivec4(m.base_color_texture.image, m.metallic_roughness_texture.image, m.normal_texture.image,
+                          m.emissive_texture.image);
+    g.wraps = glm::ivec4(wrap(m.base_color_texture), wrap(m.metallic_roughness_texture), wrap(m.normal_texture),
+                         wrap(m.emissive_texture));
+    g.dielectric_f0 = glm::vec4(m.dielectric_f0(), 0.0f);
+    const TextureRef* refs[6] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                 &m.emissive_texture, &m.specular_texture, &m.specular_color_texture};
+    for (int k = 0; k < 6; ++k) {
+        g.uv_transform[2 * k] = glm::vec4(refs[k]->transform_u, refs[k]->texcoord == 1 ? 1.0f : 0.0f);
+        g.uv_transform[2 * k + 1] = glm::vec4(refs[k]->transform_v, 0.0f);
+    }
+    g.specular_images = glm::ivec4(m.specular_texture.image, m.specular_color_texture.image, -1, -1);
+    g.specular_wraps = glm::ivec4(wrap(m.specular_texture), wrap(m.specular_color_texture), 0, 0);
+    const float r = (m.ior - 1.0f) / (m.ior + 1.0f);  // as Material::dielectric_f0
+    g.specular_f0 = glm::vec4(r * r * m.specular_color, m.specular);
+    const std::array<GLuint, 6> textures = {texture_for(scene, m.base_color_texture, true),
+                                            texture_for(scene, m.metallic_roughness_texture, false),
+                                            texture_for(scene, m.normal_texture, false),
+                                            texture_for(scene, m.emissive_texture, true),
+                                            texture_for(scene, m.specular_texture, false),
+                                            texture_for(scene, m.specular_color_texture, true)};
+    int features = m.auto_reflectivity() ? kAutoReflectivityFeature : 0;
+    for (int k = 0; k < 6; ++k)
+        if (refs[k]->valid()) features |= 1 << k;
+    if (index == material_data_.size()) {
+        material_data_.push_back(g);
+        material_textures_.push_back(textures);
+        material_features_.push_back(features);
+        alpha_tested_.push_back(m.visibility_cutoff() >= 0.0f);
+        alpha_keys_.push_back(alpha_key(m));
+    } else {
+        material_data_[index] = g;
+        material_textures_[index] = textures;
+        material_features_[index] = features;
+        alpha_tested_[index] = m.visibility_cutoff() >= 0.0f;
+        alpha_keys_[index] = alpha_key(m);
+    }
+}
+
+std::vector<float> GpuScene::alpha_key(const Material& m) {
+    const float cutoff = m.visibility_cutoff();
+    if (cutoff < 0.0f) return {-1.0f};  // opaque: its depth is its geometry's
+    const TextureRef& t = m.base_color_texture;
+    return {cutoff, m.base_color.a, float(t.image), float(t.wrap_s), float(t.wrap_t), float(t.texcoord),
+            t.transform_u.x, t.transform_u.y, t.transform_u.z, t.transform_v.x, t.transform_v.y, t.transform_v.z};
+}
+
+GpuObject GpuScene::object_entry(const Scene& scene, size_t i) const {
+    const Object& o = scene.objects[i];
+    GpuObject g{};
+    g.model = o.transform;
+    g.normal_matrix = glm::transpose(glm::inverse(o.transform));
+    const MeshRange& r = mesh_ranges_[size_t(o.mesh)];
+    g.material = glm::ivec4(o.material, int(r.first_index), r.base_vertex, 0);
+    return g;
+}
+
+Bounds GpuScene::compute_object_bounds(const Scene& scene, size_t i) const {
+    const Object& o = scene.objects[i];
+    Bounds b;  // as Scene::bounds, one object
+    for (const auto& p : scene.meshes[size_t(o.mesh)].positions) b.extend(glm::vec3(o.transform * glm::vec4(p, 1.0f)));
+    return b;
+}
+
+void GpuScene::refresh_summary(const Scene& scene) {
+    reflective_ = emissive_texture_ = specular_texture_ = false;
+    bounds_ = Bounds{};
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        const Material& m = scene.materials[size_t(scene.objects[i].material)];
+        reflective_ = reflective_ || m.reflectivity != 0.0f;
+        emissive_texture_ = emissive_texture_ || m.emissive_texture.valid();
+        specular_texture_ = specular_texture_ || m.specular_texture.valid() || m.specular_color_texture.valid();
+        // The union of the objects' bounds is Scene::bounds() exactly (min and max are exact).
+        if (!object_bounds_[i].empty()) {
+            bounds_.extend(object_bounds_[i].min);
+            bounds_.extend(object_bounds_[i].max);
+        }
+    }
+}
+
+bool GpuScene::caster_changes_since(uint64_t since, std::vector<Bounds>& regions) const {
+    regions.clear();
+    if (since == caster_state_) return true;
+    size_t from = 0;
+    if (since != caster_log_start_) {
+        while (from < caster_log_.size() && caster_log_[from].state != since) ++from;
+        if (from == caster_log_.size()) return false;
+        ++from;  // the steps after `since`
+    }
+    for (size_t k = from; k < caster_log_.size(); ++k)
+        regions.insert(regions.end(), caster_log_[k].regions.begin(), caster_log_[k].regions.end());
+    return true;
+}
+
+bool GpuScene::update(const Scene& scene) {
+    if (scene.geometry_revision() != geometry_revision_ || scene.objects.size() != draws_.size()) return false;
+    if (scene.revision() == revision_) return true;
+    // Materials: the edited ones (and any added) get their entries again.
+    const size_t old_materials = material_data_.size();
+    std::vector<uint8_t> alpha_changed(scene.materials.size(), 0);
+    std::vector<size_t> rewritten;
+    for (size_t m = 0; m < scene.materials.size(); ++m) {
+        if (m < old_materials && scene.material_revision(m) <= revision_) continue;
+        const std::vector<float> before = m < old_materials ? alpha_keys_[m] : std::vector<float>{};
+        set_material(scene, m);
+        if (m < old_materials) {
+            rewritten.push_back(m);
+            alpha_changed[m] = alpha_keys_[m] != before;
+        }
+        if (work_) ++work_->material_updates;
+    }
+    if (material_data_.size() != old_materials)
+        materials_ = Buffer::create(material_data_.size() * sizeof(GpuMaterial), material_data_.data());
+    else
+        for (size_t m : rewritten) materials_.upload(&material_data_[m], sizeof(GpuMaterial), m * sizeof(GpuMaterial));
+    // Objects: a new transform or material index rewrites the entry; a move stales the object's
+    // BVH part, a change of its alpha test its triangles' flags and masks.
+    std::vector<Bounds> regions;  // where depth-only passes draw something else now
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& o = scene.objects[i];
+        const bool entry = scene.object_revision(i) > revision_;
+        bool alpha = size_t(o.material) < alpha_changed.size() && alpha_changed[size_t(o.material)];
+        if (entry) {
+            const GpuObject g = object_entry(scene, i);
+            objects_.upload(&g, sizeof(GpuObject), i * sizeof(GpuObject));
+            if (o.transform != object_transforms_[i]) {
+                object_transforms_[i] = o.transform;
+                regions.push_back(object_bounds_[i]);
+                object_bounds_[i] = compute_object_bounds(scene, i);
+                regions.push_back(object_bounds_[i]);
+                if (ray_tracing_ready_) bvh_moved_.push_back(int(i));
+            }
+            const int before = draws_[i].material;
+            draws_[i].material = o.material;
+            alpha = alpha || alpha_keys_[size_t(before)] != alpha_keys_[size_t(o.material)];
+            if (work_) ++work_->object_updates;
+        }
+        if (alpha) {
+            if (ray_tracing_ready_) bvh_alpha_.push_back(int(i));
+            regions.push_back(object_bounds_[i]);
+        }
+    }
+    if (!regions.empty()) {
+        caster_state_ = next_caster_state();
+        caster_log_.push_back(CasterStep{caster_state_, std::move(regions)});
+        if (caster_log_.size() > kCasterLogSteps) {
+            caster_log_start_ = caster_log_.front().state;
+            caster_log_.pop_front();
+        }
+    }
+    refresh_summary(scene);
+    revision_ = scene.revision();
+    return true;
 }
 
 GLuint GpuScene::texture_for(const Scene& scene, const TextureRef& ref, bool srgb) {
@@ -159,12 +289,11 @@ GLuint GpuScene::texture_for(const Scene& scene, const TextureRef& ref, bool srg
 
 void GpuScene::bind_ray_tracing(const Scene& scene) {
     if (!ray_tracing_ready_) {
-        const Bvh bvh = build_bvh(scene);
-        bvh_nodes_ = Buffer::create(bvh.nodes.size() * sizeof(BvhNode), bvh.nodes.data());
-        bvh_triangles_ = Buffer::create(bvh.triangles.size() * sizeof(BvhTriangle), bvh.triangles.data());
-        bvh_depth_ = bvh.depth;
-        bvh_triangle_list_ = bvh.triangles;
-        alpha_masks_ = AlphaMasks(scene, bvh.triangles);
+        bvh_ = std::make_unique<SceneBvh>(scene);
+        bvh_->take_changes();
+        bvh_depth_ = bvh_->depth();
+        alpha_masks_ = AlphaMasks(scene, bvh_->triangles());
+        upload_bvh_changes();
         std::vector<uint8_t> texels;
         std::vector<glm::ivec4> info;
         for (const Image& img : scene.images) {
@@ -174,7 +303,11 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
         image_texels_ = Buffer::create(texels.size(), texels.data());
         image_info_ = Buffer::create(info.size() * sizeof(glm::ivec4), info.data());
         ray_tracing_ready_ = true;
-        if (bvh_builds_) ++*bvh_builds_;
+        bvh_moved_.clear();
+        bvh_alpha_.clear();
+        if (work_) ++work_->bvh_builds;
+    } else {
+        update_ray_tracing(scene);
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, bvh_nodes_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, bvh_triangles_.id());
@@ -188,9 +321,63 @@ void GpuScene::bind_vertex_data() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, indices_.id());
 }
 
+void GpuScene::update_ray_tracing(const Scene& scene) {
+    if (bvh_moved_.empty() && bvh_alpha_.empty()) return;
+    const auto start = std::chrono::steady_clock::now();
+    auto unique = [](std::vector<int>& v) {
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+    };
+    unique(bvh_moved_);
+    unique(bvh_alpha_);
+    const size_t rebuilt = bvh_->update(scene, bvh_moved_);
+    for (int i : bvh_alpha_) bvh_->set_alpha_tested(i, alpha_tested(scene.objects[size_t(i)].material));
+    std::vector<int> changed = bvh_moved_;
+    changed.insert(changed.end(), bvh_alpha_.begin(), bvh_alpha_.end());
+    unique(changed);
+    // The moved objects' triangles changed order within their segments: their masks follow.
+    for (int i : changed)
+        alpha_masks_.update(scene, bvh_->triangles(), bvh_->first_triangle(i), bvh_->triangle_count(i));
+    upload_bvh_changes();
+    if (embree_) embree_->update(*bvh_, changed);
+    bvh_depth_ = bvh_->depth();
+    bvh_moved_.clear();
+    bvh_alpha_.clear();
+    if (work_) {
+        ++work_->bvh_updates;
+        work_->bvh_updated_triangles += rebuilt;
+        work_->bvh_update_last_triangles = rebuilt;
+        work_->bvh_update_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+}
+
+void GpuScene::upload_bvh_changes() {
+    const SceneBvh::Changes changes = bvh_->take_changes();
+    const auto& nodes = bvh_->nodes();
+    const auto& tris = bvh_->triangles();
+    const size_t node_bytes = nodes.size() * sizeof(BvhNode);
+    if (!bvh_nodes_ || changes.all_nodes || bvh_nodes_.size() < node_bytes) {
+        // The whole array (its first upload, or a tree moved to its end): room for growth, so
+        // that trees outgrowing their places again do not reallocate every time.
+        const size_t capacity = bvh_nodes_ ? node_bytes + node_bytes / 4 : node_bytes;
+        bvh_nodes_ = Buffer::create(capacity);
+        if (node_bytes) bvh_nodes_.upload(nodes.data(), node_bytes);
+    } else {
+        for (const BvhRange& r : changes.nodes)
+            if (r.count) bvh_nodes_.upload(&nodes[r.first], r.count * sizeof(BvhNode), r.first * sizeof(BvhNode));
+    }
+    if (!bvh_triangles_) {
+        bvh_triangles_ = Buffer::create(tris.size() * sizeof(BvhTriangle), tris.data());
+    } else {
+        for (const BvhRange& r : changes.triangles)
+            if (r.count) bvh_triangles_.upload(&tris[r.first], r.count * sizeof(BvhTriangle), r.first * sizeof(BvhTriangle));
+    }
+}
+
 const EmbreeTracer& GpuScene::embree_tracer() {
     if (!ray_tracing_ready_) throw std::logic_error("embree_tracer: bind_ray_tracing first");
-    if (!embree_) embree_ = std::make_unique<EmbreeTracer>(bvh_triangle_list_, alpha_masks_);
+    if (!embree_) embree_ = std::make_unique<EmbreeTracer>(*bvh_, &alpha_masks_);
     return *embree_;
 }
 
@@ -218,10 +405,12 @@ bool GpuScene::has_alpha_tested() const {
     return false;
 }
 
-void GpuScene::draw_depth(GLuint prog, GLint object_loc, GLuint alpha_prog, GLint alpha_object_loc) const {
+void GpuScene::draw_depth(GLuint prog, GLint object_loc, GLuint alpha_prog, GLint alpha_object_loc,
+                          const std::vector<uint8_t>* only) const {
     GLuint current = prog;
     glUseProgram(current);
     for (const DrawItem& d : draws_) {
+        if (only && !(*only)[size_t(d.object)]) continue;
         const bool alpha = alpha_tested(d.material);
         const GLuint want = alpha ? alpha_prog : prog;
         if (want != current) glUseProgram(current = want);

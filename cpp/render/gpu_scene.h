@@ -1,9 +1,12 @@
 // The GPU copy of a Scene: one interleaved vertex buffer and one index buffer for all
 // meshes, per-object and per-material storage buffers, and a texture per (image, colour
-// space). Built once per scene revision and cached by the Renderer.
+// space). Built once per geometry revision (Scene::geometry_revision) and cached by the
+// Renderer; a moved object or an edited material updates its own entry only (update()), and
+// the BVH rebuilds the moved objects' trees only (scene/bvh.h).
 #pragma once
 
 #include <array>
+#include <deque>
 #include <map>
 #include <tuple>
 #include <memory>
@@ -63,10 +66,39 @@ struct DrawItem {
     GLint base_vertex;
 };
 
+// Work done on scene copies, counted for Renderer.stats.
+struct SceneWork {
+    uint64_t bvh_builds = 0;             // whole BVHs built
+    uint64_t bvh_updates = 0;            // BVH updates after objects moved (or their alpha test changed)
+    uint64_t bvh_updated_triangles = 0;  // triangles those updates rebuilt, summed
+    double bvh_update_ms = 0.0;          // the last update's wall time (its trees, uploads and Embree's scene)
+    uint64_t bvh_update_last_triangles = 0;  // ... and the triangles it rebuilt
+    uint64_t object_updates = 0;         // objects' entries rewritten (a transform or material index)
+    uint64_t material_updates = 0;       // materials' entries rewritten or added
+};
+
 class GpuScene {
 public:
-    // `bvh_builds` (optional): a counter the BVH build increments (Renderer.stats).
-    explicit GpuScene(const Scene& scene, uint64_t* bvh_builds = nullptr);
+    // `work` (optional): counters of the work done (Renderer.stats).
+    explicit GpuScene(const Scene& scene, SceneWork* work = nullptr);
+    ~GpuScene();
+    // Brings the copy to the scene's revision when its geometry revision is the copy's: the
+    // moved objects' and edited materials' entries are rewritten, nothing else is uploaded (the
+    // BVH follows at its next use). Returns false, changing nothing, when the geometry changed
+    // (the caller builds a new copy).
+    bool update(const Scene& scene);
+    uint64_t geometry_revision() const { return geometry_revision_; }
+    // Changes with anything a depth-only pass of the scene draws (the shadow maps): geometry,
+    // any object's transform, an alpha-tested material's test. Unique over all copies of all
+    // scenes, so a cache keyed on it never mistakes one scene for another.
+    uint64_t caster_state() const { return caster_state_; }
+    // The world regions where what a depth-only pass draws changed since caster_state() was
+    // `since`: each moved object's bounds before and after the move, the bounds of an object
+    // whose alpha test changed. False when `since` is no state this copy went through lately
+    // (another scene's, one older than the log, or none): the caller draws everything again.
+    bool caster_changes_since(uint64_t since, std::vector<Bounds>& regions) const;
+    // Object i's world bounds (Scene::bounds of that object alone).
+    const Bounds& world_bounds(int i) const { return object_bounds_[size_t(i)]; }
 
     void bind_geometry() const;  // VAO + storage buffers
     // Binds what the reference tracer reads (storage buffers 5-10: BVH nodes and triangles,
@@ -111,8 +143,10 @@ public:
     bool has_alpha_tested() const;
     // Draws every object for a depth-only pass: with `prog`, or `alpha_prog` (which binds the
     // material's textures and discards the holes) for an alpha-tested material; each program's
-    // uniform u_object at `object_loc` / `alpha_object_loc`. Geometry must be bound.
-    void draw_depth(GLuint prog, GLint object_loc, GLuint alpha_prog, GLint alpha_object_loc) const;
+    // uniform u_object at `object_loc` / `alpha_object_loc`. Geometry must be bound. `only`
+    // (optional, one flag per object): the objects drawn.
+    void draw_depth(GLuint prog, GLint object_loc, GLuint alpha_prog, GLint alpha_object_loc,
+                    const std::vector<uint8_t>* only = nullptr) const;
     // True when some object's material has reflectivity > 0: without one, no ray is traced.
     bool has_reflective_surfaces() const { return reflective_; }
     // The equirectangular environment map (0 when the environment is not a map).
@@ -123,6 +157,19 @@ public:
 
 private:
     GLuint texture_for(const Scene& scene, const TextureRef& ref, bool srgb);
+    // Material m's entry (its buffer element, textures, features, alpha test) from the scene.
+    void set_material(const Scene& scene, size_t m);
+    // Object i's entry (its buffer element, draw, world bounds) from the scene.
+    GpuObject object_entry(const Scene& scene, size_t i) const;
+    Bounds compute_object_bounds(const Scene& scene, size_t i) const;
+    // The flags that follow which materials the objects use (reflective_, emissive_texture_, ...)
+    // and the scene's bounds from the objects'.
+    void refresh_summary(const Scene& scene);
+    // What the depth-only passes read of material m: its alpha test (cutoff, factor, texture).
+    static std::vector<float> alpha_key(const Material& m);
+    // Rebuilds the moved objects' BVH parts and uploads what changed (bind_ray_tracing).
+    void update_ray_tracing(const Scene& scene);
+    void upload_bvh_changes();
 
     struct VertexArray {
         GLuint id = 0;
@@ -134,14 +181,37 @@ private:
     std::vector<std::array<GLuint, 6>> material_textures_;
     std::vector<int> material_features_;  // per material: material_features()
     std::vector<uint8_t> alpha_tested_;   // per material
+    std::vector<std::vector<float>> alpha_keys_;  // per material: alpha_key()
+    std::vector<GpuMaterial> material_data_;      // the materials buffer's elements
+    struct MeshRange {
+        size_t first_index;
+        GLsizei count;
+        GLint base_vertex;
+    };
+    std::vector<MeshRange> mesh_ranges_;     // per mesh: its place in the index and vertex buffers
+    std::vector<glm::mat4> object_transforms_;  // per object: the transform its entry holds
+    std::vector<Bounds> object_bounds_;      // per object: its world bounds
     Texture white_, flat_normal_, environment_map_;
     Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;
     bool ray_tracing_ready_ = false;
-    std::vector<BvhTriangle> bvh_triangle_list_;  // kept for the Embree scene
-    AlphaMasks alpha_masks_;                      // and its alpha test
+    std::unique_ptr<SceneBvh> bvh_;
+    AlphaMasks alpha_masks_;  // the BVH triangles' alpha test (read by the Embree scene's filter)
     std::unique_ptr<EmbreeTracer> embree_;
-    uint64_t* bvh_builds_ = nullptr;
+    std::vector<int> bvh_moved_;       // objects whose BVH part is stale (moved since the last use)
+    std::vector<int> bvh_alpha_;       // objects whose triangles' alpha test changed since
+    SceneWork* work_ = nullptr;
     int bvh_depth_ = 0;
+    uint64_t geometry_revision_ = 0;
+    uint64_t caster_state_ = 0;
+    // The last changes of caster_state_: each step's new state and the regions it changed
+    // (caster_changes_since); caster_log_start_ the state before the first step kept.
+    struct CasterStep {
+        uint64_t state;
+        std::vector<Bounds> regions;
+    };
+    std::deque<CasterStep> caster_log_;
+    uint64_t caster_log_start_ = 0;
+    static constexpr size_t kCasterLogSteps = 64;
     bool reflective_ = false;
     bool emissive_texture_ = false;
     bool specular_texture_ = false;

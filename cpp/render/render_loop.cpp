@@ -117,7 +117,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     fc.clear_by_compute = clear_by_compute();
     fc.visibility_tiles = marks_visibility_tiles();
     fc.facts = frame_facts;
-    if (sequence && sequence->usable(s, scene.id(), scene.revision()) && sequence->previous != resources) {
+    if (sequence && sequence->usable(s, scene.id(), scene.geometry_revision()) && sequence->previous != resources) {
         fc.history = sequence->previous.get();
         fc.history_uniforms = &sequence->previous_uniforms;
         fc.history_unjittered_proj = sequence->previous_unjittered_proj;
@@ -129,8 +129,10 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     // shader variants at their first dispatch or draw; so a variant not seen before runs the
     // chain once untimed and the frame reports the second run. A timed run that still had to
     // compile a program (a pass choosing a define from the settings) is also run again.
+    // The scene's part is its geometry: a moved object or an edited material uses the same
+    // buffers (a material that needs another program is caught below, by the compilation).
     const std::string variant = variant_key(chain, descs, defines) + "scene:" + std::to_string(scene.id()) + "/" +
-                                std::to_string(scene.revision());
+                                std::to_string(scene.geometry_revision());
     bool warm = warmed_variants_.count(variant) != 0;
     // Each pass's own checks of the user's input, before any pass runs.
     for (RenderPass* p : chain) p->check(scene, gs, s);
@@ -139,6 +141,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         for (const RenderPass* p : chain) n += p->first_uses();
         return n;
     };
+    for (RenderPass* p : chain) p->begin_frame();
     for (int run = 0;; ++run) {
         const size_t programs_before = shaders_->cached_programs();
         const uint64_t first_uses_before = first_uses();
@@ -172,6 +175,9 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         ++frame->warmup_runs;
     }
     frame->timings = timer_.resolve();
+    // A pass whose outputs still held what this frame needs did nothing (a reused shadow map).
+    for (const RenderPass* p : chain)
+        if (p->reused()) frame->timings[p->name()] = 0.0;
     // The deep G-buffer's construction, whatever built it (Settings.deep_gbuffer): the depth_peel
     // pass's time (its parts: depth_peel.layer<i> peeling, deep_gbuffer.<part> lists), or the
     // visibility buffer's and its attribute pass's together.
@@ -212,7 +218,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         sequence->previous_models = std::move(models);
         sequence->previous_settings = s;
         sequence->scene_id = scene.id();
-        sequence->scene_revision = scene.revision();
+        sequence->scene_revision = scene.geometry_revision();
         ++sequence->frames;
     }
     recycle();
@@ -266,10 +272,10 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
     bind_specular_albedo();
 
-    bool maps_kept = true;  // every shadow texture of the frame still holds the frame's maps
-    for (const auto& d : shadow_map_.outputs(s, shadow_facts)) maps_kept = maps_kept && scratch_of(d.name, frame.serial);
-    if (shadows && !traced_shadows && !maps_kept) {
-        // The shared shadow maps hold a later frame's (or none): render all of this frame's again.
+    if (shadows && !traced_shadows) {
+        // The shared shadow maps may hold a later frame's (another scene, settings or state of
+        // this one): the pass draws again every map that does not hold this frame's (its keys,
+        // passes/shadow_map.h), and none when they all do.
         scratch_.add(shadow_map_.outputs(s, shadow_facts));
         shadow_map_.set_setup(setup);
         const DepthConvention dc{s.depth_mode};
@@ -278,6 +284,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
         FrameContext sfc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, dc, frame.uniforms, scratch_, d};
         sfc.clear_by_compute = clear_by_compute();
         sfc.facts = shadow_facts;
+        shadow_map_.begin_frame();
         shadow_map_.execute(sfc);
         check_gl(*ctx_, "shadow_map (again, for the reference)");
         for (const auto& d : shadow_map_.outputs(s, shadow_facts)) scratch_owner_[d.name] = frame.serial;

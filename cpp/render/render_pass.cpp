@@ -1,6 +1,7 @@
 #include "render/render_pass.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "core/errors.h"
@@ -53,6 +54,8 @@ const FrameBuffer& FrameBuffers::get(const std::string& name) const {
 }
 
 namespace {
+std::atomic<uint64_t> texture_generations{1};
+
 Texture create_texture(const ResourceDesc& d) {
     if (d.cube) return Texture::create_cube_array(d.format, d.width, d.layers / 6, d.levels);
     return d.layers > 0 ? Texture::create_2d_array(d.format, d.width, d.height, d.layers, d.levels)
@@ -63,9 +66,11 @@ Texture create_texture(const ResourceDesc& d) {
 void FrameResources::allocate(const std::vector<ResourceDesc>& descs) {
     descs_ = descs;
     textures_.clear();
+    generations_.clear();
     for (const auto& d : descs) {
         Texture t = create_texture(d);
         textures_.emplace(d.name, std::move(t));
+        generations_[d.name] = texture_generations++;
     }
 }
 
@@ -79,7 +84,15 @@ void FrameResources::add(const std::vector<ResourceDesc>& descs) {
         descs_.push_back(d);
         Texture t = create_texture(d);
         textures_.emplace(d.name, std::move(t));
+        generations_[d.name] = texture_generations++;
     }
+}
+
+uint64_t FrameResources::generation(const std::string& name) const {
+    auto it = generations_.find(name);
+    if (it != generations_.end() && textures_.count(name)) return it->second;
+    if (scratch_ && scratch_->has(name)) return scratch_->generation(name);
+    return 0;
 }
 
 }  // namespace ssr

@@ -65,9 +65,13 @@ public:
     // Adds (or replaces) textures after allocation, e.g. a reference computed for a frame.
     void add(const std::vector<ResourceDesc>& descs);
     const std::vector<ResourceDesc>& descs() const { return descs_; }
+    // A number unique to the allocation that holds texture `name` now (0: none): a pass that
+    // keeps what it wrote across frames (the shadow maps) knows that its texture was replaced.
+    uint64_t generation(const std::string& name) const;
 
 private:
     std::map<std::string, Texture> textures_;
+    std::map<std::string, uint64_t> generations_;
     std::vector<ResourceDesc> descs_;
     FrameResources* scratch_ = nullptr;
 };
@@ -204,6 +208,12 @@ public:
     virtual uint64_t first_uses() const { return 0; }
     // The pass's counts of the timed run, into frame.stats.
     virtual void report(const RenderSettings& s, std::map<std::string, double>& stats) const {}
+    // Called once per frame before its runs (the untimed first-use run and the timed one), so
+    // that a pass keeping its outputs across frames decides from the state the frame began with.
+    virtual void begin_frame() {}
+    // Whether the timed run did no work because everything it writes still held what this
+    // frame needs (a shadow map reused): its timing is then 0.
+    virtual bool reused() const { return false; }
 };
 
 }  // namespace ssr

@@ -362,14 +362,22 @@ const GpuScene& Renderer::gpu_scene(const Scene& scene) {
     for (auto it = scenes_.begin(); it != scenes_.end(); ++it) {
         if (it->id == scene.id()) {
             if (it->gpu->revision() != scene.revision()) {
-                it->gpu = std::make_unique<GpuScene>(scene, &bvh_builds_);
-                ++scene_uploads_;
+                // Moved objects, edited materials, lights: their entries only. New geometry,
+                // images or objects: a new copy.
+                const bool updated = it->gpu->update(scene);
+                if (updated) {
+                    ++scene_updates_;
+                } else {
+                    it->gpu.reset();  // its GL objects go before the new copy's are made
+                    it->gpu = std::make_unique<GpuScene>(scene, &scene_work_);
+                    ++scene_uploads_;
+                }
             }
             scenes_.splice(scenes_.begin(), scenes_, it);
             return *scenes_.front().gpu;
         }
     }
-    scenes_.push_front(CachedScene{scene.id(), std::make_unique<GpuScene>(scene, &bvh_builds_)});
+    scenes_.push_front(CachedScene{scene.id(), std::make_unique<GpuScene>(scene, &scene_work_)});
     ++scene_uploads_;
     if (scenes_.size() > kSceneCacheSize) scenes_.pop_back();
     return *scenes_.front().gpu;

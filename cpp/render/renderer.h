@@ -161,11 +161,22 @@ public:
     size_t gpu_bytes() const;
     size_t scratch_bytes() const { return scratch_.bytes(); }
     // Work the renderer did outside the frame chain ("passes only when used"): scene
-    // uploads (a GpuScene built: new scene or new content; a camera change is none), reference
-    // BVH builds (once per scene content), texture read-backs and their bytes.
+    // uploads (a GpuScene built, its geometry uploaded: a new scene or new geometry; a camera
+    // change is none), scene updates (moved objects', edited materials' or lights' changes
+    // written into the copy, object_updates and material_updates entries), BVH builds (once per
+    // scene geometry) and updates after moves (bvh_updated_triangles rebuilt in all; the last
+    // update's wall time bvh_update_ms and its triangles bvh_update_last_triangles), texture
+    // read-backs and their bytes.
     std::map<std::string, double> stats() const {
         return {{"scene_uploads", double(scene_uploads_)},
-                {"bvh_builds", double(bvh_builds_)},
+                {"scene_updates", double(scene_updates_)},
+                {"object_updates", double(scene_work_.object_updates)},
+                {"material_updates", double(scene_work_.material_updates)},
+                {"bvh_builds", double(scene_work_.bvh_builds)},
+                {"bvh_updates", double(scene_work_.bvh_updates)},
+                {"bvh_updated_triangles", double(scene_work_.bvh_updated_triangles)},
+                {"bvh_update_ms", scene_work_.bvh_update_ms},
+                {"bvh_update_last_triangles", double(scene_work_.bvh_update_last_triangles)},
                 {"readbacks", double(readbacks_)},
                 {"readback_bytes", double(readback_bytes_)}};
     }
@@ -232,7 +243,8 @@ private:
     std::map<std::string, uint64_t> scratch_owner_;  // scratch name -> serial of the frame it holds
     uint64_t next_serial_ = 1;
     size_t freed_since_trim_ = 0;  // bytes of texture sets freed since the last malloc_trim
-    uint64_t scene_uploads_ = 0, bvh_builds_ = 0, readbacks_ = 0, readback_bytes_ = 0;  // stats()
+    uint64_t scene_uploads_ = 0, scene_updates_ = 0, readbacks_ = 0, readback_bytes_ = 0;  // stats()
+    SceneWork scene_work_;  // stats(): what the scene copies did
 
     ShadowMapPass shadow_map_;
     DepthPeelPass depth_peel_;

@@ -34,13 +34,17 @@ public:
     glm::mat4 previous_unjittered_proj{1.0f};  // its projection without the TAA jitter
     std::vector<glm::mat4> previous_models;    // its objects' model matrices (motion vectors)
     RenderSettings previous_settings;
-    uint64_t scene_id = 0, scene_revision = 0;
+    uint64_t scene_id = 0;
+    uint64_t scene_revision = 0;  // the previous frame's Scene::geometry_revision
     int frames = 0;  // frames rendered so far in this sequence
 
-    // The history usable by a frame of `s` showing `scene_id`: same image size, same scene.
-    bool usable(const RenderSettings& s, uint64_t id, uint64_t revision) const {
+    // The history usable by a frame of `s` showing `scene_id` at `geometry_revision`: same image
+    // size, same scene and geometry. Objects that moved, materials and lights that changed keep
+    // the history, as a camera that moved does: reprojection and the temporal passes' history
+    // rejection are what deal with change (seed 002, 4.6.5); new geometry starts afresh.
+    bool usable(const RenderSettings& s, uint64_t id, uint64_t geometry_revision) const {
         return previous && previous_settings.width == s.width && previous_settings.height == s.height &&
-               scene_id == id && scene_revision == revision;
+               scene_id == id && scene_revision == geometry_revision;
     }
 
 private:

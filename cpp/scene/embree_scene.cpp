@@ -26,60 +26,69 @@ int wrap_coordinate(int i, int n, int mode) {
 
 // Embree's filter for intersect and occluded queries alike: a hole's hit is rejected.
 void alpha_filter(const RTCFilterFunctionNArguments* args) {
-    const auto* masks = static_cast<const AlphaMasks*>(args->geometryUserPtr);
+    const auto* geometry = static_cast<const EmbreeTracer::Geometry*>(args->geometryUserPtr);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
-        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
-        if (masks->hole(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))) args->valid[i] = 0;
+        const size_t triangle = geometry->first + RTCHitN_primID(args->hit, args->N, i);
+        if (geometry->masks->hole(triangle, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
+            args->valid[i] = 0;
     }
 }
 
 }  // namespace
 
 AlphaMasks::AlphaMasks(const Scene& scene, const std::vector<BvhTriangle>& triangles) {
+    update(scene, triangles, 0, triangles.size());
+}
+
+void AlphaMasks::update(const Scene& scene, const std::vector<BvhTriangle>& triangles, size_t first, size_t count) {
     bool any = false;
-    for (const BvhTriangle& t : triangles) any = any || t.alpha_tested;
-    if (!any) return;
-    std::vector<int> image_slot(scene.images.size(), -1);
-    triangles_.resize(triangles.size());
-    for (size_t i = 0; i < triangles.size(); ++i) {
-        const BvhTriangle& bt = triangles[i];
-        if (!bt.alpha_tested) continue;
-        const Object& obj = scene.objects[size_t(bt.object)];
-        const Material& m = scene.materials[size_t(obj.material)];
-        const Mesh& mesh = scene.meshes[size_t(obj.mesh)];
-        Triangle& t = triangles_[i];
-        t.cutoff = m.visibility_cutoff();
-        t.factor = m.base_color.a;
-        if (!mesh.colors.empty())
-            for (int k = 0; k < 3; ++k) t.vertex_alpha[k] = mesh.colors[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]].a;
-        const TextureRef& ref = m.base_color_texture;
-        if (!ref.valid()) continue;
-        int& slot = image_slot[size_t(ref.image)];
-        if (slot < 0) {  // each image's alpha copied once
-            const Image& img = scene.images[size_t(ref.image)];
-            AlphaImage a;
-            a.width = img.width;
-            a.height = img.height;
-            a.alpha.resize(size_t(img.width) * size_t(img.height));
-            for (size_t p = 0; p < a.alpha.size(); ++p) a.alpha[p] = img.rgba[4 * p + 3];
-            slot = int(images_.size());
-            images_.push_back(std::move(a));
-        }
-        t.image = slot;
-        t.wrap_s = ref.wrap_s;
-        t.wrap_t = ref.wrap_t;
-        // Without texture coordinates the GPU reads uv (0, 0) (the vertex buffer's zero fill); a
-        // texture on set 1 of a mesh without one reads set 0 (GpuScene's copy), as glTF falls back.
-        const std::vector<glm::vec2>& set = ref.texcoord == 1 && !mesh.uvs1.empty() ? mesh.uvs1 : mesh.uvs;
-        for (int k = 0; k < 3; ++k) {
-            // The transform is affine: applied at the vertices, it interpolates as at the hit.
-            const glm::vec2 uv = ref.apply(
-                set.empty() ? glm::vec2(0.0f) : set[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]]);
-            t.uv[2 * k] = uv.x;
-            t.uv[2 * k + 1] = uv.y;
-        }
+    for (size_t i = first; i < first + count; ++i) any = any || triangles[i].alpha_tested;
+    if (triangles_.empty()) {
+        if (!any) return;  // no triangle tested so far: stays empty
+        triangles_.resize(triangles.size());
     }
+    if (image_slot_.size() != scene.images.size()) image_slot_.resize(scene.images.size(), -1);
+    for (size_t i = first; i < first + count; ++i)
+        triangles_[i] = triangles[i].alpha_tested ? triangle(scene, triangles[i]) : Triangle{};
+}
+
+AlphaMasks::Triangle AlphaMasks::triangle(const Scene& scene, const BvhTriangle& bt) {
+    const Object& obj = scene.objects[size_t(bt.object)];
+    const Material& m = scene.materials[size_t(obj.material)];
+    const Mesh& mesh = scene.meshes[size_t(obj.mesh)];
+    Triangle t;
+    t.cutoff = m.visibility_cutoff();
+    t.factor = m.base_color.a;
+    if (!mesh.colors.empty())
+        for (int k = 0; k < 3; ++k) t.vertex_alpha[k] = mesh.colors[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]].a;
+    const TextureRef& ref = m.base_color_texture;
+    if (!ref.valid()) return t;
+    int& slot = image_slot_[size_t(ref.image)];
+    if (slot < 0) {  // each image's alpha copied once
+        const Image& img = scene.images[size_t(ref.image)];
+        AlphaImage a;
+        a.width = img.width;
+        a.height = img.height;
+        a.alpha.resize(size_t(img.width) * size_t(img.height));
+        for (size_t p = 0; p < a.alpha.size(); ++p) a.alpha[p] = img.rgba[4 * p + 3];
+        slot = int(images_.size());
+        images_.push_back(std::move(a));
+    }
+    t.image = slot;
+    t.wrap_s = ref.wrap_s;
+    t.wrap_t = ref.wrap_t;
+    // Without texture coordinates the GPU reads uv (0, 0) (the vertex buffer's zero fill); a
+    // texture on set 1 of a mesh without one reads set 0 (GpuScene's copy), as glTF falls back.
+    const std::vector<glm::vec2>& set = ref.texcoord == 1 && !mesh.uvs1.empty() ? mesh.uvs1 : mesh.uvs;
+    for (int k = 0; k < 3; ++k) {
+        // The transform is affine: applied at the vertices, it interpolates as at the hit.
+        const glm::vec2 uv =
+            ref.apply(set.empty() ? glm::vec2(0.0f) : set[mesh.indices[3 * size_t(bt.primitive) + size_t(k)]]);
+        t.uv[2 * k] = uv.x;
+        t.uv[2 * k + 1] = uv.y;
+    }
+    return t;
 }
 
 bool AlphaMasks::hole(size_t triangle, float b1, float b2) const {
@@ -177,49 +186,76 @@ std::vector<CpuHit> embree_intersect(const Scene& scene, const std::vector<glm::
     return hits;
 }
 
-EmbreeTracer::EmbreeTracer(const std::vector<BvhTriangle>& triangles, AlphaMasks masks) : masks_(std::move(masks)) {
+EmbreeTracer::EmbreeTracer(const SceneBvh& bvh, const AlphaMasks* masks) : masks_(masks) {
     RTCDevice device = rtcNewDevice(nullptr);
     if (!device) throw std::runtime_error("Embree: rtcNewDevice failed");
     device_ = device;
     RTCScene rs = rtcNewScene(device);
     scene_ = rs;
     // Robust: no traversal shortcuts that lose accuracy, so edges and corners are not missed
-    // (the GLSL test is watertight, Woop et al. 2013).
-    rtcSetSceneFlags(rs, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(rs, RTC_BUILD_QUALITY_HIGH);
-    if (!triangles.empty()) {
-        const size_t n = triangles.size();
-        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(
-            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-        auto* idx = static_cast<unsigned*>(
-            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
-        for (size_t i = 0; i < n; ++i) {
-            const BvhTriangle& t = triangles[i];
-            for (int k = 0; k < 3; ++k) {
-                v[9 * i + k] = t.v0[k];
-                v[9 * i + 3 + k] = t.v1[k];
-                v[9 * i + 6 + k] = t.v2[k];
-            }
-            idx[3 * i] = unsigned(3 * i);
-            idx[3 * i + 1] = unsigned(3 * i + 1);
-            idx[3 * i + 2] = unsigned(3 * i + 2);
-        }
-        if (!masks_.empty()) {
-            rtcSetGeometryUserData(geom, &masks_);
-            rtcSetGeometryIntersectFilterFunction(geom, alpha_filter);
-            rtcSetGeometryOccludedFilterFunction(geom, alpha_filter);
-        }
-        rtcCommitGeometry(geom);
-        rtcAttachGeometryByID(rs, geom, 0);
-        rtcReleaseGeometry(geom);
-    }
+    // (the GLSL test is watertight, Woop et al. 2013). Dynamic with the scene's quality low:
+    // Embree's two-level structure, a tree per geometry (each built at the geometry's quality,
+    // high as before) and one over them, so a commit after a move rebuilds the moved objects'
+    // trees and the top one only (a high-quality scene is one tree over every triangle, built
+    // again whole at every commit).
+    rtcSetSceneFlags(rs, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_DYNAMIC);
+    rtcSetSceneBuildQuality(rs, RTC_BUILD_QUALITY_LOW);
+    geometries_.resize(bvh.object_count());
+    for (size_t o = 0; o < bvh.object_count(); ++o) fill(bvh, int(o), true);
     rtcCommitScene(rs);
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
         rtcReleaseScene(rs);
         rtcReleaseDevice(device);
         throw std::runtime_error("Embree: building the reference's scene failed");
     }
+}
+
+void EmbreeTracer::fill(const SceneBvh& bvh, int object, bool attach) {
+    const size_t first = bvh.first_triangle(object), n = bvh.triangle_count(object);
+    Geometry& g = geometries_[size_t(object)];
+    g.first = first;
+    g.masks = masks_;
+    RTCGeometry geom = attach ? rtcNewGeometry(static_cast<RTCDevice>(device_), RTC_GEOMETRY_TYPE_TRIANGLE)
+                              : rtcGetGeometry(static_cast<RTCScene>(scene_), unsigned(object));
+    float* v = nullptr;
+    if (attach) {
+        v = static_cast<float*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+        for (size_t i = 0; i < 3 * n; ++i) idx[i] = unsigned(i);
+        rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    } else {
+        v = static_cast<float*>(rtcGetGeometryBufferData(geom, RTC_BUFFER_TYPE_VERTEX, 0));
+    }
+    bool alpha = false;
+    for (size_t i = 0; i < n; ++i) {
+        const BvhTriangle& t = bvh.triangles()[first + i];
+        for (int k = 0; k < 3; ++k) {
+            v[9 * i + k] = t.v0[k];
+            v[9 * i + 3 + k] = t.v1[k];
+            v[9 * i + 6 + k] = t.v2[k];
+        }
+        alpha = alpha || t.alpha_tested;
+    }
+    if (!attach) rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
+    const bool filter = alpha && masks_ && !masks_->empty();
+    rtcSetGeometryUserData(geom, filter ? &g : nullptr);
+    rtcSetGeometryIntersectFilterFunction(geom, filter ? alpha_filter : nullptr);
+    rtcSetGeometryOccludedFilterFunction(geom, filter ? alpha_filter : nullptr);
+    rtcCommitGeometry(geom);
+    if (attach) {
+        rtcAttachGeometryByID(static_cast<RTCScene>(scene_), geom, unsigned(object));  // geomID = object index
+        rtcReleaseGeometry(geom);
+    }
+}
+
+void EmbreeTracer::update(const SceneBvh& bvh, const std::vector<int>& objects) {
+    if (objects.empty()) return;
+    for (int o : objects) fill(bvh, o, false);
+    rtcCommitScene(static_cast<RTCScene>(scene_));
+    if (rtcGetDeviceError(static_cast<RTCDevice>(device_)) != RTC_ERROR_NONE)
+        throw std::runtime_error("Embree: updating the reference's scene failed");
 }
 
 EmbreeTracer::~EmbreeTracer() {
@@ -267,7 +303,7 @@ void EmbreeTracer::trace(const TraceQuery* queries, size_t n, TraceAnswer* answe
                 rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
                 rtcIntersect1(rs, &ctx, &rh);
                 if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-                a = TraceAnswer{rh.ray.tfar, int32_t(rh.hit.primID), rh.hit.u, rh.hit.v};
+                a = TraceAnswer{rh.ray.tfar, triangle_of(rh.hit.geomID, rh.hit.primID), rh.hit.u, rh.hit.v};
             }
         }
     };

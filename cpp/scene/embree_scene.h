@@ -49,8 +49,10 @@ struct TraceAnswer {
 class AlphaMasks {
 public:
     AlphaMasks() = default;
-    // For the BVH's triangles (Bvh::triangles order); empty when no triangle is alpha-tested.
+    // For the BVH's triangles (SceneBvh::triangles order); empty when no triangle is alpha-tested.
     AlphaMasks(const Scene& scene, const std::vector<BvhTriangle>& triangles);
+    // Recomputes triangles [first, first + count) (an object whose transform or material changed).
+    void update(const Scene& scene, const std::vector<BvhTriangle>& triangles, size_t first, size_t count);
     bool empty() const { return triangles_.empty(); }
     // Whether the hit at barycentrics (b1, b2) of BVH triangle `triangle` is a hole.
     bool hole(size_t triangle, float b1, float b2) const;
@@ -69,31 +71,49 @@ private:
         float vertex_alpha[3] = {1.0f, 1.0f, 1.0f};  // the vertices' COLOR_0 alpha (a factor of the base colour's)
 
     };
+    Triangle triangle(const Scene& scene, const BvhTriangle& bt);
     std::vector<AlphaImage> images_;
+    std::vector<int> image_slot_;  // per scene image: its index in images_, -1 not copied yet
     std::vector<Triangle> triangles_;
 };
 
-// The BVH's own triangle list (Bvh::triangles, world space, in leaf order) in an Embree scene,
-// one geometry whose primitive IDs are those indices, so that Embree's hits name the very
-// triangles the GLSL traversal would (and the shading code finds them in bvh_triangles).
-// Embree's barycentrics (u, v) weigh v1 and v2, as the GLSL test's b1, b2 do.
+// The BVH's triangles (SceneBvh::triangles, world space) in an Embree scene: one geometry per
+// object over the object's segment, in the segment's order, so that Embree's hits name the very
+// triangles the GLSL traversal would (triangle_of(geometry, primitive) is the index in
+// bvh_triangles, where the shading code finds them). Embree's barycentrics (u, v) weigh v1 and
+// v2, as the GLSL test's b1, b2 do. A dynamic scene (two levels inside Embree): update()
+// rebuilds the moved objects' geometries and the top level only.
 class EmbreeTracer {
 public:
-    // `masks`: the alpha test of alpha-tested triangles (an Embree filter function), or empty.
-    explicit EmbreeTracer(const std::vector<BvhTriangle>& triangles, AlphaMasks masks = {});
+    // `masks`: the alpha test of alpha-tested triangles (an Embree filter function), kept by the
+    // caller for the tracer's life and updated before update() is called.
+    EmbreeTracer(const SceneBvh& bvh, const AlphaMasks* masks);
     ~EmbreeTracer();
     EmbreeTracer(const EmbreeTracer&) = delete;
     EmbreeTracer& operator=(const EmbreeTracer&) = delete;
+    // The objects' triangles changed in `bvh` (moved, or their alpha test): their geometries again.
+    void update(const SceneBvh& bvh, const std::vector<int>& objects);
     // Answers n queries on all cores (threads, each ray by itself: the reflection rays of rough
     // surfaces are incoherent, where Embree's single-ray kernel is its fastest).
     void trace(const TraceQuery* queries, size_t n, TraceAnswer* answers) const;
     // The RTCScene, for callers that trace their own rays (passes/reference_cpu.h).
     const void* scene() const { return scene_; }
+    // The index in the BVH's triangles of a hit's (geometry, primitive).
+    int32_t triangle_of(unsigned geometry, unsigned primitive) const {
+        return int32_t(geometries_[geometry].first + primitive);
+    }
+    // Per geometry (the filter's user data): where its triangles start, and the masks.
+    struct Geometry {
+        size_t first = 0;
+        const AlphaMasks* masks = nullptr;
+    };
 
 private:
+    void fill(const SceneBvh& bvh, int object, bool attach);
     void* device_ = nullptr;  // RTCDevice
     void* scene_ = nullptr;   // RTCScene
-    AlphaMasks masks_;        // the filter's user data: lives as long as the scene
+    const AlphaMasks* masks_ = nullptr;
+    std::vector<Geometry> geometries_;  // one per object, never resized after construction
 };
 
 }  // namespace ssr

@@ -31,7 +31,9 @@ Scene& Scene::operator=(const Scene& o) {
     environment = o.environment;
     probes = o.probes;
     camera = o.camera;
-    revision_ = 0;
+    revision_ = geometry_revision_ = transforms_revision_ = materials_revision_ = lights_revision_ = 0;
+    object_revisions_.clear();
+    material_revisions_.clear();
     id_ = next_scene_id();  // a copy is another scene for GPU caches
     return *this;
 }
@@ -110,8 +112,35 @@ int Scene::add_mesh(Mesh m) {
 
 int Scene::add_material(const Material& m) {
     materials.push_back(m);
-    touch();
+    touch_material(int(materials.size()) - 1);  // a new entry of the materials buffer only
     return int(materials.size()) - 1;
+}
+
+void Scene::touch_object(int i) {
+    transforms_revision_ = ++revision_;
+    if (size_t(i) >= object_revisions_.size()) object_revisions_.resize(size_t(i) + 1, 0);
+    object_revisions_[size_t(i)] = revision_;
+}
+
+void Scene::touch_material(int m) {
+    materials_revision_ = ++revision_;
+    if (size_t(m) >= material_revisions_.size()) material_revisions_.resize(size_t(m) + 1, 0);
+    material_revisions_[size_t(m)] = revision_;
+}
+
+void Scene::set_object_transform(int i, const glm::mat4& transform) {
+    if (i < 0 || size_t(i) >= objects.size())
+        throw std::out_of_range("object index " + std::to_string(i) + " is out of range (the scene has " +
+                                std::to_string(objects.size()) + " objects)");
+    Object& o = objects[size_t(i)];
+    if (const std::string p = transform_problem(transform); !p.empty())
+        throw std::invalid_argument("object '" + o.name + "': transform " + p);
+    Bounds b;
+    for (const auto& q : meshes[size_t(o.mesh)].positions) b.extend(q);
+    if (const std::string p = world_bounds_problem(transform, b.min, b.max); !p.empty())
+        throw std::invalid_argument("object '" + o.name + "': " + p);
+    o.transform = transform;
+    touch_object(i);
 }
 
 int Scene::add_object(int mesh, int material, const glm::mat4& transform, const std::string& obj_name) {
@@ -136,7 +165,7 @@ int Scene::add_light(const Light& l) {
     if (const std::string p = light_problem(l); !p.empty())
         throw std::invalid_argument("light '" + l.name + "': " + p);
     lights.push_back(l);
-    touch();
+    touch_lights();
     return int(lights.size()) - 1;
 }
 

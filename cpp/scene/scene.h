@@ -180,9 +180,35 @@ public:
     std::vector<SceneNode> nodes;
     std::vector<Animation> animations;
 
-    // Renderers cache GPU copies of a scene; any change bumps the revision.
+    // Renderers cache GPU copies of a scene; any change bumps the revision. What changed is
+    // kept too, so that a cache pays for what changed only: the GPU copy updates a moved
+    // object's matrix or an edited material's entry and the BVH rebuilds the moved object's
+    // part, where anything else (geometry, images, the object set, the environment map)
+    // rebuilds the copy. Each kind has its revision: the scene's revision when it last
+    // changed; objects and materials also carry their own.
     uint64_t revision() const { return revision_; }
-    void touch() { ++revision_; }
+    // Anything may have changed (geometry, images, objects added, the environment): GPU copies
+    // are rebuilt. Code that changes one of the kinds below says so with its own touch_*.
+    void touch() { geometry_revision_ = ++revision_; }
+    // Object `i`'s transform or material index changed.
+    void touch_object(int i);
+    // Material `m`'s parameters changed (or it was added).
+    void touch_material(int m);
+    // Lights were added, removed or changed.
+    void touch_lights() { lights_revision_ = ++revision_; }
+    // Values read per frame only (ambient, the default camera, probe positions).
+    void touch_frame() { ++revision_; }
+    uint64_t geometry_revision() const { return geometry_revision_; }
+    uint64_t transforms_revision() const { return transforms_revision_; }
+    uint64_t materials_revision() const { return materials_revision_; }
+    uint64_t lights_revision() const { return lights_revision_; }
+    // The revision at which object `i` (its transform or material index) / material `m` last
+    // changed; 0 before any change since the scene was made.
+    uint64_t object_revision(size_t i) const { return i < object_revisions_.size() ? object_revisions_[i] : 0; }
+    uint64_t material_revision(size_t m) const { return m < material_revisions_.size() ? material_revisions_[m] : 0; }
+    // Sets an object's object -> world matrix after checking it (finite, invertible, bounds
+    // within the scene limits): std::invalid_argument naming the object otherwise.
+    void set_object_transform(int i, const glm::mat4& transform);
     uint64_t id() const { return id_; }
 
     int add_mesh(Mesh mesh);             // validates indices/sizes, fills normals if empty
@@ -202,6 +228,8 @@ public:
 
 private:
     uint64_t revision_ = 0;
+    uint64_t geometry_revision_ = 0, transforms_revision_ = 0, materials_revision_ = 0, lights_revision_ = 0;
+    std::vector<uint64_t> object_revisions_, material_revisions_;
     uint64_t id_ = 0;
 };
 

@@ -529,7 +529,7 @@ class Scene:
         """
     def set_object_transform(self, object: typing.SupportsInt | typing.SupportsIndex, transform: numpy.ndarray) -> None:
         """
-        Sets an object's object -> world matrix (4x4).
+        Sets an object's object -> world matrix (4x4; ValueError naming the object when it is singular, not finite or reaches beyond the scene limits). The next render updates that object's matrix and its part of the BVH only.
         """
     @property
     def ambient(self) -> tuple[float, ...]:
@@ -566,6 +566,11 @@ class Scene:
     def environment(self, arg1: Environment) -> None:
         ...
     @property
+    def geometry_revision(self) -> int:
+        """
+        the revision of the last change that rebuilds GPU copies (geometry, images, objects added, the environment map)
+        """
+    @property
     def image_count(self) -> int:
         """
         texture images
@@ -576,9 +581,19 @@ class Scene:
         copies of the scene's lights
         """
     @property
+    def lights_revision(self) -> int:
+        """
+        the revision of the last change of the lights
+        """
+    @property
     def material_count(self) -> int:
         """
         materials
+        """
+    @property
+    def materials_revision(self) -> int:
+        """
+        the revision of the last change of a material's parameters
         """
     @property
     def mesh_count(self) -> int:
@@ -615,6 +630,11 @@ class Scene:
     def revision(self) -> int:
         """
         counts changes; GPU copies are refreshed when it moves
+        """
+    @property
+    def transforms_revision(self) -> int:
+        """
+        the revision of the last change of an object's transform or material index
         """
     @property
     def triangle_count(self) -> int:

@@ -120,13 +120,19 @@ class Renderer:
         return int(self._native.scratch_bytes)
 
     @property
-    def stats(self) -> dict[str, int]:
+    def stats(self) -> dict[str, float]:
         """What this renderer did outside the frames' chains, counted since it was made:
-        scene_uploads (GPU copies of a scene built: a new scene or changed content; a new
-        camera or new settings reuse the copy), bvh_builds (the reference's BVH, once per scene
-        content), readbacks and readback_bytes (textures copied to host memory: only when a
-        Frame property or read() asks, once per texture and level)."""
-        return {k: int(v) for k, v in self._native.stats.items()}
+        scene_uploads (GPU copies of a scene built, its geometry uploaded: a new scene or new
+        geometry, images or objects; a new camera or new settings reuse the copy),
+        scene_updates (a copy brought up to date after Scene.set_object_transform,
+        set_material or a lights' change: object_updates and material_updates entries
+        rewritten, no geometry uploaded), bvh_builds (the BVH of method "bvh", the fallbacks and
+        the references, once per scene geometry), bvh_updates (after moves: the moved objects'
+        trees rebuilt, bvh_updated_triangles in all; bvh_update_ms the last update's wall
+        milliseconds and bvh_update_last_triangles its triangles), readbacks and readback_bytes
+        (textures copied to host memory: only when a Frame property or read() asks, once per
+        texture and level). Counts are ints, bvh_update_ms a float."""
+        return {k: float(v) if k.endswith("_ms") else int(v) for k, v in self._native.stats.items()}
 
     @property
     def readback_path(self) -> str:
@@ -326,7 +332,8 @@ class Renderer:
 
     def _decide_deep_gbuffer(self, scene, camera, settings: Settings) -> Settings:
         """Settings.deep_gbuffer 'auto' made one exact construction: the one that builds this
-        scene's layers fastest on this device, measured once per renderer, scene (and revision),
+        scene's layers fastest on this device, measured once per renderer, scene (and its geometry:
+        Scene.geometry_revision; moving an object or editing a material measures nothing again),
         image size, layer count, culling, depth mode and minimum separation: the G-buffer alone
         (no shadow map, no reflections) is built 3 times with each after a warm-up render
         (recorded in deep_gbuffer_measurements: median, min and max GPU ms). The smallest median
@@ -346,7 +353,7 @@ class Renderer:
         cpu = self.info["device"] == "cpu"
         if settings.layers == 1 and cpu:
             return settings.replace(deep_gbuffer="peel")
-        key = (id(scene), scene.revision, settings.width, settings.height, settings.layers,
+        key = (id(scene), scene.geometry_revision, settings.width, settings.height, settings.layers,
                settings.backface_culling, settings.depth_mode, settings.min_separation)
         if key not in self._deep_gbuffer_auto:
             # With a minimum separation the lists' selection walks each list once per layer.

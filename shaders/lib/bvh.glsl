@@ -1,5 +1,6 @@
-// Closest-hit ray tracing against every triangle of the scene: a binary BVH (built by
-// Embree's SAH builder, cpp/scene/bvh.cpp) traversed with a stack, and the watertight
+// Closest-hit ray tracing against every triangle of the scene: a binary BVH (each object's
+// tree under a tree of the objects, built by Embree's SAH builder, cpp/scene/bvh.cpp, flattened
+// into one array) traversed with a stack, and the watertight
 // ray-triangle test of Woop, Benthin and Wald (JCGT 2(1), 2013): the ray is sheared onto +z
 // and every edge function of a shared edge is computed from the same values, so a ray can
 // neither slip between two triangles that share an edge nor hit both.
