@@ -100,13 +100,14 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glGetNamedBufferSubData(ctx.buffers.get("visibility_tiles").data->id(), 0,
                                 GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());
-        filled_tiles = 0;
-        for (int layer = 0; layer < s.layers; ++layer) {
+        // Layer 0 is classified whole where it holds anything (its tiles are not marked).
+        filled_tiles = filled > 0 ? 1 : 0;
+        for (int layer = 1; layer < s.layers; ++layer) {
             bool any = false;
             for (int i = 0; i < per_layer; ++i)
                 if (flags[size_t(layer) * size_t(per_layer) + size_t(i)]) {
                     any = true;
-                    if (layer > 0) deep_tiles.push_back(GLuint(layer) << 24 | GLuint(i));
+                    deep_tiles.push_back(GLuint(layer) << 24 | GLuint(i));
                 }
             if (any) filled_tiles = layer + 1;
         }

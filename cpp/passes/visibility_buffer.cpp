@@ -108,12 +108,15 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
     const std::vector<std::string> stages = {"passes/depth_peel.vert", "passes/visibility_buffer.frag"};
     Defines d = ctx.defines;
     set_min_separation(s, d);
+    // The layers after the first mark their tiles: layer 0 is mostly covered, so the next layer
+    // rasterises the whole frame and the attribute pass takes layer 0 whole, and its fragment shader,
+    // free of side effects, keeps the early depth test.
     const bool mark = marks_tiles(ctx);
-    d["MARK_TILES"] = mark ? "1" : "0";
     GLuint programs[2][2] = {};  // [peel test][alpha test]
     for (int peel_test = 0; peel_test < 2; ++peel_test)
         for (int alpha = 0; alpha < 2; ++alpha) {
             if (alpha && !ctx.gpu_scene.has_alpha_tested()) continue;
+            d["MARK_TILES"] = mark && peel_test ? "1" : "0";
             d["PEEL_TEST"] = std::to_string(peel_test);
             d["ALPHA_TEST"] = std::to_string(alpha);
             programs[peel_test][alpha] = ctx.shaders.program(stages, d);
@@ -153,9 +156,9 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
         if (layer == 0) fbo_.check_complete("visibility_buffer");
         // Only the depth is cleared: a triangle id counts where the depth test wrote a depth.
         glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
-        // On the CPU device layer i > 0 rasterises only the bounding box of layer i-1's covered
+        // Where tiles are marked, layer i > 1 rasterises only the bounding box of layer i-1's covered
         // tiles, where alone a fragment can lie behind it (as peeling does, passes/depth_peel.cpp).
-        if (layer > 0 && mark) {
+        if (layer > 1 && mark) {
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
             glGetNamedBufferSubData(tiles_.id(), GLintptr(sizeof(GLuint) * size_t(layer - 1) * flags.size()),
                                     GLsizeiptr(sizeof(GLuint) * flags.size()), flags.data());

@@ -1,8 +1,9 @@
-// Which 8x8 tiles of each layer of the visibility buffer hold a sample, on the CPU device: its
-// geometry pass marks them as it rasterises (passes/visibility_buffer.frag, MARK_TILES, and the
-// lists' selection), so the next peeled layer rasterises their bounding box only and the attribute
-// pass shades the covered tiles only (llvmpipe bins and shades every pixel it is given, covered or
-// not). A flag per tile, layer-major, rows of tiles (the covered tiles' layout, lib/covered_tiles.glsl).
+// Which 8x8 tiles of each layer after the first of the visibility buffer hold a sample, on the CPU
+// device (Renderer.visibility_tiles): its geometry pass marks them as it rasterises
+// (passes/visibility_buffer.frag, MARK_TILES, and the lists' selection), so the next peeled layer
+// rasterises their bounding box only and the attribute pass classifies the covered tiles only
+// (llvmpipe bins and shades every pixel it is given, covered or not). A flag per tile, layer-major,
+// rows of tiles (the covered tiles' layout, lib/covered_tiles.glsl).
 // Needs frame_uniforms.
 #define VISIBILITY_TILE_SIZE 8
 

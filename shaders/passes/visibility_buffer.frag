@@ -12,9 +12,10 @@
 //     (lib/visibility_lists.glsl); passes/visibility_select.comp keeps the nearest layers.
 //   ALPHA_TEST 1: an alpha-tested material's holes are discarded, with the very test and texture
 //     sample of peeling's depth pass, so both keep the same surfaces.
-//   MARK_TILES 1 (the CPU device): every fragment kept marks its 8x8 tile of layer u_layer in
-//     lib/visibility_tiles.glsl (a plain store of the same value): the next layer rasterises the
-//     covered tiles' bounding box only and the attribute pass shades the covered tiles only.
+//   MARK_TILES 1 (Renderer.visibility_tiles, the layers after the first): every fragment kept marks
+//     its 8x8 tile of layer u_layer in lib/visibility_tiles.glsl (a plain store of the same value):
+//     the next layer rasterises the covered tiles' bounding box only and the attribute pass
+//     classifies the covered tiles only.
 #ifndef VISIBILITY_APPEND
 #define VISIBILITY_APPEND 0
 #endif
