@@ -53,7 +53,7 @@ BENCHMARKS = {
     "occlusion": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--reference-rays", "16"]),
     "metric_cost": ([], ["--repeats", "1"]),
     "raster_floor": ([], ["--width", "160", "--height", "90", "--repeats", "3"]),
-    "deep_gbuffer": (["--repeats", "5"], ["--width", "160", "--height", "90", "--repeats", "3", "--layers", "1", "8"]),
+    "deep_gbuffer": ([], ["--width", "160", "--height", "90", "--repeats", "3", "--layers", "1", "8"]),
     "min_separation": ([], ["--width", "96", "--height", "54", "--frames", "2", "--reference-rays", "8"]),
     "input_fetch": (["--width", "640", "--height", "360"], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
     "layers_vs_rays": ([], ["--width", "96", "--height", "54", "--repeats", "3", "--reference-rays", "8"]),
