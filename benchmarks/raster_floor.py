@@ -20,9 +20,9 @@ shared machine falls on all of them alike. The floors:
                  the colour targets (the passes' clear_layers.comp) and of an R32UI target,
                  glClearTexImage of the R32UI target, the appends' per-pixel buffers cleared
 
-Beside each: its rate (fragments a second for the draws, bytes a second for full-frame writes),
-and the floors of one layer built each way. construction_floor() below is what
-benchmarks/deep_gbuffer.py compares each construction with.
+Beside each: its rate (fragments and triangles a second for the draws, bytes a second for
+full-frame writes), and the floors of one layer built each way. construction_floor() below is
+what benchmarks/deep_gbuffer.py compares each construction with.
 """
 
 from __future__ import annotations
@@ -101,19 +101,20 @@ def main() -> None:
               f"({c['fragments'] / pixels:.2f} a pixel, {c['max_fragments_per_pixel']} the deepest pixel), "
               f"{c['pixels_depth']} of {pixels} pixels covered, {c['samples_depth']} samples passed the depth "
               f"test (draws in the scene's order)")
-        print(f"  {'floor':<21} {'ms':>8} {'[min - max]':>19}  {'rate':>14}  what")
+        print(f"  {'floor':<21} {'ms':>8} {'[min - max]':>19}  {'rate':>29}  what")
         for key, what, bytes_per_pixel in FLOORS:
             if key not in f.ms:
-                print(f"  {key:<21} {'-':>8} {'':>19}  {'':>14}  {what}: not measured (beyond the device's "
+                print(f"  {key:<21} {'-':>8} {'':>19}  {'':>29}  {what}: not measured (beyond the device's "
                       f"largest storage block)")
                 continue
             ms = f.ms[key]
             med = statistics.median(ms)
             if bytes_per_pixel is None:
-                rate = f"{c['fragments'] / med / 1e3:>7.1f} Mfrag/s"  # every fragment the raster makes
+                # every fragment the raster makes, every triangle the vertex stage takes
+                rate = f"{c['fragments'] / med / 1e3:>7.1f} Mfrag/s, {c['triangles'] / med / 1e3:>6.2f} Mtri/s"
             else:
                 rate = f"{bytes_per_pixel * pixels / med / 1e6:>9.2f} GB/s"  # bytes / (ms / 1e3) / 1e9
-            print(f"  {key:<21} {med:>8.3f} [{min(ms):>7.3f} - {max(ms):>7.3f}]  {rate:>14}  {what}")
+            print(f"  {key:<21} {med:>8.3f} [{min(ms):>7.3f} - {max(ms):>7.3f}]  {rate:>29}  {what}")
         medians = {k: f.median(k) for k in f.ms}
         print("  one layer at the floor, each construction's way (benchmarks/deep_gbuffer.py compares with these):")
         for method in CONSTRUCTION_FLOORS:

@@ -52,7 +52,7 @@ BENCHMARKS = {
     "trace_parts": ([], ["--width", "96", "--height", "64", "--repeats", "2"]),
     "occlusion": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--reference-rays", "16"]),
     "metric_cost": ([], ["--repeats", "1"]),
-    "raster_floor": ([], ["--width", "160", "--height", "90", "--repeats", "3"]),
+    "raster_floor": (["--scenes", "hall", "spheres_and_boxes", "box_stack", "2CylinderEngine"], ["--width", "160", "--height", "90", "--repeats", "3"]),
     "deep_gbuffer": ([], ["--width", "160", "--height", "90", "--repeats", "3", "--layers", "1", "8"]),
     "min_separation": ([], ["--width", "96", "--height", "54", "--frames", "2", "--reference-rays", "8"]),
     "input_fetch": (["--width", "640", "--height", "360"], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
