@@ -5,10 +5,14 @@ the constructions' own counts of the same scene (a peeled layer's samples, the o
 fragments), which are counted by other code."""
 
 import math
+import re
+import subprocess
+import sys
 
 import pytest
 
 import ssrlab
+from conftest import REPO
 
 FLOORS = {"depth", "gbuffer", "id", "append", "append_list", "stores", "clear.depth", "clear.gbuffer",
           "clear.id_texture", "clear.id_compute", "clear.counters", "clear.heads", "clear.compute_colour"}
@@ -84,3 +88,46 @@ def test_bad_settings_are_refused(renderer, hall):
         renderer.raster_floor(hall, settings={"width": 64})
     with pytest.raises(ValueError, match="width"):
         renderer.raster_floor(hall, width=0, height=64, repeats=1)
+
+
+def run_benchmark(name: str, *args: str) -> str:
+    """A benchmark script's standard output, run as the script it is, on the device at hand."""
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *args], capture_output=True,
+                       text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-3000:]
+    return r.stdout
+
+
+def test_raster_floor_script_prints_every_floor_and_each_constructions_layer():
+    text = run_benchmark("raster_floor", "--width", "64", "--height", "36", "--repeats", "3")
+    for floor in FLOORS:
+        assert re.search(rf"^  {re.escape(floor)} +[0-9.]+ \[", text, re.M), floor
+    for method in ("peel", "lists", "visibility", "visibility_lists"):
+        assert re.search(rf"^    {method} +[0-9.]+ ms = ", text, re.M), method
+
+
+def test_deep_gbuffer_script_sets_each_construction_beside_its_floor_and_judges_the_goals():
+    text = run_benchmark("deep_gbuffer", "--width", "64", "--height", "36", "--repeats", "3", "--layers", "1", "8",
+                         "--scenes", "hall")
+    rows = re.findall(r"^  (peel|lists|visibility|visibility_lists) +(1|8) +\d+ +([0-9.]+) \[.*?\] +([0-9.]+) +"
+                      r"([0-9.]+) +([0-9.]+)", text, re.M)
+    assert {(m, l) for m, l, *_ in rows} == {(m, l) for m in ("peel", "lists", "visibility", "visibility_lists")
+                                             for l in ("1", "8")}
+    for _, _, ms, _, floor_ms, x_floor in rows:
+        assert float(ms) > 0 and float(floor_ms) > 0 and float(x_floor) > 0
+    # hall's goals: 8 layers against one peeled layer, one visibility layer against peeling's, each
+    # with a verdict (the size is not the goals', so the script says the verdicts are this run's).
+    assert "this run: " in text
+    verdicts = re.findall(r"^    (peel|lists|visibility|visibility_lists) +[0-9.]+x \[[0-9.]+-[0-9.]+\]: (.+)$",
+                          text, re.M)
+    assert len(verdicts) == 4 + 2
+    assert all(v in ("met", "not met") or v.startswith("undecided") for _, v in verdicts), verdicts
+
+
+def test_layers_vs_rays_script_judges_the_fastest_construction():
+    text = run_benchmark("layers_vs_rays", "--width", "64", "--height", "36", "--repeats", "3", "--reference-rays",
+                         "4", "--scenes", "box_stack", "--deep-gbuffer", "visibility", "--device", "auto")
+    assert re.search(r"^  layers \(visibility\) +2 layers +visibility ", text, re.M)
+    fastest = re.findall(r"^  layers \(fastest\) +(\d) layers +(peel|visibility) ", text, re.M)
+    assert [n for n, _ in fastest] == ["2", "3", "4"] * (2 if "by cpu time" in text else 1)
+    assert "layers by the fastest construction: " in text and "layers by peeling: " in text
