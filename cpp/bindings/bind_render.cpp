@@ -374,6 +374,11 @@ void bind_render(py::module_& m) {
              "Device peak kernels for the roofline (shaders/tools/microbench.comp): 'coherent', 'dependent',\n"
              "'dependent_image', 'store', 'bandwidth', 'copy' or 'copy_image' over a width x height grid, `iterations` operations per texel,\n"
              "run once untimed then `repeats` times; returns each repeat's GPU milliseconds.")
+        .def("raster_floor", &Renderer::raster_floor, py::arg("scene"), py::arg("camera"), py::arg("settings"),
+             py::arg("repeats") = 7,
+             "The device's floors under the deep G-buffer on the scene's own triangles (shaders/tools/raster_floor.*):\n"
+             "{floor: GPU ms of each repeat} after one untimed run, and 'count.*' keys of one value each\n"
+             "(see ssrlab.Renderer.raster_floor).")
         .def(
             "compile",
             [](Renderer& r, const std::vector<std::string>& stages, const std::map<std::string, std::string>& defines) {

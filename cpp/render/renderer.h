@@ -140,6 +140,20 @@ public:
     // `repeats` times, each timed alone on the GPU; returns the milliseconds of each repeat.
     std::vector<double> microbenchmark(const std::string& kernel, int width, int height, int iterations, int repeats);
 
+    // The device's floors under the deep G-buffer's constructions (shaders/tools/raster_floor.*):
+    // `scene`'s own triangles seen by `camera` at settings.width x height (its depth mode and
+    // culling), through the G-buffer's vertex shader, drawn depth only ("depth"), into the
+    // G-buffer's targets through the raster outputs ("gbuffer"), into depth and an R32UI triangle id
+    // ("id"), appended 8 bytes a fragment to per-pixel arrays ("append") and linked lists
+    // ("append_list"); compute image stores of one layer's bytes ("stores"); and the clears
+    // ("clear.depth", "clear.gbuffer", "clear.id_texture", "clear.id_compute", "clear.counters",
+    // "clear.heads", "clear.compute_colour"). Each floor once untimed, then `repeats` times each in
+    // turn, each timed alone on the GPU: the milliseconds of every repeat. Keys "count.*" hold one
+    // value each, counted untimed: the fragments rasterised (occlusion query and per-pixel
+    // counters), the samples and covered pixels of the depth and id draws, the deepest pixel.
+    std::map<std::string, std::vector<double>> raster_floor(const Scene& scene, const Camera& camera,
+                                                            const RenderSettings& settings, int repeats);
+
     // The split-sum table (A, B) of the GGX directional albedo (shaders/lib/specular_albedo.glsl),
     // integrated once per renderer: (size, size, 2) floats, rows roughness, columns n.v.
     Readback specular_albedo_table();

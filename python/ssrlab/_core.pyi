@@ -839,6 +839,12 @@ class Renderer:
         'dependent_image', 'store', 'bandwidth', 'copy' or 'copy_image' over a width x height grid, `iterations` operations per texel,
         run once untimed then `repeats` times; returns each repeat's GPU milliseconds.
         """
+    def raster_floor(self, scene: Scene, camera: Camera, settings: RenderSettings, repeats: typing.SupportsInt | typing.SupportsIndex = 7) -> dict[str, list[float]]:
+        """
+        The device's floors under the deep G-buffer on the scene's own triangles (shaders/tools/raster_floor.*):
+        {floor: GPU ms of each repeat} after one untimed run, and 'count.*' keys of one value each
+        (see ssrlab.Renderer.raster_floor).
+        """
     def recycle(self, force: bool = True) -> None:
         """
         Frees idle texture sets beyond the pool and returns freed heap memory to the OS.

@@ -443,6 +443,58 @@ class Renderer:
         'store' and 'bandwidth')."""
         return list(self._native.microbenchmark(kernel, int(width), int(height), int(iterations), int(repeats)))
 
+    def raster_floor(self, scene: _core.Scene, camera: _core.Camera | None = None, settings: Settings | None = None,
+                     *, repeats: int = 7, **overrides) -> "RasterFloor":
+        """The device's floors under the deep G-buffer's constructions, on `scene`'s own triangles
+        seen by `camera` (default: the scene's) at the settings' size, depth mode and culling
+        (``overrides`` change single settings: ``raster_floor(scene, width=1920, height=1080)``):
+        the scene drawn with its own vertex and index buffers through the G-buffer's vertex shader
+        (passes/depth_peel.vert) by fragment stages that only write (shaders/tools/raster_floor.*).
+        Every floor runs once untimed (compilation, first use), then `repeats` times, each in turn
+        (interleaved) and each timed alone by GPU timer queries. Floors (RasterFloor.ms):
+
+        - ``depth``: a depth-only draw (what each layer's depth pass of peeling does at least);
+        - ``gbuffer``: depth and constants into the G-buffer's three colour targets (sRGB RGBA8,
+          RGBA16F, RGBA8) through the raster outputs, one layer the way peeling writes it;
+        - ``id``: depth and a 32-bit triangle id (R32UI), one layer of a visibility buffer;
+        - ``append``: every fragment's 8 bytes (depth, id) into per-pixel arrays at offsets from an
+          untimed count, without a depth test (one atomic and one store a fragment);
+          ``append_list``: the same into linked lists (global slot counter, link, head exchange:
+          12 bytes a fragment, the structure deep_gbuffer 'visibility_lists' builds); both left
+          out where the fragments exceed the device's largest storage block;
+        - ``stores``: compute image stores of one layer's bytes (R32F, RGBA8, RGBA16F, RGBA8) over
+          the frame;
+        - clears: ``clear.depth`` and ``clear.gbuffer`` (framebuffer clears of the depth, of the
+          depth and the three colour targets), ``clear.compute_colour`` (the three colour targets
+          by the passes' compute clear, passes/clear_layers.comp), ``clear.id_texture``
+          (glClearTexImage) and ``clear.id_compute`` (image stores) of the R32UI id target,
+          ``clear.counters`` and ``clear.heads`` (the appends' per-pixel buffers).
+
+        RasterFloor.counts, counted untimed: ``fragments`` (every fragment the raster produces,
+        summed from per-pixel counters), ``fragments_rasterised`` (the same by an occlusion query
+        without depth test), ``fragments_appended`` and ``fragments_listed`` (what the last
+        append and list stored), ``samples_depth`` and ``samples_id`` (the depth-tested draws'
+        occlusion queries), ``pixels_depth`` (pixels whose depth the depth draw wrote),
+        ``pixels_id`` (pixels the id draw gave an id), ``pixels_with_fragments``,
+        ``max_fragments_per_pixel`` and ``triangles``. Materials' alpha holes are not cut: the
+        floors are the raster's work, not the material's."""
+        settings = settings if settings is not None else Settings()
+        if not isinstance(settings, Settings):
+            raise TypeError(f"raster_floor: settings must be an ssrlab.Settings, got {type(settings).__name__}")
+        if overrides:
+            settings = settings.replace(**overrides)
+        if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= 1000:
+            raise ValueError(f"raster_floor: repeats must be an int in [1, 1000], got {repeats!r}")
+        if camera is None:
+            camera = scene.camera
+            if camera is None:
+                raise ValueError("raster_floor: the scene has no default camera; pass camera=ssrlab.Camera(...)")
+        s = settings.resolved(self.info["device"])
+        out = self._native.raster_floor(scene, camera, s.to_native(), int(repeats))
+        return RasterFloor(width=s.width, height=s.height,
+                           ms={k: list(v) for k, v in out.items() if not k.startswith("count.")},
+                           counts={k[len("count."):]: int(v[0]) for k, v in out.items() if k.startswith("count.")})
+
     def compile(self, *stages: str, defines: dict | None = None) -> int:
         """Compiles shader stages (paths under the shader folder); raises ShaderError."""
         return self._native.compile(list(stages), {k: str(v) for k, v in (defines or {}).items()})
@@ -468,6 +520,23 @@ class ChainPass:
     scratch: tuple[str, ...] = ()
     buffer_inputs: tuple[str, ...] = ()
     buffer_outputs: tuple[str, ...] = ()
+
+
+@dataclasses.dataclass(frozen=True)
+class RasterFloor:
+    """What Renderer.raster_floor measured: `ms` the GPU milliseconds of every repeat of each
+    floor, `counts` what it counted (see Renderer.raster_floor), at width x height."""
+
+    width: int
+    height: int
+    ms: dict[str, list[float]]
+    counts: dict[str, int]
+
+    def median(self, name: str) -> float:
+        """The median milliseconds of floor `name` (KeyError naming the floors measured)."""
+        if name not in self.ms:
+            raise KeyError(f"RasterFloor: no floor {name!r}; measured: {sorted(self.ms)}")
+        return float(np.median(self.ms[name]))
 
 
 class Chain(list):
