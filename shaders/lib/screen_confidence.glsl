@@ -18,7 +18,10 @@
 // in passes/trace_linear.comp and lib/hiz_walk.glsl); at the hit, the G-buffer can still check
 // that the ray meets the surface the hit pixel shows:
 //   1. the face is in front of the ray (its plane's normal against the ray's direction): a ray
-//      cannot meet the back of a face, so a back-facing "hit" passed behind or along it;
+//      cannot meet the back of a face, so a back-facing "hit" passed behind or along it; nor
+//      may the ray graze it (cosine below CONFIDENCE_GRAZING): there a tenth of a footprint of
+//      depth moves the crossing by ten footprints, and the G-buffer cannot tell a graze from a
+//      near miss (a ray skimming a sphere's top into the sky);
 //   2. the ray crosses that face there, in pixels and in depth: the ray is intersected with the
 //      face's plane at the hit pixel; where the crossing projects into another pixel, with that
 //      pixel's plane, and so on (CONFIDENCE_ITERATIONS), until a crossing lies inside the pixel
@@ -40,6 +43,7 @@ const float CONFIDENCE_PIXELS = 2.0;
 const float CONFIDENCE_DEPTH = 1.0;  // pixel footprints between the crossing and the pixel's depth
 const float CONFIDENCE_CREASE = 0.9;  // cosine between the hit's normal and a neighbour's
 const int CONFIDENCE_ITERATIONS = 3;
+const float CONFIDENCE_GRAZING = 0.1;  // least cosine between the ray and the face's normal
 
 struct ScreenSurface {
     GSample g;     // the pixel's sample (shading normal in g.normal)
@@ -95,11 +99,12 @@ ScreenSurface screen_surface(ivec2 p, int layer) {
     return s;
 }
 
-// Where the ray origin + t dir (view space) crosses the face's plane; false where it runs
-// along or away from the face, or crosses behind its origin or the camera.
+// Where the ray origin + t dir (view space) crosses the face's plane; false where it runs away
+// from the face or grazes it (within CONFIDENCE_GRAZING), or crosses behind its origin or the
+// camera.
 bool face_crossing(ScreenSurface s, vec3 origin, vec3 dir, out vec3 x) {
     float facing = dot(dir, s.face);
-    float t = facing < 0.0 ? dot(s.point - origin, s.face) / facing : -1.0;
+    float t = facing < -CONFIDENCE_GRAZING ? dot(s.point - origin, s.face) / facing : -1.0;
     x = origin + t * dir;
     return t > 0.0 && x.z < 0.0;
 }
