@@ -12,6 +12,27 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ssrlab.lab.timing import median_timings  # noqa: E402,F401  (the scripts' timing protocol)
 
 
+# SSR alone, the hybrid and pure BVH, each with the BVH passes' default traced shadows and with the
+# frame's shadow map (bvh_shadows="map"): the frames benchmarks/hybrid.py and mitsuba_crosscheck.py score.
+HYBRID_FRAMES = {
+    "SSR only": dict(),
+    "SSR + BVH fallback": dict(fallback="bvh"),
+    "SSR + BVH fallback, bvh_shadows='map'": dict(fallback="bvh", bvh_shadows="map"),
+    "pure BVH": dict(method="bvh"),
+    "pure BVH, bvh_shadows='map'": dict(method="bvh", bvh_shadows="map"),
+}
+
+
+def frame_ms(renderer, scene, settings, repeats: int) -> tuple[float, float, float]:
+    """The frame's GPU ms, (median, min, max) of `repeats` renders after 2 warm-ups (compilation,
+    uploads and first builds are never timed)."""
+    from ssrlab.lab.timing import median_range
+
+    for _ in range(2):
+        renderer.render(scene, settings=settings)
+    return median_range(renderer.render(scene, settings=settings).timings["total"] for _ in range(repeats))
+
+
 def device_header(renderer) -> str:
     i = renderer.info
     return f"device: {i['renderer']} ({i['device']}), {i['vendor']}, OpenGL {i['gl_version']}"

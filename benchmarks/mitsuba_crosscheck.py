@@ -9,10 +9,16 @@ ssrlab's converged reference against Mitsuba's path tracer, for:
 * a tinted Schlick mirror (F0 = copper-like base colour, composite 'pbr');
 * glossy floors (roughness 0.2 and 0.3, composite 'pbr'): two Mitsuba renders and two ssrlab
   references with different seeds split the difference into Monte-Carlo noise and bias, and
-  the mean floor radiance ratio ssrlab / Mitsuba shows any brightness bias (± its standard error).
+  the mean floor radiance ratio ssrlab / Mitsuba shows any brightness bias (± its standard error);
+* the frames themselves on the mirror floor at each of --frame-sizes (default settings): SSR
+  alone, SSR + the BVH fallback (fallback="bvh": traced shadows by default, and
+  bvh_shadows="map") and pure BVH (method="bvh", both shadows), each frame's image against
+  Mitsuba and against ssrlab's converged physical reference (shadows="traced", viewer="ray"),
+  with the frame's GPU time (median [min, max] of --repeats renders after 2 warm-ups).
 
     python benchmarks/mitsuba_crosscheck.py                 # 640x360, about 15 minutes on llvmpipe
     python benchmarks/mitsuba_crosscheck.py --width 160 --height 90 --spp 64
+    python benchmarks/mitsuba_crosscheck.py --only-frames --frame-sizes 320x180,640x360
 """
 
 from __future__ import annotations
@@ -21,7 +27,7 @@ import time
 
 import numpy as np
 
-from common import benchmark_arguments, open_renderer
+from common import HYBRID_FRAMES, benchmark_arguments, frame_ms, open_renderer
 
 import ssrlab
 from ssrlab import crosscheck as cc
@@ -34,14 +40,60 @@ def mse(a, b, m):
     return float(np.mean((a[m] - b[m]) ** 2))
 
 
+# Goals at default settings (dB on interior floor pixels) and against what: SSR + BVH fallback
+# against both Mitsuba and the physical reference, pure BVH against Mitsuba.
+FRAME_GOALS = {"SSR + BVH fallback": (40.0, True), "pure BVH": (45.0, False)}
+
+
+def frames_table(renderer, sizes, repeats: int) -> None:
+    """Each frame's image on the mirror floor against Mitsuba and the converged physical reference."""
+    scene = cc.crosscheck_scene(0.0)
+    verdicts = []
+    for W, H in sizes:
+        ms = cc.mitsuba_scene(scene, width=W, height=H)
+        mit = cc.render_mitsuba(ms, spp=1)
+        base = ssrlab.Settings(width=W, height=H)
+        frame, truth = cc.ssrlab_reference(renderer, scene, base)
+        physical = truth.color.copy()
+        raw, inner = cc.floor_pixels(frame, interior=False), cc.floor_pixels(frame)
+        smooth = inner & ~cc.reflected_silhouettes(ms)
+        print(f"\nframes on the mirror floor, {W}x{H} (default settings, traced shadows in the BVH passes, but for "
+              f"the row's): final image's PSNR "
+              f"against Mitsuba (all floor pixels, interior, smooth) and against ssrlab's converged physical "
+              f"reference (interior); frame GPU ms, median [min, max] of {repeats} after 2 warm-ups")
+        print(f"{'frame':40s} {'Mitsuba':>9s} {'interior':>9s} {'smooth':>9s} {'physical':>9s} {'frame ms':>24s}")
+        for name, kw in HYBRID_FRAMES.items():
+            st = base.replace(**kw)
+            c = renderer.render(scene, settings=st).color.copy()
+            t = frame_ms(renderer, scene, st, repeats)
+            row = [cc.floor_psnr(c, mit, raw), cc.floor_psnr(c, mit, inner), cc.floor_psnr(c, mit, smooth),
+                   cc.floor_psnr(c, physical, inner)]
+            print(f"{name:40s} " + " ".join(f"{v:6.2f} dB" for v in row) + f" {t[0]:9.1f} [{t[1]:.1f}, {t[2]:.1f}]")
+            if name in FRAME_GOALS:
+                goal, also_physical = FRAME_GOALS[name]
+                value = min(row[1], row[3]) if also_physical else row[1]
+                target = "Mitsuba and the physical reference" if also_physical else "Mitsuba"
+                verdicts.append(f"{name} {W}x{H}: {value:.2f} dB against {target} (interior floor pixels); "
+                                f"goal >= {goal:.0f} dB: {'met' if value >= goal else 'NOT met'}")
+    print("\n" + "\n".join(verdicts))
+
+
 def main() -> None:
     ap = benchmark_arguments(__doc__)
     ap.add_argument("--spp", type=int, default=256, help="samples per pixel on glossy floors (both renderers)")
     ap.add_argument("--roughness", type=float, nargs="+", default=[0.2, 0.3])
+    ap.add_argument("--frame-sizes", default="320x180,640x360",
+                    help="comma-separated WxH list of the frames' table (empty: none)")
+    ap.add_argument("--only-frames", action="store_true", help="print the frames' table only")
+    ap.add_argument("--repeats", type=int, default=5, help="timed renders per frame of the frames' table")
     args = ap.parse_args()
     renderer = open_renderer(args)
     cc.load_mitsuba()
     print(cc.mitsuba_version())
+    sizes = [tuple(int(x) for x in s.lower().split("x")) for s in args.frame_sizes.split(",") if s]
+    if args.only_frames:
+        frames_table(renderer, sizes, args.repeats)
+        return
     W, H = args.width, args.height
     base = ssrlab.Settings(width=W, height=H)
     exact, exact_kw, used = cc.exact_options(base)
@@ -125,6 +177,10 @@ def main() -> None:
             print(f"{name:44s} {cc.floor_psnr(a, m1, inner):6.2f}dB {cc.floor_psnr(m1, m2, inner):6.2f}dB "
                   f"{cc.floor_psnr(a, b, inner):6.2f}dB {ns['ratio']:9.3f} {bias_db:7.1f}dB "
                   f"{ratio:14.4f} ± {err:.4f}")
+
+    # -- the frames: SSR, the hybrid and pure BVH -----------------------------------------------
+    if sizes:
+        frames_table(renderer, sizes, args.repeats)
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import ssrlab
+from ssrlab.crosscheck import crosscheck_scene
 from ssrlab.metrics import psnr
 from conftest import assert_finite, small
 
@@ -26,8 +27,8 @@ def test_bvh_method_equals_the_per_ray_reference(renderer, scene_name, kw):
     traced, rad = _traced(f)
     assert traced.sum() > 100
     assert (rad[..., 3][traced] >= 0).sum() > 50  # some rays hit triangles
-    # The pass shades the physical reflection: the ray's origin views the hit, the shadow map shadows it.
-    ref = f.reference("per_ray", viewer="ray", shadows="map")
+    # The pass shades the physical reflection: the ray's origin views the hit, a traced ray shadows it.
+    ref = f.reference("per_ray", viewer="ray", shadows="traced")
     assert np.abs(ref.radiance[traced] - rad[..., :3][traced]).max() <= 1e-5
     # Where the BVH hit, the reference hit at the same distance.
     hit = traced & (rad[..., 3] >= 0)
@@ -44,7 +45,7 @@ def test_bvh_rays_leave_the_exact_surface_point_whatever_the_origin_bias(rendere
     st = small(width=160, height=120, method="bvh")
     f = renderer.render(scene, settings=st)
     floor = f.gbuffer.object_id[0] == 0
-    truth = f.reference("converged", rays=1, viewer="ray", shadows="map").reflection[..., :3]
+    truth = f.reference("converged", rays=1, viewer="ray", shadows="traced").reflection[..., :3]
     assert psnr(f.reflection[..., :3], truth, mask=floor) > 40.0
     g = renderer.render(scene, settings=st.replace(origin_bias=0.05))
     np.testing.assert_array_equal(g.read("rays.radiance"), f.read("rays.radiance"))
@@ -61,7 +62,7 @@ def test_fallback_bvh_beats_screen_space_alone_on_the_mirror_floor(renderer):
     st = small(width=128, height=96, origin_bias=0.0005)
     f = renderer.render(scene, settings=st)
     floor = f.gbuffer.object_id[0] == 0
-    truth = f.reference("converged", rays=1, viewer="ray", shadows="map").reflection[..., :3]
+    truth = f.reference("converged", rays=1, viewer="ray", shadows="traced").reflection[..., :3]
     score = {}
     stats = {}
     for name, kw in {"none": dict(fallback="none"), "environment": dict(fallback="environment"),
@@ -82,10 +83,11 @@ def test_fallback_bvh_beats_screen_space_alone_on_the_mirror_floor(renderer):
     assert stats["none"]["none"] == pytest.approx(stats["environment"]["environment"])
     assert stats["bvh_fallback"]["bvh"] > 0.01  # most unresolved rays leave into the sky
     assert stats["bvh_fallback"]["bvh"] + stats["bvh_fallback"]["environment"] == pytest.approx(
-        stats["environment"]["environment"] + stats["bvh_fallback"]["rejected"])
-    # Screen space resolved the same rays; the confidence test sent some of its hits to the BVH.
-    assert stats["bvh_fallback"]["screen"] + stats["bvh_fallback"]["rejected"] == pytest.approx(
-        stats["environment"]["screen"])
+        1.0 - stats["bvh_fallback"]["screen"])
+    # The hybrid keeps a subset of screen space's own hits: each one it does not keep it sent to
+    # the BVH (a ray that left the G-buffer's sight, or a hit the confidence test doubted).
+    assert 0.0 < stats["bvh_fallback"]["screen"] <= stats["environment"]["screen"]
+    assert stats["environment"]["screen"] - stats["bvh_fallback"]["screen"] <= stats["bvh_fallback"]["rejected"] + 1e-9
     assert stats["bvh_fallback"]["rejected"] > 0.0
     assert stats["bvh"]["screen"] == 0.0 and stats["bvh"]["bvh"] > 0.5
 
@@ -119,3 +121,69 @@ def test_hybrid_settings_are_validated():
     with pytest.raises(ValueError, match="temporal_ray_reuse"):
         ssrlab.Settings(method="bvh", temporal_ray_reuse=True)
     assert ssrlab.Settings().fallback == "environment"
+
+
+HYBRID_VIEWS = {"crosscheck": lambda: crosscheck_scene(0.0), "hall": lambda: ssrlab.scenes.hall(floor_roughness=0.0)}
+
+
+def _kept_hits(frame):
+    """The screen-space hits the BVH fallback kept (full strength: a faded hit is retraced), their
+    G-buffer object and the per-ray reference (its own BVH trace of the same rays, from the
+    exact surface points) of the frame."""
+    rays, g, s = frame.rays, frame.gbuffer, frame.settings
+    kept = rays.hit & (rays.fade >= 1.0) & (rays.weight > 0)
+    px = np.floor(rays.hit_pixel[kept]).astype(np.int64)
+    layer = np.clip(rays.hit_layer[kept] - 1, 0, g.layers - 1)
+    objects = g.object_id[layer, np.clip(px[:, 1], 0, s.height - 1), np.clip(px[:, 0], 0, s.width - 1)]
+    return kept, objects, frame.reference("per_ray")
+
+
+@pytest.mark.parametrize("view", sorted(HYBRID_VIEWS))
+def test_kept_screen_hits_are_the_object_the_ray_meets(renderer, view):
+    # The hybrid keeps a screen-space hit only where the ray meets the surface the hit pixel shows:
+    # no kept hit lies on another object than the one the per-ray reference's BVH trace meets.
+    # Without the test (fallback_confidence=False) the same rays keep hits on other objects (the
+    # wall behind a sphere whose hidden underside the ray meets; an edge no sample shows).
+    scene = HYBRID_VIEWS[view]()
+    st = ssrlab.Settings(width=320, height=180, fallback="bvh")
+    f = renderer.render(scene, settings=st)
+    kept, objects, truth = _kept_hits(f)
+    visible = (f.rays.weight > 0) & (truth.in_gbuffer >= 0)
+    assert kept.sum() > 0.6 * visible.sum()  # most of what screen space can see stays on screen
+    assert np.count_nonzero(objects != truth.object[kept]) == 0
+    # Kept hits are shaded as the reference shades the true hit: the same point, normal, shadow.
+    rad = f.read("rays.radiance")[..., :3][kept]
+    err = np.abs(rad - truth.radiance[kept]).max(axis=-1)
+    assert np.percentile(err, 99) < 0.005 and err.max() < 0.05, (np.percentile(err, 99), err.max())
+    g = renderer.render(scene, settings=st.replace(fallback_confidence=False))
+    kept_g, objects_g, truth_g = _kept_hits(g)
+    assert np.count_nonzero(objects_g != truth_g.object[kept_g]) > 0
+
+
+@pytest.mark.parametrize("size", [(160, 90), (320, 180)])
+def test_hybrid_is_physical_on_the_cross_check_mirror_floor(renderer, size):
+    # Default settings (traced shadows in the BVH passes): SSR + the BVH fallback against the
+    # converged physical reference on the floor's pixels, where screen space alone is far off.
+    scene = crosscheck_scene(0.0)
+    st = ssrlab.Settings(width=size[0], height=size[1])
+    f = renderer.render(scene, settings=st)
+    floor = f.gbuffer.object_id[0] == 0
+    truth = f.reference("converged", rays=1).reflection.copy()
+    ssr_only = psnr(f.reflection, truth, mask=floor)
+    hybrid = psnr(renderer.render(scene, settings=st.replace(fallback="bvh")).reflection, truth, mask=floor)
+    assert hybrid >= 40.0 and ssr_only < 35.0, (hybrid, ssr_only)
+
+
+def test_bvh_passes_shade_with_traced_shadows_by_default(renderer):
+    assert ssrlab.Settings().bvh_shadows == "traced"
+    scene = ssrlab.scenes.hall(floor_roughness=0.0)
+    f = renderer.render(scene, settings=small(fallback="bvh"))
+    traced, rad = _traced(f)
+    ref = f.reference("per_ray", viewer="ray", shadows="traced")
+    assert np.abs(ref.radiance[traced] - rad[..., :3][traced]).max() <= 1e-5
+    # The shadow map's variant, one setting away, shades as the per-ray reference with the map.
+    m = renderer.render(scene, settings=small(fallback="bvh", bvh_shadows="map"))
+    traced_m, rad_m = _traced(m)
+    ref_m = m.reference("per_ray", viewer="ray", shadows="map")
+    assert np.abs(ref_m.radiance[traced_m] - rad_m[..., :3][traced_m]).max() <= 1e-5
+    assert np.abs(ref_m.radiance[traced_m] - ref.radiance[traced_m]).max() > 1e-3

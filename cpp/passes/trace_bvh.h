@@ -12,7 +12,9 @@
 //     sizes an indirect dispatch over the list only.
 //     inputs : the above + rays.hit, rays.sample, rays.direction
 //     outputs: rays.radiance; with fallback_confidence, rays.hit rewritten: a screen-space hit
-//              failing the confidence test becomes a miss marked (0, 0, 0, -1)
+//              failing the confidence test becomes a miss marked (0, 0, 0, -1) (as the tracer
+//              marks a ray it handed over when it left the G-buffer's sight), a kept one moves to
+//              the pixel where the ray crosses its face (shaders/lib/screen_confidence.glsl)
 // rays.radiance (RGBA32F, trace resolution, one layer per ray): rgb the ray's BVH radiance,
 // a its hit distance (-1: the BVH found nothing, the environment's radiance; -2: not traced).
 #pragma once

@@ -17,6 +17,10 @@ void TracePass::run(FrameContext& ctx, const std::string& stage, const std::func
     // A variant for one layer in use (the layer walk without its loop; at most two
     // variants, so layers_used changing between frames recompiles nothing more than once).
     d["TRACE_ONE_LAYER"] = ctx.layers_in_use() == 1 ? "1" : "0";
+    // The hybrid that keeps only the hits it can vouch for (fallback "bvh" with its confidence
+    // test): the march ends where the ray leaves the G-buffer's sight and the BVH retraces it
+    // (shaders/lib/screen_sight.glsl). Other fallbacks keep the tracer's own guess.
+    d["STOP_UNSEEN"] = ctx.settings.fallback == Fallback::Bvh && ctx.settings.fallback_confidence ? "1" : "0";
     // trace_hiz's level-0 steps before the traversal (seed 002 4.7.1), compiled in only when asked.
     d["HIZ_LINEAR_STEPS"] = ctx.settings.hiz_linear_steps > 0 ? "1" : "0";
     // The sampling method, noise and Hammersley switch compiled in (lib/ray_generation.glsl):

@@ -838,8 +838,9 @@ class Frame:
         (fallback 'probes': a reflection probe's surface), 'environment' (a ray nothing resolved
         that brings the environment) and 'none' (such a ray bringing nothing: fallback 'none');
         'rays' is the count of rays traced. Shares sum to 1 (all 0 when no ray was traced).
-        'rejected' (a part of 'bvh'/'probes' + 'environment'): screen-space hits that failed the
-        confidence test (fallback_confidence) and fell back."""
+        'rejected' (a part of 'bvh'/'probes' + 'environment'): rays fallback_confidence sent to the
+        fallback: rays the tracer handed over where they left the G-buffer's sight, and hits that
+        failed the confidence test."""
         self._check_live("the fallback statistics")
         if "rays.hit" not in self.texture_names:
             raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")

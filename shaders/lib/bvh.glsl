@@ -107,6 +107,12 @@ bool bvh_alpha_hole(BvhTriangle tri, float b1, float b2) {
 #else
 const int BVH_STACK = 64;
 
+// Hits on object bvh_skip_object nearer than bvh_skip_t are no hits (-1: none skipped): a ray
+// leaving a point rebuilt from the G-buffer, which knows its own surface only to within its
+// pixel (passes/trace_bvh.comp's screen hits), does not meet that surface again there.
+int bvh_skip_object = -1;
+float bvh_skip_t = 0.0;
+
 TraceHit trace_closest(vec3 origin, vec3 dir, float t_min, float t_max) {
     TraceHit hit;
     hit.t = t_max;
@@ -130,7 +136,8 @@ TraceHit trace_closest(vec3 origin, vec3 dir, float t_min, float t_max) {
                 BvhTriangle tri = bvh_triangles[i];
                 float t, b1, b2;
                 if (intersect_triangle(sr, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, t_min, hit.t, t, b1, b2) &&
-                    (floatBitsToInt(tri.v2.w) == 0 || !bvh_alpha_hole(tri, b1, b2))) {
+                    (floatBitsToInt(tri.v2.w) == 0 || !bvh_alpha_hole(tri, b1, b2)) &&
+                    (t >= bvh_skip_t || floatBitsToInt(tri.v0.w) != bvh_skip_object)) {
                     hit.t = t;
                     hit.triangle = i;
                     hit.b1 = b1;

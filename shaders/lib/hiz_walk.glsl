@@ -37,6 +37,7 @@
 #include "../lib/hiz_cells.glsl"
 #include "../lib/hiz_atlas.glsl"
 #include "../lib/input_fetch.glsl"
+#include "../lib/screen_sight.glsl"
 
 
 // Texture units 0-4; with FETCH_BY_IMAGE the float inputs are image units 3-5 (trace_pass.cpp).
@@ -64,6 +65,15 @@ int g_max_level, g_start_level, g_stop_level, g_max_steps, g_layers;
 #ifndef HIZ_LINEAR_STEPS
 #define HIZ_LINEAR_STEPS 1
 #endif
+// 1 when an exact fallback takes the rays screen space cannot vouch for (trace_pass.cpp): the
+// walk ends as a miss where the ray leaves the G-buffer's sight (lib/screen_sight.glsl): behind
+// every slab of a cell at any level; at level 0 also the edges between and beside samples
+// (one more fetch per level-0 step). With deep layers a coarse cell whose layers the segment
+// lies between is descended into, not skipped: only a pixel's own layers say whether the gap
+// is inside an object.
+#ifndef STOP_UNSEEN
+#define STOP_UNSEEN 0
+#endif
 
 // GL's mip size rule, max(1, size >> level). Computed rather than asked of textureSize():
 // llvmpipe answers textureSize with the lod of one lane when lanes ask for different levels.
@@ -83,25 +93,38 @@ vec2 hiz_fetch(ivec2 cell, int layer, int level) {
 // a min-only Hi-Z) is the atlas texel's second value. (Layer 0 tested before a loop over the
 // deeper layers that `return`s measured 1.4x slower on llvmpipe than the one loop; without any
 // loop, for one layer, 1.3x faster.)
-int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, inout float fetches) {
+// `stop`: the layer the walk over layers stopped at (the one overlapped, or the first the
+// segment lies in front of; g_layers when it lies behind every one), `ahead` that layer's min
+// (HIZ_EMPTY behind every one), for lib/screen_sight.glsl.
+int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, inout float fetches, out int stop,
+                 out float ahead) {
 #if TRACE_ONE_LAYER
     // One layer in use (the common case; trace_pass.cpp compiles this variant for it): the
     // test without a loop around it, 1.3x faster on llvmpipe than a loop of one iteration.
     vec2 mb = hiz_fetch(cell, 0, level);  // one fetch per step: the walk counts its steps
     front = mb.x;
+    bool behind = lo > mb.y && !(hi < mb.x);
+    stop = behind ? 1 : 0;
+    ahead = behind ? HIZ_EMPTY : mb.x;
     return hi < mb.x || lo > mb.y ? -1 : 0;
 #else
     front = 0.0;
     int found = -1;
+    stop = g_layers;
+    ahead = HIZ_EMPTY;
     for (int k = 0; k < g_layers; ++k) {
         vec2 mb = hiz_fetch(cell, k, level);
         fetches += 1.0;
+        stop = k;
+        ahead = mb.x;
         if (hi < mb.x) break;  // in front of this layer, so of every deeper one
         if (lo <= mb.y) {
             front = mb.x;
             found = k;
             break;
         }
+        stop = g_layers;
+        ahead = HIZ_EMPTY;
     }
     return found;
 #endif
@@ -118,6 +141,9 @@ struct HizWalk {
     int level, linear_left, layer, steps;
     bool walking;  // still walking
     bool valid;   // the segment was set up (a hit can be resolved)
+#if STOP_UNSEEN
+    Sight sight;
+#endif
 };
 
 HizWalk walk_start(ReflectionRay ray, bool traced) {
@@ -125,6 +151,9 @@ HizWalk walk_start(ReflectionRay ray, bool traced) {
     w.fetches = 0.0; w.walking = false; w.valid = false; w.layer = -1; w.steps = 0;
     w.t = 0.0; w.front = 0.0; w.level = 0; w.linear_left = 0;
     w.o = vec3(0.0); w.v = vec3(0.0); w.eps_t = 0.0; w.inv_v = vec2(0.0); w.ahead = ivec2(0);
+#if STOP_UNSEEN
+    w.sight = sight_start();
+#endif
     if (!traced) return w;
     float len = ray_length_in_front_of_near(ray.origin, ray.dir, ssr.max_distance);
     vec3 end = ray.origin + ray.dir * len;
@@ -172,6 +201,42 @@ void walk_cell(HizWalk w, out ivec2 cell, out float t_out, out float sa) {
     sa = w.o.z + w.v.z * w.t;
 }
 
+#if STOP_UNSEEN
+// lib/screen_sight.glsl's bookkeeping for one step over `cell` (segment depths [lo, hi], screen
+// depth s; the step ends at t_out): behind every slab at any level; at level 0 the sample, the
+// edges between consecutive level-0 samples and beside the ray. A step at a coarser level
+// breaks the chain of samples.
+void walk_sight(inout HizWalk w, ivec2 cell, float lo, float hi, float t_out, int stop, float ahead, int layer) {
+    bool inside = false;
+#if !TRACE_ONE_LAYER
+    if (w.level == 0 && layer < 0 && stop > 0 && stop < g_layers) {
+        // in the gap behind layer stop - 1: inside its object where it faces the camera
+        float s = hiz_fetch(cell, stop - 1, 0).x;
+        inside = dot(FETCH(u_normal, ivec3(cell, stop - 1)).xyz, -view_position(vec2(cell) + 0.5, view_depth_of_screen(s))) > 0.0;
+    }
+#endif
+    bool behind = layer < 0 && (stop == g_layers || inside);
+    if (w.level > 0) {
+        w.sight.lost = w.sight.lost || behind;
+        w.sight.prev_w = 0.0;
+        w.sight.smooth_ = false;
+        return;
+    }
+    // The pixel beside the ray's midpoint in the cell, across its major axis.
+    vec2 pos = w.o.xy + w.v.xy * (0.5 * (w.t + t_out));
+    bool along_x = abs(w.v.x) >= abs(w.v.y);
+    float minor = along_x ? pos.y : pos.x;
+    ivec2 step = (fract(minor) < 0.5 ? -1 : 1) * (along_x ? ivec2(0, 1) : ivec2(1, 0));
+    ivec2 side = clamp(cell + step, ivec2(0), ivec2(frame.viewport.xy) - 1);
+    float far = frame.clip.y;
+    float d = ahead >= HIZ_EMPTY ? far : view_depth_of_screen(ahead);
+    float side_s = hiz_fetch(side, min(stop, g_layers - 1), 0).x;
+    w.fetches += 1.0;
+    float d_side = side_s >= HIZ_EMPTY ? far : view_depth_of_screen(side_s);
+    sight_step(w.sight, view_depth_of_screen(lo), view_depth_of_screen(hi), d, behind, d_side, ssr.thickness);
+}
+#endif
+
 // One traversal step of an active walk. The walk ends on a hit (layer >= 0) and resolves it
 // after the loop (a `return` inside the loop measured 1.1-1.2x slower on llvmpipe).
 void walk_step(inout HizWalk w) {
@@ -180,12 +245,20 @@ void walk_step(inout HizWalk w) {
     float t_out, sa;
     walk_cell(w, cell, t_out, sa);
     float sb = w.o.z + w.v.z * t_out;
-    int layer = cell_overlap(cell, w.level, min(sa, sb), max(sa, sb), w.front, w.fetches);
+    int stop;
+    float ahead;
+    int layer = cell_overlap(cell, w.level, min(sa, sb), max(sa, sb), w.front, w.fetches, stop, ahead);
     bool hit = layer >= 0 && w.level <= g_stop_level;
     // Nothing for this ray in the cell: cross it and go up (after the linear steps, the level
     // stays 0 while they last); else go down. Selects, no branches (llvmpipe runs every
     // if-block, taken or not, even on a uniform condition:).
     bool miss = layer < 0;
+#if STOP_UNSEEN
+    walk_sight(w, cell, min(sa, sb), max(sa, sb), t_out, stop, ahead, layer);
+    // between two layers of a coarse cell: down to the pixels, whose layers say if it is inside
+    miss = miss && !(w.level > 0 && stop > 0 && stop < g_layers);
+    hit = hit && !w.sight.lost;
+#endif
 #if HIZ_LINEAR_STEPS
     int up = w.linear_left > 1 ? w.level : w.linear_left == 1 ? g_start_level : min(w.level + 1, g_max_level);
     w.linear_left = miss ? max(w.linear_left - 1, 0) : w.linear_left;
@@ -197,6 +270,9 @@ void walk_step(inout HizWalk w) {
     w.level = hit ? w.level : miss ? up : w.level - 1;
     w.steps += 1;
     w.walking = !hit && w.steps < g_max_steps && w.t < 1.0;
+#if STOP_UNSEEN
+    w.walking = w.walking && !w.sight.lost;
+#endif
 }
 
 // Depth fetches the walk spent: one per step with one layer (not counted in the loop).
@@ -218,6 +294,9 @@ struct HizHit {
 HizHit walk_result(HizWalk w) {
     HizHit result;
     result.hit = false;
+#if STOP_UNSEEN
+    if (w.sight.lost) return result;
+#endif
     if (w.valid && w.layer >= 0) {
         ivec2 cell;
         float t_out, sa;
@@ -266,6 +345,11 @@ ReflectionRay slot_ray(ivec3 id, bool has, out GSample g, out bool keep) {
 void slot_store(ivec3 id, ReflectionRay ray, GSample g, HizWalk w) {
     HizHit h = walk_result(w);
     vec4 hit = vec4(0.0);
+#if STOP_UNSEEN
+    // A ray lost from sight: a miss marked as the confidence test marks the hits it rejects,
+    // for the fallback to retrace.
+    if (w.sight.lost) hit = vec4(0.0, 0.0, 0.0, -1.0);
+#endif
     if (h.hit) {
         vec3 hit_view = view_position(h.pixel, view_depth_of_screen(h.s));
         hit = vec4(h.pixel, float(h.layer + 1), hit_fade(h.pixel, ray.origin, ray.dir, hit_view));

@@ -22,8 +22,10 @@
 //              atomic counter); 1 turns the count into the indirect dispatch's group count;
 //              2 traces the listed rays only, so the BVH's cost follows the misses.
 //              With CONFIDENCE, a screen-space hit must also pass a confidence test
-//              (screen_hit_confident) or it is retraced too; its rays.hit becomes a miss
-//              marked (0, 0, 0, -1), so the resolve takes the BVH's radiance.
+//              (lib/screen_confidence.glsl) or it is retraced too; its rays.hit becomes a miss
+//              marked (0, 0, 0, -1), as the tracer marks a ray it handed over where the ray
+//              left the G-buffer's sight (STOP_UNSEEN, lib/screen_sight.glsl), so the resolve
+//              takes the BVH's radiance; a kept hit moves to the pixel the ray crosses.
 // rays.radiance (RGBA32F): rgb the BVH radiance (the environment's where the BVH found
 // nothing), a the hit's distance along the ray (world units); a = -1: the BVH found nothing,
 // a = -2: not traced by the BVH (no ray, or method "bvh"'s slot without one). With FALLBACK, a
@@ -97,10 +99,8 @@ layout(std430, binding = 11) buffer RetraceList { ivec4 retrace[]; };
 layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint groups[3]; };
 #endif
 
-#if FALLBACK && CONFIDENCE
-#include "../lib/screen_confidence.glsl"
-#endif
 #if FALLBACK
+#include "../lib/screen_confidence.glsl"
 #include "../lib/gbuffer_emission.glsl"
 #include "../lib/gbuffer_specular.glsl"
 #endif
@@ -108,20 +108,30 @@ layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint grou
 #if FALLBACK
 // The radiance a screen-space hit (hit.xy pixel, hit.z 1-based layer) sends back along `dir`:
 // the G-buffer's surface at the hit, shaded by lib/shading.glsl with the ray's origin as the
-// viewer. Shadows as the BVH's hits get them (the shadow map, or a ray from the surface).
+// viewer, where the ray crosses the face the pixel lies on (lib/screen_confidence.glsl), not at
+// the pixel's centre, with the shading normal interpolated there: a shadow edge, a highlight or
+// the light's terminator inside one pixel of a small image is resolved as the ray meets it
+// (a curved surface's pixel-centre normal left rings of 0.02-0.05 around reflected spheres).
+// Shadows as the BVH's hits get them: the shadow map, or a ray from the surface.
 vec4 shade_screen_hit(vec4 hit, vec3 origin, vec3 dir) {
     ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), ivec2(frame.viewport.xy) - 1), int(hit.z) - 1);
-    GSample h = gbuffer_decode(texelFetch(u_albedo, hp, 0), texelFetch(u_normal, hp, 0), texelFetch(u_material, hp, 0));
-    vec3 p = view_position(vec2(hp.xy) + 0.5, texelFetch(u_linear_depth, hp, 0).r);
-    // Shaded where the ray crosses the plane of the pixel's surface, not at the pixel's centre:
-    // a shadow edge or a highlight inside one pixel of a small image is resolved as the ray meets it.
-    float facing = dot(dir, h.normal);
-    float t = facing < 0.0 ? dot(p - origin, h.normal) / facing : -1.0;
-    if (t > 0.0 && distance(origin + t * dir, p) < 2.0 * 2.0 * -p.z / (frame.proj[1][1] * frame.viewport.y))
-        p = origin + t * dir;
-    surface_normal_w = normalize(mat3(frame.inv_view) * h.normal);
-    surface_point_w = (frame.inv_view * vec4(p + h.normal * (ssr.origin_bias * -p.z), 1.0)).xyz;
-    return vec4(shade_surface(h, gbuffer_emission(hp, h), gbuffer_dielectric_f0(hp, h), p, -dir), distance(origin, p));
+    ScreenSurface s = screen_surface(hp.xy, hp.z);
+    vec3 p = s.point, x;
+    if (face_crossing(s, origin, dir, x) && distance(x, p) < 2.0 * pixel_footprint(-p.z)) p = x;
+    s.g.normal = screen_normal_at(hp.xy, hp.z, view_to_window(p), s.g);
+    // A traced shadow leaves from the point itself, as the BVH's hits leave their triangle, not
+    // lifted by origin_bias (2 cm at 10 m, which moved shadow edges by as much, magnified by a
+    // mirror floor: hall's pews and columns lit in patches where the reference's shadow ray is
+    // blocked). A point rebuilt from the G-buffer lies on the face's estimated plane, not on the
+    // triangle itself, so the shadow ray ignores its own object within one pixel footprint: its
+    // surface there is what the G-buffer cannot resolve (lib/bvh.glsl's bvh_skip_object).
+    surface_normal_w = normalize(mat3(frame.inv_view) * s.face);
+    surface_point_w = (frame.inv_view * vec4(p, 1.0)).xyz;
+    bvh_skip_object = s.g.object_id;
+    bvh_skip_t = pixel_footprint(-p.z);
+    vec3 c = shade_surface(s.g, gbuffer_emission(hp, s.g), gbuffer_dielectric_f0(hp, s.g), p, -dir);
+    bvh_skip_object = -1;
+    return vec4(c, distance(origin, p));
 }
 #endif
 
@@ -165,14 +175,20 @@ void main() {
 #elif FALLBACK
     vec4 smp = texelFetch(u_ray_sample, id, 0);
     vec4 hit = imageLoad(io_ray_hit, id);
-    // The ray's own origin, as ray_generation.glsl placed it, and its stored direction.
-    vec3 origin = pos + g.normal * (ssr.origin_bias * -pos.z);
+    // The ray from the surface point itself, as the BVH retraces it and the references trace it,
+    // not from SSR's origin lifted by origin_bias: the lift moves where the ray meets the
+    // surface it hits by origin_bias x depth (2 cm at 10 m for 0.002), and a mirror floor
+    // magnifies that across many pixels wherever the hit surface's shading changes (a shadow's
+    // edge on hall's columns: 0.45 off over a patch of the floor).
+    vec3 origin = pos;
     vec3 dir = normalize(texelFetch(u_ray_direction, id, 0).xyz);
     bool resolved = screen_resolved(hit);
 #if CONFIDENCE
-    if (smp.w > 0.5 && smp.x > 0.0 && resolved && !screen_hit_confident(hit, origin, dir)) {
-        resolved = false;
-        imageStore(io_ray_hit, id, vec4(0.0, 0.0, 0.0, -1.0));  // rejected: the BVH's radiance replaces it
+    if (smp.w > 0.5 && smp.x > 0.0 && resolved) {
+        resolved = screen_hit_confident(hit, origin, dir);
+        // Rejected: a miss marked (0, 0, 0, -1), the BVH's radiance replaces it; kept: the
+        // pixel the ray settles on, which the resolve measures the hit's distance to.
+        imageStore(io_ray_hit, id, resolved ? hit : vec4(0.0, 0.0, 0.0, -1.0));
     }
 #endif
     if (smp.w > 0.5 && smp.x > 0.0 && !resolved) retrace[atomicAdd(retrace_count, 1u)] = ivec4(id, 0);

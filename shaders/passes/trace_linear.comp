@@ -16,6 +16,7 @@
 #include "../lib/screen_ray.glsl"
 #include "../lib/trace_common.glsl"
 #include "../lib/input_fetch.glsl"
+#include "../lib/screen_sight.glsl"
 #if RAY_LIST
 #include "../lib/ray_list.glsl"
 #endif
@@ -42,6 +43,13 @@ uniform int u_layers_used;
 #ifndef TRACE_ONE_LAYER
 #define TRACE_ONE_LAYER 0
 #endif
+// 1 when an exact fallback takes the rays screen space cannot vouch for (trace_pass.cpp:
+// fallback "bvh" with fallback_confidence): the march ends as a miss where the ray leaves the
+// G-buffer's sight (lib/screen_sight.glsl), at one more depth fetch per step.
+#ifndef STOP_UNSEEN
+#define STOP_UNSEEN 0
+#endif
+Sight g_sight;
 
 float layer_depth(ivec2 pixel, int layer) {
     g_fetches += 1.0;
@@ -54,17 +62,24 @@ float layer_depth(ivec2 pixel, int layer) {
 // surface costs one fetch whatever the layer count (the thesis fetches every layer).
 // The loop is left by `break`, and for one layer in use (TRACE_ONE_LAYER, trace_pass.cpp) there
 // is no loop: `return`s inside a loop, and a loop of one iteration, cost llvmpipe.
-int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
+// With STOP_UNSEEN, `side` is the pixel beside `pixel` the ray passes nearer to, for g_sight.
+int layer_hit(ivec2 pixel, ivec2 side, float lo, float hi, float thick, out float surface) {
 #if TRACE_ONE_LAYER
     float d = layer_depth(pixel, 0);
     surface = d;
+#if STOP_UNSEEN
+    sight_step(g_sight, lo, hi, d, d < g_far && lo > d + thick, layer_depth(side, 0), thick);
+#endif
     // an empty layer (d >= far) holds no surface here
     return d >= g_far || hi < d || lo > d + thick ? -1 : 0;
 #else
     surface = 0.0;
     int found = -1;
-    for (int k = 0; k < g_layers; ++k) {
-        float d = layer_depth(pixel, k);
+    int k = 0;
+    float d = g_far, d_before = g_far;
+    for (; k < g_layers; ++k) {
+        d_before = d;
+        d = layer_depth(pixel, k);
         if (d >= g_far) break;  // empty layer: no surface here or behind
         if (hi < d) break;
         if (lo <= d + thick) {
@@ -73,6 +88,14 @@ int layer_hit(ivec2 pixel, float lo, float hi, float thick, out float surface) {
             break;
         }
     }
+#if STOP_UNSEEN
+    // Behind every layer kept, or in the gap behind a layer that faces the camera (inside its
+    // object; the normal is fetched only then). The side pixel at the layer the walk stopped at.
+    bool behind = found < 0 && k > 0 &&
+                  (k == g_layers || dot(FETCH(u_normal, ivec3(pixel, k - 1)).xyz, -view_position(vec2(pixel) + 0.5, d_before)) > 0.0);
+    int at = min(k, g_layers - 1);
+    sight_step(g_sight, lo, hi, k == g_layers ? g_far : d, behind, layer_depth(side, at), thick);
+#endif
     return found;
 #endif
 }
@@ -147,9 +170,17 @@ LinearHit trace_linear(ReflectionRay ray, float jitter_u) {
         z_prev = z_next;
         thick = g_thickness_mode == THICKNESS_MODE_RAY_STEP ? max(g_thickness, g_thickness_scale * (hi - lo)) : g_thickness;
         pixel = clamp(ivec2(floor(permute ? p.yx : p)), ivec2(0), last_pixel);
-        layer = layer_hit(pixel, lo, hi, thick, surface);
-        if (layer >= 0) break;
+#if STOP_UNSEEN
+        // The other pixel of the two the ray's half-pixel-wide footprint straddles across the march.
+        vec2 ps = vec2(p.x, p.y + (fract(p.y) < 0.5 ? -0.5 : 0.5));
+        ivec2 side = clamp(ivec2(floor(permute ? ps.yx : ps)), ivec2(0), last_pixel);
+#else
+        ivec2 side = pixel;
+#endif
+        layer = layer_hit(pixel, side, lo, hi, thick, surface);
+        if (layer >= 0 || (STOP_UNSEEN != 0 && g_sight.lost)) break;
     }
+    if (STOP_UNSEEN != 0 && g_sight.lost) layer = -1;
     if (layer >= 0) {
         // Binary search between the previous step and this one (seed 001 3.4, seed 002
         // Fig. 4.5): keeps the hit on the near side of thin features a long stride skipped.
@@ -214,9 +245,13 @@ void main() {
     vec3 pos = view_position(vec2(p) + 0.5, FETCH(u_linear_depth, ivec3(p, 0)).r);
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
     vec4 hit = vec4(0.0);
+    g_sight = sight_start();
     if (ray.weight > 0.0) {
         float jitter_u = unit_float(pcg_hash(uint(id.x) * 9781u + uint(id.y) * 6271u + uint(id.z) * 26699u + ssr.seed));
         LinearHit h = trace_linear(ray, jitter_u);
+        // A ray lost from sight: a miss marked as the confidence test marks the hits it rejects
+        // (rays.hit (0, 0, 0, -1)), for the fallback to retrace.
+        if (g_sight.lost) hit = vec4(0.0, 0.0, 0.0, -1.0);
         if (h.hit) {
             vec3 hit_view = view_position(h.pixel, h.depth);
             hit = vec4(h.pixel, float(h.layer + 1), hit_fade(h.pixel, ray.origin, ray.dir, hit_view));
