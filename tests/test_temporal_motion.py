@@ -15,6 +15,7 @@ import pytest
 
 import ssrlab
 from conftest import small
+from test_motion_vectors import moving_scene
 from ssrlab import transforms as T
 from ssrlab.lab import temporal
 
@@ -53,16 +54,6 @@ def two_frames(renderer, scene, cameras, settings, move=None):
     return out
 
 
-def box_scene():
-    s = ssrlab.Scene()
-    ids = {
-        "floor": s.add_plane((0, 0, 0), (12, 12), material=ssrlab.Material(base_color=(0.5, 0.5, 0.5), roughness=0.1)),
-        "box": s.add_box((0, 0.6, 0), (1.0, 1.2, 1.0), material=ssrlab.Material(base_color=(0.8, 0.2, 0.2))),
-        "ball": s.add_sphere((1.6, 0.5, -0.8), 0.5, segments=24, material=ssrlab.Material(base_color=(0.2, 0.3, 0.9))),
-    }
-    return s, ids
-
-
 CAMERA = ssrlab.Camera(position=(0.0, 2.5, 6.0), target=(0, 0.5, 0), fov_y=50, near=0.2, far=40)
 
 
@@ -97,14 +88,14 @@ def test_a_moved_surface_keeps_its_history_and_the_layers_tell_what_it_uncovered
     (their normals turned with it); the floor it uncovered, which the previous frame's layer 0
     showed as the ball, is rejected: as DISOCCLUDED with reject_layers where a deeper previous
     layer held the floor there (the same pixel: the floor stood still), as DEPTH without."""
-    scene, ids = box_scene()
+    scene, ids = moving_scene()
     before = np.asarray(scene.object_transform(ids["ball"]), np.float64)
     centre = before[:3, 3]
     after = (T.translate(tuple(centre + (0.5, 0.0, 0.25))) @ T.rotate((0.3, 1.0, 0.2), 30.0) @
              T.translate(tuple(-centre)) @ before)
     results = {}
     for layers_rule in (False, True):
-        scene, ids = box_scene()
+        scene, ids = moving_scene()
         s = small(width=W, height=H, layers=3, temporal_reflections=True, reject_layers=layers_rule)
         first, second = two_frames(renderer, scene, [CAMERA, CAMERA], s,
                                    move=lambda sc: sc.set_object_transform(ids["ball"], after))
