@@ -5,7 +5,8 @@ ssrlab's converged reference against Mitsuba's path tracer, for:
 
 * the white mirror floor (F = 1, so the thesis's linear composite and 'pbr' coincide):
   at default settings, then with one cause of disagreement removed at a time, then with the
-  exact options (ssrlab.crosscheck.exact_options) — the table diagnoses where they differ;
+  exact options (ssrlab.crosscheck.exact_options) — the table diagnoses where they differ; and
+  a frame of a sequence after objects moved (ssrlab.crosscheck.MOVES), at default settings;
 * a tinted Schlick mirror (F0 = copper-like base colour, composite 'pbr');
 * glossy floors (roughness 0.2 and 0.3, composite 'pbr'): two Mitsuba renders and two ssrlab
   references with different seeds split the difference into Monte-Carlo noise and bias, and
@@ -134,6 +135,19 @@ def main() -> None:
         print(f"{name:50s} {cc.floor_psnr(c, mit, raw):6.2f} dB {cc.floor_psnr(c, mit, inner):6.2f} dB "
               f"{cc.floor_psnr(c, mit, smooth):6.2f} dB {mse(c, mit, smooth):11.3e}")
     print(f"({raw.sum()} floor pixels, {inner.sum()} interior, {smooth.sum()} smooth)")
+
+    # -- a frame after objects moved: the sequence's second frame, crosscheck.MOVES applied ------
+    moved_scene = cc.crosscheck_scene(0.0)
+    frame, truth = cc.moved_reference(renderer, moved_scene, base)
+    mms = cc.mitsuba_scene(moved_scene, width=W, height=H)
+    mmit = cc.render_mitsuba(mms, spp=1)
+    inner = cc.floor_pixels(frame)
+    smooth = inner & ~cc.reflected_silhouettes(mms)
+    agree = float((np.where(frame.gbuffer.coverage[0], frame.gbuffer.object_id[0], -1) == cc.first_hit_objects(mms)).mean())
+    print(f"{'moved frame (crosscheck.MOVES), default settings':50s} "
+          f"{cc.floor_psnr(truth.color, mmit, cc.floor_pixels(frame, interior=False)):6.2f} dB "
+          f"{cc.floor_psnr(truth.color, mmit, inner):6.2f} dB {cc.floor_psnr(truth.color, mmit, smooth):6.2f} dB "
+          f"{mse(truth.color, mmit, smooth):11.3e}   (camera rays on the same object: {100 * agree:.2f} %)")
 
     # -- tinted Schlick mirror --------------------------------------------------------------
     tint = (0.95, 0.64, 0.54)

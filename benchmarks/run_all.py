@@ -62,6 +62,8 @@ BENCHMARKS = {
     "emissive_texture": ([], ["--width", "96", "--height", "54", "--repeats", "2"]),
     "specular_texture": (["--base-texture"], ["--width", "96", "--height", "54", "--repeats", "2"]),
     "scene_updates": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--suzannes", "10", "--moved", "1", "5"]),
+    "temporal_motion": ([], ["--width", "96", "--height", "54", "--frames", "8", "--moving", "4", "--reference-rays", "8",
+                             "--repeats", "2", "--suzannes", "10"]),
 }
 
 

@@ -63,12 +63,22 @@ CHAINS = {
     "reflections off": (
         dict(method="off"),
         ["shadow_map", "depth_peel", "lighting", "composite"]),
+    # The reflection reprojected by its hits: after the resolve that made the reflection from the
+    # rays, before the temporal pass that reads it.
+    "svgf, hit-point reprojection": (
+        dict(method="linear", denoise="svgf", reflection_reprojection="hit", skip=False),
+        ["shadow_map", "depth_peel", "lighting", "reproject", "trace_linear", "specular_occlusion", "FETCH", "resolve",
+         "reproject_reflection", "svgf_temporal", "svgf_variance", "svgf_atrous", "composite"]),
 }
 # Rendered as a sequence of two frames: the temporal accumulation after the resolve, clamped TAA
 # after the composite, both reading the reprojection made right after the lighting.
 SEQUENCE = (dict(method="linear", temporal_reflections=True, taa="clamped", skip=False),
             ["shadow_map", "depth_peel", "lighting", "reproject", "trace_linear", "specular_occlusion", "FETCH",
              "resolve", "temporal", "composite", "taa"])
+# The same with hit-point reprojection of the reflection (the surface's still feeds TAA).
+SEQUENCE_HIT = (dict(SEQUENCE[0], reflection_reprojection="hit"),
+                ["shadow_map", "depth_peel", "lighting", "reproject", "trace_linear", "specular_occlusion", "FETCH",
+                 "resolve", "reproject_reflection", "temporal", "composite", "taa"])
 
 
 def _expected(renderer, names: list[str]) -> list[str]:
@@ -91,8 +101,9 @@ def test_the_chain_is_the_papers_pipeline(renderer, stand_in, case):
     frame.release()
 
 
-def test_a_sequence_runs_temporal_accumulation_and_taa_in_every_frame(renderer, stand_in):
-    kw, names = SEQUENCE
+@pytest.mark.parametrize("sequence", [SEQUENCE, SEQUENCE_HIT], ids=["surface", "hit"])
+def test_a_sequence_runs_temporal_accumulation_and_taa_in_every_frame(renderer, stand_in, sequence):
+    kw, names = sequence
     expected = _expected(renderer, names)
     settings = small(width=W, height=H, **kw)
     frames = list(renderer.render_sequence(stand_in, [stand_in.camera] * 2, settings))

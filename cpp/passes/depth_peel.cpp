@@ -28,7 +28,7 @@ std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s, const 
     // 0.01 by 18 %; sRGB8 still by 1-3 %), so a texel's F0 reaches the lighting as computed.
     if (f.specular_texture) out.push_back({"gbuffer.specular", GL_RGBA16F, s.width, s.height, s.layers, 1});
     // Motion in pixels (lib/motion.glsl): float32, as a half float holds 0.01 px only below 16 px.
-    if (s.motion_vectors) out.push_back({"gbuffer.motion", GL_RG32F, s.width, s.height, s.layers, 1});
+    if (writes_motion(s, f)) out.push_back({"gbuffer.motion", GL_RG32F, s.width, s.height, s.layers, 1});
     return out;
 }
 
@@ -123,7 +123,7 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     defines_ = ctx.defines;
     if (ctx.facts.emission_texture) defines_["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) defines_["SPECULAR_TEXTURE"] = "1";
-    if (ctx.settings.motion_vectors) defines_["MOTION_VECTORS"] = "1";
+    if (writes_motion(ctx.settings, ctx.facts)) defines_["MOTION_VECTORS"] = "1";
     list_stats_ = ListStats{};
     prepare_tiles(ctx);
     if (ctx.settings.deep_gbuffer != DeepGBuffer::Lists || !lists(ctx)) {

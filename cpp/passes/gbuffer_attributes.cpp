@@ -50,7 +50,6 @@ std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s
         {"gbuffer.normal", GL_RGBA16F, w, h, l, 1},
         {"gbuffer.material", GL_RGBA8, w, h, l, 1},
     };
-    if (s.motion_vectors) out.push_back({"gbuffer.motion", GL_RG32F, w, h, l, 1});
     return out;
 }
 
@@ -59,6 +58,7 @@ std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s
     // As peeling declares them (DepthPeelPass::outputs): the same textures for the same facts.
     if (f.emission_texture) out.push_back({"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1});
     if (f.specular_texture) out.push_back({"gbuffer.specular", GL_RGBA16F, s.width, s.height, s.layers, 1});
+    if (writes_motion(s, f)) out.push_back({"gbuffer.motion", GL_RG32F, s.width, s.height, s.layers, 1});
     return out;
 }
 
@@ -150,7 +150,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     bind_image_layered(2, material, GL_WRITE_ONLY);
     if (emission) bind_image_layered(3, *emission, GL_WRITE_ONLY);
     if (specular) bind_image_layered(4, *specular, GL_WRITE_ONLY);
-    Texture* motion = s.motion_vectors ? &ctx.resources.get("gbuffer.motion") : nullptr;
+    Texture* motion = writes_motion(s, ctx.facts) ? &ctx.resources.get("gbuffer.motion") : nullptr;
     glBindTextureUnit(kDepthUnit, ctx.resources.get("gbuffer.depth").id());
     glBindTextureUnit(kVisibilityUnit, ctx.resources.get("gbuffer.visibility").id());
     // The scene's data per sample (shaders/passes/gbuffer_attributes.comp): through image buffers on

@@ -5,6 +5,7 @@
 #include "core/errors.h"
 #include "passes/classify.h"
 #include "passes/compute.h"
+#include "passes/reproject.h"
 #include "passes/specular_occlusion.h"
 
 namespace ssr {
@@ -83,23 +84,22 @@ void ResolvePass::execute(FrameContext& ctx) {
                              h->get("rays.hit").width() == r.get("rays.hit").width() &&
                              h->get("rays.hit").height() == r.get("rays.hit").height() &&
                              h->get("lit").layers() == r.get("lit").layers();
-        glm::mat4 prev_to_view(1.0f);
         glm::vec4 prev_proj(1.0f, 1.0f, 0.0f, 0.0f);
         if (history) {
-            // V_curr * V_prev^-1 in double precision (identity for a static camera), and the
-            // previous (jittered) projection the previous rays were traced with.
+            // The previous (jittered) projection the previous rays were traced with.
             const FrameUniforms& hu = *ctx.history_uniforms;
-            prev_to_view = glm::mat4(glm::dmat4(ctx.uniforms.view) * glm::inverse(glm::dmat4(hu.view)));
             prev_proj = glm::vec4(hu.proj[0][0], hu.proj[1][1], hu.proj[2][0], hu.proj[2][1]);
         }
         glUniform1i(glGetUniformLocation(prog, "u_has_previous_rays"), history ? 1 : 0);
-        glUniformMatrix4fv(glGetUniformLocation(prog, "u_previous_view_to_view"), 1, GL_FALSE, glm::value_ptr(prev_to_view));
+        // V_curr V_prev^-1 and its inverse in double precision (identities for a static camera).
+        (history ? ReprojectPass::history_camera(ctx) : HistoryCamera{}).set(prog);
         glUniform4fv(glGetUniformLocation(prog, "u_previous_proj"), 1, glm::value_ptr(prev_proj));
         const FrameResources& src = history ? *h : r;  // stand-ins are never read without history
-        const char* prev[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"};
-        // Units 17-22: 13 (the specular-albedo table) and 15 (the environment map) stay bound for
+        const char* prev[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal",
+                              "gbuffer.material"};
+        // Units 17-23: 13 (the specular-albedo table) and 15 (the environment map) stay bound for
         // the whole frame, and later passes read them.
-        for (GLuint i = 0; i < 6; ++i) glBindTextureUnit(17 + i, src.get(prev[i]).id());
+        for (GLuint i = 0; i < 7; ++i) glBindTextureUnit(17 + i, src.get(prev[i]).id());
         glBindTextureUnit(8, r.get("reprojection").id());
     }
     bind_ray_inputs(ctx, prog);

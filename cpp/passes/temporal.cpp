@@ -13,7 +13,7 @@ void TemporalPass::execute(FrameContext& ctx) {
     glUniform1i(glGetUniformLocation(prog, "u_max_history"), ctx.settings.temporal_max_history);
     glUniform1f(glGetUniformLocation(prog, "u_clamp_gamma"), ctx.settings.temporal_clamp);
     glBindTextureUnit(0, r.get("reflection").id());
-    glBindTextureUnit(1, r.get("reprojection").id());
+    glBindTextureUnit(1, r.get(ReprojectReflectionPass::reprojection(ctx.settings)).id());
     // Without history this frame's reflection stands in (never read: u_has_history = 0).
     glBindTextureUnit(2, history ? ctx.history->get("reflection.temporal").id() : r.get("reflection").id());
     bind_image_layered(0, r.get("reflection.temporal"), GL_WRITE_ONLY);

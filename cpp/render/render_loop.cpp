@@ -69,7 +69,10 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
                                 sequence->previous_settings.width == s.width &&
                                 sequence->previous_settings.height == s.height;
     if (motion_history) u.previous_view_proj = sequence->previous_unjittered_proj * sequence->previous_uniforms.view;
-    if (s.motion_vectors) {
+    // What the chain depends on besides the settings (the G-buffer writes motion for a chain that
+    // reprojects: writes_motion).
+    const FrameFacts frame_facts = facts(scene, gs, s);
+    if (writes_motion(s, frame_facts)) {
         const std::vector<glm::mat4>& previous = motion_history ? sequence->previous_models : models;
         const size_t bytes = std::max<size_t>(previous.size(), 1) * sizeof(glm::mat4);
         if (previous_models_.size() < bytes) previous_models_ = Buffer::create(bytes);
@@ -91,7 +94,6 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     gs.bind_geometry();  // the scene's objects and materials, for every pass that reads them
 
     // The chain and its resources (resource_plan.cpp).
-    const FrameFacts frame_facts = facts(scene, gs, s);
     const std::vector<RenderPass*> chain = build_chain(s, frame_facts);
     const ResourcePlan plan = plan_resources(chain, s, frame_facts);
     const std::vector<ResourceDesc>& descs = plan.descs;

@@ -121,6 +121,19 @@ struct FrameFacts {
     bool specular_texture = false;
 };
 
+// Whether a temporal technique of this frame reprojects its history (the reproject pass runs):
+// the temporal reflections, the clamped TAA, bounces from history, ray reuse over time, or SVGF
+// over a reflection (the thesis's TAA blends at the same pixel and needs none).
+inline bool reprojects(const RenderSettings& s, const FrameFacts& f) {
+    return s.temporal_reflections || s.taa == TaaMode::Clamped || s.bounces == Bounces::History ||
+           s.temporal_ray_reuse || (f.reflections && s.denoise == Denoise::Svgf);
+}
+// Whether the deep G-buffer writes gbuffer.motion: asked for (Settings.motion_vectors), or read by
+// the reprojection (seed 002, 4.6.4: a velocity buffer reprojects what moved). The one decision
+// every construction's outputs() and execute() and the renderer's upload of the previous frame's
+// object transforms follow: a frame that reprojects nothing writes no motion.
+inline bool writes_motion(const RenderSettings& s, const FrameFacts& f) { return s.motion_vectors || reprojects(s, f); }
+
 // What a pass may use while it executes.
 struct FrameContext {
     EglContext& gl;

@@ -28,6 +28,7 @@
 #include "passes/preintegrate.h"
 #include "passes/reference.h"
 #include "passes/reproject.h"
+#include "passes/reproject_reflection.h"
 #include "passes/resolve.h"
 #include "passes/resolve_fetch.h"
 #include "passes/shadow_map.h"
@@ -282,6 +283,7 @@ private:
     ResolveFetchPass resolve_fetch_;  // The resolve's tile fill where shared memory is slow
     ResolvePass resolve_;
     ReprojectPass reproject_;
+    ReprojectReflectionPass reproject_reflection_;  // Settings.reflection_reprojection "hit"
     TemporalPass temporal_;
     TaaPass taa_;  // the thesis's or the clamped TAA: Settings.taa
     PreconvolvePass preconvolve_;
@@ -302,7 +304,7 @@ private:
         &shadow_map_, &depth_peel_, &visibility_buffer_, &gbuffer_attributes_, &lighting_, &reproject_, &hiz_build_, &preconvolve_, &preintegrate_, &trace_bvh_,
         &classify_, &trace_hiz_, &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_,
         &fallback_bvh_, &fallback_probes_, &specular_occlusion_, &cone_trace_, &blur_mips_, &resolve_fetch_,
-        &resolve_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_, &composite_, &taa_};
+        &resolve_, &reproject_reflection_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_, &composite_, &taa_};
     // User passes (register_user_pass), in registration order: build_chain puts those
     // Settings.user_passes names in their stage's place.
     std::vector<std::unique_ptr<UserPass>> user_passes_;

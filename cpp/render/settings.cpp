@@ -98,6 +98,12 @@ const std::vector<std::pair<Bounces, std::string>>& names() {
     return n;
 }
 template <>
+const std::vector<std::pair<ReflectionReprojection, std::string>>& names() {
+    static const std::vector<std::pair<ReflectionReprojection, std::string>> n = {
+        {ReflectionReprojection::Surface, "surface"}, {ReflectionReprojection::Hit, "hit"}};
+    return n;
+}
+template <>
 const std::vector<std::pair<Glossy, std::string>>& names() {
     static const std::vector<std::pair<Glossy, std::string>> n = {
         {Glossy::Stochastic, "stochastic"}, {Glossy::Cone, "cone"}, {Glossy::BlurMips, "blur_mips"}};
@@ -156,6 +162,7 @@ SSR_INSTANTIATE(ReuseWeighting)
 SSR_INSTANTIATE(CompositeMode)
 SSR_INSTANTIATE(TaaMode)
 SSR_INSTANTIATE(Bounces)
+SSR_INSTANTIATE(ReflectionReprojection)
 SSR_INSTANTIATE(Glossy)
 SSR_INSTANTIATE(ConeRemainder)
 SSR_INSTANTIATE(SpecularOcclusion)

@@ -27,6 +27,8 @@ enum class ReuseWeighting { Thesis, Brdf };
 enum class CompositeMode { Linear, Pbr };
 enum class TaaMode { Off, Thesis, Clamped };
 enum class Bounces { Single, History };
+// What the temporal passes of the reflection reproject it by (passes/reproject_reflection.h).
+enum class ReflectionReprojection { Surface, Hit };
 enum class Glossy { Stochastic, Cone, BlurMips };
 enum class ConeRemainder { Hit, Environment };
 // What an unresolved ray's environment is weighted by (passes/specular_occlusion.h).

@@ -819,6 +819,16 @@ class Frame:
         return Reprojection(self)
 
     @functools.cached_property
+    def reflection_reprojection(self) -> "Reprojection":
+        """Each pixel's reflection's position in the previous frame of its sequence, by the motion
+        of what it reflects (the reproject_reflection pass, Settings.reflection_reprojection="hit"):
+        what the reflection's temporal passes read then."""
+        if "reprojection.reflection" not in self.texture_names:
+            raise ValueError("this frame has no reflection reprojection (it runs with "
+                             "Settings.reflection_reprojection='hit' and temporal_reflections or denoise='svgf')")
+        return Reprojection(self, "reprojection.reflection")
+
+    @functools.cached_property
     def gbuffer(self) -> "GBuffer":
         return GBuffer(self)
 
@@ -976,7 +986,8 @@ class GBuffer:
     metallic, reflectivity
     coverage     True where the layer holds a surface
     lit          direct lighting of every layer (the colour a reflection ray fetches)
-    motion       (layers, height, width, 2) with Settings.motion_vectors: where each sample was in
+    motion       (layers, height, width, 2) with Settings.motion_vectors (or a temporal technique that
+                 reprojects, which reads it): where each sample was in
                  the previous frame of the sequence minus where it is, in pixels of these arrays
                  (x right, y down: previous (row, col) = (row + motion[..., 1], col + motion[..., 0]));
                  0 outside a sequence and where nothing moved
@@ -1004,7 +1015,8 @@ class GBuffer:
     @property
     def motion(self) -> np.ndarray:
         if "gbuffer.motion" not in self._frame.texture_names:
-            raise KeyError("gbuffer.motion: this frame was rendered without Settings.motion_vectors=True")
+            raise KeyError("gbuffer.motion: this frame was rendered without Settings.motion_vectors=True (and "
+                           "without a temporal technique that reprojects, which writes it too)")
         m = np.array(self._frame.read("gbuffer.motion")[..., :2])
         m[..., 1] *= -1.0  # the texture's y runs up the image (GL window coordinates), the arrays' rows down
         m.setflags(write=False)
@@ -1163,16 +1175,19 @@ class Reprojection:
     uv      (H, W, 2) the same in [0, 1]^2, (0, 0) the image's top-left corner
     valid   (H, W) bool: the history there is kept
     reason  (H, W) int: 0 valid, 1 no history (first frame), 2 no surface, 3 off-screen,
-            4 depth differs (disocclusion), 5 normal differs
+            4 another surface there (depth, or with reject_layers the object, differs),
+            5 normal differs, 6 disoccluded (reject_layers: the surface was there, behind layer 0),
+            7 the reflection there lay elsewhere (Frame.reflection_reprojection only)
     """
 
-    VALID, NO_HISTORY, NO_SURFACE, OFFSCREEN, DEPTH, NORMAL = range(6)
+    VALID, NO_HISTORY, NO_SURFACE, OFFSCREEN, DEPTH, NORMAL, DISOCCLUDED, REFLECTION = range(8)
 
-    def __init__(self, frame: Frame):
+    def __init__(self, frame: Frame, texture: str = "reprojection"):
         self._frame = frame
+        self._texture = texture
 
     def _raw(self) -> np.ndarray:
-        return self._frame.read("reprojection")[0]
+        return self._frame.read(self._texture)[0]
 
     @property
     def pixel(self) -> np.ndarray:

@@ -16,6 +16,11 @@ struct GSample {
     int object_id;  // index of the scene object, -1 for none
 };
 
+// The object id a gbuffer.material texel holds (-1: none).
+int gbuffer_object_id(vec4 material) {
+    return int(round(material.b * 255.0)) + 256 * int(round(material.a * 255.0)) - 1;
+}
+
 GSample gbuffer_decode(vec4 albedo_metallic, vec4 normal_roughness, vec4 material) {
     GSample g;
     g.albedo = albedo_metallic.rgb;
@@ -24,7 +29,7 @@ GSample gbuffer_decode(vec4 albedo_metallic, vec4 normal_roughness, vec4 materia
     g.roughness = normal_roughness.w;
     g.reflectivity = material.r;
     g.covered = material.g > 0.5;
-    g.object_id = int(round(material.b * 255.0)) + 256 * int(round(material.a * 255.0)) - 1;
+    g.object_id = gbuffer_object_id(material);
     return g;
 }
 

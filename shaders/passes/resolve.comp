@@ -70,15 +70,23 @@ layout(binding = 0, rgba16f) writeonly uniform image2D o_reflection;
 // same surface points; where the reprojection keeps this pixel's history, the rays of the
 // previous frame's reuse neighbourhood around the reprojected pixel join as extra neighbours,
 // doubling the rays each pixel averages at no tracing cost. They are weighted exactly as this
-// frame's neighbours, after moving their origins, directions and hit points into this view.
+// frame's neighbours, after moving their origins, directions and hit points into this view: by
+// the camera's change, and by their object's where it moved (lib/object_motion.glsl). A ray
+// whose hit's object moved otherwise than its origin's no longer goes where it went: it is left
+// out.
+#include "../lib/scene_data.glsl"
+#include "../lib/motion.glsl"
+#include "../lib/object_motion.glsl"
 layout(binding = 17) uniform sampler2DArray u_prev_hit;
 layout(binding = 18) uniform sampler2DArray u_prev_sample;
 layout(binding = 19) uniform sampler2DArray u_prev_direction;
 layout(binding = 20) uniform sampler2DArray u_prev_lit;
 layout(binding = 21) uniform sampler2DArray u_prev_linear_depth;
 layout(binding = 22) uniform sampler2DArray u_prev_normal;
+layout(binding = 23) uniform sampler2DArray u_prev_material;
 uniform int u_has_previous_rays;
 uniform mat4 u_previous_view_to_view;  // V_curr * V_prev^-1
+uniform mat4 u_view_to_previous_view;  // V_prev * V_curr^-1
 uniform vec4 u_previous_proj;          // previous (jittered) proj [0][0], [1][1], [2][0], [2][1]
 
 // view_position (depth_convention.glsl) with the previous frame's projection; previous view space.
@@ -288,7 +296,6 @@ void main() {
     if (receives && u_has_previous_rays != 0 && rp.z > 0.5) {
         ivec2 prev_base = clamp(ivec2(floor(rp.xy)), ivec2(0), size - 1) / s;
         int prev_rays = textureSize(u_prev_hit, 0).z;
-        mat3 rot = mat3(u_previous_view_to_view);
         for (int dy = -radius; dy <= radius; ++dy) {
             for (int dx = -radius; dx <= radius; ++dx) {
                 ivec2 q = prev_base + ivec2(dx, dy);
@@ -296,22 +303,35 @@ void main() {
                 if (texelFetch(u_prev_sample, ivec3(q, 0), 0).w < 0.5) continue;  // did not trace
                 ivec2 op = min(q * s + s / 2, size - 1);
                 vec3 o_prev = previous_view_position(vec2(op) + 0.5, texelFetch(u_prev_linear_depth, ivec3(op, 0), 0).r);
-                vec3 origin = (u_previous_view_to_view * vec4(o_prev, 1.0)).xyz;
-                vec3 nq = normalize(rot * texelFetch(u_prev_normal, ivec3(op, 0), 0).xyz);
+                // The previous view -> this view for the origin's object (the camera's alone where
+                // it stood still).
+                int origin_object = gbuffer_object_id(texelFetch(u_prev_material, ivec3(op, 0), 0));
+                bool origin_moved = object_moved(origin_object);
+                mat4 to_view = origin_moved ? inverse(object_view_to_previous_view(u_view_to_previous_view, origin_object))
+                                            : u_previous_view_to_view;
+                mat3 rot = mat3(to_view);
+                vec3 origin = (to_view * vec4(o_prev, 1.0)).xyz;
+                vec3 nq = origin_moved ? normalize(transpose(inverse(rot)) * texelFetch(u_prev_normal, ivec3(op, 0), 0).xyz)
+                                       : normalize(rot * texelFetch(u_prev_normal, ivec3(op, 0), 0).xyz);
                 bool own = s == 1 && dx == 0 && dy == 0;
                 for (int r = 0; r < prev_rays; ++r) {
                     vec4 smp = texelFetch(u_prev_sample, ivec3(q, r), 0);
                     if (smp.x <= 0.0) continue;
                     vec4 hit = texelFetch(u_prev_hit, ivec3(q, r), 0);
+                    bool hits = hit.z > 0.5;
+                    ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), max(int(hit.z) - 1, 0));
+                    if (hits) {
+                        int hit_object = gbuffer_object_id(texelFetch(u_prev_material, hp, 0));
+                        if (hit_object != origin_object && (origin_moved || object_moved(hit_object))) continue;
+                    }
                     vec3 dir = rot * texelFetch(u_prev_direction, ivec3(q, r), 0).xyz;
+                    if (origin_moved) dir = normalize(dir);
                     vec3 c = environment_view(dir);
                     vec3 hit_pos = vec3(0.0);
-                    bool hits = hit.z > 0.5;
                     if (hits) {
-                        ivec3 hp = ivec3(clamp(ivec2(hit.xy), ivec2(0), size - 1), int(hit.z) - 1);
                         c = mix(c, texelFetch(u_prev_lit, hp, 0).rgb, hit.w);
                         vec3 h_prev = previous_view_position(hit.xy, texelFetch(u_prev_linear_depth, hp, 0).r);
-                        hit_pos = (u_previous_view_to_view * vec4(h_prev, 1.0)).xyz;
+                        hit_pos = (to_view * vec4(h_prev, 1.0)).xyz;
                     }
                     float w = smp.x;
                     if (g_reuse_weighting == REUSE_WEIGHTING_BRDF && !own) {

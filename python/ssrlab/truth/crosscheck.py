@@ -807,6 +807,49 @@ def ssrlab_reference(renderer, scene, settings: Settings, *, rays: int = 256, se
     return frame, truth
 
 
+# The moved-frame case: between two frames of a sequence, objects of crosscheck_scene move (by name:
+# a translation, a turn about +y and a lift), so that the second frame's converged reference is made
+# from the scene's new transforms: the objects' GPU entries, their BVH trees and the shadow maps
+# updated per object, not rebuilt (docs/guide/scenes.md). Mitsuba renders the moved scene afresh.
+MOVES = {
+    "green_sphere": ((0.6, 0.0, -0.4), 0.0),
+    "red_box": ((0.3, 0.0, 0.5), 35.0),
+    "yellow_sphere": ((-0.5, 0.25, 0.0), 0.0),
+}
+
+
+def move_objects(scene, moves=None) -> list[int]:
+    """Moves crosscheck_scene's objects named in `moves` ({name: (translation, degrees about +y
+    through the object's centre)}, MOVES by default) from where they are; returns their indices."""
+    from .. import transforms as T
+
+    names = [scene.object_name(i) for i in range(scene.object_count)]
+    moved = []
+    for name, (offset, degrees) in (moves or MOVES).items():
+        if name not in names:
+            raise KeyError(f"move_objects: the scene has no object named {name!r} (it has {', '.join(names)})")
+        i = names.index(name)
+        m = np.asarray(scene.object_transform(i), np.float64)
+        centre = m[:3, 3].copy()
+        turn = T.translate(tuple(centre)) @ T.rotate((0.0, 1.0, 0.0), degrees) @ T.translate(tuple(-centre))
+        scene.set_object_transform(i, T.translate(offset) @ turn @ m)
+        moved.append(i)
+    return moved
+
+
+def moved_reference(renderer, scene, settings: Settings, *, rays: int = 256, seed: int = 0, moves=None,
+                    **reference_kwargs):
+    """The second frame of a two-frame sequence (method off, one camera) whose objects `moves`
+    moved after the first (move_objects), and its converged reference: (frame, truth). The scene
+    is left moved, as mitsuba_scene must see it."""
+    frames = renderer.render_sequence(scene, [scene.camera, scene.camera], settings.replace(method="off"))
+    next(frames)
+    move_objects(scene, moves)
+    frame = next(frames)
+    frames.close()
+    return frame, frame.reference("converged", rays=rays, seed=seed, **reference_kwargs)
+
+
 def floor_psnr(image, reference, mask) -> float:
     from .metrics import psnr
 

@@ -1,0 +1,172 @@
+"""Temporal reflections on scenes where things move: per-frame error, ghosting and lag of each way to
+reproject the history, and what moving one object costs.
+
+    python benchmarks/temporal_motion.py [--width 320 --height 180 --layers 4] [--frames 32 --moving 16]
+        [--reference-rays 64] [--orbit 10] [--sequences ...] [--repeats 5 --suzannes 100] [--no-costs]
+
+Sequences (ssrlab.lab.temporal.MOTION_SEQUENCES), each with a still camera and with a camera
+orbiting its target by --orbit degrees over the frames: a sphere crossing a mirror floor, a long box
+turning over a glossy floor (roughness 0.2), the animated glTF stage (ssrlab.lab.animated_gltf)
+playing its "Spin" animation. Objects move over the first --moving frames, then stand still.
+
+Configurations (1 ray per pixel, --layers layers, everything else the defaults): each frame alone;
+the temporal accumulation (temporal_reflections) with the reflection reprojected by the surface
+(reflection_reprojection="surface") or by the hit ("hit"), history rejected with or without the
+layers (reject_layers), without and with the neighbourhood clamp (temporal_clamp=1, with the layers).
+
+Per configuration, from ssrlab.lab.temporal.motion_study, against each frame's converged reference
+(--reference-rays rays), rmse over the reflective pixels:
+  err@K      the error at frame K = --moving (the last frame of the motion), and / single its ratio
+             to the single frame's error at that frame (the same rays);
+  moved, disocc., rest   the mean error over the moving frames of the pixels whose reflection shows a
+             moved object, of the pixels newly disoccluded, of the others;
+  ghost      the error energy in the region the moving objects left (5x5-averaged error, summed over
+             the region and the frames), and excess: its part above the single frame's (the trail
+             the history adds);
+  lag        frames after the motion stops until the error over the motion's footprint is within
+             10 % of the level the same configuration converges to when the scene stands still.
+Then the two claims for hit-point reprojection, per sequence: ghosting excess <= 0.25 x that of
+surface-only reprojection (same rejection), and err@K <= 0.9 x the single frame's.
+
+Moving costs what moved (benchmarks/scene_updates.py's measurement, its code): 100 Suzannes over
+hall, a still frame against the frame after moving one Suzanne, and the BVH update of the moved
+triangles (method "bvh", Renderer.stats bvh_update_ms), with the claim: moved frame <= 1.1 x the still
+frame + the BVH update of one Suzanne.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from common import benchmark_arguments, open_renderer  # noqa: E402
+
+import scene_updates  # noqa: E402  (the still / moved frames and the BVH update, measured as it measures them)
+
+GHOST_RATIO = 0.25  # hit-point reprojection's ghosting excess at most this share of surface-only's
+ERROR_RATIO = 0.9   # its error after the motion at most this share of the single frame's
+COST_RATIO = 1.1    # a frame after moving one object: at most this x a still frame + the BVH update
+
+
+def configurations(base):
+    from ssrlab.lab import temporal
+
+    cfg = temporal.motion_configurations(base)
+    cfg["surface + layers + clamp"] = cfg["surface + layers"].replace(temporal_clamp=1.0)
+    cfg["hit + layers + clamp"] = cfg["hit + layers"].replace(temporal_clamp=1.0)
+    return cfg
+
+
+def excess(result, name):
+    return float(result[name]["ghost"].sum() - result["single frame"]["ghost"].sum())
+
+
+def print_study(title, result, moving):
+    k = moving - 1
+    single = result["single frame"]["all"][k]
+    print(title)
+    masks = result["masks"]
+    print(f"  pixels per moving frame (mean): moved {masks['moved'][1:moving].mean():.0f}, disoccluded "
+          f"{masks['disoccluded'][1:moving].mean():.0f}, ghost region {masks['ghost'][1:].mean():.0f}, footprint "
+          f"{masks['footprint'][0]}")
+    print(f"  {'configuration':26s} {'err@' + str(moving):>8s} {'/single':>7s} {'moved':>7s} {'disocc.':>7s} {'rest':>7s} "
+          f"{'ghost':>9s} {'excess':>9s} {'lag':>5s}")
+    names = [n for n in result if isinstance(result[n], dict) and "all" in result[n]]
+    for name in names:
+        r = result[name]
+        window = slice(1, moving)
+        lag = "-" if name == "single frame" else (f">{result['frames'] - result['still_from'] - 1}" if r["lag"] is None
+                                                  else str(r["lag"]))
+        print(f"  {name:26s} {r['all'][k]:8.4f} {r['all'][k] / single:7.3f} {np.nanmean(r['moved'][window]):7.4f} "
+              f"{np.nanmean(r['disoccluded'][window]):7.4f} {np.nanmean(r['rest'][window]):7.4f} "
+              f"{r['ghost'].sum():9.3f} {excess(result, name) if name != 'single frame' else 0.0:+9.3f} {lag:>5s}")
+
+
+def claims(result, moving):
+    """(ghost verdict line, error verdict line) of hit-point reprojection against surface-only."""
+    k = moving - 1
+    single = result["single frame"]["all"][k]
+    lines = []
+    for rejection in ("", " + layers"):
+        hit, surface = excess(result, "hit" + rejection), excess(result, "surface" + rejection)
+        ok = hit <= GHOST_RATIO * surface if surface > 0 else hit <= 0
+        ratio = f"{hit / surface:.3f}" if surface > 0 else "n/a (surface adds no ghost)"
+        lines.append(f"  ghosting excess, hit{rejection} / surface{rejection}: {hit:+.3f} / {surface:+.3f} = {ratio} "
+                     f"(<= {GHOST_RATIO}: {'yes' if ok else 'no'})")
+    for name in ("hit", "hit + layers", "hit + layers + clamp"):
+        e = result[name]["all"][k]
+        lines.append(f"  error at frame {moving}, {name} / single frame: {e:.4f} / {single:.4f} = {e / single:.3f} "
+                     f"(<= {ERROR_RATIO}: {'yes' if e <= ERROR_RATIO * single else 'no'})")
+    return lines
+
+
+def costs(renderer, args):
+    """Moving costs what moved: scene_updates' still and moved frames and its BVH updates."""
+    import ssrlab
+
+    scene, ids = scene_updates.suzanne_hall(args.suzannes)
+    home = {i: scene.object_transform(i) for i in range(scene.object_count)}
+    settings = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers)
+    print(f"\nmoving costs what moved: {scene.name}, {scene.triangle_count} triangles, {args.width}x{args.height}, "
+          f"{args.layers} layers; {args.repeats} repeats after one untimed pass")
+    out, stats = scene_updates.time_frames(renderer, scene, home, ids, settings, args.repeats)
+    scene_updates.print_frames("frames (ms: median [min - max] (iqr); / still: median of the per-repeat ratios):",
+                               out, stats)
+    bvh = settings.replace(method="bvh", width=64, height=36)
+    renderer.render(scene, settings=bvh)  # builds the BVH: what follows updates it
+    counts = [k for k in (1, 5, 25) if k <= len(ids)]
+    rows = scene_updates.time_bvh_updates(renderer, scene, home, ids, bvh, counts, args.repeats)
+    scene_updates.print_bvh('BVH update after moving k Suzannes (method "bvh"), ms:', rows)
+    still = float(np.median([w for w, _ in out["still"]]))
+    moved = float(np.median([w for w, _ in out["moved"]]))
+    update = float(np.median(rows[0][2]))
+    print(f"  claim: moved frame {moved:.1f} ms <= {COST_RATIO} x still {still:.1f} ms + BVH update of one Suzanne "
+          f"({rows[0][1]} triangles) {update:.1f} ms = {COST_RATIO * still + update:.1f} ms: "
+          f"{'yes' if moved <= COST_RATIO * still + update else 'no'} (wall-clock medians)")
+
+
+def main(argv=None) -> int:
+    ap = benchmark_arguments(__doc__, repeats=5)
+    ap.set_defaults(width=320, height=180)
+    ap.add_argument("--layers", type=int, default=4)
+    ap.add_argument("--frames", type=int, default=32)
+    ap.add_argument("--moving", type=int, default=16, help="frames over which the objects move")
+    ap.add_argument("--reference-rays", type=int, default=64)
+    ap.add_argument("--orbit", type=float, default=10.0, help="degrees the orbiting camera turns over the frames")
+    ap.add_argument("--sequences", nargs="+", default=None, help="names of ssrlab.lab.temporal.MOTION_SEQUENCES")
+    ap.add_argument("--suzannes", type=int, default=100)
+    ap.add_argument("--no-costs", action="store_true", help="leave out the cost of moving one object")
+    args = ap.parse_args(argv)
+    import ssrlab
+    from ssrlab.lab import temporal
+
+    r = open_renderer(args)
+    print(time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()) +
+          f"; {args.width}x{args.height}, {args.layers} layers, 1 ray per pixel, {args.frames} frames (objects move over "
+          f"the first {args.moving}), converged references of {args.reference_rays} rays")
+    base = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers, rays_per_pixel=1)
+    cfg = configurations(base)
+    verdicts = []
+    for name in args.sequences or list(temporal.MOTION_SEQUENCES):
+        for orbit in (0.0, args.orbit):
+            seq = temporal.MOTION_SEQUENCES[name](frames=args.frames, moving=args.moving, orbit_degrees=orbit)
+            t = time.perf_counter()
+            result = temporal.motion_study(r, seq, cfg, reference_rays=args.reference_rays)
+            camera = "still camera" if orbit == 0.0 else f"camera orbiting {orbit:g} degrees"
+            print_study(f"\n{name}, {camera} ({time.perf_counter() - t:.0f} s):", result, args.moving)
+            verdicts.append((f"{name}, {camera}", claims(result, args.moving)))
+    print("\nhit-point reprojection against surface-only reprojection:")
+    for title, lines in verdicts:
+        print(title)
+        print("\n".join(lines))
+    if not args.no_costs:
+        costs(r, args)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
