@@ -120,8 +120,25 @@ def gltf_json(path: Path) -> dict:
     return json.loads(data)
 
 
+@functools.lru_cache(maxsize=None)
+def image_load_refusal() -> str | None:
+    """Why this machine's default device refuses Renderer(input_fetch="imageLoad") (NVIDIA's GL
+    offers a compute shader 8 image units; the passes read 10 that way), or None where it runs."""
+    try:
+        ssrlab.Renderer("auto", input_fetch="imageLoad")
+    except ValueError as e:
+        return str(e)
+    return None
+
+
 def small(**kw) -> ssrlab.Settings:
-    """Settings for a small test image."""
+    """Settings for a small test image. The deep G-buffer is peeled unless a test names another
+    construction: 'auto' chooses by measurement, and on a GPU, where the visibility constructions
+    are the faster, a small image's timings can choose either, per renderer; their attributes differ
+    from peeling's in the last bits (docs/deep_gbuffer.md), so tests that compare two renderers'
+    images, or one against fixed expectations, name theirs (test_visibility_buffer.py and
+    test_deep_gbuffer.py test the others and 'auto' itself)."""
+    kw.setdefault("deep_gbuffer", "peel")
     kw.setdefault("width", 96)
     kw.setdefault("height", 64)
     kw.setdefault("shadow_map_size", 512)

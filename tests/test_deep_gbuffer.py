@@ -184,7 +184,7 @@ def test_setting_values_and_timings(renderer):
     # 'auto' is measured once per renderer, scene, size and layers, and the frame records the
     # method it ran with: the one measured fastest, unless within the spread of peeling's.
     r = ssrlab.Renderer("auto")
-    auto = r.render(scene, NEAR, tiny(layers=4))
+    auto = r.render(scene, NEAR, tiny(layers=4, deep_gbuffer="auto"))
     (key, measured), = r.deep_gbuffer_measurements.items()
     # The CPU device measures peeling and its lists only (their images are the same bit for bit).
     cpu = r.info["device"] == "cpu"
@@ -193,11 +193,11 @@ def test_setting_values_and_timings(renderer):
     fastest = min(measured, key=lambda m: measured[m]["median"])
     undecided = fastest != "peel" and measured[fastest]["max"] >= measured["peel"]["min"]
     assert auto.settings.deep_gbuffer == ("peel" if undecided else fastest), measured
-    again = r.render(scene, NEAR, tiny(layers=4))
+    again = r.render(scene, NEAR, tiny(layers=4, deep_gbuffer="auto"))
     assert again.settings.deep_gbuffer == auto.settings.deep_gbuffer and len(r.deep_gbuffer_measurements) == 1
     # One layer on the CPU device is peeled without measuring (docs/deep_gbuffer.md).
     if r.info["device"] == "cpu":
-        assert r.render(scene, NEAR, tiny(layers=1)).settings.deep_gbuffer == "peel"
+        assert r.render(scene, NEAR, tiny(layers=1, deep_gbuffer="auto")).settings.deep_gbuffer == "peel"
         assert len(r.deep_gbuffer_measurements) == 1
 
 

@@ -52,7 +52,7 @@ def test_cli_render_writes_outputs_and_runs_twice(tmp_path):
     assert names == sorted([".ssrlab-manifest.json", "color.png", "color.exr", "gbuffer_layer0.exr",
                             "gbuffer_layer1.exr", "timings.json"])
     timings = json.loads((out / "timings.json").read_text())
-    assert timings["timings_ms"]["depth_peel"] > 0 and timings["settings"]["layers"] == 2
+    assert timings["timings_ms"]["deep_gbuffer"] > 0 and timings["settings"]["layers"] == 2
     pixels, channels = ssrlab.io.read_image(out / "gbuffer_layer1.exr")
     # OpenEXR stores channels sorted by name; every channel must be there.
     assert pixels.shape == (48, 80, len(ssrlab.io.GBUFFER_CHANNELS))

@@ -402,7 +402,7 @@ def test_a_process_pool_worker_loads_the_module_and_scores_every_row(tmp_path):
                            base={"width": 48, "height": 32, "user_modules": [GAIN_MODULE],
                                  "user_passes": ["reflection_gain"]},
                            repeats=1, warmup=0, reference="thesis", progress=False, cache_folder=tmp_path,
-                           device="cpu", executor=pool)
+                           device="auto", executor=pool)
     assert [r["s_reflection_gain.gain"] for r in rows] == [0.0, 1.0]
     assert all(np.isfinite(r["thesis_error"]) and r["gpu_reflection_gain_ms"] > 0 for r in rows)
     assert {int(r["worker"].rsplit(":", 1)[1]) for r in rows} != {__import__("os").getpid()}

@@ -15,9 +15,20 @@ CONSTRUCTIONS = ("visibility", "visibility_lists")
 LAYER_COUNTS = (1, 2, 4, 8, 16)
 # The tolerance, per texture (docs/deep_gbuffer.md): the share of samples that must hold it.
 SHARE = 0.999
-NORMAL_TOLERANCE = 1e-3  # gbuffer.normal (RGBA16F): xyz and roughness
-CODE_TOLERANCE = 1       # gbuffer.albedo (sRGB8: its 8-bit codes), gbuffer.material (8-bit codes)
-RELATIVE_TOLERANCE = 1e-3  # gbuffer.emission, gbuffer.specular (RGBA16F radiance and F0)
+# Against a peeling whose rasteriser interpolates from the exact vertices (Mesa's llvmpipe: its
+# normals within a half-float step of the exact surface, test_normals_are_the_exact_surface):
+STRICT = {"normal": 1e-3,     # gbuffer.normal (RGBA16F): xyz and roughness
+          "codes": 1,         # gbuffer.albedo (sRGB8: its 8-bit codes), gbuffer.material (8-bit codes)
+          "relative": 1e-3}   # gbuffer.emission, gbuffer.specular (RGBA16F radiance and F0)
+# A hardware rasteriser snaps vertices to its sub-pixel grid and interpolates from the snapped
+# positions, so peeling itself departs from the exact surface (an NVIDIA H200: 2.3e-3 at the 99.9th
+# percentile on that test's mesh, where the visibility normals stay within a half-float step), and
+# further where derivatives of its interpolants frame normal maps and choose texture levels (there:
+# normals 0.08 apart on a normal-mapped sphere, albedo 4 codes, textured emission 3 %). Against
+# such a peeling, the attributes are held to:
+RASTER = {"normal": 0.1, "codes": 4, "relative": 0.05}
+# Peeling departs from the exact surface on this device when its normals' 99.9th percentile of
+# |peel - exact| on exact_scene() exceeds STRICT's normal tolerance.
 
 
 def tiny(**kw) -> ssrlab.Settings:
@@ -40,21 +51,21 @@ def codes(a: np.ndarray) -> np.ndarray:
     return np.round(np.clip(a.astype(np.float64), 0, 1) * 255).astype(np.int64)
 
 
-def attribute_errors(peel: ssrlab.Frame, vis: ssrlab.Frame) -> dict[str, np.ndarray]:
+def attribute_errors(peel: ssrlab.Frame, vis: ssrlab.Frame, tol: dict = STRICT) -> dict[str, np.ndarray]:
     """Per covered sample, each texture's difference in its own unit (1 = at the tolerance)."""
     cov = peel.gbuffer.coverage
     out = {}
     a, b = peel.read("gbuffer.albedo")[cov], vis.read("gbuffer.albedo")[cov]
     out["gbuffer.albedo"] = np.maximum(np.abs(srgb_codes(a[:, :3]) - srgb_codes(b[:, :3])).max(-1),
-                                       np.abs(codes(a[:, 3]) - codes(b[:, 3]))) / CODE_TOLERANCE
+                                       np.abs(codes(a[:, 3]) - codes(b[:, 3]))) / tol["codes"]
     a, b = peel.read("gbuffer.material")[cov], vis.read("gbuffer.material")[cov]
-    out["gbuffer.material"] = np.abs(codes(a) - codes(b)).max(-1) / CODE_TOLERANCE
+    out["gbuffer.material"] = np.abs(codes(a) - codes(b)).max(-1) / tol["codes"]
     a, b = peel.read("gbuffer.normal")[cov], vis.read("gbuffer.normal")[cov]
-    out["gbuffer.normal"] = np.abs(a - b).max(-1) / NORMAL_TOLERANCE
+    out["gbuffer.normal"] = np.abs(a - b).max(-1) / tol["normal"]
     for name in ("gbuffer.emission", "gbuffer.specular"):
         if name in peel.texture_names:
             a, b = peel.read(name)[cov], vis.read(name)[cov]
-            out[name] = (np.abs(a - b) / np.maximum(np.abs(a), 1.0)).max(-1) / RELATIVE_TOLERANCE
+            out[name] = (np.abs(a - b) / np.maximum(np.abs(a), 1.0)).max(-1) / tol["relative"]
     return out
 
 
@@ -78,12 +89,78 @@ def assert_equal_to_peeling(renderer, scene, camera, what: str, construction: st
     empty = ~peel.gbuffer.coverage
     for name in ("gbuffer.albedo", "gbuffer.normal", "gbuffer.material"):
         np.testing.assert_array_equal(bits(vis.read(name)[empty]), bits(peel.read(name)[empty]), err_msg=name)
-    for name, err in attribute_errors(peel, vis).items():
+    tol = tolerance(renderer)
+    for name, err in attribute_errors(peel, vis, tol).items():
         if err.size:
             within = float(np.mean(err <= 1.0))
             assert within >= SHARE, (f"{what} {kw} {construction}: {name} within tolerance on {100 * within:.3f} % "
-                                     f"of {err.size} samples (worst {err.max():.3g} x the tolerance)")
+                                     f"of {err.size} samples (worst {err.max():.3g} x the tolerance {tol})")
     return vis
+
+
+def exact_scene() -> tuple[ssrlab.Scene, ssrlab.Camera, np.ndarray, np.ndarray, np.ndarray]:
+    """A sphere built here (positions, normals that vary across each triangle, indices), so that
+    each sample's exact normal can be computed from its visibility triangle."""
+    seg, rings = 48, 32
+    th, ph = np.meshgrid(np.linspace(0, np.pi, rings + 1), np.linspace(0, 2 * np.pi, seg + 1), indexing="ij")
+    pos = np.stack([np.sin(th) * np.cos(ph), np.cos(th), np.sin(th) * np.sin(ph)], -1).reshape(-1, 3)
+    nrm = pos + 0.15 * np.random.default_rng(3).standard_normal(pos.shape)
+    nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+    a = (np.arange(rings)[:, None] * (seg + 1) + np.arange(seg)[None, :]).ravel()
+    idx = np.concatenate([np.stack([a, a + seg + 1, a + 1], 1), np.stack([a + 1, a + seg + 1, a + seg + 2], 1)])
+    s = ssrlab.Scene()
+    s.add_mesh(pos.astype(np.float32), idx, normals=nrm.astype(np.float32), name="sphere",
+               material=ssrlab.Material(base_color=(0.7, 0.7, 0.7)))
+    cam = ssrlab.Camera(position=(0.3, 0.4, 2.6), target=(0, 0, 0), fov_y=50, near=0.1, far=20)
+    return s, cam, pos, nrm, idx
+
+
+def exact_normals(frame: ssrlab.Frame, pos: np.ndarray, nrm: np.ndarray, idx: np.ndarray) -> np.ndarray:
+    """Layer 0's exact view-space normals (float64): each covered pixel's centre ray met with the
+    triangle its visibility id names (Moeller-Trumbore), the vertex normals interpolated there."""
+    view, proj = frame.view_matrix.astype(np.float64), frame.projection_matrix.astype(np.float64)
+    ids = np.ascontiguousarray(frame.read("gbuffer.visibility")[0, ..., 0]).view(np.uint32)
+    cov = frame.gbuffer.coverage[0]
+    h, w = cov.shape
+    ys, xs = np.nonzero(cov)
+    ndc = np.stack([(xs + 0.5) / w * 2 - 1, 1 - (ys + 0.5) / h * 2], -1)
+    inv = np.linalg.inv(proj)
+    ends = [(inv @ np.c_[ndc, np.full(len(xs), z), np.ones(len(xs))].T).T for z in (-1.0, 1.0)]
+    o, e = (p[:, :3] / p[:, 3:] for p in ends)
+    d = e - o
+    vp = (view @ np.c_[pos, np.ones(len(pos))].T).T[:, :3]
+    vn = (view[:3, :3] @ nrm.T).T
+    tri = idx[ids[ys, xs]]  # one object: the id is the triangle
+    p0, p1, p2 = vp[tri[:, 0]], vp[tri[:, 1]], vp[tri[:, 2]]
+    e1, e2, sv = p1 - p0, p2 - p0, o - p0
+    hv = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, hv)
+    u = np.einsum("ij,ij->i", sv, hv) / det
+    v = np.einsum("ij,ij->i", d, np.cross(sv, e1)) / det
+    n = (1 - u - v)[:, None] * vn[tri[:, 0]] + u[:, None] * vn[tri[:, 1]] + v[:, None] * vn[tri[:, 2]]
+    out = np.zeros((h, w, 3))
+    out[ys, xs] = n / np.linalg.norm(n, axis=1, keepdims=True)
+    return out
+
+
+_DEPARTURE: dict[str, float] = {}
+
+
+def peeling_departure(renderer) -> float:
+    """The 99.9th percentile of |peeled normal - exact normal| on exact_scene(), on this device."""
+    key = renderer.info["renderer"]
+    if key not in _DEPARTURE:
+        scene, cam, pos, nrm, idx = exact_scene()
+        vis = renderer.render(scene, cam, tiny(deep_gbuffer="visibility", layers=1))
+        peel = renderer.render(scene, cam, tiny(deep_gbuffer="peel", layers=1))
+        cov = peel.gbuffer.coverage[0]
+        err = np.abs(peel.gbuffer.normal[0] - exact_normals(vis, pos, nrm, idx)).max(-1)[cov]
+        _DEPARTURE[key] = float(np.quantile(err, SHARE))
+    return _DEPARTURE[key]
+
+
+def tolerance(renderer) -> dict:
+    return STRICT if peeling_departure(renderer) <= STRICT["normal"] else RASTER
 
 
 def textured_scene() -> tuple[ssrlab.Scene, ssrlab.Camera]:
@@ -290,6 +367,22 @@ def gpu_path_renderer():
 def test_the_gpu_path_equals_peeling_too(gpu_path_renderer, name, construction):
     for layers in (1, 4):
         assert_equal_to_peeling(gpu_path_renderer, load(name), None, name, construction, layers=layers)
+
+
+@pytest.mark.parametrize("construction", CONSTRUCTIONS)
+def test_normals_are_the_exact_surface(renderer, construction):
+    """The reference beneath peeling: each sample's normal against the exact interpolation at its
+    pixel's ray, computed here in float64 from the triangle its id names. The visibility
+    constructions hold it within 1e-3 (two steps of RGBA16F at 1) on every sample, on every
+    device; peeling's own departure decides which tolerance the comparisons with it use."""
+    scene, cam, pos, nrm, idx = exact_scene()
+    f = renderer.render(scene, cam, tiny(deep_gbuffer=construction, layers=1))
+    cov = f.gbuffer.coverage[0]
+    assert cov.sum() > 1000
+    err = np.abs(f.gbuffer.normal[0] - exact_normals(f, pos, nrm, idx)).max(-1)[cov]
+    print(f"{renderer.info['renderer']}: {construction} normals within {err.max():.2e} of the exact surface; "
+          f"peeling's 99.9th percentile {peeling_departure(renderer):.2e}")
+    assert err.max() <= 1e-3, err.max()
 
 
 def test_the_paths_give_the_same_image(renderer, gpu_path_renderer):

@@ -18,6 +18,14 @@ vec4 motion_previous_clip(int object, vec3 p) {
     return frame.previous_view_proj * (previous_model[object] * vec4(p, 1.0));
 }
 
+// Whether object `object` and the camera kept their transforms (TAA's jitter aside) since the
+// previous frame. Its motion is then 0 by this test, not by subtracting two evaluations of one
+// product: a GPU's compiler may round them differently (fused or not), which leaves motion of
+// about 1e-6 px on points that stood still.
+bool motion_still(ObjectData o, int object) {
+    return frame.previous_view_proj == frame.view_proj_unjittered && previous_model[object] == o.model;
+}
+
 // gbuffer.motion's texel: previous pixel position minus this one.
 vec4 motion_texel(vec4 clip, vec4 previous_clip) {
     return vec4(clip_to_pixel(previous_clip) - clip_to_pixel(clip), 0.0, 0.0);

@@ -77,7 +77,7 @@ void main() {
 #if PEEL_ALPHA_TEST
     // The same test as material_alpha_hole (lib/material.glsl), on the same texture sample.
     MaterialData m = materials[objects[u_object].material.x];
-    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, dFdx(fs.uv), dFdy(fs.uv));
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, dFdxFine(fs.uv), dFdyFine(fs.uv));
     float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0) * fs.color.a;
     if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
 #endif
@@ -133,6 +133,7 @@ in VertexOut {
 #include "../lib/motion.glsl"
 in vec4 vs_motion_clip;
 in vec4 vs_motion_previous_clip;
+flat in int vs_motion_still;
 #endif
 
 #if !DEEP_GBUFFER_APPEND
@@ -160,10 +161,13 @@ void main() {
     surface.view_tangent = fs.view_tangent;
     surface.color = fs.color;
 #if MATERIAL_TEXTURES
-    surface.duv_dx = dFdx(fs.uv);
-    surface.duv_dy = dFdy(fs.uv);
-    surface.dpos_dx = dFdx(fs.view_position);
-    surface.dpos_dy = dFdy(fs.view_position);
+    // Fine derivatives (GLSL 4.50): along the fragment's own row and column on every device, where
+    // plain dFdx may take the quad's coarse one; the visibility constructions' attribute pass takes
+    // the same differences from its rays (passes/gbuffer_attributes.comp).
+    surface.duv_dx = dFdxFine(fs.uv);
+    surface.duv_dy = dFdyFine(fs.uv);
+    surface.dpos_dx = dFdxFine(fs.view_position);
+    surface.dpos_dy = dFdyFine(fs.view_position);
 #else
     surface.duv_dx = surface.duv_dy = vec4(0.0);
     surface.dpos_dx = surface.dpos_dy = vec3(0.0);
@@ -177,7 +181,7 @@ void main() {
     GSample g = texel.g;
     vec4 emission_out = texel.emission, specular_out = texel.specular;
 #if MOTION_VECTORS
-    vec4 motion_out = motion_texel(vs_motion_clip, vs_motion_previous_clip);
+    vec4 motion_out = vs_motion_still != 0 ? vec4(0.0) : motion_texel(vs_motion_clip, vs_motion_previous_clip);
 #else
     vec4 motion_out = vec4(0.0);
 #endif

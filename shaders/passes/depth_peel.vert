@@ -21,6 +21,7 @@ uniform int u_object;
 // interpolate, perspective-correct, to the clip positions of the fragment's surface point.
 out vec4 vs_motion_clip;
 out vec4 vs_motion_previous_clip;
+flat out int vs_motion_still;  // motion_still(): the fragment's motion is 0
 #endif
 
 out VertexOut {
@@ -47,5 +48,6 @@ void main() {
 #if MOTION_VECTORS
     vs_motion_clip = motion_clip(o, a_position);
     vs_motion_previous_clip = motion_previous_clip(u_object, a_position);
+    vs_motion_still = int(motion_still(o, u_object));
 #endif
 }

@@ -259,7 +259,8 @@ void shade_sample(ivec3 t, uint id) {
 #if MOTION_VECTORS
     // The sample's object-space point, through both frames' transforms.
     vec3 q = visibility_interpolate(here.b, tri.q0, tri.q1, tri.q2);
-    imageStore(o_motion, t, motion_texel(motion_clip(o, q), motion_previous_clip(object, q)));
+    imageStore(o_motion, t, motion_still(o, object) ? vec4(0.0)
+                                                    : motion_texel(motion_clip(o, q), motion_previous_clip(object, q)));
 #endif
     if (t.z == 0 && texel.g.reflectivity > 0.0) flag_reflective_region(t.xy);
 }

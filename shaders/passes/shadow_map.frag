@@ -12,7 +12,7 @@ in float v_alpha;
 
 void main() {
     MaterialData m = materials[objects[u_object].material.x];
-    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, v_uv, dFdx(v_uv), dFdy(v_uv));
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, v_uv, dFdxFine(v_uv), dFdyFine(v_uv));
     float alpha = m.base_color.a * (m.flags.x != 0 ? base_texel.a : 1.0) * v_alpha;
     if (m.emissive.w >= 0.0 && alpha < m.emissive.w) discard;
 }

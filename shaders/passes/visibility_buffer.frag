@@ -69,7 +69,7 @@ layout(location = 0) out uint o_triangle;
 void main() {
 #if ALPHA_TEST
     MaterialData m = materials[objects[u_object].material.x];
-    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, dFdx(fs.uv), dFdy(fs.uv));
+    vec4 base_texel = sample_material_texture(u_base_color_texture, m, 0, fs.uv, dFdxFine(fs.uv), dFdyFine(fs.uv));
     if (material_alpha_hole(m, base_texel, fs.color.a)) discard;
 #endif
 #if PEEL_TEST

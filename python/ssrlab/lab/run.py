@@ -32,7 +32,7 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
                         the metrics are then the mean over the timed frames, and
                         thesis_error_frame_min/_max their smallest and largest thesis_error
   gpu_<pass>_ms         median GPU milliseconds of every key of Frame.timings, dots replaced by
-                        underscores (gpu_depth_peel_ms, gpu_depth_peel_layer0_ms, gpu_total_ms, ...)
+                        underscores (gpu_deep_gbuffer_ms, gpu_depth_peel_ms, gpu_depth_peel_layer0_ms, gpu_total_ms, ...)
   time_frame_ms         median GPU time of the whole frame (Frame.timings["total"])
   time_reflections_ms   median of trace_linear + trace_hiz + hiz_build + resolve (+ user passes) GPU time, those
                         present: what the thesis timed (seed 000, 3.1.2: trace and resolve passes);
