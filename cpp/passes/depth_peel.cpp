@@ -50,8 +50,15 @@ void TileBounds::scissor() const {
 }
 
 StoreGrowth grow_fragment_store(FrameContext& ctx, const std::string& prefix, uint64_t& capacity_state,
-                                uint64_t pixels, uint64_t max_fragments,
-                                const std::function<uint64_t(uint64_t)>& append) {
+                                uint64_t pixels, uint64_t max_fragments, const Buffer& counter,
+                                const std::function<void(uint64_t)>& append_pass) {
+    const auto append = [&](uint64_t c) {
+        append_pass(c);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        GLuint counted = 0;
+        glGetNamedBufferSubData(counter.id(), 0, sizeof(counted), &counted);
+        return uint64_t(counted);
+    };
     StoreGrowth g;
     uint64_t capacity = std::min(max_fragments, std::max<uint64_t>(capacity_state, 2 * pixels));
     {
@@ -94,6 +101,24 @@ void apply_peel_culling(const RenderSettings& s) {
     } else {
         glDisable(GL_CULL_FACE);
     }
+}
+
+void begin_attachmentless_raster(FrameContext& ctx, Framebuffer& fbo) {
+    const RenderSettings& s = ctx.settings;
+    if (!fbo) {
+        fbo = Framebuffer::create();
+        glNamedFramebufferDrawBuffer(fbo.id(), GL_NONE);
+    }
+    glNamedFramebufferParameteri(fbo.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, s.width);
+    glNamedFramebufferParameteri(fbo.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, s.height);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+    glViewport(0, 0, s.width, s.height);
+    ctx.depth.apply_gl_state();  // the clip control: the window depths peeling gets
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    apply_peel_culling(s);
+    ctx.gpu_scene.bind_geometry();
 }
 
 void set_min_separation(const RenderSettings& s, Defines& defines) {
@@ -344,13 +369,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
 
     // The counter counts past the capacity: the store grows to the counted fragments.
     const StoreGrowth grown = grow_fragment_store(ctx, "deep_gbuffer", capacity_, pixels, max_fragments,
-                                                  [&](uint64_t capacity) {
-                                                      append(ctx, capacity);
-                                                      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-                                                      GLuint counts[4] = {};
-                                                      glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-                                                      return uint64_t(counts[0]);
-                                                  });
+                                                  counter_, [&](uint64_t capacity) { append(ctx, capacity); });
     list_stats_.redone = grown.redone ? 1 : 0;
     list_stats_.fragments = grown.fragments;
     if (!grown.fits) return false;
@@ -462,20 +481,7 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     Defines append = defines_;
     append["DEEP_GBUFFER_APPEND"] = "1";
     const std::map<int, GLuint> shade = shading_programs(ctx, append);
-    if (!empty_fbo_) {
-        empty_fbo_ = Framebuffer::create();
-        glNamedFramebufferDrawBuffer(empty_fbo_.id(), GL_NONE);
-    }
-    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, s.width);
-    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, s.height);
-    glBindFramebuffer(GL_FRAMEBUFFER, empty_fbo_.id());
-    glViewport(0, 0, s.width, s.height);
-    ctx.depth.apply_gl_state();  // the clip control: the window depths peeling gets
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_BLEND);
-    apply_peel_culling(s);
-    ctx.gpu_scene.bind_geometry();
+    begin_attachmentless_raster(ctx, empty_fbo_);
     const auto& draws = ctx.gpu_scene.draws();
     GLuint current = 0;
     GLint loc_object = -1, loc_draw = -1;

@@ -46,6 +46,11 @@ namespace ssr {
 // Back faces culled as Settings.backface_culling says (counter-clockwise fronts, as glTF), for
 // every construction of the deep G-buffer alike.
 void apply_peel_culling(const RenderSettings& s);
+// The state of a one-pass geometry pass that appends fragments to storage and writes no target
+// (the shaded lists, the visibility lists): `fbo` (made on first use) without attachments, given
+// the frame's size, bound; peeling's clip control and culling, no depth test, scissor or blend; the
+// scene's geometry bound.
+void begin_attachmentless_raster(FrameContext& ctx, Framebuffer& fbo);
 // Settings.min_separation (Mara et al. 2016) for the peel test and the lists' selections alike
 // (shaders/lib/layer_separation.glsl): 0 compiles the plain "strictly behind" test, so the
 // default builds exactly the layers it built before the setting existed.
@@ -67,15 +72,16 @@ TileBounds tile_bounds(const GLuint* flags, int grid_x, int grid_y);
 // the previous frame (two fragments a pixel at first); where the counted fragments did not fit, the
 // geometry pass runs again with a store of the count plus 1/8 (timed as `<prefix>.redo`), so a list
 // is never truncated; beyond `max_fragments` nothing is kept and the caller peels instead.
-// `append(capacity)` runs the geometry pass into a store of that capacity and returns the fragments
-// it counted (also those beyond the capacity).
+// `append(capacity)` runs the geometry pass into a store of that capacity; the first word of
+// `counter` is then the fragments it counted (also those beyond the capacity).
 struct StoreGrowth {
     bool fits = false;       // the frame's fragments are in the store
     bool redone = false;     // ... after a second geometry pass
     uint64_t fragments = 0;  // counted
 };
 StoreGrowth grow_fragment_store(FrameContext& ctx, const std::string& prefix, uint64_t& capacity, uint64_t pixels,
-                                uint64_t max_fragments, const std::function<uint64_t(uint64_t)>& append);
+                                uint64_t max_fragments, const Buffer& counter,
+                                const std::function<void(uint64_t)>& append);
 
 class DepthPeelPass : public RenderPass {
 public:

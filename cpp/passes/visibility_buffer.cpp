@@ -208,13 +208,7 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
 
     // The counter counts past the capacity: the store grows to the counted fragments.
     const StoreGrowth grown = grow_fragment_store(ctx, "visibility_buffer", capacity_, pixels, max_fragments,
-                                                  [&](uint64_t capacity) {
-                                                      append(ctx, capacity);
-                                                      glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-                                                      GLuint counts[4] = {};
-                                                      glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-                                                      return uint64_t(counts[0]);
-                                                  });
+                                                  counter_, [&](uint64_t capacity) { append(ctx, capacity); });
     list_stats_.redone = grown.redone ? 1 : 0;
     list_stats_.fragments = grown.fragments;
     if (!grown.fits) return false;
@@ -313,20 +307,7 @@ void VisibilityBufferPass::append(FrameContext& ctx, uint64_t capacity) {
         d["ALPHA_TEST"] = "1";
         alpha_prog = ctx.shaders.program(stages, d);
     }
-    if (!empty_fbo_) {
-        empty_fbo_ = Framebuffer::create();
-        glNamedFramebufferDrawBuffer(empty_fbo_.id(), GL_NONE);
-    }
-    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_WIDTH, s.width);
-    glNamedFramebufferParameteri(empty_fbo_.id(), GL_FRAMEBUFFER_DEFAULT_HEIGHT, s.height);
-    glBindFramebuffer(GL_FRAMEBUFFER, empty_fbo_.id());
-    glViewport(0, 0, s.width, s.height);
-    ctx.depth.apply_gl_state();  // the clip control: the window depths peeling gets
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_BLEND);
-    apply_peel_culling(s);
-    ctx.gpu_scene.bind_geometry();
+    begin_attachmentless_raster(ctx, empty_fbo_);
     draw_scene(ctx, prog, alpha_prog);
     glDisable(GL_CULL_FACE);
     glEnable(GL_DEPTH_TEST);
