@@ -55,6 +55,7 @@ BENCHMARKS = {
     "metric_cost": ([], ["--repeats", "1"]),
     "raster_floor": (["--scenes", "hall", "spheres_and_boxes", "box_stack", "2CylinderEngine"], ["--width", "160", "--height", "90", "--repeats", "3"]),
     "deep_gbuffer": ([], ["--width", "160", "--height", "90", "--repeats", "3", "--layers", "1", "8"]),
+    "construction_switch": ([], ["--width", "160", "--height", "90", "--repeats", "2"]),
     "min_separation": ([], ["--width", "96", "--height", "54", "--frames", "2", "--reference-rays", "8"]),
     "input_fetch": (["--width", "640", "--height", "360"], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
     "layers_vs_rays": ([], ["--width", "96", "--height", "54", "--repeats", "3", "--reference-rays", "8"]),

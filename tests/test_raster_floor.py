@@ -131,3 +131,12 @@ def test_layers_vs_rays_script_judges_the_fastest_construction():
     fastest = re.findall(r"^  layers \(fastest\) +(\d) layers +(peel|visibility) ", text, re.M)
     assert [n for n, _ in fastest] == ["2", "3", "4"] * (2 if "by cpu time" in text else 1)
     assert "layers by the fastest construction: " in text and "layers by peeling: " in text
+
+
+def test_construction_switch_times_each_construction_alone_and_after_others():
+    text = run_benchmark("construction_switch", "--width", "48", "--height", "32", "--repeats", "1")
+    rows = re.findall(r"^  hall +(\w+) (alone|after [\w ]+?) +frames (released|kept) +deep_gbuffer +([0-9.]+) +"
+                      r"(depth_peel.setup|visibility_buffer) +([0-9.]+)$", text, re.M)
+    assert len(rows) == 12, text
+    assert {(r[0], r[4]) for r in rows} == {("peel", "depth_peel.setup"), ("visibility", "visibility_buffer")}
+    assert all(0 < float(r[5]) <= float(r[3]) for r in rows), rows

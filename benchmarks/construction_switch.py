@@ -1,0 +1,70 @@
+"""What one layer of the deep G-buffer costs, by peeling and by visibility, depending on the
+renders around it: its own configuration rendered alone, or alternating with 8 peeled layers or
+with the other construction, each frame released at once or kept.
+
+    python benchmarks/construction_switch.py [--width 1920 --height 1080] [--device gpu] [--repeats 9]
+
+A renderer keeps a pool of released frames' texture sets and reuses them; a kept frame, or a render
+after another configuration, takes textures the GPU has not touched before, and their first use
+lands in the G-buffer's timers. benchmarks/deep_gbuffer.py interleaves its configurations round by
+round (fair against drift), so on a GPU its one-peeled-layer figure carries this cost; a script
+rendering one configuration and releasing its frames does not. Per line: the median GPU ms of
+`deep_gbuffer` (the whole construction) and of its first part (`depth_peel.setup` for peeling, the
+raster `visibility_buffer` for visibility) over `repeats` rounds, each after one untimed round.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from common import benchmark_arguments, open_renderer  # noqa: E402
+
+PARTS = {"peel": "depth_peel.setup", "visibility": "visibility_buffer"}
+
+
+def rounds(renderer, scene, pattern, keep: bool, repeats: int) -> dict[str, float]:
+    """Medians over `repeats` rounds of the first configuration of `pattern`, each round rendering
+    every configuration of `pattern` in turn (one untimed round first)."""
+    kept, times = [], {"deep_gbuffer": [], "part": []}
+    for r in range(repeats + 1):
+        for k, s in enumerate(pattern):
+            f = renderer.render(scene, settings=s)
+            if k == 0 and r > 0:
+                times["deep_gbuffer"].append(f.timings["deep_gbuffer"])
+                times["part"].append(f.timings[PARTS[s.deep_gbuffer]])
+            if keep:
+                kept.append(f)
+            else:
+                f.release()
+    return {k: statistics.median(v) for k, v in times.items()}
+
+
+def main(argv=None) -> int:
+    ap = benchmark_arguments(__doc__, repeats=9)
+    ap.set_defaults(scenes=["hall"])
+    args = ap.parse_args(argv)
+    import ssrlab
+
+    r = open_renderer(args)
+    base = ssrlab.Settings(width=args.width, height=args.height, layers=1, method="off", shadow_map_size=0)
+    one = {m: base.replace(deep_gbuffer=m) for m in PARTS}
+    eight = base.replace(layers=8, deep_gbuffer="peel")
+    print(f"{args.width}x{args.height}, one layer; GPU ms, medians of {args.repeats} rounds after one untimed round")
+    for name in args.scenes:
+        scene = ssrlab.scenes.load(name)
+        for m, other in (("peel", "visibility"), ("visibility", "peel")):
+            part = PARTS[m]
+            for label, pattern in ((f"{m} alone", [one[m]]), (f"{m} after 8 peeled layers", [one[m], eight]),
+                                   (f"{m} after {other}", [one[m], one[other]])):
+                for keep in (False, True):
+                    t = rounds(r, scene, pattern, keep, args.repeats)
+                    print(f"  {name:18s} {label:34s} frames {'kept    ' if keep else 'released'}  "
+                          f"deep_gbuffer {t['deep_gbuffer']:8.3f}  {part} {t['part']:8.3f}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
