@@ -120,6 +120,11 @@ def gltf_json(path: Path) -> dict:
     return json.loads(data)
 
 
+def bits(a: np.ndarray) -> np.ndarray:
+    """The texels as their bit patterns (equal floats, NaNs and signed zeros compare exactly)."""
+    return np.ascontiguousarray(a, dtype=np.float32).view(np.uint32)
+
+
 @functools.lru_cache(maxsize=None)
 def image_load_refusal() -> str | None:
     """Why this machine's default device refuses Renderer(input_fetch="imageLoad") (NVIDIA's GL

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from conftest import small
+from conftest import bits, small
 
 LAYER_COUNTS = (1, 2, 4, 8, 16)
 TEXTURES = ("gbuffer.depth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material")
@@ -19,11 +19,6 @@ def tiny(**kw) -> ssrlab.Settings:
     kw.setdefault("width", 48)
     kw.setdefault("height", 32)
     return small(shadow_map_size=0, method="off", **kw)
-
-
-def bits(a: np.ndarray) -> np.ndarray:
-    """The texels as their bit patterns (equal floats, NaNs and signed zeros compare exactly)."""
-    return np.ascontiguousarray(a, dtype=np.float32).view(np.uint32)
 
 
 def assert_same_layers(renderer, scene, camera, what: str, **kw) -> ssrlab.Frame:

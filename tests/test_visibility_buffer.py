@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from conftest import small
+from conftest import bits, small
 from ssrlab import crosscheck as cc
 
 CONSTRUCTIONS = ("visibility", "visibility_lists")
@@ -35,10 +35,6 @@ def tiny(**kw) -> ssrlab.Settings:
     kw.setdefault("width", 64)
     kw.setdefault("height", 48)
     return small(shadow_map_size=0, method="off", **kw)
-
-
-def bits(a: np.ndarray) -> np.ndarray:
-    return np.ascontiguousarray(a, dtype=np.float32).view(np.uint32)
 
 
 def srgb_codes(linear: np.ndarray) -> np.ndarray:

@@ -57,6 +57,26 @@ void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims,
 
 }  // namespace
 
+namespace {
+
+// An empty box, and a box grown to hold a primitive's.
+RTCBounds empty_bounds() {
+    RTCBounds b{};
+    b.lower_x = b.lower_y = b.lower_z = 1e30f;
+    b.upper_x = b.upper_y = b.upper_z = -1e30f;
+    return b;
+}
+void grow_bounds(RTCBounds& b, const RTCBuildPrimitive& p) {
+    b.lower_x = std::min(b.lower_x, p.lower_x);
+    b.lower_y = std::min(b.lower_y, p.lower_y);
+    b.lower_z = std::min(b.lower_z, p.lower_z);
+    b.upper_x = std::max(b.upper_x, p.upper_x);
+    b.upper_y = std::max(b.upper_y, p.upper_y);
+    b.upper_z = std::max(b.upper_z, p.upper_z);
+}
+
+}  // namespace
+
 // Embree's device, kept for the scene's life: every update builds with it.
 struct SceneBvh::Builder {
     RTCDevice device = rtcNewDevice(nullptr);
@@ -69,17 +89,8 @@ struct SceneBvh::Builder {
     // `use(root, root_bounds)` while the builder's nodes live.
     template <typename Use>
     void build(std::vector<RTCBuildPrimitive>& prims, unsigned max_leaf, unsigned max_depth, Use&& use) {
-        RTCBounds root_bounds{};
-        root_bounds.lower_x = root_bounds.lower_y = root_bounds.lower_z = 1e30f;
-        root_bounds.upper_x = root_bounds.upper_y = root_bounds.upper_z = -1e30f;
-        for (const auto& p : prims) {
-            root_bounds.lower_x = std::min(root_bounds.lower_x, p.lower_x);
-            root_bounds.lower_y = std::min(root_bounds.lower_y, p.lower_y);
-            root_bounds.lower_z = std::min(root_bounds.lower_z, p.lower_z);
-            root_bounds.upper_x = std::max(root_bounds.upper_x, p.upper_x);
-            root_bounds.upper_y = std::max(root_bounds.upper_y, p.upper_y);
-            root_bounds.upper_z = std::max(root_bounds.upper_z, p.upper_z);
-        }
+        RTCBounds root_bounds = empty_bounds();
+        for (const auto& p : prims) grow_bounds(root_bounds, p);
         RTCBVH handle = rtcNewBVH(device);
         RTCBuildArguments args = rtcDefaultBuildArguments();
         args.buildQuality = RTC_BUILD_QUALITY_HIGH;
@@ -274,18 +285,8 @@ void SceneBvh::build_top() {
             return int32_t(index);
         };
         auto bounds_of = [&](const unsigned* ids, unsigned n) {
-            RTCBounds b{};
-            b.lower_x = b.lower_y = b.lower_z = 1e30f;
-            b.upper_x = b.upper_y = b.upper_z = -1e30f;
-            for (unsigned i = 0; i < n; ++i) {
-                const RTCBuildPrimitive& p = boxes[ids[i]];
-                b.lower_x = std::min(b.lower_x, p.lower_x);
-                b.lower_y = std::min(b.lower_y, p.lower_y);
-                b.lower_z = std::min(b.lower_z, p.lower_z);
-                b.upper_x = std::max(b.upper_x, p.upper_x);
-                b.upper_y = std::max(b.upper_y, p.upper_y);
-                b.upper_z = std::max(b.upper_z, p.upper_z);
-            }
+            RTCBounds b = empty_bounds();
+            for (unsigned i = 0; i < n; ++i) grow_bounds(b, boxes[ids[i]]);
             return b;
         };
         items = [&](const unsigned* ids, unsigned n, const RTCBounds& b, int d) -> int32_t {
