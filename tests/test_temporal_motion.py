@@ -304,3 +304,24 @@ def test_study_masks_come_from_the_gbuffers():
     img = np.arange(12, dtype=np.float64).reshape(3, 4, 1)
     out = temporal.box_filter(img, 1)
     assert out[1, 1, 0] == pytest.approx(img[0:3, 0:3].mean()) and out[0, 0, 0] == pytest.approx(img[0:2, 0:2].mean())
+
+
+@pytest.mark.parametrize("make, below_one", [(temporal.sphere_over_mirror, False), (temporal.box_over_glossy, True)])
+def test_accumulation_bound_separates_noise_from_bias(renderer, make, below_one):
+    """The best any accumulation of K frames reaches: on the mirror, one ray per pixel is the same
+    every frame (the mean of the renders is the single frame: ratio exactly 1, bias only); on the
+    glossy floor the frames' rays differ and their mean is closer to the reference. Its single
+    frame is the sequence's own frame K (same seed, same pose)."""
+    seq = make(frames=4, moving=4)
+    base = ssrlab.Settings(width=96, height=54, layers=2, rays_per_pixel=1, shadow_map_size=512)
+    bound = temporal.accumulation_bound(renderer, seq, base, reference_rays=8)
+    assert bound["frame"] == 3 and bound["count"] == 4
+    if below_one:
+        assert bound["ratio"] < 0.95, bound
+    else:
+        assert bound["ratio"] == 1.0, bound
+    *_, last = renderer.render_sequence(seq.scene, seq.cameras, base, times=seq.times)
+    ref = last.reference("converged", rays=8)
+    assert ssrlab.metrics.rmse(last.reflection, ref.reflection, ref.reflective) == pytest.approx(bound["single"], rel=1e-6)
+    with pytest.raises(ValueError, match="accumulation_bound"):
+        temporal.accumulation_bound(renderer, seq, base, frame=4)

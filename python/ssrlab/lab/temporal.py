@@ -367,6 +367,38 @@ def motion_study(renderer, seq: MotionSequence, configurations: dict, *, referen
         out["images"]["ghost region"] = [m["ghost"] for m in masks]
     return out
 
+def accumulation_bound(renderer, seq: MotionSequence, settings, *, frame: int | None = None, count: int | None = None,
+                       reference_rays: int = 64) -> dict:
+    """What any accumulation of `count` frames could reach at frame `frame` (default: the last
+    frame of the motion, seq.still_from - 1, with `count` = still_from, the frames a history holds
+    there): the per-pixel mean of `count` renders of that frame's pose and camera, each alone with
+    its own rays (seeds settings.seed + frame + j, j = 0 the sequence's own frame), against the
+    frame's converged reference. It is a temporal filter's best case: no motion to follow, no
+    history rejected, every frame weighted alike (the temporal filter's running mean up to
+    Settings.temporal_max_history frames is this mean on a still scene). Its error over the single
+    frame's says how much of that error is noise the frames average out; the rest is the bias of
+    screen space (what the rays cannot see, the lit G-buffer they fetch), which no accumulation of
+    frames removes: a mirror's one ray per pixel is the same every frame, so there the bound is 1.
+    Returns {"frame", "count", "single": rmse, "mean": rmse, "ratio": mean / single}."""
+    k = seq.still_from - 1 if frame is None else int(frame)
+    n = seq.still_from if count is None else int(count)
+    if not 0 <= k < seq.frames() or n < 1:
+        raise ValueError(f"accumulation_bound: frame {k} of {seq.frames()}, count {n}")
+    base = settings.replace(temporal_reflections=False, denoise="none")
+    seq.scene.set_time(seq.times[k])
+    total, single, reflection, reflective = None, None, None, None
+    for j in range(n):
+        f = renderer.render(seq.scene, seq.cameras[k], settings=base.replace(seed=(settings.seed + k + j) % 2**31))
+        if j == 0:
+            ref = f.reference("converged", rays=reference_rays)
+            reflection, reflective = ref.reflection.copy(), ref.reflective.copy()
+            single = _rmse(f.reflection, reflection, reflective)
+        image = np.asarray(f.reflection, np.float64)
+        total = image if total is None else total + image
+    mean = _rmse(total / n, reflection, reflective)
+    return {"frame": k, "count": n, "single": single, "mean": mean, "ratio": mean / single if single > 0 else float("nan")}
+
+
 __all__ = ["GHOST_BLUR", "GHOST_FRAMES", "GHOST_MARGIN", "LAG_TAIL", "LAG_TOLERANCE", "MOTION_SEQUENCES", "MotionSequence",
-           "box_filter", "box_over_glossy", "disoccluded", "ghost_energy", "gltf_stage", "history_configurations", "lag", "motion_configurations",
+           "accumulation_bound", "box_filter", "box_over_glossy", "disoccluded", "ghost_energy", "gltf_stage", "history_configurations", "lag", "motion_configurations",
            "motion_study", "moving_camera_errors", "reflects_objects", "sphere_over_mirror"]
