@@ -17,7 +17,9 @@ layers (reject_layers), without and with the neighbourhood clamp (temporal_clamp
 Per configuration, from ssrlab.lab.temporal.motion_study, against each frame's converged reference
 (--reference-rays rays), rmse over the reflective pixels:
   err@K      the error at frame K = --moving (the last frame of the motion), and / single its ratio
-             to the single frame's error at that frame (the same rays);
+             to the single frame's error at that frame (the same rays); still: the same ratio had
+             the scene stood in frame K's pose (its final one) from the first frame, what the
+             configuration reaches without motion;
   moved, disocc., rest   the mean error over the moving frames of the pixels whose reflection shows a
              moved object, of the pixels newly disoccluded, of the others;
   ghost      the error energy in the region the moving objects left (5x5-averaged error, summed over
@@ -79,7 +81,7 @@ def print_study(title, result, moving):
           f"{masks['disoccluded'][1:moving].mean():.0f}, ghost region {masks['ghost'][1:].mean():.0f}, footprint "
           f"{masks['footprint'][0]}")
     print(f"  {'configuration':26s} {'err@' + str(moving):>8s} {'/single':>7s} {'moved':>7s} {'disocc.':>7s} {'rest':>7s} "
-          f"{'ghost':>9s} {'excess':>9s} {'lag':>5s}")
+          f"{'ghost':>9s} {'excess':>9s} {'lag':>5s} {'still':>6s}")
     names = [n for n in result if isinstance(result[n], dict) and "all" in result[n]]
     for name in names:
         r = result[name]
@@ -88,7 +90,8 @@ def print_study(title, result, moving):
                                                   else str(r["lag"]))
         print(f"  {name:26s} {r['all'][k]:8.4f} {r['all'][k] / single:7.3f} {np.nanmean(r['moved'][window]):7.4f} "
               f"{np.nanmean(r['disoccluded'][window]):7.4f} {np.nanmean(r['rest'][window]):7.4f} "
-              f"{r['ghost'].sum():9.3f} {excess(result, name) if name != 'single frame' else 0.0:+9.3f} {lag:>5s}")
+              f"{r['ghost'].sum():9.3f} {excess(result, name) if name != 'single frame' else 0.0:+9.3f} {lag:>5s} "
+              f"{r['still at stop'] / single:6.3f}")
 
 
 def claims(result, moving, bound):
@@ -172,8 +175,9 @@ def main(argv=None) -> int:
             camera = "still camera" if orbit == 0.0 else f"camera orbiting {orbit:g} degrees"
             bound = temporal.accumulation_bound(r, seq, base, reference_rays=args.reference_rays)
             print_study(f"\n{name}, {camera} ({time.perf_counter() - t:.0f} s):", result, args.moving)
-            print(f"  bound (no accumulation of {bound['count']} frames does better): the mean of {bound['count']} "
-                  f"independent renders of frame {args.moving}'s pose {bound['mean']:8.4f} = {bound['ratio']:.3f} x single")
+            print(f"  bound: the mean of {bound['count']} independent renders of frame {args.moving}'s pose "
+                  f"{bound['mean']:.4f} = {bound['ratio']:.3f} x single (an accumulation of {bound['count']} frames "
+                  "does no better, up to the noise of one draw)")
             verdicts.append((f"{name}, {camera}", claims(result, args.moving, bound)))
     print("\nhit-point reprojection against surface-only reprojection:")
     for title, lines in verdicts:

@@ -262,6 +262,9 @@ def test_hit_reprojection_ghosts_less_than_surface_reprojection(sphere_study):
     assert surface > 0.1 * single, (surface, single)
     assert hit <= 0.25 * surface, (hit, surface)
     assert r["hit"]["lag"] is not None and (r["surface"]["lag"] is None or r["hit"]["lag"] <= r["surface"]["lag"])
+    # Standing still, a mirror's frames are all alike: what their accumulation reaches is the frame's.
+    assert r["single frame"]["still at stop"] == r["single frame"]["all"][5]
+    assert r["hit"]["still at stop"] == pytest.approx(r["single frame"]["all"][5], rel=1e-3)
 
 
 def test_hit_accumulation_beats_the_single_frame_after_n_frames(renderer):

@@ -298,7 +298,9 @@ def motion_study(renderer, seq: MotionSequence, configurations: dict, *, referen
     "converged"). Returns {"frames": n, "still_from": k, "masks": {name: per-frame pixel counts},
     name: {"all", "moved", "disoccluded", "rest",
     "footprint", "still footprint": per-frame rmse arrays (nan where the mask is empty; the
-    footprint's from the stop on), "ghost": per-frame energy, "converged": the footprint's level,
+    footprint's from the stop on), "still at stop": the error over the reflective pixels at the
+    last frame of the motion (which shows the final pose) had the scene stood still in that pose
+    from the first frame, "ghost": per-frame energy, "converged": the footprint's level,
     "lag": frames or None}} and, for the configurations named in `keep`,
     "images": {name: [per-frame reflection]} (with "reference" and "ghost region")."""
     names = list(configurations)
@@ -353,10 +355,15 @@ def motion_study(renderer, seq: MotionSequence, configurations: dict, *, referen
         for i, got in result.pop("_after_stop").items():
             moving[i] = _rmse(got, refs[i][0], footprint & refs[i][1])
         still = moving.copy()  # each frame alone: standing still from the start changes nothing after the stop
+        # The last frame of the motion already shows the final pose: its error had the scene stood still.
+        k = seq.still_from - 1
+        result["still at stop"] = result["all"][k]
         if settings.temporal_reflections or settings.denoise == "svgf":
             for i, frame in enumerate(renderer.render_sequence(seq.scene, seq.cameras, settings, times=[seq.times[-1]] * n)):
                 if i >= seq.still_from:
                     still[i] = _rmse(frame.reflection, refs[i][0], footprint & refs[i][1])
+                elif i == k:
+                    result["still at stop"] = _rmse(frame.reflection, refs[i][0], refs[i][1])
         result["footprint"], result["still footprint"] = moving, still
         result["converged"] = float(np.nanmean(still[-LAG_TAIL:]))
         result["lag"] = lag(moving, result["converged"], seq.still_from)
