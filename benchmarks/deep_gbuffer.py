@@ -12,7 +12,7 @@ layer count:
   visibility        peeling that rasterises depth and a triangle id only, then one compute pass
                     rebuilding every attribute of every kept sample (Burns and Hunt 2013)
   visibility_lists  one geometry pass appending (depth, id) per fragment (12 bytes with the link),
-                    a selection, depth writes, the same attribute pass
+                    a selection storing ids and depths, the same attribute pass
 and prints the GPU time of the construction (Frame.timings['deep_gbuffer']: median and the spread
 min-max over `repeats` renders, after 2 warm-up renders), its ratio to ONE peeled layer of the
 same scene measured in the same run, its parts, the lists' fragment count, the extra memory each
@@ -34,7 +34,7 @@ it filled (CONSTRUCTION_FLOORS there):
   visibility        per layer a depth clear and a depth + id geometry pass, and the layer's
                     attributes stored by compute
   visibility_lists  every fragment's 8 bytes appended once to per-pixel arrays, and per layer its
-                    depth written (a depth clear's bytes) and its attributes stored by compute
+                    depth and attributes stored by compute
 None of it shades a material, tests a peel, selects or sorts: `x floor` is how much more than
 its own unavoidable raster and memory work each construction spends. The floors draw and write
 the full frame; on the CPU device peeling and the visibility buffer rasterise a deeper layer only
@@ -74,7 +74,7 @@ PARTS = {
     "visibility": (("raster", "visibility_buffer"), ("classify", "gbuffer_attributes.classify"),
                    ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade")),
     "visibility_lists": (("append", "visibility_buffer.append"), ("select", "visibility_buffer.select"),
-                         ("depth", "visibility_buffer.depth"), ("classify", "gbuffer_attributes.classify"),
+                         ("classify", "gbuffer_attributes.classify"),
                          ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade")),
 }
 # 8 layers against one peeled layer, per scene (the scenes not named here have no goal).

@@ -63,9 +63,9 @@ CONSTRUCTION_FLOORS = {
     # per layer a depth + id geometry pass after a depth clear, and the layer's attributes stored
     # by compute
     "visibility": ((), ("clear.depth", "id", "stores")),
-    # every fragment's 8 bytes appended once, then per layer its depth written (a depth clear's
-    # bytes) and its attributes stored by compute
-    "visibility_lists": (("clear.counters", "append"), ("clear.depth", "stores")),
+    # every fragment's 8 bytes appended once, then per layer its attributes and its depth stored
+    # by compute (the depth's 4 bytes are the stores' R32F)
+    "visibility_lists": (("clear.counters", "append"), ("stores",)),
 }
 
 

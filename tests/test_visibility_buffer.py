@@ -317,8 +317,7 @@ def test_the_lists_store_grows_and_falls_back_without_truncating(renderer):
 def test_timings_name_the_parts(renderer):
     scene = ssrlab.scenes.load("spheres_and_boxes")
     for construction, parts in (("visibility", ["visibility_buffer.layer0", "visibility_buffer.layer3"]),
-                                ("visibility_lists", ["visibility_buffer.append", "visibility_buffer.select",
-                                                      "visibility_buffer.depth"])):
+                                ("visibility_lists", ["visibility_buffer.append", "visibility_buffer.select"])):
         f = renderer.render(scene, settings=tiny(deep_gbuffer=construction, layers=4))
         t = f.timings
         assert f.passes[:2] == ["visibility_buffer", "gbuffer_attributes"]

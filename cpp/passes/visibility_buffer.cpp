@@ -12,15 +12,21 @@
 namespace ssr {
 
 namespace {
-// Storage-buffer bindings of lib/visibility_lists.glsl and the selection's kept depths.
-constexpr GLuint kFragmentsBinding = 21, kLinksBinding = 22, kHeadsBinding = 23, kCounterBinding = 24,
-                 kKeptDepthBinding = 25;
+// Storage-buffer bindings of lib/visibility_lists.glsl.
+constexpr GLuint kFragmentsBinding = 21, kLinksBinding = 22, kHeadsBinding = 23, kCounterBinding = 24;
+// Image unit of gbuffer.depth in the compute passes that store it (visibility_select.comp,
+// visibility_depth.comp), and the texture unit the raster's peel test reads the previous layer from.
+constexpr GLuint kDepthImage = 1, kPreviousDepthUnit = 3;
 }  // namespace
 
 std::vector<ResourceDesc> VisibilityBufferPass::outputs(const RenderSettings& s) const {
     const int w = s.width, h = s.height, l = s.layers;
+    // With the lists, the selection stores the kept depths by compute (passes/visibility_select.comp):
+    // a colour format, which every later pass samples as it samples a depth format (.r). A depth
+    // target would take one full-screen depth-only draw per layer through the raster outputs.
+    const bool stored = s.deep_gbuffer == DeepGBuffer::VisibilityLists;
     std::vector<ResourceDesc> out = {
-        {"gbuffer.depth", GL_DEPTH_COMPONENT32F, w, h, l, 1},
+        {"gbuffer.depth", GLenum(stored ? GL_R32F : GL_DEPTH_COMPONENT32F), w, h, l, 1},
         // Read by the attribute pass of the same frame only.
         {"gbuffer.visibility", GL_R32UI, w, h, l, 1, Lifetime::Scratch},
     };
@@ -28,6 +34,8 @@ std::vector<ResourceDesc> VisibilityBufferPass::outputs(const RenderSettings& s)
     // would be a feedback loop in GL's rules, even on another layer ("visibility_lists" peels too,
     // beyond its budget).
     out.push_back({"visibility_buffer.previous_depth", GL_DEPTH_COMPONENT32F, w, h, 0, 1, Lifetime::Scratch});
+    // The lists peeling a frame beyond their budget rasterise each layer's depth here, then store it.
+    if (stored) out.push_back({"visibility_buffer.raster_depth", GL_DEPTH_COMPONENT32F, w, h, 0, 1, Lifetime::Scratch});
     return out;
 }
 
@@ -104,6 +112,11 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
     Texture& depth = ctx.resources.get("gbuffer.depth");
     Texture& visibility = ctx.resources.get("gbuffer.visibility");
     Texture& previous = ctx.resources.get("visibility_buffer.previous_depth");
+    // gbuffer.depth stored by compute (the lists' R32F): each layer is rasterised into a depth
+    // target of its own first.
+    const bool stored = depth.format() == GL_R32F;
+    Texture& raster = stored ? ctx.resources.get("visibility_buffer.raster_depth") : depth;
+    const GLuint store = stored ? ctx.shaders.program({"passes/visibility_depth.comp"}, ctx.defines) : 0;
 
     const std::vector<std::string> stages = {"passes/depth_peel.vert", "passes/visibility_buffer.frag"};
     Defines d = ctx.defines;
@@ -142,16 +155,16 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     apply_peel_culling(s);
     ctx.gpu_scene.bind_geometry();
-    glBindTextureUnit(3, previous.id());
+    glBindTextureUnit(kPreviousDepthUnit, previous.id());
     const float clear_depth = ctx.depth.clear_depth();
     const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
     std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));
     for (int layer = 0; layer < s.layers; ++layer) {
         GpuScope timer(ctx.timer, "visibility_buffer.layer" + std::to_string(layer));
         if (layer > 0)
-            glCopyImageSubData(depth.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer - 1, previous.id(), GL_TEXTURE_2D, 0, 0,
-                               0, 0, s.width, s.height, 1);
-        fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
+            glCopyImageSubData(raster.id(), raster.target(), 0, 0, 0, stored ? 0 : layer - 1, previous.id(),
+                               GL_TEXTURE_2D, 0, 0, 0, 0, s.width, s.height, 1);
+        fbo_.attach(GL_DEPTH_ATTACHMENT, raster, 0, stored ? -1 : layer);
         fbo_.attach(GL_COLOR_ATTACHMENT0, visibility, 0, layer);
         if (layer == 0) fbo_.check_complete("visibility_buffer");
         // Only the depth is cleared: a triangle id counts where the depth test wrote a depth.
@@ -174,7 +187,17 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
         glEndQuery(GL_SAMPLES_PASSED);
         if (layer > 0) glEndConditionalRender();
         glDisable(GL_SCISSOR_TEST);
+        if (stored) {  // the layer's depth (the clear value where the draw was skipped) into gbuffer.depth
+            glUseProgram(store);
+            glUniform1i(glGetUniformLocation(store, "u_layer"), layer);
+            glBindTextureUnit(kPreviousDepthUnit, raster.id());
+            bind_image_layered(kDepthImage, depth, GL_WRITE_ONLY);
+            dispatch_2d(s.width, s.height, 1, 8, 8);
+            glBindTextureUnit(kPreviousDepthUnit, previous.id());
+        }
     }
+    if (stored) glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                                GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDisable(GL_CULL_FACE);
     ctx.depth.apply_gl_state();
@@ -200,10 +223,8 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
     const uint64_t limit_bytes = DepthPeelPass::store_limit_bytes(s.deep_gbuffer_budget);
     // Every buffer is one storage block: the fragments' (8 bytes each) is the largest.
     const uint64_t max_fragments = std::min(limit_bytes / kFragmentBytes, block / 8);
-    const uint64_t kept_bytes = sizeof(float) * pixels * uint64_t(s.layers);
-    if (kept_bytes > block || max_fragments == 0) return false;
+    if (max_fragments == 0) return false;
     if (heads_.size() < sizeof(GLuint) * pixels) heads_ = Buffer::create(sizeof(GLuint) * pixels);
-    if (kept_depth_.size() < kept_bytes) kept_depth_ = Buffer::create(kept_bytes);
     if (!counter_) counter_ = Buffer::create(4 * sizeof(GLuint));
 
     // The counter counts past the capacity: the store grows to the counted fragments.
@@ -213,7 +234,7 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
     list_stats_.fragments = grown.fragments;
     if (!grown.fits) return false;
     list_stats_.lists = 1;
-    list_stats_.bytes = fragments_.size() + links_.size() + heads_.size() + kept_depth_.size() + counter_.size();
+    list_stats_.bytes = fragments_.size() + links_.size() + heads_.size() + counter_.size();
 
     Texture& depth = ctx.resources.get("gbuffer.depth");
     Texture& visibility = ctx.resources.get("gbuffer.visibility");
@@ -227,50 +248,17 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
     {
         GpuScope timer(ctx.timer, "visibility_buffer.select");
         glUseProgram(select);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKeptDepthBinding, kept_depth_.id());
         bind_image_layered(0, visibility, GL_WRITE_ONLY);
+        bind_image_layered(kDepthImage, depth, GL_WRITE_ONLY);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         dispatch_2d(s.width, s.height, 1, 8, 8);
     }
-    // The most layers any pixel holds: deeper layers are only cleared (peeling's empty layers).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    // The most layers any pixel holds: the attribute pass classifies those only (the selection
+    // stored the clear values of the others).
     GLuint counts[4] = {};
     glGetNamedBufferSubData(counter_.id(), 0, sizeof(counts), counts);
-    const int filled = std::min<int>(int(counts[2]), s.layers);
-    ctx.layers_filled = filled;
-
-    // The kept depths into the depth target, one full-screen depth-only draw per filled layer.
-    const GLuint write = ctx.shaders.program({"passes/deep_gbuffer_write.vert", "passes/visibility_depth.frag"},
-                                             ctx.defines);
-    GpuScope timer(ctx.timer, "visibility_buffer.depth");
-    if (!fbo_) fbo_ = Framebuffer::create();
-    if (!empty_vao_) glCreateVertexArrays(1, &empty_vao_);
-    glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, 0, 0);
-    glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-    glViewport(0, 0, s.width, s.height);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_CULL_FACE);
-    ctx.depth.apply_gl_state();
-    glEnable(GL_DEPTH_TEST);
-    glDepthMask(GL_TRUE);
-    glDepthFunc(GL_ALWAYS);  // every texel's depth is written as stored (the clear value where none)
-    glBindVertexArray(empty_vao_);
-    glUseProgram(write);
-    const GLint loc_layer = glGetUniformLocation(write, "u_layer");
-    const float clear_depth = ctx.depth.clear_depth();
-    for (int layer = 0; layer < s.layers; ++layer) {
-        fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
-        if (layer == 0) fbo_.check_complete("visibility_buffer.depth");
-        if (layer < filled) {
-            glUniform1i(loc_layer, layer);
-            glDrawArrays(GL_TRIANGLES, 0, 3);
-        } else {
-            glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &clear_depth);
-        }
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    ctx.depth.apply_gl_state();
-    ctx.gpu_scene.bind_geometry();
+    ctx.layers_filled = std::min<int>(int(counts[2]), s.layers);
     return true;
 }
 
@@ -321,10 +309,7 @@ void VisibilityBufferPass::release() {
     links_.reset();
     heads_.reset();
     counter_.reset();
-    kept_depth_.reset();
     capacity_ = 0;
-    if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
-    empty_vao_ = 0;
     empty_fbo_.reset();
     if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
     queries_.clear();

@@ -8,10 +8,12 @@
 // draw per 1080p layer, where depth and a triangle id cost 0.64 and the attributes by compute
 // stores 0.03 (../shared/GPU.md).
 //   inputs : scene geometry and materials (alpha-tested ones: their base colour texture)
-//   outputs: gbuffer.depth (DEPTH32F array, the layers' window depths, as peeling writes them),
+//   outputs: gbuffer.depth (the layers' window depths, as peeling writes them: a DEPTH32F array,
+//            with "visibility_lists" an R32F array stored by compute),
 //            gbuffer.visibility (R32UI array, scratch: each sample's id, its object and triangle,
 //            lib/visibility.glsl; meaningful where the depth is not the clear value),
-//            visibility_buffer.previous_depth (scratch)
+//            visibility_buffer.previous_depth (scratch), with "visibility_lists"
+//            visibility_buffer.raster_depth (scratch: the depth target of a frame it peels)
 // "visibility": peeling (Everitt 2001): layer i+1 keeps the nearest fragment strictly behind layer
 // i (Settings.min_separation: that far behind), with peeling's culling, alpha test and ties: the
 // draws go in reverse order with a depth test that passes equal depths, so of fragments at one
@@ -20,10 +22,11 @@
 // visibility_buffer.layer<i>.
 // "visibility_lists": one geometry pass appends every fragment's depth and triangle to its pixel's
 // list (12 bytes a fragment, lib/visibility_lists.glsl), a compute pass keeps the `layers`
-// nearest by peeling's rules (passes/visibility_select.comp), and a depth-only draw per filled layer
-// writes their depths. The geometry is processed once whatever the layer count. The store grows
-// to the frame's fragment count within Settings.deep_gbuffer_budget; a frame beyond it is peeled.
-// Timed as visibility_buffer.append, .select, .depth.
+// nearest by peeling's rules and stores their ids and depths (passes/visibility_select.comp): no
+// raster output after the append. The geometry is processed once whatever the layer count. The
+// store grows to the frame's fragment count within Settings.deep_gbuffer_budget; a frame beyond it
+// is peeled, each layer's depth rasterised into a depth target and stored into gbuffer.depth by
+// compute (passes/visibility_depth.comp). Timed as visibility_buffer.append, .select.
 #pragma once
 
 #include <map>
@@ -73,11 +76,9 @@ private:
     Buffer tiles_;
     Framebuffer fbo_, empty_fbo_;
     std::vector<GLuint> queries_;
-    // Lists: fragments (depth, triangle), links, heads, counter (appended, capacity, most layers),
-    // the kept depths.
-    Buffer fragments_, links_, heads_, counter_, kept_depth_;
+    // Lists: fragments (depth, triangle), links, heads, counter (appended, capacity, most layers).
+    Buffer fragments_, links_, heads_, counter_;
     uint64_t capacity_ = 0;
-    GLuint empty_vao_ = 0;
     struct ListStats {
         int lists = 0, fell_back = 0, redone = 0;
         uint64_t fragments = 0, bytes = 0;

@@ -3,7 +3,8 @@
 //   gbuffer.normal    RGBA16F       xyz view-space unit normal, w perceptual roughness
 //   gbuffer.material  RGBA8         r reflectivity, g coverage (1 = a surface), b,a object id + 1
 //                                   (low and high byte; 0 = none)
-//   gbuffer.depth     DEPTH32F      window depth in the frame's depth convention
+//   gbuffer.depth     DEPTH32F      window depth in the frame's depth convention (R32F, stored by
+//                                   compute, with deep_gbuffer "visibility_lists": sampled alike, .r)
 // Encoding and decoding are pure functions: the including pass does the texel fetches.
 
 struct GSample {

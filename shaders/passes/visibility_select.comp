@@ -7,10 +7,13 @@
 // once per layer), fragments at equal depth make one layer, and of those the one peeling's
 // shading pass leaves stays (visibility_wins).
 //   output: gbuffer.visibility (image unit 0) every layer's triangle, VISIBILITY_NONE where the
-//           pixel has no such layer; visibility_depth[layer * width * height + pixel] its window
-//           depth (the clear value where none), which the depth write draws into gbuffer.depth;
-//           visibility_counter.z the most layers any pixel holds; with MARK_TILES (the CPU
-//           device) the tiles of each layer holding a sample (lib/visibility_tiles.glsl).
+//           pixel has no such layer; gbuffer.depth (image unit 1, R32F with this construction)
+//           its window depth, the clear value where none: stored here, not drawn, since a
+//           compute store skips the raster outputs a depth target is written through (on an H200
+//           a full-screen depth-only draw per 1080p layer cost 0.45 ms, more than the attributes
+//           of all 8 layers); visibility_counter.z the most layers any pixel holds; with
+//           MARK_TILES (the CPU device) the tiles of each layer holding a sample
+//           (lib/visibility_tiles.glsl).
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/visibility.glsl"
@@ -30,7 +33,7 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(binding = 0, r32ui) writeonly uniform uimage2DArray o_visibility;
-layout(std430, binding = 25) writeonly buffer VisibilityDepth { float visibility_depth[]; };
+layout(binding = 1, r32f) writeonly uniform image2DArray o_depth;
 
 shared uint group_layers;
 
@@ -87,10 +90,9 @@ void main() {
             count = min(count + 1, LAYERS);
         }
 #endif
-        uint plane = uint(size.x * size.y);
         for (int k = 0; k < LAYERS; ++k) {
             imageStore(o_visibility, ivec3(p, k), uvec4(k < count ? triangle[k] : VISIBILITY_NONE));
-            visibility_depth[uint(k) * plane + pixel] = k < count ? depth[k] : DEPTH_CLEAR;
+            imageStore(o_depth, ivec3(p, k), vec4(k < count ? depth[k] : DEPTH_CLEAR));
         }
         if (count > 0) atomicMax(group_layers, uint(count));
     }
