@@ -121,13 +121,17 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     const bool binning = bin_all || !textured.empty();
     if (binning) {
         const uint64_t samples = pixels * uint64_t(std::max(filled, 1));
-        if (binned_.size() < samples * 8) {
-            binned_.reset();
+        if (sorted_.size() < samples * 4) {
             sorted_.reset();
-            binned_ = Buffer::create(samples * 8);
             sorted_ = Buffer::create(samples * 4);
         }
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinnedBinding, binned_.id());
+        // The (sample, rank) pairs stage 2 scatters: not needed where the samples are classified
+        // straight into place (SINGLE_BIN).
+        if (!textured.empty() && binned_.size() < samples * 8) {
+            binned_.reset();
+            binned_ = Buffer::create(samples * 8);
+        }
+        if (binned_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinnedBinding, binned_.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSortedBinding, sorted_.id());
     }
 
@@ -179,6 +183,9 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     Defines base = ctx.defines;
     base["FETCH_BY_IMAGE"] = by_image ? "1" : "0";
     base["BIN_ALL"] = bin_all ? "1" : "0";
+    // Without textured materials every binned sample is in one bin: classified straight into place.
+    const bool single_bin = textured.empty();
+    base["SINGLE_BIN"] = single_bin ? "1" : "0";
     base["MOTION_VECTORS"] = motion ? "1" : "0";
     if (ctx.facts.emission_texture) base["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) base["SPECULAR_TEXTURE"] = "1";
@@ -233,10 +240,12 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             glUseProgram(program(1, 0));
             glDispatchCompute(1, 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-            glUseProgram(program(2, 0));
-            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, bins_.id());
-            glDispatchComputeIndirect(0);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+            if (!single_bin) {
+                glUseProgram(program(2, 0));
+                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, bins_.id());
+                glDispatchComputeIndirect(0);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+            }
         }
         GpuScope timer(ctx.timer, "gbuffer_attributes.shade");
         // Each bin's samples: the untextured materials' (binned on the CPU device only), then each

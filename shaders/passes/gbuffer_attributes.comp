@@ -22,6 +22,9 @@
 //   2 (scatter): one invocation per binned sample: into its bin's part of the sorted list.
 //   3 (shade): one invocation per sample of bin u_bin, with its material's textures bound,
 //     compiled for its kind (MATERIAL_TEXTURES, MATERIAL_AUTO_R).
+// SINGLE_BIN 1 (no material has a texture, so every binned sample is in bin u_materials, whose
+// segment starts the sorted list): the classify stage writes each sample's slot in the sorted list
+// itself, and stage 2 is not run.
 // Layer 0's reflective samples flag their 32x32 region for the classify pass as peeling's shading
 // pass does (flag_reflective_region).
 #ifndef BIN_ALL
@@ -32,6 +35,9 @@
 // STORE_EMPTY 0: their layers were cleared before, so an empty texel is not stored again.
 #ifndef TILE_LIST
 #define TILE_LIST 0
+#endif
+#ifndef SINGLE_BIN
+#define SINGLE_BIN 0
 #endif
 #ifndef STORE_EMPTY
 #define STORE_EMPTY 1
@@ -297,8 +303,12 @@ void main() {
             int bin = sample_bin(load_object(visibility_object(id)).material.x);
             if (BIN_ALL != 0 || bin < u_materials) {
                 uint rank = atomicAdd(bins[bin].dispatch.w, 1u);
+#if SINGLE_BIN
+                sorted[rank] = sample_index(t.xy, t.z);
+#else
                 uint slot = atomicAdd(scatter_dispatch.w, 1u);
                 binned[slot] = uvec2(sample_index(t.xy, t.z), rank);
+#endif
             } else {
                 shade_sample(t, id);
             }
