@@ -1,6 +1,6 @@
 """Renderer.clear_path: clears by image stores (the GPU default) give the frames that GL's
 clears give, bit for bit, in every pass that clears (peeling's colour layers, lighting, classify,
-Hi-Z, pre-convolution, pre-integration)."""
+Hi-Z, pre-convolution, pre-integration, the list constructions' heads)."""
 
 import numpy as np
 import pytest
@@ -12,6 +12,9 @@ CASES = {
     "hiz_skip": dict(layers=3, method="hiz", skip=True),
     "linear_noskip": dict(layers=2, method="linear", skip=False),
     "hiz_cone_glossy": dict(layers=2, method="hiz", glossy="cone", skip=True),
+    # The list constructions clear their lists' heads (passes/clear_buffer.comp).
+    "lists": dict(layers=3, method="hiz", deep_gbuffer="lists"),
+    "visibility_lists": dict(layers=3, method="hiz", deep_gbuffer="visibility_lists"),
 }
 
 

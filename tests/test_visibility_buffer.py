@@ -389,3 +389,24 @@ def test_the_paths_give_the_same_image(renderer, gpu_path_renderer):
         np.testing.assert_array_equal(bits(a.read(name)), bits(b.read(name)), err_msg=name)
     with pytest.raises(ValueError, match="visibility_tiles"):
         renderer.visibility_tiles = "sometimes"
+
+
+@pytest.mark.parametrize("construction", ["visibility", "visibility_lists"])
+def test_a_gpus_paths_on_the_cpu_device(construction):
+    """What a GPU runs, here: no tile lists (the attribute pass classifies every layer and shades
+    the textured materials' samples by bins after clearing the empty layers) and clears by compute,
+    which bind an image unit of their own. The frames equal those of GL's clears bit for bit, and
+    the textured samples keep their albedo (layers beyond the scene's depth are cleared)."""
+    scene, cam = textured_scene()
+    frames = {}
+    for path in ("gl", "compute"):
+        r = ssrlab.Renderer(device="cpu")
+        r.visibility_tiles = "off"
+        r.clear_path = path
+        f = r.render(scene, cam, tiny(deep_gbuffer=construction, layers=8))
+        assert f.stats["layers_used"] < 8
+        frames[path] = {n: f.read(n) for n in ("gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.depth")}
+    for name, a in frames["gl"].items():
+        np.testing.assert_array_equal(bits(a), bits(frames["compute"][name]), err_msg=name)
+    covered = frames["compute"]["gbuffer.material"][..., 1] > 0.5
+    assert (frames["compute"]["gbuffer.albedo"][..., :3][covered].max(axis=-1) > 0).mean() > 0.99

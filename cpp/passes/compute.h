@@ -92,6 +92,28 @@ inline void clear_layers(FrameContext& ctx, Texture& tex, int from, const float*
                            std::max(tex.height() >> level, 1), count, fmt, GL_FLOAT, value);
 }
 
+// Gives `count` uints of `buffer` from uint `first` the value `value`: by stores
+// (shaders/passes/clear_buffer.comp) where FrameContext::clear_by_compute says so, else by
+// glClearNamedBufferSubData. Storage binding 31 is left bound to `buffer`.
+inline void clear_uints(FrameContext& ctx, const Buffer& buffer, size_t first, size_t count, GLuint value) {
+    if (count == 0) return;
+    if (!ctx.clear_by_compute) {
+        glClearNamedBufferSubData(buffer.id(), GL_R32UI, GLintptr(sizeof(GLuint) * first),
+                                  GLsizeiptr(sizeof(GLuint) * count), GL_RED_INTEGER, GL_UNSIGNED_INT, &value);
+        return;
+    }
+    const GLuint prog = ctx.shaders.program({"passes/clear_buffer.comp"}, {});
+    glUseProgram(prog);
+    glUniform1ui(glGetUniformLocation(prog, "u_first"), GLuint(first));
+    glUniform1ui(glGetUniformLocation(prog, "u_count"), GLuint(count));
+    glUniform1ui(glGetUniformLocation(prog, "u_value"), value);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 31, buffer.id());
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    const size_t groups = (count + 255) / 256, row = 65535;
+    glDispatchCompute(GLuint(std::min(groups, row)), GLuint((groups + row - 1) / row), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
 // Binds a pass's declared inputs to texture units 0, 1, ... in the order it lists them (the
 // order its shader declares its samplers in).
 inline void bind_inputs_in_order(const FrameResources& r, const std::vector<std::string>& names) {

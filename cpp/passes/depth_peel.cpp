@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "passes/compute.h"
+
 namespace ssr {
 
 std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const {
@@ -468,9 +470,7 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
         store_.reset();  // the old store goes before the new one is allocated
         store_ = Buffer::create(capacity * fragment_bytes());
     }
-    const GLuint none = 0xffffffffu;
-    glClearNamedBufferSubData(heads_.id(), GL_R32UI, 0, GLsizeiptr(sizeof(GLuint) * pixels), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &none);
+    clear_uints(ctx, heads_, 0, size_t(pixels), 0xffffffffu);  // every list empty
     GLuint counter[4 + 16] = {0, GLuint(capacity), 0, 0};
     counter_.upload(counter, sizeof(counter));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, store_.id());

@@ -149,11 +149,15 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         GLuint id;
         ~DeleteView() { glDeleteTextures(1, &id); }
     } delete_view{albedo_view};
-    glBindImageTexture(0, albedo_view, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-    bind_image_layered(1, normal, GL_WRITE_ONLY);
-    bind_image_layered(2, material, GL_WRITE_ONLY);
-    if (emission) bind_image_layered(3, *emission, GL_WRITE_ONLY);
-    if (specular) bind_image_layered(4, *specular, GL_WRITE_ONLY);
+    // The outputs' image units 0-4; bound again after a clear, which by compute binds unit 0 itself.
+    auto bind_outputs = [&] {
+        glBindImageTexture(0, albedo_view, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        bind_image_layered(1, normal, GL_WRITE_ONLY);
+        bind_image_layered(2, material, GL_WRITE_ONLY);
+        if (emission) bind_image_layered(3, *emission, GL_WRITE_ONLY);
+        if (specular) bind_image_layered(4, *specular, GL_WRITE_ONLY);
+    };
+    bind_outputs();
     Texture* motion = writes_motion(s, ctx.facts) ? &ctx.resources.get("gbuffer.motion") : nullptr;
     glBindTextureUnit(kDepthUnit, ctx.resources.get("gbuffer.depth").id());
     glBindTextureUnit(kVisibilityUnit, ctx.resources.get("gbuffer.visibility").id());
@@ -214,6 +218,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             }
             for (Texture* t : {&albedo, &normal, &material, emission, specular, motion})
                 if (t) clear_layers(ctx, *t, filled_tiles > 0 ? 1 : 0, clear);
+            bind_outputs();
             if (!deep_tiles.empty()) {
                 const size_t bytes = deep_tiles.size() * sizeof(GLuint);
                 if (tile_list_.size() < bytes) tile_list_ = Buffer::create(bytes);
@@ -232,6 +237,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             // The layers after the filled ones hold no sample: the clear values peeling gives them.
             for (Texture* t : {&albedo, &normal, &material, emission, specular, motion})
                 if (t) clear_layers(ctx, *t, filled, clear);
+            bind_outputs();
         }
     }
     if (binning && filled_tiles > 0) {

@@ -273,9 +273,7 @@ void VisibilityBufferPass::append(FrameContext& ctx, uint64_t capacity) {
         fragments_ = Buffer::create(capacity * 8);
         links_ = Buffer::create(capacity * 4);
     }
-    const GLuint none = 0xffffffffu;
-    glClearNamedBufferSubData(heads_.id(), GL_R32UI, 0, GLsizeiptr(sizeof(GLuint) * pixels), GL_RED_INTEGER,
-                              GL_UNSIGNED_INT, &none);
+    clear_uints(ctx, heads_, 0, size_t(pixels), 0xffffffffu);  // every list empty
     const GLuint counter[4] = {0, GLuint(capacity), 0, 0};
     counter_.upload(counter, sizeof(counter));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentsBinding, fragments_.id());
