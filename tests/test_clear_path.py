@@ -12,9 +12,10 @@ CASES = {
     "hiz_skip": dict(layers=3, method="hiz", skip=True),
     "linear_noskip": dict(layers=2, method="linear", skip=False),
     "hiz_cone_glossy": dict(layers=2, method="hiz", glossy="cone", skip=True),
-    # The list constructions clear their lists' heads (passes/clear_buffer.comp).
-    "lists": dict(layers=3, method="hiz", deep_gbuffer="lists"),
-    "visibility_lists": dict(layers=3, method="hiz", deep_gbuffer="visibility_lists"),
+    # The list constructions clear their lists' heads (passes/clear_buffer.comp), leaving the
+    # storage bindings of the passes after them (the motion's previous transforms) as they were.
+    "lists": dict(layers=3, method="hiz", deep_gbuffer="lists", motion_vectors=True),
+    "visibility_lists": dict(layers=3, method="hiz", deep_gbuffer="visibility_lists", motion_vectors=True),
 }
 
 
@@ -31,6 +32,9 @@ def test_compute_clears_give_the_same_frame(case):
         frames[path] = {"color": f.color, "lit": f.read("lit"), "normal": f.read("gbuffer.normal"),
                         "albedo": f.read("gbuffer.albedo"), "material": f.read("gbuffer.material"),
                         "rays.sample": f.read("rays.sample")}
+        if s.motion_vectors:
+            frames[path]["motion"] = f.gbuffer.motion
+            assert np.all(f.gbuffer.motion == 0), f"{case} {path}: nothing moved"
     for name, a in frames["gl"].items():
         np.testing.assert_array_equal(a, frames["compute"][name], err_msg=f"{case}: {name}")
     assert np.any(frames["gl"]["albedo"][1] != 0) or CASES[case]["layers"] == 1  # a second layer was drawn

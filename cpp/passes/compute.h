@@ -94,7 +94,9 @@ inline void clear_layers(FrameContext& ctx, Texture& tex, int from, const float*
 
 // Gives `count` uints of `buffer` from uint `first` the value `value`: by stores
 // (shaders/passes/clear_buffer.comp) where FrameContext::clear_by_compute says so, else by
-// glClearNamedBufferSubData. Storage binding 31 is left bound to `buffer`.
+// glClearNamedBufferSubData. Storage binding kClearBufferBinding (which no other shader declares) is
+// left bound to `buffer`.
+constexpr GLuint kClearBufferBinding = 20;
 inline void clear_uints(FrameContext& ctx, const Buffer& buffer, size_t first, size_t count, GLuint value) {
     if (count == 0) return;
     if (!ctx.clear_by_compute) {
@@ -107,7 +109,7 @@ inline void clear_uints(FrameContext& ctx, const Buffer& buffer, size_t first, s
     glUniform1ui(glGetUniformLocation(prog, "u_first"), GLuint(first));
     glUniform1ui(glGetUniformLocation(prog, "u_count"), GLuint(count));
     glUniform1ui(glGetUniformLocation(prog, "u_value"), value);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 31, buffer.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kClearBufferBinding, buffer.id());
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     const size_t groups = (count + 255) / 256, row = 65535;
     glDispatchCompute(GLuint(std::min(groups, row)), GLuint((groups + row - 1) / row), 1);
