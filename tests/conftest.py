@@ -27,6 +27,25 @@ MODELS = list(dict.fromkeys([REPO / "python" / "ssrlab" / "sample_models",
 # SSRLAB_PERCEPTUAL=1 as the thesis_layers notebook's test does).
 os.environ.setdefault("SSRLAB_PERCEPTUAL", "0")
 
+# SSRLAB_TEST_GPU_PATHS=1: every Renderer the tests open takes the paths a GPU takes by default
+# (clears by compute, no visibility tiles, texelFetch input, staged readback) on whatever device
+# it opens, so that a machine without a GPU runs the GPU's code paths too. The tests of the defaults
+# themselves skip then (GPU_PATHS).
+GPU_PATHS = os.environ.get("SSRLAB_TEST_GPU_PATHS", "") == "1"
+if GPU_PATHS:
+    _renderer_init = ssrlab.Renderer.__init__
+
+    @functools.wraps(_renderer_init)
+    def _gpu_paths_init(self, device="auto", *, shader_dir=None, input_fetch="auto"):
+        _renderer_init(self, device, shader_dir=shader_dir,
+                       input_fetch="texelFetch" if input_fetch == "auto" else input_fetch)
+        self.clear_path = "compute"
+        self.visibility_tiles = "off"
+        self.readback_path = "staged"
+
+    ssrlab.Renderer.__init__ = _gpu_paths_init
+gpu_paths_skip = pytest.mark.skipif(GPU_PATHS, reason="SSRLAB_TEST_GPU_PATHS=1 replaces the defaults under test")
+
 # Every subprocess a test starts ends: subprocess.run without a timeout gets this one, so that a
 # CLI that hangs fails its test instead of the whole suite.
 SUBPROCESS_TIMEOUT_S = 600

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from conftest import small
+from conftest import gpu_paths_skip, small
 
 CASES = {
     "hiz_skip": dict(layers=3, method="hiz", skip=True),
@@ -40,6 +40,7 @@ def test_compute_clears_give_the_same_frame(case):
     assert np.any(frames["gl"]["albedo"][1] != 0) or CASES[case]["layers"] == 1  # a second layer was drawn
 
 
+@gpu_paths_skip
 def test_clear_path_is_validated():
     r = ssrlab.Renderer()
     assert r.info["clear_path"] == ("gl" if r.info["device"] == "cpu" else "compute")  # auto

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from conftest import small
+from conftest import gpu_paths_skip, small
 
 
 @pytest.fixture(scope="module")
@@ -70,6 +70,7 @@ def test_reference_and_temporal_composites_read_their_rgba32f_inputs(both):
     np.testing.assert_array_equal(np.asarray(ri.color), np.asarray(rt.color))
 
 
+@gpu_paths_skip
 def test_the_renderer_says_how_it_reads(both):
     by_image, by_texel = both
     assert by_image.info["input_fetch"] == "imageLoad"
