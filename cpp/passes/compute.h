@@ -14,6 +14,20 @@ inline void bind_image_layered(GLuint unit, const Texture& tex, GLenum access, i
                        tex.format());
 }
 
+// A buffer texture over `buffer` read as `format` (an image buffer, FETCH_BY_IMAGE: llvmpipe reads
+// one inline where a storage-buffer read at a per-invocation address loops over the lanes);
+// deleted with the object.
+struct BufferView {
+    GLuint id = 0;
+    BufferView(const Buffer& buffer, GLenum format) {
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &id);
+        glTextureBuffer(id, format, buffer.id());
+    }
+    ~BufferView() { glDeleteTextures(1, &id); }
+    BufferView(const BufferView&) = delete;
+    BufferView& operator=(const BufferView&) = delete;
+};
+
 // FETCH_BY_IMAGE (lib/input_fetch.glsl): binds the inputs `names` as read-only images of
 // their own format, every layer of level 0, to image units first, first + 1, ... (after the pass's
 // outputs), where the device reads float textures faster by imageLoad than by texelFetch.

@@ -30,17 +30,6 @@ constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialI
 // gbuffer.motion's image unit (Settings.motion_vectors): after the outputs, or after those inputs.
 constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
 
-// A buffer texture over `buffer` read as `format` (an image buffer); deleted with the object.
-struct BufferView {
-    GLuint id = 0;
-    BufferView(const Buffer& buffer, GLenum format) {
-        glCreateTextures(GL_TEXTURE_BUFFER, 1, &id);
-        glTextureBuffer(id, format, buffer.id());
-    }
-    ~BufferView() { glDeleteTextures(1, &id); }
-    BufferView(const BufferView&) = delete;
-    BufferView& operator=(const BufferView&) = delete;
-};
 }  // namespace
 
 std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s) const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -17,6 +18,8 @@ constexpr GLuint kFragmentsBinding = 21, kLinksBinding = 22, kHeadsBinding = 23,
 // Image unit of gbuffer.depth in the compute passes that store it (visibility_select.comp,
 // visibility_depth.comp), and the texture unit the raster's peel test reads the previous layer from.
 constexpr GLuint kDepthImage = 1, kPreviousDepthUnit = 3;
+// With FETCH_BY_IMAGE: the image units the selection reads the lists' fragments, links and heads from.
+constexpr GLuint kFragmentsImage = 2, kLinksImage = 3, kHeadsImage = 4;
 }  // namespace
 
 std::vector<ResourceDesc> VisibilityBufferPass::outputs(const RenderSettings& s) const {
@@ -238,7 +241,19 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
 
     Texture& depth = ctx.resources.get("gbuffer.depth");
     Texture& visibility = ctx.resources.get("gbuffer.visibility");
+    // The lists through image buffers on the device that reads them faster so, where the store fits
+    // its texel-buffer limit (visibility_select.comp).
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    const bool by_image = ctx.fetch_by_image() && capacity_ <= uint64_t(texels) && pixels <= uint64_t(texels);
+    std::optional<BufferView> fragments_view, links_view, heads_view;
+    if (by_image) {
+        fragments_view.emplace(fragments_, GL_RG32UI);
+        links_view.emplace(links_, GL_R32UI);
+        heads_view.emplace(heads_, GL_R32UI);
+    }
     Defines select_defines = ctx.defines;
+    select_defines["FETCH_BY_IMAGE"] = by_image ? "1" : "0";
     select_defines["LAYERS"] = std::to_string(s.layers);
     select_defines["MARK_TILES"] = marks_tiles(ctx) ? "1" : "0";
     set_min_separation(s, select_defines);
@@ -250,6 +265,11 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
         glUseProgram(select);
         bind_image_layered(0, visibility, GL_WRITE_ONLY);
         bind_image_layered(kDepthImage, depth, GL_WRITE_ONLY);
+        if (by_image) {
+            glBindImageTexture(kFragmentsImage, fragments_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
+            glBindImageTexture(kLinksImage, links_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+            glBindImageTexture(kHeadsImage, heads_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+        }
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         dispatch_2d(s.width, s.height, 1, 8, 8);
     }
@@ -293,6 +313,8 @@ void VisibilityBufferPass::append(FrameContext& ctx, uint64_t capacity) {
         d["ALPHA_TEST"] = "1";
         alpha_prog = ctx.shaders.program(stages, d);
     }
+    for (GLuint p : {prog, alpha_prog})
+        if (p) glProgramUniform1ui(p, glGetUniformLocation(p, "u_list_capacity"), GLuint(capacity));
     begin_attachmentless_raster(ctx, empty_fbo_);
     draw_scene(ctx, prog, alpha_prog);
     glDisable(GL_CULL_FACE);

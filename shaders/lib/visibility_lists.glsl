@@ -14,10 +14,13 @@ layout(std430, binding = 23) coherent buffer VisibilityHeads { uint visibility_h
 // x: fragments appended (may exceed the capacity), y: the capacity, z: the most layers any pixel
 // holds (the selection's maximum), w: unused.
 layout(std430, binding = 24) coherent buffer VisibilityCounter { uvec4 visibility_counter; };
+// The store's capacity in fragments (visibility_counter.y), a uniform for the appending draw: a
+// storage-buffer read per fragment costs the CPU device a loop over the lanes.
+uniform uint u_list_capacity;
 
 void visibility_list_append(ivec2 pixel, float depth, uint triangle) {
     uint slot = atomicAdd(visibility_counter.x, 1u);
-    if (slot >= visibility_counter.y) return;
+    if (slot >= u_list_capacity) return;
     visibility_fragment[slot] = uvec2(floatBitsToUint(depth), triangle);
     visibility_next[slot] = atomicExchange(visibility_head[pixel.y * int(frame.viewport.x) + pixel.x], slot);
 }

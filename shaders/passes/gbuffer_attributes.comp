@@ -300,7 +300,8 @@ void main() {
         if (is_farther(DEPTH_CLEAR, depth)) {
             atomicAdd(group_covered, 1u);
             uint id = sample_id(t);
-            int bin = sample_bin(load_object(visibility_object(id)).material.x);
+            // One bin: no material to look up (every sample is in bin u_materials).
+            int bin = SINGLE_BIN != 0 ? u_materials : sample_bin(load_object(visibility_object(id)).material.x);
             if (BIN_ALL != 0 || bin < u_materials) {
                 uint rank = atomicAdd(bins[bin].dispatch.w, 1u);
 #if SINGLE_BIN

@@ -35,6 +35,22 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 layout(binding = 0, r32ui) writeonly uniform uimage2DArray o_visibility;
 layout(binding = 1, r32f) writeonly uniform image2DArray o_depth;
 
+// How the lists are read: with FETCH_BY_IMAGE (the CPU device) through image buffers over the same
+// storage (passes/visibility_buffer.cpp), which llvmpipe reads inline, where a storage-buffer read
+// at a per-invocation address is a loop over the lanes.
+#if FETCH_BY_IMAGE
+layout(binding = 2, rg32ui) readonly uniform uimageBuffer u_list_fragments;
+layout(binding = 3, r32ui) readonly uniform uimageBuffer u_list_links;
+layout(binding = 4, r32ui) readonly uniform uimageBuffer u_list_heads;
+uint list_head(uint pixel) { return imageLoad(u_list_heads, int(pixel)).r; }
+uvec2 list_fragment(uint i) { return imageLoad(u_list_fragments, int(i)).xy; }
+uint list_next(uint i) { return imageLoad(u_list_links, int(i)).r; }
+#else
+uint list_head(uint pixel) { return visibility_head[pixel]; }
+uvec2 list_fragment(uint i) { return visibility_fragment[i]; }
+uint list_next(uint i) { return visibility_next[i]; }
+#endif
+
 shared uint group_layers;
 
 void main() {
@@ -47,14 +63,15 @@ void main() {
         float depth[LAYERS];
         uint triangle[LAYERS];
         int count = 0;
-        uint head = visibility_head[pixel];
+        uint head = list_head(pixel);
 #if MIN_SEPARATION
         for (int k = 0; k < LAYERS; ++k) {
             float best = DEPTH_CLEAR;
             uint best_triangle = VISIBILITY_NONE;
-            for (uint i = head; i != VISIBILITY_LIST_END; i = visibility_next[i]) {
-                float z = uintBitsToFloat(visibility_fragment[i].x);
-                uint t = visibility_fragment[i].y;
+            for (uint i = head; i != VISIBILITY_LIST_END; i = list_next(i)) {
+                uvec2 f = list_fragment(i);
+                float z = uintBitsToFloat(f.x);
+                uint t = f.y;
                 if (!is_farther(DEPTH_CLEAR, z)) continue;
                 if (k > 0 && !behind_layer(z, depth[k - 1])) continue;
                 if (best_triangle == VISIBILITY_NONE || is_farther(best, z) ||
@@ -69,26 +86,38 @@ void main() {
             count = k + 1;
         }
 #else
-        for (uint i = head; i != VISIBILITY_LIST_END; i = visibility_next[i]) {
-            float z = uintBitsToFloat(visibility_fragment[i].x);
-            uint t = visibility_fragment[i].y;
-            if (!is_farther(DEPTH_CLEAR, z)) continue;  // fails the depth test against the clear value
-            // The first kept depth not nearer than z.
-            int j = 0;
-            while (j < count && is_farther(z, depth[j])) ++j;
-            if (j < count && depth[j] == z) {
-                if (visibility_wins(t, triangle[j])) triangle[j] = t;
-                continue;
-            }
-            if (j >= LAYERS) continue;
-            for (int k = min(count, LAYERS - 1); k > j; --k) {
-                depth[k] = depth[k - 1];
-                triangle[k] = triangle[k - 1];
-            }
-            depth[j] = z;
-            triangle[j] = t;
-            count = min(count + 1, LAYERS);
+        // Insertion into the kept layers, sorted nearest first: each slot is compared with
+        // constant indices (the loop unrolls), so the layers stay in registers; an index that
+        // differs per invocation would keep them in memory, read and written lane by lane on
+        // the CPU device. An empty slot holds VISIBILITY_NONE.
+        for (int k = 0; k < LAYERS; ++k) {
+            depth[k] = DEPTH_CLEAR;
+            triangle[k] = VISIBILITY_NONE;
         }
+        for (uint i = head; i != VISIBILITY_LIST_END; i = list_next(i)) {
+            uvec2 f = list_fragment(i);
+            float z = uintBitsToFloat(f.x);
+            uint t = f.y;
+            if (!is_farther(DEPTH_CLEAR, z)) continue;  // fails the depth test against the clear value
+            for (int k = 0; k < LAYERS; ++k) {
+                // t is VISIBILITY_NONE once the fragment merged into a layer at its depth; else
+                // (z, t) is the nearest sample not yet placed, and slots before k are nearer.
+                bool filled = triangle[k] != VISIBILITY_NONE;
+                bool placing = t != VISIBILITY_NONE;
+                if (placing && filled && depth[k] == z) {
+                    if (visibility_wins(t, triangle[k])) triangle[k] = t;
+                    t = VISIBILITY_NONE;
+                } else if (placing && (!filled || is_farther(depth[k], z))) {
+                    float dz = depth[k];
+                    uint dt = triangle[k];
+                    depth[k] = z;
+                    triangle[k] = t;
+                    z = dz;
+                    t = dt;  // the displaced layer moves one slot back, or nothing if the slot was empty
+                }
+            }
+        }
+        for (int k = 0; k < LAYERS; ++k) count += triangle[k] != VISIBILITY_NONE ? 1 : 0;  // filled slots come first
 #endif
         for (int k = 0; k < LAYERS; ++k) {
             imageStore(o_visibility, ivec3(p, k), uvec4(k < count ? triangle[k] : VISIBILITY_NONE));
