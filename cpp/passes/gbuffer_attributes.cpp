@@ -27,6 +27,8 @@ constexpr GLuint kDepthUnit = 7, kVisibilityUnit = 8;
 // With FETCH_BY_IMAGE: the image units of the scene's vertex, index, object and material data and
 // of gbuffer.visibility (after the outputs' 0-4).
 constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialImage = 8, kVisibilityImage = 9;
+// With FETCH_BY_IMAGE: the image units of the bins (a uint a texel) and of the sorted samples.
+constexpr GLuint kBinsImage = 11, kSortedImage = 12;
 // gbuffer.motion's image unit (Settings.motion_vectors): after the outputs, or after those inputs.
 constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
 
@@ -155,8 +157,8 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     GLint texels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
     const bool by_image = ctx.fetch_by_image() && gs.vertex_buffer().size() / 4 <= size_t(texels) &&
-                          gs.index_buffer().size() / 4 <= size_t(texels);
-    std::optional<BufferView> vertex_view, index_view, object_view, material_view;
+                          gs.index_buffer().size() / 4 <= size_t(texels) && sorted_.size() / 4 <= size_t(texels);
+    std::optional<BufferView> vertex_view, index_view, object_view, material_view, bins_view, sorted_view;
     if (by_image) {
         vertex_view.emplace(gs.vertex_buffer(), GL_R32F);
         index_view.emplace(gs.index_buffer(), GL_R32UI);
@@ -167,6 +169,12 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         glBindImageTexture(kObjectImage, object_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         glBindImageTexture(kMaterialImage, material_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         bind_image_layered(kVisibilityImage, ctx.resources.get("gbuffer.visibility"), GL_READ_ONLY);
+        if (binning) {
+            bins_view.emplace(bins_, GL_R32UI);
+            sorted_view.emplace(sorted_, GL_R32UI);
+            glBindImageTexture(kBinsImage, bins_view->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+            glBindImageTexture(kSortedImage, sorted_view->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+        }
     } else {
         gs.bind_vertex_data();
     }
@@ -234,12 +242,12 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             GpuScope timer(ctx.timer, "gbuffer_attributes.bin");
             glUseProgram(program(1, 0));
             glDispatchCompute(1, 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
             if (!single_bin) {
                 glUseProgram(program(2, 0));
                 glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, bins_.id());
                 glDispatchComputeIndirect(0);
-                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
             }
         }
         GpuScope timer(ctx.timer, "gbuffer_attributes.shade");

@@ -130,6 +130,27 @@ layout(std430, binding = 27) buffer BinnedSamples { uvec2 binned[]; };  // (samp
 layout(std430, binding = 28) buffer SortedSamples { uint sorted[]; };   // by bin
 uniform int u_materials;  // the scene's materials: bin u_materials holds the untextured ones' samples
 
+// A bin's sample count and first slot, and the sorted list, as the classify and shade stages reach
+// them: with FETCH_BY_IMAGE (the CPU device) through image buffers over the same storage
+// (passes/gbuffer_attributes.cpp), since llvmpipe runs every storage-buffer access as a loop over
+// the lanes, even where all invocations read one address (the shade stage's reads alone cost 12 of
+// its 35 ms on hall at 8 layers, 640x360).
+#if FETCH_BY_IMAGE && (ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3)
+layout(binding = 11, r32ui) uniform uimageBuffer u_bin_words;  // AttributeBins, a uint a texel
+layout(binding = 12, r32ui) uniform uimageBuffer u_sorted;     // SortedSamples
+// Word k of bin b's MaterialBin, after the header's scatter_dispatch and layer_samples (20 words).
+int bin_word(int b, int k) { return 20 + 8 * b + k; }
+uint bin_samples(int b) { return imageLoad(u_bin_words, bin_word(b, 3)).r; }
+uint bin_first(int b) { return imageLoad(u_bin_words, bin_word(b, 4)).r; }
+uint sorted_sample(uint i) { return imageLoad(u_sorted, int(i)).r; }
+void sort_sample(uint slot, uint s) { imageStore(u_sorted, int(slot), uvec4(s)); }
+#else
+uint bin_samples(int b) { return bins[b].dispatch.w; }
+uint bin_first(int b) { return bins[b].segment.x; }
+uint sorted_sample(uint i) { return sorted[i]; }
+void sort_sample(uint slot, uint s) { sorted[slot] = s; }
+#endif
+
 // A sample: layer * width * height + pixel.
 uint sample_index(ivec2 p, int layer) {
     ivec2 size = ivec2(frame.viewport.xy);
@@ -305,7 +326,7 @@ void main() {
             if (BIN_ALL != 0 || bin < u_materials) {
                 uint rank = atomicAdd(bins[bin].dispatch.w, 1u);
 #if SINGLE_BIN
-                sorted[rank] = sample_index(t.xy, t.z);
+                sort_sample(rank, sample_index(t.xy, t.z));
 #else
                 uint slot = atomicAdd(scatter_dispatch.w, 1u);
                 binned[slot] = uvec2(sample_index(t.xy, t.z), rank);
@@ -370,8 +391,8 @@ uniform int u_bin;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= bins[u_bin].dispatch.w) return;
-    ivec3 t = sample_texel(sorted[bins[u_bin].segment.x + i]);
+    if (i >= bin_samples(u_bin)) return;
+    ivec3 t = sample_texel(sorted_sample(bin_first(u_bin) + i));
     shade_sample(t, sample_id(t));
 }
 #endif
