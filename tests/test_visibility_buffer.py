@@ -410,3 +410,30 @@ def test_a_gpus_paths_on_the_cpu_device(construction):
         np.testing.assert_array_equal(bits(a), bits(frames["compute"][name]), err_msg=name)
     covered = frames["compute"]["gbuffer.material"][..., 1] > 0.5
     assert (frames["compute"]["gbuffer.albedo"][..., :3][covered].max(axis=-1) > 0).mean() > 0.99
+
+
+def test_the_selection_lists_the_deeper_samples_on_the_cpu_device():
+    """With 'visibility_lists' on the CPU device and no textured material, the selection lists the
+    samples after layer 0 and counts each layer's (the attribute pass then classifies no tile of
+    the deeper layers). Every texture of the frame, the lit layers included, and the covered tiles
+    and layer counts equal those of 'visibility', which classifies, bit for bit. One layer, or a
+    textured material (binned by material), goes through the classification."""
+    r = ssrlab.Renderer(device="cpu", input_fetch="imageLoad")
+    r.visibility_tiles = "on"
+    hall = ssrlab.scenes.load("hall")
+    kw = dict(width=96, height=64, method="hiz", shadow_map_size=256)
+    for layers in (2, 4, 8):
+        vis = r.render(hall, settings=small(deep_gbuffer="visibility", layers=layers, **kw))
+        lists = r.render(hall, settings=small(deep_gbuffer="visibility_lists", layers=layers, **kw))
+        assert lists.stats["deep_gbuffer_samples_listed"] == 1
+        assert lists.stats["layers_used"] >= 2
+        assert lists.layer_samples == vis.layer_samples
+        assert lists.stats["tiles_lit"] == vis.stats["tiles_lit"]
+        for name in vis.texture_names:
+            if name.startswith("gbuffer.") or name in ("lit", "reflection", "color"):
+                np.testing.assert_array_equal(bits(lists.read(name)), bits(vis.read(name)), err_msg=f"{layers} {name}")
+    one = r.render(hall, settings=small(deep_gbuffer="visibility_lists", layers=1, **kw))
+    assert one.stats["deep_gbuffer_samples_listed"] == 0
+    scene, cam = textured_scene()
+    textured = r.render(scene, cam, small(deep_gbuffer="visibility_lists", layers=4, **kw))
+    assert textured.stats["deep_gbuffer_samples_listed"] == 0 and textured.stats["layers_used"] >= 2

@@ -28,7 +28,7 @@ constexpr GLuint kDepthUnit = 7, kVisibilityUnit = 8;
 // of gbuffer.visibility (after the outputs' 0-4).
 constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialImage = 8, kVisibilityImage = 9;
 // With FETCH_BY_IMAGE: the image units of the bins (a uint a texel) and of the sorted samples.
-constexpr GLuint kBinsImage = 11, kSortedImage = 12;
+constexpr GLuint kBinsImage = 11, kSortedImage = 12, kTileListImage = 13;
 // gbuffer.motion's image unit (Settings.motion_vectors): after the outputs, or after those inputs.
 constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
 
@@ -83,9 +83,17 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     // untextured materials' samples; shaders/passes/gbuffer_attributes.comp says why). A GPU
     // classifies every layer whole and shades the untextured samples where found.
     const bool tile_lists = VisibilityBufferPass::marks_tiles(ctx);
+    // The samples after layer 0, where the selection of "visibility_lists" listed them with their
+    // counts (lib/visibility_samples.glsl): shaded from that list, without classifying their tiles.
+    const FrameBuffer& listed = ctx.buffers.get("visibility_samples");
+    GLint texels = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    const bool scene_by_image = ctx.fetch_by_image() && gs.vertex_buffer().size() / 4 <= size_t(texels) &&
+                                gs.index_buffer().size() / 4 <= size_t(texels);
+    const bool listed_samples = tile_lists && listed.data != nullptr && textured.empty() && scene_by_image;
     std::vector<GLuint> deep_tiles;  // layer << 24 | tile, of the layers after the first
     int filled_tiles = filled;
-    if (tile_lists) {
+    if (tile_lists && !listed_samples) {
         const int per_layer = DepthPeelPass::covered_tiles_per_layer(s);
         std::vector<GLuint> flags(size_t(per_layer) * size_t(s.layers));
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -154,10 +162,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     glBindTextureUnit(kVisibilityUnit, ctx.resources.get("gbuffer.visibility").id());
     // The scene's data per sample (shaders/passes/gbuffer_attributes.comp): through image buffers on
     // the device that reads them faster so (FETCH_BY_IMAGE), where they fit its texel-buffer limit.
-    GLint texels = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
-    const bool by_image = ctx.fetch_by_image() && gs.vertex_buffer().size() / 4 <= size_t(texels) &&
-                          gs.index_buffer().size() / 4 <= size_t(texels) && sorted_.size() / 4 <= size_t(texels);
+    const bool by_image = scene_by_image && sorted_.size() / 4 <= size_t(texels);
     std::optional<BufferView> vertex_view, index_view, object_view, material_view, bins_view, sorted_view;
     if (by_image) {
         vertex_view.emplace(gs.vertex_buffer(), GL_R32F);
@@ -190,8 +195,9 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     base["MOTION_VECTORS"] = motion ? "1" : "0";
     if (ctx.facts.emission_texture) base["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) base["SPECULAR_TEXTURE"] = "1";
-    auto program = [&](int stage, int kind, bool tile_list = false) {
+    auto program = [&](int stage, int kind, bool tile_list = false, bool listed_list = false) {
         Defines d = base;
+        d["LISTED_SAMPLES"] = listed_list ? "1" : "0";
         d["TILE_LIST"] = tile_list ? "1" : "0";
         d["STORE_EMPTY"] = tile_list ? "0" : "1";
         if (stage == 0 && !tile_list) d["BIN_ALL"] = "0";
@@ -216,11 +222,29 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             for (Texture* t : {&albedo, &normal, &material, emission, specular, motion})
                 if (t) clear_layers(ctx, *t, filled_tiles > 0 ? 1 : 0, clear);
             bind_outputs();
+            if (listed_samples && filled > 1) {
+                // What the classify stage would have found over the deeper layers' tiles: their
+                // covered tiles (the selection's marks, in the covered tiles' layout) and their
+                // sample counts.
+                const size_t per_layer = size_t(DepthPeelPass::covered_tiles_per_layer(s)) * sizeof(GLuint);
+                glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                glCopyNamedBufferSubData(ctx.buffers.get("visibility_tiles").data->id(), tiles_.id(),
+                                         GLintptr(per_layer), GLintptr(4 * sizeof(GLuint) + per_layer),
+                                         GLsizeiptr(per_layer * size_t(filled - 1)));
+                glCopyNamedBufferSubData(listed.args->id(), bins_.id(), GLintptr(4 * sizeof(GLuint) + sizeof(GLuint)),
+                                         GLintptr(4 * sizeof(GLuint) + sizeof(GLuint)),
+                                         GLsizeiptr(sizeof(GLuint) * size_t(filled - 1)));
+            }
             if (!deep_tiles.empty()) {
                 const size_t bytes = deep_tiles.size() * sizeof(GLuint);
                 if (tile_list_.size() < bytes) tile_list_ = Buffer::create(bytes);
                 tile_list_.upload(deep_tiles.data(), bytes);
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTileListBinding, tile_list_.id());
+                std::optional<BufferView> tile_list_view;
+                if (by_image) {
+                    tile_list_view.emplace(tile_list_, GL_R32UI);
+                    glBindImageTexture(kTileListImage, tile_list_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+                }
                 glUseProgram(program(0, 0, true));
                 glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
                 glDispatchCompute(GLuint(deep_tiles.size()), 1, 1);
@@ -236,6 +260,19 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
                 if (t) clear_layers(ctx, *t, filled, clear);
             bind_outputs();
         }
+    }
+    if (listed_samples && filled > 1) {
+        GpuScope timer(ctx.timer, "gbuffer_attributes.shade");
+        BufferView counts_view(*listed.args, GL_R32UI), list_view(*listed.data, GL_R32UI);
+        glBindImageTexture(kBinsImage, counts_view.id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+        glBindImageTexture(kSortedImage, list_view.id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+        const GLuint prog = program(3, auto_untextured ? GpuScene::kAutoReflectivityFeature : 0, false, true);
+        glUseProgram(prog);
+        glUniform1i(glGetUniformLocation(prog, "u_bin"), int(materials));
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, listed.args->id());
+        glDispatchComputeIndirect(listed.args_offset);
+        glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     }
     if (binning && filled_tiles > 0) {
         {

@@ -36,7 +36,7 @@ public:
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override {
-        return {"visibility_tiles"};
+        return {"visibility_tiles", "visibility_samples"};
     }
     std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
         return {"covered_tiles"};

@@ -46,7 +46,7 @@ public:
     // On the CPU device the covered 8x8 tiles of every layer (lib/visibility_tiles.glsl), marked
     // as the layers are built; elsewhere not marked (the attribute pass then covers every tile).
     std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
-        return {"visibility_tiles"};
+        return {"visibility_tiles", "visibility_samples"};
     }
     void check_device(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
@@ -78,9 +78,12 @@ private:
     std::vector<GLuint> queries_;
     // Lists: fragments (depth, triangle), links, heads, counter (appended, capacity, most layers).
     Buffer fragments_, links_, heads_, counter_;
+    // The samples after layer 0 the selection lists for the attribute pass, and their counts
+    // (lib/visibility_samples.glsl).
+    Buffer deep_samples_, sample_counts_;
     uint64_t capacity_ = 0;
     struct ListStats {
-        int lists = 0, fell_back = 0, redone = 0;
+        int lists = 0, fell_back = 0, redone = 0, samples_listed = 0;
         uint64_t fragments = 0, bytes = 0;
     } list_stats_;
 };

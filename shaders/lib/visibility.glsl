@@ -17,3 +17,15 @@ bool visibility_wins(uint a, uint b) {
     int oa = visibility_object(a), ob = visibility_object(b);
     return oa < ob || (oa == ob && visibility_primitive(a) > visibility_primitive(b));
 }
+
+// A sample of the deep G-buffer, as a work list names it: layer * width * height + pixel (rows).
+// Needs frame_uniforms.
+uint sample_index(ivec2 p, int layer) {
+    ivec2 size = ivec2(frame.viewport.xy);
+    return uint(layer) * uint(size.x * size.y) + uint(p.y * size.x + p.x);
+}
+ivec3 sample_texel(uint s) {
+    uint plane = uint(frame.viewport.x) * uint(frame.viewport.y);
+    uint pixel = s % plane;
+    return ivec3(int(pixel % uint(frame.viewport.x)), int(pixel / uint(frame.viewport.x)), int(s / plane));
+}

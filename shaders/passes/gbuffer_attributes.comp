@@ -39,6 +39,12 @@
 #ifndef SINGLE_BIN
 #define SINGLE_BIN 0
 #endif
+// LISTED_SAMPLES 1 (stage 3 only): the samples after layer 0 come listed by the selection of
+// "visibility_lists" (passes/visibility_select.comp, LIST_SAMPLES), which knew each pixel's layers:
+// no classify stage over their tiles, no scan.
+#ifndef LISTED_SAMPLES
+#define LISTED_SAMPLES 0
+#endif
 #ifndef STORE_EMPTY
 #define STORE_EMPTY 1
 #endif
@@ -138,10 +144,17 @@ uniform int u_materials;  // the scene's materials: bin u_materials holds the un
 #if FETCH_BY_IMAGE && (ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3)
 layout(binding = 11, r32ui) uniform uimageBuffer u_bin_words;  // AttributeBins, a uint a texel
 layout(binding = 12, r32ui) uniform uimageBuffer u_sorted;     // SortedSamples
+#if LISTED_SAMPLES
+// The samples the selection listed (lib/visibility_samples.glsl, "visibility_lists" on the CPU
+// device): its header at unit 11 (the count in word 3), its list at unit 12, shaded as one bin.
+uint bin_samples(int b) { return imageLoad(u_bin_words, 3).r; }
+uint bin_first(int b) { return 0u; }
+#else
 // Word k of bin b's MaterialBin, after the header's scatter_dispatch and layer_samples (20 words).
 int bin_word(int b, int k) { return 20 + 8 * b + k; }
 uint bin_samples(int b) { return imageLoad(u_bin_words, bin_word(b, 3)).r; }
 uint bin_first(int b) { return imageLoad(u_bin_words, bin_word(b, 4)).r; }
+#endif
 uint sorted_sample(uint i) { return imageLoad(u_sorted, int(i)).r; }
 void sort_sample(uint slot, uint s) { imageStore(u_sorted, int(slot), uvec4(s)); }
 #else
@@ -151,16 +164,6 @@ uint sorted_sample(uint i) { return sorted[i]; }
 void sort_sample(uint slot, uint s) { sorted[slot] = s; }
 #endif
 
-// A sample: layer * width * height + pixel.
-uint sample_index(ivec2 p, int layer) {
-    ivec2 size = ivec2(frame.viewport.xy);
-    return uint(layer) * uint(size.x * size.y) + uint(p.y * size.x + p.x);
-}
-ivec3 sample_texel(uint s) {
-    uint plane = uint(frame.viewport.x) * uint(frame.viewport.y);
-    uint pixel = s % plane;
-    return ivec3(int(pixel % uint(frame.viewport.x)), int(pixel / uint(frame.viewport.x)), int(s / plane));
-}
 
 #if ATTRIBUTES_STAGE != 1
 layout(binding = 7) uniform sampler2DArray u_depth;  // gbuffer.depth
@@ -296,7 +299,13 @@ void shade_sample(ivec3 t, uint id) {
 #if ATTRIBUTES_STAGE == 0
 #if TILE_LIST
 // The covered 8x8 tiles to classify, one a work group: layer << 24 | tile (rows of tiles).
+#if FETCH_BY_IMAGE
+layout(binding = 13, r32ui) readonly uniform uimageBuffer u_tile_list;
+uint tile_entry(uint i) { return imageLoad(u_tile_list, int(i)).r; }
+#else
 layout(std430, binding = 30) readonly buffer TileList { uint tile_list[]; };
+uint tile_entry(uint i) { return tile_list[i]; }
+#endif
 #endif
 
 shared uint group_covered;
@@ -304,7 +313,7 @@ shared uint group_covered;
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
 #if TILE_LIST
-    uint entry = tile_list[gl_WorkGroupID.x];
+    uint entry = tile_entry(gl_WorkGroupID.x);
     ivec2 grid = covered_tile_grid();
     ivec2 tile = ivec2(int(entry & 0xffffffu) % grid.x, int(entry & 0xffffffu) / grid.x);
     ivec3 t = ivec3(tile * 8 + ivec2(gl_LocalInvocationID.xy), int(entry >> 24));

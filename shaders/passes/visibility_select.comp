@@ -13,7 +13,11 @@
 //           a full-screen depth-only draw per 1080p layer cost 0.45 ms, more than the attributes
 //           of all 8 layers); visibility_counter.z the most layers any pixel holds; with
 //           MARK_TILES (the CPU device) the tiles of each layer holding a sample
-//           (lib/visibility_tiles.glsl).
+//           (lib/visibility_tiles.glsl); with LIST_SAMPLES (the CPU device, no textured
+//           material) the samples of the layers after the first, listed for the attribute pass's
+//           shade stage (lib/visibility_samples.glsl), and every layer's sample count: this
+//           pass knows each pixel's layers, where the attribute pass would classify every texel
+//           of the covered tiles again to find them.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/visibility.glsl"
@@ -24,6 +28,16 @@
 #endif
 #if MARK_TILES
 #include "../lib/visibility_tiles.glsl"
+#endif
+#ifndef LIST_SAMPLES
+#define LIST_SAMPLES 0
+#endif
+#if LIST_SAMPLES
+#include "../lib/visibility_samples.glsl"
+layout(binding = 5, r32ui) writeonly uniform uimageBuffer u_deep_samples;  // visibility_deep_sample[]
+shared uint group_deep;                   // the group's samples after layer 0
+shared uint group_base;                   // their first slot in the list
+shared uint group_pixels[LAYERS + 1];     // the group's pixels holding n layers, n = 0..LAYERS
 #endif
 
 #ifndef LAYERS
@@ -56,13 +70,19 @@ shared uint group_layers;
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (gl_LocalInvocationIndex == 0u) group_layers = 0u;
+    if (gl_LocalInvocationIndex == 0u) {
+        group_layers = 0u;
+#if LIST_SAMPLES
+        group_deep = 0u;
+        for (int n = 0; n <= LAYERS; ++n) group_pixels[n] = 0u;
+#endif
+    }
     barrier();
+    int count = 0;
     if (p.x < size.x && p.y < size.y) {
         uint pixel = uint(p.y * size.x + p.x);
         float depth[LAYERS];
         uint triangle[LAYERS];
-        int count = 0;
         uint head = list_head(pixel);
 #if MIN_SEPARATION
         for (int k = 0; k < LAYERS; ++k) {
@@ -125,6 +145,10 @@ void main() {
         }
         if (count > 0) atomicMax(group_layers, uint(count));
     }
+#if LIST_SAMPLES
+    uint first = count > 1 ? atomicAdd(group_deep, uint(count - 1)) : 0u;  // this pixel's slots in the group's
+    atomicAdd(group_pixels[count], 1u);
+#endif
     barrier();
     if (gl_LocalInvocationIndex == 0u && group_layers > 0u) {
         atomicMax(visibility_counter.z, group_layers);
@@ -132,5 +156,23 @@ void main() {
         // Layer k of this 8x8 tile holds a sample where some pixel holds more than k layers.
         for (int k = 0; k < int(group_layers); ++k) mark_visibility_tile(ivec2(gl_WorkGroupID.xy) * 8, k);
 #endif
+#if LIST_SAMPLES
+        // Layer k's samples: the pixels holding more than k layers.
+        uint holding = 0u;
+        for (int k = int(group_layers) - 1; k >= 0; --k) {
+            holding += group_pixels[k + 1];
+            atomicAdd(visibility_layer_samples[k], holding);
+        }
+        if (group_deep > 0u) {
+            group_base = atomicAdd(visibility_samples_dispatch.w, group_deep);
+            atomicMax(visibility_samples_dispatch.x, (group_base + group_deep + 63u) / 64u);
+        }
+#endif
     }
+#if LIST_SAMPLES
+    barrier();
+    for (int k = 1; k < count; ++k)
+        imageStore(u_deep_samples, int(group_base + first + uint(k - 1)),
+                   uvec4(sample_index(p, k)));
+#endif
 }
