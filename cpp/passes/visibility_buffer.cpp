@@ -291,6 +291,13 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
     select_defines["LAYERS"] = std::to_string(s.layers);
     select_defines["MARK_TILES"] = marks_tiles(ctx) ? "1" : "0";
     select_defines["LIST_SAMPLES"] = list_samples ? "1" : "0";
+    // Where clears are by compute the selection stores the empty layers' depths itself (that store
+    // is the clear); elsewhere the array is cleared first and only the kept depths are stored.
+    select_defines["STORE_EMPTY_DEPTH"] = ctx.clear_by_compute ? "1" : "0";
+    if (!ctx.clear_by_compute) {
+        const float clear = ctx.depth.clear_depth();
+        clear_layers(ctx, depth, 0, &clear);
+    }
     set_min_separation(s, select_defines);
     const GLuint select = ctx.shaders.program({"passes/visibility_select.comp"}, select_defines);
     set_min_separation(s, select);

@@ -6,9 +6,10 @@
 // layer i (with MIN_SEPARATION 1, behind it by the minimum separation: the list is then walked
 // once per layer), fragments at equal depth make one layer, and of those the one peeling's
 // shading pass leaves stays (visibility_wins).
-//   output: gbuffer.visibility (image unit 0) every layer's triangle, VISIBILITY_NONE where the
-//           pixel has no such layer; gbuffer.depth (image unit 1, R32F with this construction)
-//           its window depth, the clear value where none: stored here, not drawn, since a
+//   output: gbuffer.visibility (image unit 0) every layer's triangle where the pixel has that
+//           layer (elsewhere not written: nothing reads it there); gbuffer.depth (image unit 1,
+//           R32F with this construction) its window depth, the clear value where none (stored
+//           here or cleared before, STORE_EMPTY_DEPTH): stored here, not drawn, since a
 //           compute store skips the raster outputs a depth target is written through (on an H200
 //           a full-screen depth-only draw per 1080p layer cost 0.45 ms, more than the attributes
 //           of all 8 layers); visibility_counter.z the most layers any pixel holds; with
@@ -28,6 +29,12 @@
 #endif
 #if MARK_TILES
 #include "../lib/visibility_tiles.glsl"
+#endif
+// STORE_EMPTY_DEPTH 1 (clears by compute, a GPU): an empty texel's depth is stored here, the clear
+// by compute of that layer; 0: the depth array was cleared before (glClearTexSubImage, a memset
+// on the CPU device), and only the kept depths are stored.
+#ifndef STORE_EMPTY_DEPTH
+#define STORE_EMPTY_DEPTH 1
 #endif
 #ifndef LIST_SAMPLES
 #define LIST_SAMPLES 0
@@ -140,8 +147,14 @@ void main() {
         for (int k = 0; k < LAYERS; ++k) count += triangle[k] != VISIBILITY_NONE ? 1 : 0;  // filled slots come first
 #endif
         for (int k = 0; k < LAYERS; ++k) {
-            imageStore(o_visibility, ivec3(p, k), uvec4(k < count ? triangle[k] : VISIBILITY_NONE));
+            // An id is read only where a sample is (the attribute pass tests the depth, or shades
+            // the listed samples): no store for an empty texel.
+            if (k < count) imageStore(o_visibility, ivec3(p, k), uvec4(triangle[k]));
+#if STORE_EMPTY_DEPTH
             imageStore(o_depth, ivec3(p, k), vec4(k < count ? depth[k] : DEPTH_CLEAR));
+#else
+            if (k < count) imageStore(o_depth, ivec3(p, k), vec4(depth[k]));
+#endif
         }
         if (count > 0) atomicMax(group_layers, uint(count));
     }
