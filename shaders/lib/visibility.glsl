@@ -13,9 +13,11 @@ int visibility_primitive(uint id) { return int(id & ((1u << uint(u_primitive_bit
 // Of two fragments at exactly the same depth, whether id a is the one depth peeling's shading
 // pass leaves in the G-buffer (passes/depth_peel.cpp: it draws the draws in reverse order and each
 // draw's triangles in order, so the lowest draw wins, and within it the last triangle).
+// With the primitive's bits flipped, that order is the ids' order as unsigned integers: a lower
+// object, or within one the higher primitive, gives the lower key.
 bool visibility_wins(uint a, uint b) {
-    int oa = visibility_object(a), ob = visibility_object(b);
-    return oa < ob || (oa == ob && visibility_primitive(a) > visibility_primitive(b));
+    uint primitive_bits = (1u << uint(u_primitive_bits)) - 1u;
+    return (a ^ primitive_bits) < (b ^ primitive_bits);
 }
 
 // A sample of the deep G-buffer, as a work list names it: layer * width * height + pixel (rows).

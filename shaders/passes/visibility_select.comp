@@ -116,7 +116,7 @@ void main() {
         // Insertion into the kept layers, sorted nearest first: each slot is compared with
         // constant indices (the loop unrolls), so the layers stay in registers; an index that
         // differs per invocation would keep them in memory, read and written lane by lane on
-        // the CPU device. An empty slot holds VISIBILITY_NONE.
+        // the CPU device. An empty slot holds the clear depth and VISIBILITY_NONE.
         for (int k = 0; k < LAYERS; ++k) {
             depth[k] = DEPTH_CLEAR;
             triangle[k] = VISIBILITY_NONE;
@@ -127,21 +127,19 @@ void main() {
             uint t = f.y;
             if (!is_farther(DEPTH_CLEAR, z)) continue;  // fails the depth test against the clear value
             for (int k = 0; k < LAYERS; ++k) {
-                // t is VISIBILITY_NONE once the fragment merged into a layer at its depth; else
-                // (z, t) is the nearest sample not yet placed, and slots before k are nearer.
-                bool filled = triangle[k] != VISIBILITY_NONE;
-                bool placing = t != VISIBILITY_NONE;
-                if (placing && filled && depth[k] == z) {
-                    if (visibility_wins(t, triangle[k])) triangle[k] = t;
-                    t = VISIBILITY_NONE;
-                } else if (placing && (!filled || is_farther(depth[k], z))) {
-                    float dz = depth[k];
-                    uint dt = triangle[k];
-                    depth[k] = z;
-                    triangle[k] = t;
-                    z = dz;
-                    t = dt;  // the displaced layer moves one slot back, or nothing if the slot was empty
-                }
+                // (z, t) is the nearest sample not yet placed, and the slots before k are nearer.
+                // An empty slot holds the clear depth, behind every fragment; a sample merged
+                // into a slot at its depth goes on as an empty one (the clear depth and
+                // VISIBILITY_NONE), which changes nothing further. Selects, not branches: the CPU
+                // device runs both sides of a branch anyway.
+                float dk = depth[k];
+                uint tk = triangle[k];
+                bool same = dk == z;
+                bool before = is_farther(dk, z);
+                triangle[k] = before || (same && visibility_wins(t, tk)) ? t : tk;
+                depth[k] = before ? z : dk;
+                t = before ? tk : (same ? VISIBILITY_NONE : t);
+                z = before ? dk : (same ? DEPTH_CLEAR : z);
             }
         }
         for (int k = 0; k < LAYERS; ++k) count += triangle[k] != VISIBILITY_NONE ? 1 : 0;  // filled slots come first
