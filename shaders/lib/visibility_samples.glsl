@@ -8,5 +8,5 @@ layout(std430, binding = 25) coherent buffer VisibilitySamples {
     // The shade stage's indirect dispatch: x groups of 64 over the list, y and z 1; w the samples
     // listed.
     uvec4 visibility_samples_dispatch;
-    uint visibility_layer_samples[16];  // layer k: the pixels holding more than k layers
+    uint visibility_layer_samples[16];  // layer k > 0: the pixels holding more than k layers (0: unused)
 };

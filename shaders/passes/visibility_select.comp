@@ -157,8 +157,13 @@ void main() {
         if (count > 0) atomicMax(group_layers, uint(count));
     }
 #if LIST_SAMPLES
-    uint first = count > 1 ? atomicAdd(group_deep, uint(count - 1)) : 0u;  // this pixel's slots in the group's
-    atomicAdd(group_pixels[count], 1u);
+    // This pixel's first slot among the group's; the pixels holding 0 or 1 layer count for layer 0
+    // only, which the attribute pass counts.
+    uint first = 0u;
+    if (count > 1) {
+        first = atomicAdd(group_deep, uint(count - 1));
+        atomicAdd(group_pixels[count], 1u);
+    }
 #endif
     barrier();
     if (gl_LocalInvocationIndex == 0u && group_layers > 0u) {
@@ -168,9 +173,9 @@ void main() {
         for (int k = 0; k < int(group_layers); ++k) mark_visibility_tile(ivec2(gl_WorkGroupID.xy) * 8, k);
 #endif
 #if LIST_SAMPLES
-        // Layer k's samples: the pixels holding more than k layers.
+        // Layer k's samples, k > 0: the pixels holding more than k layers.
         uint holding = 0u;
-        for (int k = int(group_layers) - 1; k >= 0; --k) {
+        for (int k = int(group_layers) - 1; k >= 1; --k) {
             holding += group_pixels[k + 1];
             atomicAdd(visibility_layer_samples[k], holding);
         }
