@@ -88,7 +88,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     const FrameBuffer& listed = ctx.buffers.get("visibility_samples");
     GLint texels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
-    const bool scene_by_image = ctx.fetch_by_image() && gs.vertex_buffer().size() / 4 <= size_t(texels) &&
+    const bool scene_by_image = ctx.fetch_by_image() && gs.vertex_buffer().size() / 8 <= size_t(texels) &&
                                 gs.index_buffer().size() / 4 <= size_t(texels);
     const bool listed_samples = tile_lists && listed.data != nullptr && textured.empty() && scene_by_image;
     std::vector<GLuint> deep_tiles;  // layer << 24 | tile, of the layers after the first
@@ -165,11 +165,11 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     const bool by_image = scene_by_image && sorted_.size() / 4 <= size_t(texels);
     std::optional<BufferView> vertex_view, index_view, object_view, material_view, bins_view, sorted_view;
     if (by_image) {
-        vertex_view.emplace(gs.vertex_buffer(), GL_R32F);
+        vertex_view.emplace(gs.vertex_buffer(), GL_RG32F);  // floats in pairs (lib/visibility_surface.glsl)
         index_view.emplace(gs.index_buffer(), GL_R32UI);
         object_view.emplace(gs.object_buffer(), GL_RGBA32F);
         material_view.emplace(gs.material_buffer(), GL_RGBA32F);
-        glBindImageTexture(kVertexImage, vertex_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+        glBindImageTexture(kVertexImage, vertex_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32F);
         glBindImageTexture(kIndexImage, index_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
         glBindImageTexture(kObjectImage, object_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         glBindImageTexture(kMaterialImage, material_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);

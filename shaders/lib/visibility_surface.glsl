@@ -8,7 +8,9 @@
 // pixel apart), the differences a fragment shader's dFdx and dFdy take.
 // Needs frame_uniforms, depth_convention, scene_data. The including shader says how the scene's
 // vertex and index data (lib/scene_geometry.glsl's layout: GpuVertex, 18 floats a vertex) are read:
-// VISIBILITY_INDEX(i) the i-th index, VISIBILITY_VERTEX(i) the i-th float of the vertex data.
+// VISIBILITY_INDEX(i) the i-th index, VISIBILITY_VERTEX2(i) floats i and i + 1 of the vertex data
+// (i even: a vertex starts at an even float, so the CPU device reads the floats in pairs, half the
+// image loads; 18 floats are no whole number of vec4).
 
 struct VisibilityTriangle {
     vec3 p0, p1, p2;   // view-space positions
@@ -22,7 +24,7 @@ uint visibility_vertex(ObjectData o, int triangle, int k) {
 
 vec3 visibility_object_position(uint v) {
     uint f = v * 18u;
-    return vec3(VISIBILITY_VERTEX(f), VISIBILITY_VERTEX(f + 1u), VISIBILITY_VERTEX(f + 2u));
+    return vec3(VISIBILITY_VERTEX2(f), VISIBILITY_VERTEX2(f + 2u).x);
 }
 
 VisibilityTriangle visibility_triangle(ObjectData o, int triangle) {
@@ -75,11 +77,11 @@ struct VisibilityVertex {
 VisibilityVertex visibility_vertex_attributes(ObjectData o, uint v) {
     uint f = v * 18u;
     VisibilityVertex a;
-    vec3 n = vec3(VISIBILITY_VERTEX(f + 3u), VISIBILITY_VERTEX(f + 4u), VISIBILITY_VERTEX(f + 5u));
+    vec3 n = vec3(VISIBILITY_VERTEX2(f + 2u).y, VISIBILITY_VERTEX2(f + 4u));
     a.normal = mat3(frame.view) * (mat3(o.normal_matrix) * n);
-    a.uv = vec4(VISIBILITY_VERTEX(f + 6u), VISIBILITY_VERTEX(f + 7u), VISIBILITY_VERTEX(f + 16u), VISIBILITY_VERTEX(f + 17u));
-    vec4 t = vec4(VISIBILITY_VERTEX(f + 8u), VISIBILITY_VERTEX(f + 9u), VISIBILITY_VERTEX(f + 10u), VISIBILITY_VERTEX(f + 11u));
+    a.uv = vec4(VISIBILITY_VERTEX2(f + 6u), VISIBILITY_VERTEX2(f + 16u));
+    vec4 t = vec4(VISIBILITY_VERTEX2(f + 8u), VISIBILITY_VERTEX2(f + 10u));
     a.tangent = vec4(mat3(frame.view) * (mat3(o.model) * t.xyz), t.w);
-    a.color = vec4(VISIBILITY_VERTEX(f + 12u), VISIBILITY_VERTEX(f + 13u), VISIBILITY_VERTEX(f + 14u), VISIBILITY_VERTEX(f + 15u));
+    a.color = vec4(VISIBILITY_VERTEX2(f + 12u), VISIBILITY_VERTEX2(f + 14u));
     return a;
 }

@@ -69,12 +69,12 @@
 // (the CPU device, lib/input_fetch.glsl) through image buffers of the same data, which llvmpipe
 // reads inline, where a storage-buffer read at a per-invocation address is a loop over the lanes.
 #if FETCH_BY_IMAGE
-layout(binding = 5, r32f) readonly uniform imageBuffer u_vertex_data;      // GpuVertex floats
+layout(binding = 5, rg32f) readonly uniform imageBuffer u_vertex_data;     // GpuVertex floats, in pairs
 layout(binding = 6, r32ui) readonly uniform uimageBuffer u_index_data;
 layout(binding = 7, rgba32f) readonly uniform imageBuffer u_object_data;   // GpuObject, 9 texels
 layout(binding = 8, rgba32f) readonly uniform imageBuffer u_material_data; // GpuMaterial, 22 texels
 layout(binding = 9, r32ui) readonly uniform uimage2DArray u_visibility;    // gbuffer.visibility
-#define VISIBILITY_VERTEX(i) imageLoad(u_vertex_data, int(i)).r
+#define VISIBILITY_VERTEX2(i) imageLoad(u_vertex_data, int(i) / 2).rg
 #define VISIBILITY_INDEX(i) imageLoad(u_index_data, int(i)).r
 ObjectData load_object(int i) {
     ObjectData o;
@@ -106,7 +106,7 @@ uint sample_id(ivec3 t) { return imageLoad(u_visibility, t).r; }
 #else
 #include "../lib/scene_geometry.glsl"
 layout(binding = 8) uniform usampler2DArray u_visibility;  // gbuffer.visibility
-#define VISIBILITY_VERTEX(i) vertex_data[i]
+#define VISIBILITY_VERTEX2(i) vec2(vertex_data[i], vertex_data[(i) + 1u])
 #define VISIBILITY_INDEX(i) index_data[i]
 ObjectData load_object(int i) { return objects[i]; }
 MaterialData load_material(int i) { return materials[i]; }
