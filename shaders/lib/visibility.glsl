@@ -20,14 +20,13 @@ bool visibility_wins(uint a, uint b) {
     return (a ^ primitive_bits) < (b ^ primitive_bits);
 }
 
-// A sample of the deep G-buffer, as a work list names it: layer * width * height + pixel (rows).
-// Needs frame_uniforms.
+// A sample of the deep G-buffer, as a work list names it: its texel packed into 32 bits, the layer
+// in the top 4 (at most 16 layers), then the row and the column in 14 bits each (images up to
+// 16384 on a side, the renderer's limit). Shifts and masks decode it, where an index
+// layer * width * height + pixel takes integer divisions, which the CPU device runs lane by lane.
 uint sample_index(ivec2 p, int layer) {
-    ivec2 size = ivec2(frame.viewport.xy);
-    return uint(layer) * uint(size.x * size.y) + uint(p.y * size.x + p.x);
+    return uint(layer) << 28 | uint(p.y) << 14 | uint(p.x);
 }
 ivec3 sample_texel(uint s) {
-    uint plane = uint(frame.viewport.x) * uint(frame.viewport.y);
-    uint pixel = s % plane;
-    return ivec3(int(pixel % uint(frame.viewport.x)), int(pixel / uint(frame.viewport.x)), int(s / plane));
+    return ivec3(int(s & 0x3fffu), int((s >> 14) & 0x3fffu), int(s >> 28));
 }
