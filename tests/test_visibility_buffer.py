@@ -413,10 +413,10 @@ def test_a_gpus_paths_on_the_cpu_device(construction):
 
 
 def test_the_selection_lists_the_deeper_samples_on_the_cpu_device():
-    """With 'visibility_lists' on the CPU device and no textured material, the selection lists the
-    samples after layer 0 and counts each layer's (the attribute pass then classifies no tile of
-    the deeper layers). Every texture of the frame, the lit layers included, and the covered tiles
-    and layer counts equal those of 'visibility', which classifies, bit for bit. One layer, or a
+    """With 'visibility_lists' on the CPU device and no textured material, the selection lists every
+    kept sample and counts each layer's (the attribute pass then classifies no texel). Every
+    texture of the frame, the lit layers included, the covered tiles, the reflective regions and
+    the layer counts equal those of 'visibility', which classifies, bit for bit. One layer, or a
     textured material (binned by material), goes through the classification."""
     r = ssrlab.Renderer(device="cpu", input_fetch="imageLoad")
     r.visibility_tiles = "on"
@@ -429,6 +429,7 @@ def test_the_selection_lists_the_deeper_samples_on_the_cpu_device():
         assert lists.stats["layers_used"] >= 2
         assert lists.layer_samples == vis.layer_samples
         assert lists.stats["tiles_lit"] == vis.stats["tiles_lit"]
+        assert lists.stats["classify_regions"] == vis.stats["classify_regions"] > 0
         for name in vis.texture_names:
             if name.startswith("gbuffer.") or name in ("lit", "reflection", "color"):
                 np.testing.assert_array_equal(bits(lists.read(name)), bits(vis.read(name)), err_msg=f"{layers} {name}")

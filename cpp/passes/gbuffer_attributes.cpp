@@ -83,8 +83,8 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     // untextured materials' samples; shaders/passes/gbuffer_attributes.comp says why). A GPU
     // classifies every layer whole and shades the untextured samples where found.
     const bool tile_lists = VisibilityBufferPass::marks_tiles(ctx);
-    // The samples after layer 0, where the selection of "visibility_lists" listed them with their
-    // counts (lib/visibility_samples.glsl): shaded from that list, without classifying their tiles.
+    // Every kept sample, where the selection of "visibility_lists" listed them with their counts
+    // (lib/visibility_samples.glsl): shaded from that list, without classifying any texel.
     const FrameBuffer& listed = ctx.buffers.get("visibility_samples");
     GLint texels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
@@ -213,7 +213,22 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     {
         GpuScope timer(ctx.timer, "gbuffer_attributes.classify");
         const float clear[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        if (tile_lists) {
+        if (listed_samples) {
+            // Every layer cleared, then what the classification would have found taken from the
+            // selection: the covered tiles (its marks, in the covered tiles' layout) and each
+            // layer's sample count; the listed samples are shaded below.
+            for (Texture* t : {&albedo, &normal, &material, emission, specular, motion})
+                if (t) clear_layers(ctx, *t, 0, clear);
+            bind_outputs();
+            if (filled > 0) {
+                const size_t per_layer = size_t(DepthPeelPass::covered_tiles_per_layer(s)) * sizeof(GLuint);
+                glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                glCopyNamedBufferSubData(ctx.buffers.get("visibility_tiles").data->id(), tiles_.id(), 0,
+                                         GLintptr(4 * sizeof(GLuint)), GLsizeiptr(per_layer * size_t(filled)));
+                glCopyNamedBufferSubData(listed.args->id(), bins_.id(), GLintptr(4 * sizeof(GLuint)),
+                                         GLintptr(4 * sizeof(GLuint)), GLsizeiptr(sizeof(GLuint) * size_t(filled)));
+            }
+        } else if (tile_lists) {
             // Layer 0 whole; the deeper layers cleared, then their covered tiles classified.
             if (filled_tiles > 0) {
                 glUseProgram(program(0, auto_untextured ? GpuScene::kAutoReflectivityFeature : 0));
@@ -222,19 +237,6 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             for (Texture* t : {&albedo, &normal, &material, emission, specular, motion})
                 if (t) clear_layers(ctx, *t, filled_tiles > 0 ? 1 : 0, clear);
             bind_outputs();
-            if (listed_samples && filled > 1) {
-                // What the classify stage would have found over the deeper layers' tiles: their
-                // covered tiles (the selection's marks, in the covered tiles' layout) and their
-                // sample counts.
-                const size_t per_layer = size_t(DepthPeelPass::covered_tiles_per_layer(s)) * sizeof(GLuint);
-                glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-                glCopyNamedBufferSubData(ctx.buffers.get("visibility_tiles").data->id(), tiles_.id(),
-                                         GLintptr(per_layer), GLintptr(4 * sizeof(GLuint) + per_layer),
-                                         GLsizeiptr(per_layer * size_t(filled - 1)));
-                glCopyNamedBufferSubData(listed.args->id(), bins_.id(), GLintptr(4 * sizeof(GLuint) + sizeof(GLuint)),
-                                         GLintptr(4 * sizeof(GLuint) + sizeof(GLuint)),
-                                         GLsizeiptr(sizeof(GLuint) * size_t(filled - 1)));
-            }
             if (!deep_tiles.empty()) {
                 const size_t bytes = deep_tiles.size() * sizeof(GLuint);
                 if (tile_list_.size() < bytes) tile_list_ = Buffer::create(bytes);
@@ -261,7 +263,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             bind_outputs();
         }
     }
-    if (listed_samples && filled > 1) {
+    if (listed_samples && filled > 0) {
         GpuScope timer(ctx.timer, "gbuffer_attributes.shade");
         BufferView counts_view(*listed.args, GL_R32UI), list_view(*listed.data, GL_R32UI);
         glBindImageTexture(kBinsImage, counts_view.id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);

@@ -73,7 +73,7 @@ void VisibilityBufferPass::execute(FrameContext& ctx) {
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTilesBinding, tiles_.id());
     ctx.buffers.publish("visibility_tiles", FrameBuffer{&tiles_, kTilesBinding});
-    // Published with its list by the selection where it lists the samples after layer 0; else none
+    // Published with its list by the selection where it lists the samples; else none
     // (the attribute pass classifies them).
     ctx.buffers.publish("visibility_samples", FrameBuffer{});
     if (ctx.settings.deep_gbuffer != DeepGBuffer::VisibilityLists || !lists(ctx)) {
@@ -261,30 +261,30 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
         heads_view.emplace(heads_, GL_R32UI);
     }
     // On the CPU device, without textured materials (whose samples the attribute pass bins by
-    // material), the selection also lists the samples after layer 0 for the attribute pass
+    // material), the selection also lists every kept sample for the attribute pass
     // (lib/visibility_samples.glsl): it knows each pixel's layers, where the attribute pass would
-    // classify every texel of the covered tiles to find them (16 of its 35 ms on hall at 8 layers,
-    // 640x360).
+    // classify every texel (on hall at 8 layers, 640x360, the classification of the deeper layers'
+    // tiles alone took 16 of its 35 ms; layer 0's shades the empty lanes of a vector too).
     bool textured = false;
     for (const DrawItem& d : ctx.gpu_scene.draws())
         textured = textured || (ctx.gpu_scene.material_features(d.material) & GpuScene::kTextureFeatures) != 0;
-    const uint64_t deep = pixels * uint64_t(std::max(s.layers - 1, 1));
-    const bool list_samples = by_image && marks_tiles(ctx) && !textured && s.layers > 1 && deep <= uint64_t(texels);
+    const uint64_t samples = pixels * uint64_t(s.layers);
+    const bool list_samples = by_image && marks_tiles(ctx) && !textured && s.layers > 1 && samples <= uint64_t(texels);
     std::optional<BufferView> samples_view;
     if (list_samples) {
-        if (deep_samples_.size() < deep * sizeof(GLuint)) {
-            deep_samples_.reset();
-            deep_samples_ = Buffer::create(deep * sizeof(GLuint));
+        if (samples_.size() < samples * sizeof(GLuint)) {
+            samples_.reset();
+            samples_ = Buffer::create(samples * sizeof(GLuint));
         }
         if (!sample_counts_) sample_counts_ = Buffer::create(kSampleCountsBytes);
         GLuint header[kSampleCountsBytes / sizeof(GLuint)] = {0, 1, 1, 0};  // no group yet, y = z = 1
         sample_counts_.upload(header, sizeof(header));
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSampleCountsBinding, sample_counts_.id());
-        samples_view.emplace(deep_samples_, GL_R32UI);
+        samples_view.emplace(samples_, GL_R32UI);
         glBindImageTexture(kSamplesImage, samples_view->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
-        ctx.buffers.publish("visibility_samples", FrameBuffer{&deep_samples_, kSampleCountsBinding, &sample_counts_, 0});
+        ctx.buffers.publish("visibility_samples", FrameBuffer{&samples_, kSampleCountsBinding, &sample_counts_, 0});
         list_stats_.samples_listed = 1;
-        list_stats_.bytes += deep_samples_.size() + sample_counts_.size();
+        list_stats_.bytes += samples_.size() + sample_counts_.size();
     }
     Defines select_defines = ctx.defines;
     select_defines["FETCH_BY_IMAGE"] = by_image ? "1" : "0";
@@ -371,7 +371,7 @@ void VisibilityBufferPass::release() {
     links_.reset();
     heads_.reset();
     counter_.reset();
-    deep_samples_.reset();
+    samples_.reset();
     sample_counts_.reset();
     capacity_ = 0;
     empty_fbo_.reset();

@@ -78,9 +78,9 @@ private:
     std::vector<GLuint> queries_;
     // Lists: fragments (depth, triangle), links, heads, counter (appended, capacity, most layers).
     Buffer fragments_, links_, heads_, counter_;
-    // The samples after layer 0 the selection lists for the attribute pass, and their counts
+    // The samples the selection lists for the attribute pass, and their counts
     // (lib/visibility_samples.glsl).
-    Buffer deep_samples_, sample_counts_;
+    Buffer samples_, sample_counts_;
     uint64_t capacity_ = 0;
     struct ListStats {
         int lists = 0, fell_back = 0, redone = 0, samples_listed = 0;

@@ -718,8 +718,9 @@ class Frame:
         deep_gbuffer_bytes (the lists' buffers), deep_gbuffer_redone (1: the fragment store was
         too small and the geometry pass ran again with one that fits) and deep_gbuffer_fell_back (1:
         the fragments exceeded Settings.deep_gbuffer_budget and the layers were peeled); with
-        'visibility_lists', deep_gbuffer_samples_listed (1: the selection listed the samples after
-        layer 0 for the attribute pass, on the CPU device without textured materials)."""
+        'visibility_lists', deep_gbuffer_samples_listed (1: the selection listed every kept sample
+        for the attribute pass, on the CPU device, with more than one layer and no textured
+        material)."""
         counts = {k: int(v) for k, v in self._native.stats.items()}
         # How the deep G-buffer was built (Settings.deep_gbuffer): 'lists' or 'peel' (also where
         # 'lists' fell back to peeling: deep_gbuffer_fell_back 1).

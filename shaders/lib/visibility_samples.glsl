@@ -1,4 +1,4 @@
-// The samples of the deep G-buffer's layers after the first, listed by the selection of
+// Every sample of the deep G-buffer, listed by the selection of
 // "visibility_lists" (passes/visibility_select.comp, LIST_SAMPLES: the CPU device, no textured
 // material) for the attribute pass's shade stage (passes/gbuffer_attributes.comp), with every
 // layer's sample count. The list itself (a sample index a uint, lib/visibility.glsl's
@@ -8,5 +8,5 @@ layout(std430, binding = 25) coherent buffer VisibilitySamples {
     // The shade stage's indirect dispatch: x groups of 64 over the list, y and z 1; w the samples
     // listed.
     uvec4 visibility_samples_dispatch;
-    uint visibility_layer_samples[16];  // layer k > 0: the pixels holding more than k layers (0: unused)
+    uint visibility_layer_samples[16];  // layer k: the pixels holding more than k layers
 };

@@ -15,10 +15,10 @@
 //           of all 8 layers); visibility_counter.z the most layers any pixel holds; with
 //           MARK_TILES (the CPU device) the tiles of each layer holding a sample
 //           (lib/visibility_tiles.glsl); with LIST_SAMPLES (the CPU device, no textured
-//           material) the samples of the layers after the first, listed for the attribute pass's
-//           shade stage (lib/visibility_samples.glsl), and every layer's sample count: this
-//           pass knows each pixel's layers, where the attribute pass would classify every texel
-//           of the covered tiles again to find them.
+//           material) every kept sample, listed for the attribute pass's shade stage
+//           (lib/visibility_samples.glsl), and every layer's sample count: this pass knows each
+//           pixel's layers, where the attribute pass would classify every texel of every layer
+//           (shading the empty lanes of a vector too, on that device) to find them.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/visibility.glsl"
@@ -41,8 +41,8 @@
 #endif
 #if LIST_SAMPLES
 #include "../lib/visibility_samples.glsl"
-layout(binding = 5, r32ui) writeonly uniform uimageBuffer u_deep_samples;  // visibility_deep_sample[]
-shared uint group_deep;                   // the group's samples after layer 0
+layout(binding = 5, r32ui) writeonly uniform uimageBuffer u_samples;  // the list
+shared uint group_samples;                // the group's samples, every layer's
 shared uint group_base;                   // their first slot in the list
 shared uint group_pixels[LAYERS + 1];     // the group's pixels holding n layers, n = 0..LAYERS
 #endif
@@ -80,7 +80,7 @@ void main() {
     if (gl_LocalInvocationIndex == 0u) {
         group_layers = 0u;
 #if LIST_SAMPLES
-        group_deep = 0u;
+        group_samples = 0u;
         for (int n = 0; n <= LAYERS; ++n) group_pixels[n] = 0u;
 #endif
     }
@@ -157,11 +157,10 @@ void main() {
         if (count > 0) atomicMax(group_layers, uint(count));
     }
 #if LIST_SAMPLES
-    // This pixel's first slot among the group's; the pixels holding 0 or 1 layer count for layer 0
-    // only, which the attribute pass counts.
+    // This pixel's first slot among the group's.
     uint first = 0u;
-    if (count > 1) {
-        first = atomicAdd(group_deep, uint(count - 1));
+    if (count > 0) {
+        first = atomicAdd(group_samples, uint(count));
         atomicAdd(group_pixels[count], 1u);
     }
 #endif
@@ -173,22 +172,20 @@ void main() {
         for (int k = 0; k < int(group_layers); ++k) mark_visibility_tile(ivec2(gl_WorkGroupID.xy) * 8, k);
 #endif
 #if LIST_SAMPLES
-        // Layer k's samples, k > 0: the pixels holding more than k layers.
+        // Layer k's samples: the pixels holding more than k layers.
         uint holding = 0u;
-        for (int k = int(group_layers) - 1; k >= 1; --k) {
+        for (int k = int(group_layers) - 1; k >= 0; --k) {
             holding += group_pixels[k + 1];
             atomicAdd(visibility_layer_samples[k], holding);
         }
-        if (group_deep > 0u) {
-            group_base = atomicAdd(visibility_samples_dispatch.w, group_deep);
-            atomicMax(visibility_samples_dispatch.x, (group_base + group_deep + 63u) / 64u);
-        }
+        group_base = atomicAdd(visibility_samples_dispatch.w, group_samples);
+        atomicMax(visibility_samples_dispatch.x, (group_base + group_samples + 63u) / 64u);
 #endif
     }
 #if LIST_SAMPLES
     barrier();
-    for (int k = 1; k < count; ++k)
-        imageStore(u_deep_samples, int(group_base + first + uint(k - 1)),
+    for (int k = 0; k < count; ++k)
+        imageStore(u_samples, int(group_base + first + uint(k)),
                    uvec4(sample_index(p, k)));
 #endif
 }
