@@ -375,3 +375,17 @@ def test_colour_accessor_kinds(tmp_path, component, normalized, columns):
     expect = np.ones((4, 4), np.float32)
     expect[:, :columns] = values / np.float32(top)
     np.testing.assert_allclose(colours, expect, rtol=1e-6)
+
+
+@pytest.mark.parametrize("construction", ["visibility", "visibility_lists"])
+def test_vertex_colours_in_the_visibility_constructions(renderer, construction):
+    """The attribute pass reads the vertex colours only where some vertex is not white: here it
+    must, and the albedo follows them as peeling's does."""
+    scene, floor, wall, quad = coloured_scene()
+    f = renderer.render(scene, settings=small(deep_gbuffer=construction, **SIZE))
+    cam, d = pixel_rays(f)
+    u, v, inside = quad_uv(cam, d)
+    g = f.gbuffer
+    on_quad = inside & g.coverage[0] & (g.object_id[0] == quad)
+    assert on_quad.sum() > 1000
+    assert np.abs(g.albedo[0][on_quad] - colour_at(u, v)[on_quad]).max() < 0.01

@@ -193,6 +193,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     const bool single_bin = textured.empty();
     base["SINGLE_BIN"] = single_bin ? "1" : "0";
     base["MOTION_VECTORS"] = motion ? "1" : "0";
+    base["VERTEX_COLORS"] = gs.has_vertex_colors() ? "1" : "0";
     if (ctx.facts.emission_texture) base["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) base["SPECULAR_TEXTURE"] = "1";
     auto program = [&](int stage, int kind, bool tile_list = false, bool listed_list = false) {

@@ -48,6 +48,7 @@ GpuScene::GpuScene(const Scene& scene, SceneWork* work)
             v.uv = m.uvs.empty() ? glm::vec2(0.0f) : m.uvs[i];
             v.tangent = m.tangents.empty() ? glm::vec4(0.0f) : m.tangents[i];
             v.color = m.colors.empty() ? glm::vec4(1.0f) : m.colors[i];
+            vertex_colors_ = vertex_colors_ || v.color != glm::vec4(1.0f);
             v.uv1 = m.uvs1.empty() ? v.uv : m.uvs1[i];
             verts.push_back(v);
         }

@@ -124,6 +124,8 @@ public:
     bool has_emissive_texture() const { return emissive_texture_; }
 
     const std::vector<DrawItem>& draws() const { return draws_; }
+    // Whether some vertex has a colour other than white (glTF COLOR_0; white multiplies by 1).
+    bool has_vertex_colors() const { return vertex_colors_; }
     // The scene's buffers (GpuVertex, uint32 indices, GpuObject, GpuMaterial), for passes that read
     // them through views of their own (image buffers).
     const Buffer& vertex_buffer() const { return vertices_; }
@@ -180,6 +182,7 @@ private:
     std::map<std::tuple<int, bool, int, int>, Texture> textures_;  // (image, srgb, wrap s, wrap t)
     std::vector<std::array<GLuint, 6>> material_textures_;
     std::vector<int> material_features_;  // per material: material_features()
+    bool vertex_colors_ = false;          // has_vertex_colors()
     std::vector<uint8_t> alpha_tested_;   // per material
     std::vector<std::vector<float>> alpha_keys_;  // per material: alpha_key()
     std::vector<GpuMaterial> material_data_;      // the materials buffer's elements

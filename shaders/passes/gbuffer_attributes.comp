@@ -51,6 +51,10 @@
 #ifndef MOTION_VECTORS
 #define MOTION_VECTORS 0
 #endif
+// VERTEX_COLORS 0: no vertex of the scene has a colour other than white (GpuScene::has_vertex_colors).
+#ifndef VERTEX_COLORS
+#define VERTEX_COLORS 1
+#endif
 #ifndef ATTRIBUTES_STAGE
 #define ATTRIBUTES_STAGE 0
 #endif
@@ -262,7 +266,11 @@ void shade_sample(ivec3 t, uint id) {
     s.view_normal = visibility_interpolate(here.b, a0.normal, a1.normal, a2.normal);
     s.uv = visibility_interpolate(here.b, a0.uv, a1.uv, a2.uv);
     s.view_tangent = visibility_interpolate(here.b, a0.tangent, a1.tangent, a2.tangent);
+#if VERTEX_COLORS
     s.color = visibility_interpolate(here.b, a0.color, a1.color, a2.color);
+#else
+    s.color = vec4(1.0);  // every vertex white: the same factor, without reading the colours
+#endif
 #if MATERIAL_TEXTURES
     // The differences a fragment shader's derivatives take over the pixel's 2x2 quad (quads at
     // even window coordinates): along x in the pixel's row, along y in its column.
