@@ -4,7 +4,9 @@
 // shaded by peeling's own material code, then written by image stores (Burns and Hunt 2013;
 // shaders/passes/gbuffer_attributes.comp says how). No colour target is cleared or drawn: every
 // texel of the filled layers is stored once, the empty layers are cleared.
-//   inputs : gbuffer.depth, gbuffer.visibility; the buffer "visibility_tiles" (the CPU device)
+//   inputs : gbuffer.depth, gbuffer.visibility; the buffers "visibility_tiles" (the CPU device)
+//            and "visibility_samples" (the samples and their counts, where the selection of
+//            "visibility_lists" listed them: shaded from that list, no texel classified)
 //   outputs: gbuffer.albedo, gbuffer.normal, gbuffer.material (and gbuffer.emission,
 //            gbuffer.specular where the frame's facts say so): the names, formats and layers
 //            depth peeling writes (passes/depth_peel.h); the buffer "covered_tiles", marked as
@@ -14,8 +16,8 @@
 // indirect dispatch per such material with its textures bound, mipmapped as the raster samples
 // them, the level chosen from the differences over the pixel's 2x2 quad (ray differentials one
 // pixel apart) that a fragment shader's derivatives take. On the CPU device every sample is binned
-// (llvmpipe shades both sides of a branch for every lane). Timed as gbuffer_attributes.classify,
-// .bin and .shade.
+// or listed (llvmpipe shades both sides of a branch for every lane). Timed as
+// gbuffer_attributes.classify, .bin and .shade.
 #pragma once
 
 #include <map>

@@ -45,6 +45,10 @@ public:
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     // On the CPU device the covered 8x8 tiles of every layer (lib/visibility_tiles.glsl), marked
     // as the layers are built; elsewhere not marked (the attribute pass then covers every tile).
+    // "visibility_samples": with "visibility_lists" on the CPU device, more than one layer and no
+    // textured material, every kept sample listed by the selection with each layer's count
+    // (lib/visibility_samples.glsl; its `args` the counts, the shade stage's indirect dispatch
+    // first); elsewhere published empty (no data).
     std::vector<std::string> buffer_outputs(const RenderSettings&, const FrameFacts&) const override {
         return {"visibility_tiles", "visibility_samples"};
     }
