@@ -260,11 +260,12 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
         links_view.emplace(links_, GL_R32UI);
         heads_view.emplace(heads_, GL_R32UI);
     }
-    // On the CPU device, without textured materials (whose samples the attribute pass bins by
-    // material), the selection also lists every kept sample for the attribute pass
-    // (lib/visibility_samples.glsl): it knows each pixel's layers, where the attribute pass would
-    // classify every texel (on hall at 8 layers, 640x360, the classification of the deeper layers'
-    // tiles alone took 16 of its 35 ms; layer 0's shades the empty lanes of a vector too).
+    // On the CPU device, with more than one layer and without textured materials (whose samples
+    // the attribute pass bins by material), the selection also lists every kept sample for the
+    // attribute pass (lib/visibility_samples.glsl): it knows each pixel's layers, where the attribute pass would
+    // classify every texel to find them, and on this device shade the empty lanes of a vector too.
+    // At one layer the listing costs the selection more than it saves
+    // (python benchmarks/deep_gbuffer.py --device cpu).
     bool textured = false;
     for (const DrawItem& d : ctx.gpu_scene.draws())
         textured = textured || (ctx.gpu_scene.material_features(d.material) & GpuScene::kTextureFeatures) != 0;
