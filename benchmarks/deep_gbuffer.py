@@ -19,7 +19,8 @@ same scene measured in the same run, its parts, the lists' fragment count, the e
 method takes beside the G-buffer textures every method writes (peel: its previous-layer depth copy;
 lists: fragment store, heads, selection, and the copy; visibility: the copy and the R32UI ids per
 layer, and on the CPU device with more than one layer, or with textured materials, the attribute
-pass's binned samples, 12 bytes each; visibility_lists: the same and its lists), the CPU time this
+pass's binned samples, 12 bytes each, and its triangles' records, 80 bytes each where it keeps them;
+visibility_lists: the same and its lists), the CPU time this
 process spent in the render call with its ratio to the 1-layer peeled frame's (on llvmpipe the
 work its threads did: the GPU timer measures wall time, which other jobs on a shared machine
 inflate), and the construction's distance from its floor on this device.
@@ -71,10 +72,11 @@ PARTS = {
     "peel": (("depth", "depth_peel.depth"), ("shade", "depth_peel.shade"), ("setup", "depth_peel.setup")),
     "lists": (("append", "deep_gbuffer.append"), ("select", "deep_gbuffer.select"),
               ("write", "deep_gbuffer.write")),
-    "visibility": (("raster", "visibility_buffer"), ("classify", "gbuffer_attributes.classify"),
+    "visibility": (("raster", "visibility_buffer"), ("triangles", "gbuffer_attributes.triangles"),
+                   ("classify", "gbuffer_attributes.classify"),
                    ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade")),
     "visibility_lists": (("append", "visibility_buffer.append"), ("select", "visibility_buffer.select"),
-                         ("classify", "gbuffer_attributes.classify"),
+                         ("triangles", "gbuffer_attributes.triangles"), ("classify", "gbuffer_attributes.classify"),
                          ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade")),
 }
 # 8 layers against one peeled layer, per scene (the scenes not named here have no goal).
@@ -112,6 +114,7 @@ def extra_bytes(method: str, stats: dict, width: int, height: int, layers: int, 
         extra += 4 * pixels * layers  # gbuffer.visibility: a 32-bit id per sample
         if binned:
             extra += 12 * pixels * max(used, 1)  # the attribute pass's binned and sorted samples
+        extra += 80 * int(stats.get("gbuffer_attributes_triangle_records", 0))  # its triangles' records
     return extra
 
 
@@ -148,6 +151,7 @@ def main() -> None:
     methods = list(dict.fromkeys(["peel", *args.methods]))  # one peeled layer is every ratio's base
     summary = {}   # (scene, method, layers) -> rounds' ratios to one peeled layer
     distance = {}  # (scene, method, layers) -> (median x floor, floor ms)
+    built_as = {}  # (scene, method, layers) -> the method, and what it built where that differs
     shading_floors = []
     names = []
     for name in args.scenes:
@@ -194,12 +198,16 @@ def main() -> None:
             used = int(st["layers_used"])
             built = st.get("deep_gbuffer_method", method)
             how = method if built == method else f"{method}->{built}"
-            floor_ms = construction_floor(method, used, floor_medians)
-            x_floor = statistics.median(t / construction_floor(method, used, r) for t, r in zip(ts, floors))
+            built_as[(name, method, layers)] = how
+            # The floor and the parts of what was built ('visibility_lists' at one layer, or lists
+            # beyond their budget, are peeled).
+            floor_of = built if built in METHODS else method
+            floor_ms = construction_floor(floor_of, used, floor_medians)
+            x_floor = statistics.median(t / construction_floor(floor_of, used, r) for t, r in zip(ts, floors))
             distance[(name, method, layers)] = (x_floor, floor_ms)
             summary[(name, method, layers)] = [t / b for t, b in zip(ts, times[base_key])]
             parts = " ".join(f"{short} {statistics.median(t.get(key, 0.0) for t, _ in runs[c]):.2f}"
-                             for short, key in PARTS[method] if key in runs[c][-1][0])
+                             for short, key in PARTS[floor_of] if key in runs[c][-1][0])
             frags = f"{int(st['deep_gbuffer_fragments']):>10}" if "deep_gbuffer_fragments" in st else f"{'':>10}"
             # The attribute pass bins every sample on the CPU device once a deeper layer holds one, and a
             # textured material's samples everywhere (passes/gbuffer_attributes.cpp).
@@ -252,7 +260,7 @@ def main() -> None:
         if rows:
             print(f"  {name}: 1 layer by visibility <= {ONE_LAYER_GOAL:g}x peeling's")
             for m, r in rows:
-                print(f"    {m:<17} {quartiles(r):>22}: {verdict(r, ONE_LAYER_GOAL)}")
+                print(f"    {built_as[(name, m, 1)]:<17} {quartiles(r):>22}: {verdict(r, ONE_LAYER_GOAL)}")
 
     if shading_floors:
         print("\nthe shading floor of an exact construction: 8 layers keep `kept` times layer 0's fragments, and each is")

@@ -70,7 +70,8 @@ def assert_equal_to_peeling(renderer, scene, camera, what: str, construction: st
     vis = renderer.render(scene, camera, tiny(deep_gbuffer=construction, **kw))
     assert vis.settings.deep_gbuffer == construction
     if construction == "visibility_lists":
-        assert vis.stats["deep_gbuffer_method"] == "visibility_lists"
+        # One layer is what the depth test keeps: rasterised as "visibility" does, no list.
+        assert vis.stats["deep_gbuffer_method"] == ("visibility_lists" if kw.get("layers", 1) > 1 else "visibility")
     assert peel.texture_names == vis.texture_names or set(peel.texture_names) <= set(vis.texture_names) | {
         "depth_peel.previous_depth"}
     # Bit for bit: the depth test's depths, and what the material texture says of coverage and ids.
@@ -265,6 +266,24 @@ def test_min_separation(renderer, construction):
     scene = ssrlab.scenes.load("box_stack")
     for layers, sep in ((2, 0.05), (4, 0.5)):
         assert_equal_to_peeling(renderer, scene, None, "box_stack", construction, layers=layers, min_separation=sep)
+
+
+@pytest.mark.parametrize("construction", CONSTRUCTIONS)
+def test_triangle_records_where_the_samples_outnumber_the_triangles(renderer, construction):
+    """What a triangle's samples share (its view-space vertices and normals) is computed once per
+    triangle where the frame has at least 4 texels a triangle (hall's 518: at 48x32, one layer has
+    1536, two 3072), and each sample reads its triangle itself elsewhere: both ways equal peeling,
+    and give the same attributes to the last bit."""
+    hall = load("hall")
+    frames = {}
+    for layers in (1, 2):
+        f = assert_equal_to_peeling(renderer, hall, None, "hall", construction, layers=layers, width=48, height=32)
+        records = f.stats["gbuffer_attributes_triangle_records"]
+        assert records == (hall.triangle_count if 48 * 32 * layers >= 4 * hall.triangle_count else 0)
+        frames[records > 0] = f
+    assert set(frames) == {False, True}
+    for name in ("gbuffer.albedo", "gbuffer.normal", "gbuffer.material"):
+        np.testing.assert_array_equal(bits(frames[False].read(name)[0]), bits(frames[True].read(name)[0]), err_msg=name)
 
 
 @pytest.mark.parametrize("scene_name", ["hall", "spheres_and_boxes"])

@@ -16,7 +16,18 @@ namespace ssr {
 
 namespace {
 // Storage-buffer bindings of passes/gbuffer_attributes.comp.
-constexpr GLuint kBinsBinding = 26, kBinnedBinding = 27, kSortedBinding = 28, kTileListBinding = 30;
+constexpr GLuint kBinsBinding = 26, kBinnedBinding = 27, kSortedBinding = 28, kTileListBinding = 30,
+                 kRecordsBinding = 4;
+// A triangle's record (lib/visibility_surface.glsl): 5 vec4.
+constexpr size_t kRecordTexels = 5, kRecordBytes = kRecordTexels * 16;
+// Records a dispatch of stage 4 writes at most: 64 a group, the fewest groups GL guarantees in x.
+constexpr size_t kRecordsPerDispatch = 64 * 65535;
+// The records are kept where the frame has at least this many texels a triangle (width x height x
+// the filled layers: the samples, at most): on llvmpipe a record costs about what reading its
+// triangle per sample costs four samples (benchmarks/deep_gbuffer.py: gbuffer_attributes.triangles
+// against .shade on 2CylinderEngine), so a scene of many triangles in a small image reads its
+// triangles per sample instead.
+constexpr uint64_t kTexelsPerRecord = 4;
 // Its AttributeBins header: stage 2's dispatch (uvec4), then 16 layers' sample counts; then a
 // MaterialBin (two uvec4) per material.
 constexpr size_t kBinsHeaderBytes = 16 + 16 * sizeof(GLuint), kBinBytes = 32;
@@ -28,7 +39,7 @@ constexpr GLuint kDepthUnit = 7, kVisibilityUnit = 8;
 // of gbuffer.visibility (after the outputs' 0-4).
 constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialImage = 8, kVisibilityImage = 9;
 // With FETCH_BY_IMAGE: the image units of the bins (a uint a texel) and of the sorted samples.
-constexpr GLuint kBinsImage = 11, kSortedImage = 12, kTileListImage = 13;
+constexpr GLuint kBinsImage = 11, kSortedImage = 12, kTileListImage = 13, kRecordsImage = 14;
 // gbuffer.motion's image unit (Settings.motion_vectors): after the outputs, or after those inputs.
 constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
 
@@ -88,8 +99,13 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     const FrameBuffer& listed = ctx.buffers.get("visibility_samples");
     GLint texels = 0;
     glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    // The triangles' records, where the samples are likely to outnumber them enough to pay for them.
+    const size_t records =
+        pixels * uint64_t(std::max(filled, 1)) >= kTexelsPerRecord * uint64_t(gs.triangle_count()) ? gs.triangle_count() : 0;
+    records_used_ = records;
     const bool scene_by_image = ctx.fetch_by_image() && gs.vertex_buffer().size() / 8 <= size_t(texels) &&
-                                gs.index_buffer().size() / 4 <= size_t(texels);
+                                gs.index_buffer().size() / 4 <= size_t(texels) &&
+                                records * kRecordTexels <= size_t(texels);
     const bool listed_samples = tile_lists && listed.data != nullptr && textured.empty() && scene_by_image;
     std::vector<GLuint> deep_tiles;  // layer << 24 | tile, of the layers after the first
     int filled_tiles = filled;
@@ -163,7 +179,14 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     // The scene's data per sample (shaders/passes/gbuffer_attributes.comp): through image buffers on
     // the device that reads them faster so (FETCH_BY_IMAGE), where they fit its texel-buffer limit.
     const bool by_image = scene_by_image && sorted_.size() / 4 <= size_t(texels);
-    std::optional<BufferView> vertex_view, index_view, object_view, material_view, bins_view, sorted_view;
+    // Every triangle's record, written by stage 4 before any sample reads it.
+    const size_t record_bytes = std::max<size_t>(records, 1) * kRecordBytes;
+    if (records_.size() < record_bytes) {
+        records_.reset();
+        records_ = Buffer::create(record_bytes);
+    }
+    std::optional<BufferView> vertex_view, index_view, object_view, material_view, bins_view, sorted_view,
+        records_view;
     if (by_image) {
         vertex_view.emplace(gs.vertex_buffer(), GL_RG32F);  // floats in pairs (lib/visibility_surface.glsl)
         index_view.emplace(gs.index_buffer(), GL_R32UI);
@@ -174,6 +197,8 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         glBindImageTexture(kObjectImage, object_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         glBindImageTexture(kMaterialImage, material_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         bind_image_layered(kVisibilityImage, ctx.resources.get("gbuffer.visibility"), GL_READ_ONLY);
+        records_view.emplace(records_, GL_RGBA32F);
+        glBindImageTexture(kRecordsImage, records_view->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         if (binning) {
             bins_view.emplace(bins_, GL_R32UI);
             sorted_view.emplace(sorted_, GL_R32UI);
@@ -182,6 +207,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         }
     } else {
         gs.bind_vertex_data();
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordsBinding, records_.id());
     }
     if (motion) bind_image_layered(by_image ? kMotionImageByImage : kMotionImage, *motion, GL_WRITE_ONLY);
     const int bits = VisibilityBufferPass::primitive_bits(gs, s.deep_gbuffer);
@@ -194,6 +220,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     base["SINGLE_BIN"] = single_bin ? "1" : "0";
     base["MOTION_VECTORS"] = motion ? "1" : "0";
     base["VERTEX_COLORS"] = gs.has_vertex_colors() ? "1" : "0";
+    base["TRIANGLE_RECORDS"] = records > 0 ? "1" : "0";
     if (ctx.facts.emission_texture) base["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) base["SPECULAR_TEXTURE"] = "1";
     auto program = [&](int stage, int kind, bool tile_list = false, bool listed_list = false) {
@@ -210,6 +237,18 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         glProgramUniform1i(prog, glGetUniformLocation(prog, "u_materials"), GLint(materials));
         return prog;
     };
+    if (records > 0) {
+        GpuScope timer(ctx.timer, "gbuffer_attributes.triangles");
+        const GLuint prog = program(4, 0);
+        glUseProgram(prog);
+        glUniform1i(glGetUniformLocation(prog, "u_objects"), GLint(gs.draws().size()));
+        const GLint first_loc = glGetUniformLocation(prog, "u_first_record");
+        glUniform1i(glGetUniformLocation(prog, "u_record_count"), GLint(records));
+        for (size_t first = 0; first < records; first += kRecordsPerDispatch) {
+            glUniform1i(first_loc, GLint(first));
+            glDispatchCompute(GLuint((std::min(records - first, kRecordsPerDispatch) + 63) / 64), 1, 1);
+        }
+    }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     {
         GpuScope timer(ctx.timer, "gbuffer_attributes.classify");
@@ -319,6 +358,10 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     }
 }
 
+void GBufferAttributesPass::report(const RenderSettings&, std::map<std::string, double>& stats) const {
+    stats["gbuffer_attributes_triangle_records"] = double(records_used_);
+}
+
 std::vector<uint64_t> GBufferAttributesPass::layer_samples() {
     if (!samples_read_) {
         GLuint counts[kMaxLayers] = {};
@@ -336,6 +379,8 @@ void GBufferAttributesPass::release() {
     bins_.reset();
     binned_.reset();
     sorted_.reset();
+    records_.reset();
+    records_used_ = 0;
     layers_ = 0;
     samples_.clear();
     samples_read_ = false;

@@ -16,8 +16,10 @@
 // indirect dispatch per such material with its textures bound, mipmapped as the raster samples
 // them, the level chosen from the differences over the pixel's 2x2 quad (ray differentials one
 // pixel apart) that a fragment shader's derivatives take. On the CPU device every sample is binned
-// or listed (llvmpipe shades both sides of a branch for every lane). Timed as
-// gbuffer_attributes.classify, .bin and .shade.
+// or listed (llvmpipe shades both sides of a branch for every lane). What the samples of one
+// triangle share (its view-space vertices and normals) is computed first, once per triangle of the
+// scene, into a record of 80 bytes, where the frame has at least 4 texels a triangle. Timed as gbuffer_attributes.triangles, .classify, .bin and
+// .shade.
 #pragma once
 
 #include <map>
@@ -44,13 +46,17 @@ public:
         return {"covered_tiles"};
     }
     void execute(FrameContext& ctx) override;
+    // gbuffer_attributes_triangle_records: the triangles' records the frame computed (0: its
+    // samples read their triangles themselves).
+    void report(const RenderSettings& s, std::map<std::string, double>& stats) const override;
     // The pixels each layer of the last frame covers (Frame.layer_samples); read after the frame.
     std::vector<uint64_t> layer_samples();
     void release();
 
 private:
-    Buffer tiles_, tile_list_, bins_, binned_, sorted_;
+    Buffer tiles_, tile_list_, bins_, binned_, sorted_, records_;
     int layers_ = 0;
+    size_t records_used_ = 0;
     std::vector<uint64_t> samples_;
     bool samples_read_ = false;
 };

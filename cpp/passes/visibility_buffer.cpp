@@ -31,7 +31,7 @@ std::vector<ResourceDesc> VisibilityBufferPass::outputs(const RenderSettings& s)
     // With the lists, the selection stores the kept depths by compute (passes/visibility_select.comp):
     // a colour format, which every later pass samples as it samples a depth format (.r). A depth
     // target would take one full-screen depth-only draw per layer through the raster outputs.
-    const bool stored = s.deep_gbuffer == DeepGBuffer::VisibilityLists;
+    const bool stored = builds_lists(s);
     std::vector<ResourceDesc> out = {
         {"gbuffer.depth", GLenum(stored ? GL_R32F : GL_DEPTH_COMPONENT32F), w, h, l, 1},
         // Read by the attribute pass of the same frame only.
@@ -76,8 +76,8 @@ void VisibilityBufferPass::execute(FrameContext& ctx) {
     // Published with its list by the selection where it lists the samples; else none
     // (the attribute pass classifies them).
     ctx.buffers.publish("visibility_samples", FrameBuffer{});
-    if (ctx.settings.deep_gbuffer != DeepGBuffer::VisibilityLists || !lists(ctx)) {
-        if (ctx.settings.deep_gbuffer == DeepGBuffer::VisibilityLists) list_stats_.fell_back = 1;  // never truncated
+    if (!builds_lists(s) || !lists(ctx)) {
+        if (builds_lists(s)) list_stats_.fell_back = 1;  // never truncated
         peel(ctx);
     }
 }

@@ -9,10 +9,10 @@
 // stores 0.03 (../shared/GPU.md).
 //   inputs : scene geometry and materials (alpha-tested ones: their base colour texture)
 //   outputs: gbuffer.depth (the layers' window depths, as peeling writes them: a DEPTH32F array,
-//            with "visibility_lists" an R32F array stored by compute),
+//            where lists are built (builds_lists) an R32F array stored by compute),
 //            gbuffer.visibility (R32UI array, scratch: each sample's id, its object and triangle,
 //            lib/visibility.glsl; meaningful where the depth is not the clear value),
-//            visibility_buffer.previous_depth (scratch), with "visibility_lists"
+//            visibility_buffer.previous_depth (scratch), where lists are built
 //            visibility_buffer.raster_depth (scratch: the depth target of a frame it peels)
 // "visibility": peeling (Everitt 2001): layer i+1 keeps the nearest fragment strictly behind layer
 // i (Settings.min_separation: that far behind), with peeling's culling, alpha test and ties: the
@@ -26,7 +26,10 @@
 // raster output after the append. The geometry is processed once whatever the layer count. The
 // store grows to the frame's fragment count within Settings.deep_gbuffer_budget; a frame beyond it
 // is peeled, each layer's depth rasterised into a depth target and stored into gbuffer.depth by
-// compute (passes/visibility_depth.comp). Timed as visibility_buffer.append, .select.
+// compute (passes/visibility_depth.comp). Timed as visibility_buffer.append, .select. One layer
+// builds no list: the nearest fragment of each pixel is what the depth test keeps, so that layer is
+// rasterised as "visibility" rasterises it, in one pass too, without storing every fragment
+// (Frame.stats["deep_gbuffer_method"] 'visibility').
 #pragma once
 
 #include <map>
@@ -53,6 +56,10 @@ public:
         return {"visibility_tiles", "visibility_samples"};
     }
     void check_device(const RenderSettings& s) const override;
+    // Whether the frame builds the per-pixel lists: "visibility_lists" with more than one layer.
+    static bool builds_lists(const RenderSettings& s) {
+        return s.deep_gbuffer == DeepGBuffer::VisibilityLists && s.layers > 1;
+    }
     void execute(FrameContext& ctx) override;
     void report(const RenderSettings& s, std::map<std::string, double>& stats) const override;
     void release();

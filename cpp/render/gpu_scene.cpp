@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 
 #include "render/frame_uniforms.h"
@@ -79,6 +80,9 @@ GpuScene::GpuScene(const Scene& scene, SceneWork* work)
     std::vector<GpuObject> objs;
     for (size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
+        if (triangles_ > size_t(std::numeric_limits<int>::max()))
+            throw std::invalid_argument("scene: more than 2^31 triangles");
+        first_triangle_.push_back(int(triangles_));
         objs.push_back(object_entry(scene, i));
         const MeshRange& r = mesh_ranges_[size_t(o.mesh)];
         draws_.push_back(DrawItem{int(i), o.material, r.count, r.first_index, r.base_vertex});
@@ -168,7 +172,7 @@ GpuObject GpuScene::object_entry(const Scene& scene, size_t i) const {
     g.model = o.transform;
     g.normal_matrix = glm::transpose(glm::inverse(o.transform));
     const MeshRange& r = mesh_ranges_[size_t(o.mesh)];
-    g.material = glm::ivec4(o.material, int(r.first_index), r.base_vertex, 0);
+    g.material = glm::ivec4(o.material, int(r.first_index), r.base_vertex, first_triangle_[i]);
     return g;
 }
 

@@ -35,7 +35,9 @@ static_assert(sizeof(GpuVertex) == kVertexFloats * sizeof(float), "GpuVertex mus
 struct GpuObject {
     glm::mat4 model;          // object -> world
     glm::mat4 normal_matrix;  // inverse-transpose of model (upper 3x3 used)
-    glm::ivec4 material;      // x: material index, y: first index of its mesh, z: base vertex
+    // x: material index, y: first index of its mesh, z: base vertex, w: its first triangle in the
+    // scene's triangles in draw order (first_triangle())
+    glm::ivec4 material;
 };
 
 struct GpuMaterial {
@@ -156,6 +158,9 @@ public:
     const Bounds& bounds() const { return bounds_; }
     uint64_t revision() const { return revision_; }
     size_t triangle_count() const { return triangles_; }
+    // Object i's first triangle when every object's triangles are counted in draw order (the
+    // visibility buffer's attribute pass keeps a record per such triangle); GpuObject.material.w.
+    int first_triangle(int i) const { return first_triangle_[size_t(i)]; }
 
 private:
     GLuint texture_for(const Scene& scene, const TextureRef& ref, bool srgb);
@@ -194,6 +199,7 @@ private:
     std::vector<MeshRange> mesh_ranges_;     // per mesh: its place in the index and vertex buffers
     std::vector<glm::mat4> object_transforms_;  // per object: the transform its entry holds
     std::vector<Bounds> object_bounds_;      // per object: its world bounds
+    std::vector<int> first_triangle_;        // per object: first_triangle()
     Texture white_, flat_normal_, environment_map_;
     Buffer bvh_nodes_, bvh_triangles_, image_texels_, image_info_;
     bool ray_tracing_ready_ = false;

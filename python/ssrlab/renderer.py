@@ -714,13 +714,16 @@ class Frame:
         them is first read (a read-back; the trace keeps no counter): read them before
         Frame.release(). With Settings.deep_gbuffer 'lists' (or 'visibility_lists'):
         deep_gbuffer_method (how the layers were built: 'lists' ('visibility_lists'), or 'peel'
-        ('visibility') where the lists fell back), deep_gbuffer_fragments (the frame's fragments),
+        ('visibility') where the lists fell back, and 'visibility' where 'visibility_lists' builds
+        one layer, which the depth test keeps without a list), deep_gbuffer_fragments (the frame's fragments),
         deep_gbuffer_bytes (the lists' buffers), deep_gbuffer_redone (1: the fragment store was
         too small and the geometry pass ran again with one that fits) and deep_gbuffer_fell_back (1:
         the fragments exceeded Settings.deep_gbuffer_budget and the layers were peeled); with
         'visibility_lists', deep_gbuffer_samples_listed (1: the selection listed every kept sample
         for the attribute pass, on the CPU device, with more than one layer and no textured
-        material)."""
+        material); with either visibility construction, gbuffer_attributes_triangle_records (the
+        triangles whose shared attributes were computed once for all their samples; 0 where the
+        frame has fewer than 4 texels a triangle and each sample read its own)."""
         counts = {k: int(v) for k, v in self._native.stats.items()}
         # How the deep G-buffer was built (Settings.deep_gbuffer): 'lists' or 'peel' (also where
         # 'lists' fell back to peeling: deep_gbuffer_fell_back 1).

@@ -13,6 +13,8 @@
 // branch for every lane of a vector: shading inline would cost every texel, empty ones included,
 // what shading a sample does, where a dispatch over a bin's list shades samples only.
 // ATTRIBUTES_STAGE:
+//   4 (triangles, run first): one invocation per triangle of every object (draw order): its
+//     record, what all its samples share (view-space vertices and normals, lib/visibility_surface.glsl).
 //   0 (classify): one invocation per pixel and layer (8x8 groups, z the layer): an empty sample
 //     gets the clear values; a sample is binned (its rank in its bin by an atomic count) or shaded.
 //     Each group marks its covered 8x8 tile and counts the layer's covered pixels
@@ -57,6 +59,11 @@
 #endif
 #ifndef ATTRIBUTES_STAGE
 #define ATTRIBUTES_STAGE 0
+#endif
+// TRIANGLE_RECORDS 1: stage 4 wrote every triangle's record, which its samples read; 0: each
+// sample reads and transforms its triangle itself (a frame of few samples a triangle).
+#ifndef TRIANGLE_RECORDS
+#define TRIANGLE_RECORDS 1
 #endif
 // Textures sampled by the kind this program is compiled for; 0 in the classify stage.
 #ifndef MATERIAL_TEXTURES
@@ -107,6 +114,11 @@ MaterialData load_material(int i) {
     return m;
 }
 uint sample_id(ivec3 t) { return imageLoad(u_visibility, t).r; }
+ivec4 load_object_entry(int i) { return floatBitsToInt(imageLoad(u_object_data, 9 * i + 8)); }
+// The triangles' records: written by stage 4, read by stages 0 and 3.
+layout(binding = 14, rgba32f) uniform imageBuffer u_records;
+#define VISIBILITY_RECORD(i) imageLoad(u_records, int(i))
+void store_record(int i, vec4 r) { imageStore(u_records, i, r); }
 #else
 #include "../lib/scene_geometry.glsl"
 layout(binding = 8) uniform usampler2DArray u_visibility;  // gbuffer.visibility
@@ -115,10 +127,16 @@ layout(binding = 8) uniform usampler2DArray u_visibility;  // gbuffer.visibility
 ObjectData load_object(int i) { return objects[i]; }
 MaterialData load_material(int i) { return materials[i]; }
 uint sample_id(ivec3 t) { return texelFetch(u_visibility, t, 0).r; }
+ivec4 load_object_entry(int i) { return objects[i].material; }
+layout(std430, binding = 4) buffer VisibilityRecords { vec4 records[]; };
+#define VISIBILITY_RECORD(i) records[i]
+void store_record(int i, vec4 r) { records[i] = r; }
 #endif
 
 #if ATTRIBUTES_STAGE == 1
 layout(local_size_x = 256) in;
+#elif ATTRIBUTES_STAGE == 4
+layout(local_size_x = 64) in;
 #elif ATTRIBUTES_STAGE == 0
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #else
@@ -181,13 +199,16 @@ bool material_textured(MaterialData m) {
 int sample_bin(int m) { return material_textured(load_material(m)) ? m : u_materials; }
 #endif
 
+#if ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3 || ATTRIBUTES_STAGE == 4
+#include "../lib/visibility_surface.glsl"
+#endif
+
 #if ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3
 #include "../lib/gbuffer.glsl"
 #include "../lib/normal_mapping.glsl"
 #include "../lib/material.glsl"
 #include "../lib/specular_albedo.glsl"
 #include "../lib/covered_tiles.glsl"
-#include "../lib/visibility_surface.glsl"
 
 #if MATERIAL_TEXTURES
 layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
@@ -253,18 +274,36 @@ PlanePoint plane_point(VisibilityTriangle tri, ivec2 p) {
 // Shades the sample kept at texel t (its id `id`) and stores its attributes.
 void shade_sample(ivec3 t, uint id) {
     int object = visibility_object(id), triangle = visibility_primitive(id);
+    ivec4 entry = load_object_entry(object);
+#if !TRIANGLE_RECORDS || MATERIAL_TEXTURES || VERTEX_COLORS || MOTION_VECTORS
+    // What no record holds, from the triangle's vertices.
     ObjectData o = load_object(object);
+    uint v0 = visibility_vertex(entry, triangle, 0), v1 = visibility_vertex(entry, triangle, 1),
+         v2 = visibility_vertex(entry, triangle, 2);
+#endif
+    vec3 n0, n1, n2;
+#if TRIANGLE_RECORDS
+    VisibilityTriangle tri = visibility_read_record(entry.w + triangle, n0, n1, n2);
+#else
     VisibilityTriangle tri = visibility_triangle(o, triangle);
-    uint v0 = visibility_vertex(o, triangle, 0), v1 = visibility_vertex(o, triangle, 1),
-         v2 = visibility_vertex(o, triangle, 2);
-    VisibilityVertex a0 = visibility_vertex_attributes(o, v0), a1 = visibility_vertex_attributes(o, v1),
-                     a2 = visibility_vertex_attributes(o, v2);
+    n0 = visibility_vertex_normal(o, v0);
+    n1 = visibility_vertex_normal(o, v1);
+    n2 = visibility_vertex_normal(o, v2);
+#endif
     PlanePoint here = plane_point(tri, t.xy);
     GBufferSurface s;
     s.view_position = here.position;
-    s.view_normal = visibility_interpolate(here.b, a0.normal, a1.normal, a2.normal);
+    s.view_normal = visibility_interpolate(here.b, n0, n1, n2);
+#if MATERIAL_TEXTURES || VERTEX_COLORS
+    VisibilityVertex a0 = visibility_vertex_attributes(o, v0), a1 = visibility_vertex_attributes(o, v1),
+                     a2 = visibility_vertex_attributes(o, v2);
+#endif
+#if MATERIAL_TEXTURES
     s.uv = visibility_interpolate(here.b, a0.uv, a1.uv, a2.uv);
     s.view_tangent = visibility_interpolate(here.b, a0.tangent, a1.tangent, a2.tangent);
+#else
+    s.uv = s.view_tangent = vec4(0.0);  // read by the texture paths only
+#endif
 #if VERTEX_COLORS
     s.color = visibility_interpolate(here.b, a0.color, a1.color, a2.color);
 #else
@@ -289,13 +328,14 @@ void shade_sample(ivec3 t, uint id) {
     s.object = object;
     // The geometry pass kept the sample (its alpha test there decided any hole), so it is shaded
     // whatever this sample's alpha says.
-    GBufferTexel texel = gbuffer_shade(s, load_material(o.material.x));
+    GBufferTexel texel = gbuffer_shade(s, load_material(entry.x));
     vec4 albedo_metallic, normal_roughness, material;
     gbuffer_encode(texel.g, albedo_metallic, normal_roughness, material);
     store_texel(t, albedo_metallic, normal_roughness, material, texel.emission, texel.specular);
 #if MOTION_VECTORS
     // The sample's object-space point, through both frames' transforms.
-    vec3 q = visibility_interpolate(here.b, tri.q0, tri.q1, tri.q2);
+    vec3 q = visibility_interpolate(here.b, visibility_object_position(v0), visibility_object_position(v1),
+                                    visibility_object_position(v2));
     imageStore(o_motion, t, motion_still(o, object) ? vec4(0.0)
                                                     : motion_texel(motion_clip(o, q), motion_previous_clip(object, q)));
 #endif
@@ -401,6 +441,31 @@ void main() {
     uvec2 e = binned[i];
     int bin = sample_bin(load_object(visibility_object(sample_id(sample_texel(e.x)))).material.x);
     sorted[bins[bin].segment.x + e.y] = e.x;
+}
+#elif ATTRIBUTES_STAGE == 4
+uniform int u_objects;  // the scene's objects (draws)
+uniform int u_record_count;  // their triangles: a record each
+uniform int u_first_record;  // this dispatch's first
+
+void main() {
+    int i = u_first_record + int(gl_GlobalInvocationID.x);
+    if (i >= u_record_count) return;
+    // The object whose triangles hold record i: the last whose first triangle is at or before i
+    // (the first triangles ascend in draw order; an object without triangles shares the next one's).
+    int lo = 0, hi = u_objects - 1;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (load_object_entry(mid).w <= i) lo = mid;
+        else hi = mid - 1;
+    }
+    ObjectData o = load_object(lo);
+    int triangle = i - o.material.w;
+    vec4 r[VISIBILITY_RECORD_TEXELS];
+    visibility_record_texels(visibility_triangle(o, triangle),
+                             visibility_vertex_normal(o, visibility_vertex(o.material, triangle, 0)),
+                             visibility_vertex_normal(o, visibility_vertex(o.material, triangle, 1)),
+                             visibility_vertex_normal(o, visibility_vertex(o.material, triangle, 2)), r);
+    for (int k = 0; k < VISIBILITY_RECORD_TEXELS; ++k) store_record(VISIBILITY_RECORD_TEXELS * i + k, r[k]);
 }
 #else
 uniform int u_bin;
