@@ -74,10 +74,12 @@ PARTS = {
               ("write", "deep_gbuffer.write")),
     "visibility": (("raster", "visibility_buffer"), ("triangles", "gbuffer_attributes.triangles"),
                    ("classify", "gbuffer_attributes.classify"),
-                   ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade")),
+                   ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade"),
+                   ("regions", "gbuffer_attributes.regions")),
     "visibility_lists": (("append", "visibility_buffer.append"), ("select", "visibility_buffer.select"),
                          ("triangles", "gbuffer_attributes.triangles"), ("classify", "gbuffer_attributes.classify"),
-                         ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade")),
+                         ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade"),
+                         ("regions", "gbuffer_attributes.regions")),
 }
 # 8 layers against one peeled layer, per scene (the scenes not named here have no goal).
 EIGHT_LAYER_GOALS = {"hall": 3.0, "spheres_and_boxes": 2.0, "2CylinderEngine": 2.0}

@@ -39,7 +39,7 @@ constexpr GLuint kDepthUnit = 7, kVisibilityUnit = 8;
 // of gbuffer.visibility (after the outputs' 0-4).
 constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialImage = 8, kVisibilityImage = 9;
 // With FETCH_BY_IMAGE: the image units of the bins (a uint a texel) and of the sorted samples.
-constexpr GLuint kBinsImage = 11, kSortedImage = 12, kTileListImage = 13, kRecordsImage = 14;
+constexpr GLuint kBinsImage = 11, kSortedImage = 12, kTileListImage = 13, kRecordsImage = 14, kCoveredTilesImage = 15;
 // gbuffer.motion's image unit (Settings.motion_vectors): after the outputs, or after those inputs.
 constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
 
@@ -186,7 +186,7 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         records_ = Buffer::create(record_bytes);
     }
     std::optional<BufferView> vertex_view, index_view, object_view, material_view, bins_view, sorted_view,
-        records_view;
+        records_view, tiles_view;
     if (by_image) {
         vertex_view.emplace(gs.vertex_buffer(), GL_RG32F);  // floats in pairs (lib/visibility_surface.glsl)
         index_view.emplace(gs.index_buffer(), GL_R32UI);
@@ -199,6 +199,8 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         bind_image_layered(kVisibilityImage, ctx.resources.get("gbuffer.visibility"), GL_READ_ONLY);
         records_view.emplace(records_, GL_RGBA32F);
         glBindImageTexture(kRecordsImage, records_view->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        tiles_view.emplace(tiles_, GL_R32UI);
+        glBindImageTexture(kCoveredTilesImage, tiles_view->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
         if (binning) {
             bins_view.emplace(bins_, GL_R32UI);
             sorted_view.emplace(sorted_, GL_R32UI);
@@ -345,6 +347,15 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
             shade_bin(m, gs.material_features(m));
         }
         glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    }
+    if (filled > 0) {
+        // The reflective regions the shading flagged, listed for the classify pass: one invocation
+        // per region (shaders/passes/gbuffer_attributes.comp, stage 5).
+        GpuScope timer(ctx.timer, "gbuffer_attributes.regions");
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glUseProgram(program(5, 0));
+        const GLuint regions = GLuint(DepthPeelPass::classify_regions(s));
+        glDispatchCompute((regions + 63) / 64, 1, 1);
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);

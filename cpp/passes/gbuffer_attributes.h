@@ -18,8 +18,10 @@
 // pixel apart) that a fragment shader's derivatives take. On the CPU device every sample is binned
 // or listed (llvmpipe shades both sides of a branch for every lane). What the samples of one
 // triangle share (its view-space vertices and normals) is computed first, once per triangle of the
-// scene, into a record of 80 bytes, where the frame has at least 4 texels a triangle. Timed as gbuffer_attributes.triangles, .classify, .bin and
-// .shade.
+// scene, into a record of 80 bytes, where the frame has at least 4 texels a triangle. Layer 0's
+// reflective samples flag their 32x32 region (no atomic per sample), and a last dispatch lists
+// the flagged regions for the classify pass. Timed as gbuffer_attributes.triangles, .classify,
+// .bin, .shade and .regions.
 #pragma once
 
 #include <map>

@@ -21,6 +21,17 @@ layout(std430, binding = 14) coherent buffer CoveredTiles {
     uint covered_tile[];
 };
 
+// How flag_reflective_region reaches covered_tile[i]: an including shader may define
+// COVERED_TILE_LOAD(i), COVERED_TILE_EXCHANGE(i, v), COVERED_TILE_ADD(i, v) and
+// COVERED_TILE_STORE(i, v) itself (the CPU device: through an image buffer over the same storage,
+// which llvmpipe reads inline, where a storage-buffer access is a loop over the lanes).
+#ifndef COVERED_TILE_LOAD
+#define COVERED_TILE_LOAD(i) covered_tile[i]
+#define COVERED_TILE_EXCHANGE(i, v) atomicExchange(covered_tile[i], v)
+#define COVERED_TILE_ADD(i, v) atomicAdd(covered_tile[i], v)
+#define COVERED_TILE_STORE(i, v) covered_tile[i] = (v)
+#endif
+
 ivec2 covered_tile_grid() {
     return (ivec2(frame.viewport.xy) + COVERED_TILE_SIZE - 1) / COVERED_TILE_SIZE;
 }
@@ -44,8 +55,32 @@ void flag_reflective_region(ivec2 pixel) {
     ivec2 regions = classify_region_grid();
     ivec2 region = pixel / CLASSIFY_REGION_SIZE;
     uint i = uint(region.y * regions.x + region.x);
-    if (covered_tile[base + 4u + i] == 0u && atomicExchange(covered_tile[base + 4u + i], 1u) == 0u) {
-        uint n = atomicAdd(covered_tile[base], 1u);
-        covered_tile[base + 4u + uint(regions.x * regions.y) + n] = i;
+    if (COVERED_TILE_LOAD(base + 4u + i) == 0u && COVERED_TILE_EXCHANGE(base + 4u + i, 1u) == 0u) {
+        uint n = COVERED_TILE_ADD(base, 1u);
+        COVERED_TILE_STORE(base + 4u + uint(regions.x * regions.y) + n, i);
+    }
+}
+
+// The same flag without listing the region: a plain store, no atomic, for a pass that flags
+// many samples per region and lists the flagged regions afterwards (list_reflective_region). An
+// atomic in a shader costs llvmpipe every invocation that reaches it, even where no lane runs it.
+void mark_reflective_region(ivec2 pixel) {
+    uint base = classify_regions_base(int(frame.clip.z));
+    ivec2 regions = classify_region_grid();
+    ivec2 region = pixel / CLASSIFY_REGION_SIZE;
+    uint i = base + 4u + uint(region.y * regions.x + region.x);
+    // Read first: a flag already set is not written again (two threads writing one cache line
+    // would pass it back and forth).
+    if (COVERED_TILE_LOAD(i) == 0u) COVERED_TILE_STORE(i, 1u);
+}
+
+// Lists region i (rows of regions) where mark_reflective_region flagged it: one invocation per
+// region, in a dispatch after the flagging one.
+void list_reflective_region(uint i) {
+    uint base = classify_regions_base(int(frame.clip.z));
+    ivec2 regions = classify_region_grid();
+    if (i < uint(regions.x * regions.y) && COVERED_TILE_LOAD(base + 4u + i) != 0u) {
+        uint n = COVERED_TILE_ADD(base, 1u);
+        COVERED_TILE_STORE(base + 4u + uint(regions.x * regions.y) + n, i);
     }
 }

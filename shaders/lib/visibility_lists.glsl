@@ -18,8 +18,29 @@ layout(std430, binding = 24) coherent buffer VisibilityCounter { uvec4 visibilit
 // storage-buffer read per fragment costs the CPU device a loop over the lanes.
 uniform uint u_list_capacity;
 
+// This fragment's slot in the store. With subgroup ballots (VISIBILITY_BALLOT, defined by the
+// including shader where it enabled them) the subgroup's fragments take consecutive slots by one
+// atomic on the shared counter, where one atomic a fragment would pass the counter's cache line
+// from thread to thread (the CPU device) and serialise the subgroup (a GPU). Helper invocations
+// (whose atomics and stores do nothing) take no slot.
+uint visibility_list_slot() {
+#ifdef VISIBILITY_BALLOT
+    uvec2 writers = unpackUint2x32(ballotARB(!gl_HelperInvocation));
+    uvec2 before = writers & unpackUint2x32(gl_SubGroupLtMaskARB);
+    uint rank = uint(bitCount(before.x) + bitCount(before.y));
+    // The lowest writing invocation takes the subgroup's slots and hands out the first.
+    int leader = writers.x != 0u ? findLSB(writers.x) : 32 + findLSB(writers.y);
+    uint first = 0u;
+    if (int(gl_SubGroupInvocationARB) == leader)
+        first = atomicAdd(visibility_counter.x, uint(bitCount(writers.x) + bitCount(writers.y)));
+    return readInvocationARB(first, uint(leader)) + rank;
+#else
+    return atomicAdd(visibility_counter.x, 1u);
+#endif
+}
+
 void visibility_list_append(ivec2 pixel, float depth, uint triangle) {
-    uint slot = atomicAdd(visibility_counter.x, 1u);
+    uint slot = visibility_list_slot();
     if (slot >= u_list_capacity) return;
     visibility_fragment[slot] = uvec2(floatBitsToUint(depth), triangle);
     visibility_next[slot] = atomicExchange(visibility_head[pixel.y * int(frame.viewport.x) + pixel.x], slot);

@@ -27,8 +27,8 @@
 // SINGLE_BIN 1 (no material has a texture, so every binned sample is in bin u_materials, whose
 // segment starts the sorted list): the classify stage writes each sample's slot in the sorted list
 // itself, and stage 2 is not run.
-// Layer 0's reflective samples flag their 32x32 region for the classify pass as peeling's shading
-// pass does (flag_reflective_region).
+// Layer 0's reflective samples flag their 32x32 region for the classify pass, as peeling's shading
+// pass does, and stage 5 (regions, run last: one invocation per region) lists the flagged ones.
 #ifndef BIN_ALL
 #define BIN_ALL 0
 #endif
@@ -135,7 +135,7 @@ void store_record(int i, vec4 r) { records[i] = r; }
 
 #if ATTRIBUTES_STAGE == 1
 layout(local_size_x = 256) in;
-#elif ATTRIBUTES_STAGE == 4
+#elif ATTRIBUTES_STAGE >= 4
 layout(local_size_x = 64) in;
 #elif ATTRIBUTES_STAGE == 0
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -203,12 +203,24 @@ int sample_bin(int m) { return material_textured(load_material(m)) ? m : u_mater
 #include "../lib/visibility_surface.glsl"
 #endif
 
+#if ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3 || ATTRIBUTES_STAGE == 5
+#if FETCH_BY_IMAGE
+// The covered tiles' buffer as a uint a texel, after its 4-word header (lib/covered_tiles.glsl):
+// the reflective regions are flagged per sample and listed per region.
+layout(binding = 15, r32ui) coherent uniform uimageBuffer u_covered_tiles;
+#define COVERED_TILE_LOAD(i) imageLoad(u_covered_tiles, 4 + int(i)).r
+#define COVERED_TILE_EXCHANGE(i, v) imageAtomicExchange(u_covered_tiles, 4 + int(i), v)
+#define COVERED_TILE_ADD(i, v) imageAtomicAdd(u_covered_tiles, 4 + int(i), v)
+#define COVERED_TILE_STORE(i, v) imageStore(u_covered_tiles, 4 + int(i), uvec4(v))
+#endif
+#include "../lib/covered_tiles.glsl"
+#endif
+
 #if ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3
 #include "../lib/gbuffer.glsl"
 #include "../lib/normal_mapping.glsl"
 #include "../lib/material.glsl"
 #include "../lib/specular_albedo.glsl"
-#include "../lib/covered_tiles.glsl"
 
 #if MATERIAL_TEXTURES
 layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
@@ -339,7 +351,7 @@ void shade_sample(ivec3 t, uint id) {
     imageStore(o_motion, t, motion_still(o, object) ? vec4(0.0)
                                                     : motion_texel(motion_clip(o, q), motion_previous_clip(object, q)));
 #endif
-    if (t.z == 0 && texel.g.reflectivity > 0.0) flag_reflective_region(t.xy);
+    if (t.z == 0 && texel.g.reflectivity > 0.0) mark_reflective_region(t.xy);  // listed by stage 5
 }
 #endif
 
@@ -467,6 +479,8 @@ void main() {
                              visibility_vertex_normal(o, visibility_vertex(o.material, triangle, 2)), r);
     for (int k = 0; k < VISIBILITY_RECORD_TEXELS; ++k) store_record(VISIBILITY_RECORD_TEXELS * i + k, r[k]);
 }
+#elif ATTRIBUTES_STAGE == 5
+void main() { list_reflective_region(gl_GlobalInvocationID.x); }
 #else
 uniform int u_bin;
 

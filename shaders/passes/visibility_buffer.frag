@@ -1,4 +1,11 @@
 #version 450 core
+// Subgroup ballots, where the device has them: the append takes one atomic per subgroup
+// (lib/visibility_lists.glsl).
+#extension GL_ARB_shader_ballot : enable
+#extension GL_ARB_gpu_shader_int64 : enable
+#if defined(GL_ARB_shader_ballot) && defined(GL_ARB_gpu_shader_int64)
+#define VISIBILITY_BALLOT 1
+#endif
 // visibility_buffer: the geometry pass of the visibility constructions (passes/visibility_buffer.cpp),
 // fragment stage. Burns and Hunt 2013's visibility buffer: the raster writes depth and the
 // fragment's triangle only, and every attribute is rebuilt afterwards from the triangle and the
