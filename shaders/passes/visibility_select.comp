@@ -42,9 +42,9 @@
 #if LIST_SAMPLES
 #include "../lib/visibility_samples.glsl"
 layout(binding = 5, r32ui) writeonly uniform uimageBuffer u_samples;  // the list
-shared uint group_samples;                // the group's samples, every layer's
-shared uint group_base;                   // their first slot in the list
-shared uint group_pixels[LAYERS + 1];     // the group's pixels holding n layers, n = 0..LAYERS
+shared uint group_count[64];  // each pixel's layers
+shared uint group_first[64];  // each pixel's first slot among the group's samples
+shared uint group_base;       // the group's first slot in the list
 #endif
 
 #ifndef LAYERS
@@ -77,13 +77,7 @@ shared uint group_layers;
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (gl_LocalInvocationIndex == 0u) {
-        group_layers = 0u;
-#if LIST_SAMPLES
-        group_samples = 0u;
-        for (int n = 0; n <= LAYERS; ++n) group_pixels[n] = 0u;
-#endif
-    }
+    if (gl_LocalInvocationIndex == 0u) group_layers = 0u;
     barrier();
     int count = 0;
     if (p.x < size.x && p.y < size.y) {
@@ -154,17 +148,34 @@ void main() {
             if (k < count) imageStore(o_depth, ivec3(p, k), vec4(depth[k]));
 #endif
         }
+#if !LIST_SAMPLES
         if (count > 0) atomicMax(group_layers, uint(count));
+#endif
     }
 #if LIST_SAMPLES
-    // This pixel's first slot among the group's.
-    uint first = 0u;
-    if (count > 0) {
-        first = atomicAdd(group_samples, uint(count));
-        atomicAdd(group_pixels[count], 1u);
-    }
+    group_count[gl_LocalInvocationIndex] = uint(count);
 #endif
     barrier();
+#if LIST_SAMPLES
+    // One invocation places the group's samples (each pixel's first slot: the layers of the pixels
+    // before it), counts each layer's (the pixels holding more than k layers) and the most layers
+    // a pixel holds: a serial pass over 64 pixels costs less than the atomics a pixel it replaces,
+    // which llvmpipe runs lane by lane.
+    uint samples = 0u;
+    uint holding[LAYERS];
+    if (gl_LocalInvocationIndex == 0u) {
+        uint most = 0u;
+        for (int k = 0; k < LAYERS; ++k) holding[k] = 0u;
+        for (uint i = 0u; i < 64u; ++i) {
+            uint c = group_count[i];
+            group_first[i] = samples;
+            samples += c;
+            most = max(most, c);
+            for (int k = 0; k < LAYERS; ++k) holding[k] += c > uint(k) ? 1u : 0u;
+        }
+        group_layers = most;
+    }
+#endif
     if (gl_LocalInvocationIndex == 0u && group_layers > 0u) {
         atomicMax(visibility_counter.z, group_layers);
 #if MARK_TILES
@@ -172,20 +183,15 @@ void main() {
         for (int k = 0; k < int(group_layers); ++k) mark_visibility_tile(ivec2(gl_WorkGroupID.xy) * 8, k);
 #endif
 #if LIST_SAMPLES
-        // Layer k's samples: the pixels holding more than k layers.
-        uint holding = 0u;
-        for (int k = int(group_layers) - 1; k >= 0; --k) {
-            holding += group_pixels[k + 1];
-            atomicAdd(visibility_layer_samples[k], holding);
-        }
-        group_base = atomicAdd(visibility_samples_dispatch.w, group_samples);
-        atomicMax(visibility_samples_dispatch.x, (group_base + group_samples + 63u) / 64u);
+        for (int k = 0; k < LAYERS; ++k)
+            if (holding[k] > 0u) atomicAdd(visibility_layer_samples[k], holding[k]);
+        group_base = atomicAdd(visibility_samples_dispatch.w, samples);
+        atomicMax(visibility_samples_dispatch.x, (group_base + samples + 63u) / 64u);
 #endif
     }
 #if LIST_SAMPLES
     barrier();
-    for (int k = 0; k < count; ++k)
-        imageStore(u_samples, int(group_base + first + uint(k)),
-                   uvec4(sample_index(p, k)));
+    uint first = group_base + group_first[gl_LocalInvocationIndex];
+    for (int k = 0; k < count; ++k) imageStore(u_samples, int(first + uint(k)), uvec4(sample_index(p, k)));
 #endif
 }
