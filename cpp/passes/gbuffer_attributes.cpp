@@ -307,9 +307,9 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
     }
     if (listed_samples && filled > 0) {
         GpuScope timer(ctx.timer, "gbuffer_attributes.shade");
-        BufferView counts_view(*listed.args, GL_R32UI), list_view(*listed.data, GL_R32UI);
+        BufferView counts_view(*listed.args, GL_R32UI), list_view(*listed.data, GL_RG32UI);  // (sample, id)
         glBindImageTexture(kBinsImage, counts_view.id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
-        glBindImageTexture(kSortedImage, list_view.id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+        glBindImageTexture(kSortedImage, list_view.id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
         const GLuint prog = program(3, auto_untextured ? GpuScene::kAutoReflectivityFeature : 0, false, true);
         glUseProgram(prog);
         glUniform1i(glGetUniformLocation(prog, "u_bin"), int(materials));

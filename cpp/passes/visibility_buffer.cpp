@@ -273,16 +273,16 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
     const bool list_samples = by_image && marks_tiles(ctx) && !textured && s.layers > 1 && samples <= uint64_t(texels);
     std::optional<BufferView> samples_view;
     if (list_samples) {
-        if (samples_.size() < samples * sizeof(GLuint)) {
+        if (samples_.size() < samples * 2 * sizeof(GLuint)) {  // (sample, id)
             samples_.reset();
-            samples_ = Buffer::create(samples * sizeof(GLuint));
+            samples_ = Buffer::create(samples * 2 * sizeof(GLuint));
         }
         if (!sample_counts_) sample_counts_ = Buffer::create(kSampleCountsBytes);
         GLuint header[kSampleCountsBytes / sizeof(GLuint)] = {0, 1, 1, 0};  // no group yet, y = z = 1
         sample_counts_.upload(header, sizeof(header));
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSampleCountsBinding, sample_counts_.id());
-        samples_view.emplace(samples_, GL_R32UI);
-        glBindImageTexture(kSamplesImage, samples_view->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+        samples_view.emplace(samples_, GL_RG32UI);
+        glBindImageTexture(kSamplesImage, samples_view->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32UI);
         ctx.buffers.publish("visibility_samples", FrameBuffer{&samples_, kSampleCountsBinding, &sample_counts_, 0});
         list_stats_.samples_listed = 1;
         list_stats_.bytes += samples_.size() + sample_counts_.size();

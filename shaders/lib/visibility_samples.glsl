@@ -1,9 +1,9 @@
 // Every sample of the deep G-buffer, listed by the selection of
 // "visibility_lists" (passes/visibility_select.comp, LIST_SAMPLES: the CPU device, no textured
 // material) for the attribute pass's shade stage (passes/gbuffer_attributes.comp), with every
-// layer's sample count. The list itself (a sample index a uint, lib/visibility.glsl's
-// sample_index, in no particular order) is a buffer of its own, written and read as an image
-// buffer. Needs frame_uniforms.
+// layer's sample count. The list itself (per sample two uints: lib/visibility.glsl's
+// sample_index and the sample's id, so that the shade stage reads no id texture; in no
+// particular order) is a buffer of its own, written and read as an RG32UI image buffer. Needs frame_uniforms.
 layout(std430, binding = 25) coherent buffer VisibilitySamples {
     // The shade stage's indirect dispatch: x groups of 64 over the list, y and z 1; w the samples
     // listed.

@@ -164,20 +164,24 @@ uniform int u_materials;  // the scene's materials: bin u_materials holds the un
 // the lanes, even where all invocations read one address.
 #if FETCH_BY_IMAGE && (ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3)
 layout(binding = 11, r32ui) uniform uimageBuffer u_bin_words;  // AttributeBins, a uint a texel
-layout(binding = 12, r32ui) uniform uimageBuffer u_sorted;     // SortedSamples
 #if LISTED_SAMPLES
 // The samples the selection listed (lib/visibility_samples.glsl, "visibility_lists" on the CPU
-// device): its header at unit 11 (the count in word 3), its list at unit 12, shaded as one bin.
+// device): its header at unit 11 (the count in word 3), its list of (sample, id) at unit 12,
+// shaded as one bin.
+layout(binding = 12, rg32ui) readonly uniform uimageBuffer u_listed;
 uint bin_samples(int b) { return imageLoad(u_bin_words, 3).r; }
 uint bin_first(int b) { return 0u; }
 #else
+layout(binding = 12, r32ui) uniform uimageBuffer u_sorted;  // SortedSamples
 // Word k of bin b's MaterialBin, after the header's scatter_dispatch and layer_samples (20 words).
 int bin_word(int b, int k) { return 20 + 8 * b + k; }
 uint bin_samples(int b) { return imageLoad(u_bin_words, bin_word(b, 3)).r; }
 uint bin_first(int b) { return imageLoad(u_bin_words, bin_word(b, 4)).r; }
 #endif
+#if !LISTED_SAMPLES
 uint sorted_sample(uint i) { return imageLoad(u_sorted, int(i)).r; }
 void sort_sample(uint slot, uint s) { imageStore(u_sorted, int(slot), uvec4(s)); }
+#endif
 #else
 uint bin_samples(int b) { return bins[b].dispatch.w; }
 uint bin_first(int b) { return bins[b].segment.x; }
@@ -487,7 +491,12 @@ uniform int u_bin;
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= bin_samples(u_bin)) return;
+#if LISTED_SAMPLES
+    uvec2 e = imageLoad(u_listed, int(i)).xy;  // (sample, id)
+    shade_sample(sample_texel(e.x), e.y);
+#else
     ivec3 t = sample_texel(sorted_sample(bin_first(u_bin) + i));
     shade_sample(t, sample_id(t));
+#endif
 }
 #endif

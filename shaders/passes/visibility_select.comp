@@ -41,7 +41,7 @@
 #endif
 #if LIST_SAMPLES
 #include "../lib/visibility_samples.glsl"
-layout(binding = 5, r32ui) writeonly uniform uimageBuffer u_samples;  // the list
+layout(binding = 5, rg32ui) writeonly uniform uimageBuffer u_samples;  // the list: (sample, id)
 shared uint group_count[64];  // each pixel's layers
 shared uint group_first[64];  // each pixel's first slot among the group's samples
 shared uint group_base;       // the group's first slot in the list
@@ -74,16 +74,29 @@ uint list_next(uint i) { return visibility_next[i]; }
 
 shared uint group_layers;
 
+// Pixel p's layer k: its id and depth (`kept`: the pixel holds more than k layers). An id is read
+// only where a sample is (the attribute pass tests the depth, or shades the listed samples): no
+// store for an empty texel.
+void store_layer(ivec2 p, int k, bool kept, float depth, uint triangle) {
+    if (kept) imageStore(o_visibility, ivec3(p, k), uvec4(triangle));
+#if STORE_EMPTY_DEPTH
+    imageStore(o_depth, ivec3(p, k), vec4(kept ? depth : DEPTH_CLEAR));
+#else
+    if (kept) imageStore(o_depth, ivec3(p, k), vec4(depth));
+#endif
+}
+
 void main() {
     ivec2 size = ivec2(frame.viewport.xy);
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (gl_LocalInvocationIndex == 0u) group_layers = 0u;
     barrier();
     int count = 0;
-    if (p.x < size.x && p.y < size.y) {
+    bool inside = p.x < size.x && p.y < size.y;
+    float depth[LAYERS];
+    uint triangle[LAYERS];
+    if (inside) {
         uint pixel = uint(p.y * size.x + p.x);
-        float depth[LAYERS];
-        uint triangle[LAYERS];
         uint head = list_head(pixel);
 #if MIN_SEPARATION
         for (int k = 0; k < LAYERS; ++k) {
@@ -138,17 +151,8 @@ void main() {
         }
         for (int k = 0; k < LAYERS; ++k) count += triangle[k] != VISIBILITY_NONE ? 1 : 0;  // filled slots come first
 #endif
-        for (int k = 0; k < LAYERS; ++k) {
-            // An id is read only where a sample is (the attribute pass tests the depth, or shades
-            // the listed samples): no store for an empty texel.
-            if (k < count) imageStore(o_visibility, ivec3(p, k), uvec4(triangle[k]));
-#if STORE_EMPTY_DEPTH
-            imageStore(o_depth, ivec3(p, k), vec4(k < count ? depth[k] : DEPTH_CLEAR));
-#else
-            if (k < count) imageStore(o_depth, ivec3(p, k), vec4(depth[k]));
-#endif
-        }
 #if !LIST_SAMPLES
+        for (int k = 0; k < LAYERS; ++k) store_layer(p, k, k < count, depth[k], triangle[k]);
         if (count > 0) atomicMax(group_layers, uint(count));
 #endif
     }
@@ -191,7 +195,11 @@ void main() {
     }
 #if LIST_SAMPLES
     barrier();
+    // The layers are stored here, with their list entries, once the group's slots are placed.
     uint first = group_base + group_first[gl_LocalInvocationIndex];
-    for (int k = 0; k < count; ++k) imageStore(u_samples, int(first + uint(k)), uvec4(sample_index(p, k)));
+    for (int k = 0; k < LAYERS; ++k) {
+        if (inside) store_layer(p, k, k < count, depth[k], triangle[k]);
+        if (k < count) imageStore(u_samples, int(first + uint(k)), uvec4(sample_index(p, k), triangle[k], 0u, 0u));
+    }
 #endif
 }
