@@ -196,10 +196,22 @@ void main() {
 #if LIST_SAMPLES
     barrier();
     // The layers are stored here, with their list entries, once the group's slots are placed.
+    // The loop runs to the group's most layers (the same bound for every invocation, so it ends
+    // for all at once, where a loop to LAYERS would run the masked stores of layers no pixel of
+    // the group has); layer k's values are picked by selects at constant indices, which keep the
+    // layers in registers.
     uint first = group_base + group_first[gl_LocalInvocationIndex];
-    for (int k = 0; k < LAYERS; ++k) {
-        if (inside) store_layer(p, k, k < count, depth[k], triangle[k]);
-        if (k < count) imageStore(u_samples, int(first + uint(k)), uvec4(sample_index(p, k), triangle[k], 0u, 0u));
+    // (Every layer where empty texels take their clear depth here.)
+    int most = STORE_EMPTY_DEPTH != 0 ? LAYERS : int(group_layers);
+    for (int k = 0; k < most; ++k) {
+        float dk = depth[0];
+        uint tk = triangle[0];
+        for (int j = 1; j < LAYERS; ++j) {
+            dk = k == j ? depth[j] : dk;
+            tk = k == j ? triangle[j] : tk;
+        }
+        if (inside) store_layer(p, k, k < count, dk, tk);
+        if (k < count) imageStore(u_samples, int(first + uint(k)), uvec4(sample_index(p, k), tk, 0u, 0u));
     }
 #endif
 }
