@@ -47,40 +47,46 @@ uint classify_regions_base(int layers) {
     return uint(2 * layers * grid.x * grid.y);
 }
 
+// Layer-0 pixel `pixel`'s 32x32 region (rows of regions).
+uint reflective_region(ivec2 pixel) {
+    ivec2 region = pixel / CLASSIFY_REGION_SIZE;
+    return uint(region.y * classify_region_grid().x + region.x);
+}
+
+// covered_tile[] index of region r's flag.
+uint reflective_region_flag(uint r) { return classify_regions_base(int(frame.clip.z)) + 4u + r; }
+
+// Appends region r to the list the classify pass dispatches over.
+void append_reflective_region(uint r) {
+    uint base = classify_regions_base(int(frame.clip.z));
+    ivec2 regions = classify_region_grid();
+    uint n = COVERED_TILE_ADD(base, 1u);
+    COVERED_TILE_STORE(base + 4u + uint(regions.x * regions.y) + n, r);
+}
+
 // Flags the 32x32 region of layer-0 pixel `pixel` as holding a reflective surface: the first
 // invocation to flag it lists it for the classify pass (the plain read spares the atomic once the
 // region is flagged).
 void flag_reflective_region(ivec2 pixel) {
-    uint base = classify_regions_base(int(frame.clip.z));
-    ivec2 regions = classify_region_grid();
-    ivec2 region = pixel / CLASSIFY_REGION_SIZE;
-    uint i = uint(region.y * regions.x + region.x);
-    if (COVERED_TILE_LOAD(base + 4u + i) == 0u && COVERED_TILE_EXCHANGE(base + 4u + i, 1u) == 0u) {
-        uint n = COVERED_TILE_ADD(base, 1u);
-        COVERED_TILE_STORE(base + 4u + uint(regions.x * regions.y) + n, i);
-    }
+    uint r = reflective_region(pixel);
+    uint flag = reflective_region_flag(r);
+    if (COVERED_TILE_LOAD(flag) == 0u && COVERED_TILE_EXCHANGE(flag, 1u) == 0u) append_reflective_region(r);
 }
 
 // The same flag without listing the region: a plain store, no atomic, for a pass that flags
 // many samples per region and lists the flagged regions afterwards (list_reflective_region). An
 // atomic in a shader costs llvmpipe every invocation that reaches it, even where no lane runs it.
 void mark_reflective_region(ivec2 pixel) {
-    uint base = classify_regions_base(int(frame.clip.z));
-    ivec2 regions = classify_region_grid();
-    ivec2 region = pixel / CLASSIFY_REGION_SIZE;
-    uint i = base + 4u + uint(region.y * regions.x + region.x);
+    uint flag = reflective_region_flag(reflective_region(pixel));
     // Read first: a flag already set is not written again (two threads writing one cache line
     // would pass it back and forth).
-    if (COVERED_TILE_LOAD(i) == 0u) COVERED_TILE_STORE(i, 1u);
+    if (COVERED_TILE_LOAD(flag) == 0u) COVERED_TILE_STORE(flag, 1u);
 }
 
-// Lists region i (rows of regions) where mark_reflective_region flagged it: one invocation per
+// Lists region r (rows of regions) where mark_reflective_region flagged it: one invocation per
 // region, in a dispatch after the flagging one.
-void list_reflective_region(uint i) {
-    uint base = classify_regions_base(int(frame.clip.z));
+void list_reflective_region(uint r) {
     ivec2 regions = classify_region_grid();
-    if (i < uint(regions.x * regions.y) && COVERED_TILE_LOAD(base + 4u + i) != 0u) {
-        uint n = COVERED_TILE_ADD(base, 1u);
-        COVERED_TILE_STORE(base + 4u + uint(regions.x * regions.y) + n, i);
-    }
+    if (r < uint(regions.x * regions.y) && COVERED_TILE_LOAD(reflective_region_flag(r)) != 0u)
+        append_reflective_region(r);
 }
