@@ -1,8 +1,14 @@
-"""The converged reference against Mitsuba 3, at 64x48 on ssrlab.crosscheck's scene:
-a floor with boxes and spheres of ssrlab's dielectric material, a back wall and a shadow-casting
-sun; no ambient, black environment. Floor pixels only (without silhouette pixels). Mitsuba
-traces rays through the pixel centres with its path integrator (max_depth 3) and a Dr.Jit copy
-of ssrlab's BRDF. Full-size figures and the diagnosis: benchmarks/mitsuba_crosscheck.py."""
+"""The converged reference against Mitsuba 3, at 64x48 (the glossy floors at 96x54) on
+ssrlab.crosscheck's scene: a white metallic floor with boxes and spheres of ssrlab's dielectric
+material, a back wall and a shadow-casting sun; no ambient, black environment. Floor pixels only
+(without silhouette pixels). Mitsuba traces rays through the pixel centres with its path
+integrator (max_depth 3). The floor is Mitsuba's own BSDF (conductor for the mirror,
+roughconductor with GGX, visible-normal sampling and alpha = roughness^2 for glossy floors;
+material "none", whose Fresnel factor is 1 as ssrlab's Schlick F with F0 = 1 is), so its
+microfacet BRDF, Fresnel and sampling are Mitsuba's, not ssrlab's; the objects, which no Mitsuba
+BSDF models as ssrlab does, are a Dr.Jit copy of ssrlab's BRDF (crosscheck.SsrlabBSDF), as is
+the floor with bsdf="ssrlab". Full-size figures and the diagnosis:
+benchmarks/mitsuba_crosscheck.py."""
 
 from __future__ import annotations
 
@@ -17,7 +23,11 @@ import ssrlab  # noqa: E402
 from ssrlab import crosscheck as cc  # noqa: E402
 
 W, H = 64, 48
+GW, GH, GLOSSY_SPP = 96, 54, 128  # the glossy floors against Mitsuba's roughconductor
 TINY_BIAS = dict(origin_bias=1e-5)
+# Agreement "to the noise": the bias, in standard errors measured from two seeds of each renderer
+# (crosscheck.noise_agreement), at most this; a deterministic seed makes it pass or fail always.
+NOISE_Z = 4.0
 
 
 @pytest.fixture(scope="module")
@@ -31,7 +41,8 @@ def mitsuba():
 @pytest.fixture(scope="module")
 def mirror(mitsuba):
     scene = cc.crosscheck_scene(0.0)
-    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    ms = cc.mitsuba_scene(scene, width=W, height=H, bsdf="mitsuba")
+    assert ms.own_bsdf == {cc.FLOOR: "conductor"}  # the floor is Mitsuba's own mirror, the objects the port
     return scene, ms, cc.render_mitsuba(ms, spp=1)
 
 
@@ -68,15 +79,15 @@ def test_mirror_floor_exact_options(renderer, mirror):
 
 
 def test_mirror_floor_default_settings(renderer, mirror):
-    """Default settings: >= 45 dB on the mirror floor. The reference's rays leave
-    the exact floor point (not SSR's origin_bias), its shadows are traced and it views reflected
-    surfaces physically (viewer='ray'); with SSR's origin offset and the camera as viewer (the
-    defaults before) this scene measured 33-35 dB."""
+    """Default settings against Mitsuba's own conductor on the mirror floor: >= 45 dB (79.7 here).
+    The reference's rays leave the exact floor point (not SSR's origin_bias), its shadows are
+    traced and it views reflected surfaces physically (viewer='ray'); with SSR's origin offset and
+    the camera as viewer (the defaults before) this scene measured 33-35 dB."""
     scene, ms, mit = mirror
     frame, truth = cc.ssrlab_reference(renderer, scene, _settings())
     floor = cc.floor_pixels(frame) & ~cc.reflected_silhouettes(ms)
     value = cc.floor_psnr(truth.color, mit, floor)
-    print(f"mirror floor, default settings: {value:.1f} dB")
+    print(f"mirror floor, default settings, Mitsuba's conductor: {value:.1f} dB")
     assert value >= 45.0
 
 
@@ -120,9 +131,11 @@ def test_moved_frame_agrees_as_a_still_frame_does(renderer, mitsuba):
 
 def test_tinted_mirror_fresnel(renderer, mitsuba):
     """A coloured mirror with Schlick's Fresnel through composite='pbr': the composite's F(N.V)
-    with the G-buffer's 8-bit sRGB F0 against Mitsuba's float F0 (66 dB at 160x90)."""
+    with the G-buffer's 8-bit sRGB F0 against Mitsuba's float F0 (66 dB at 160x90). Mitsuba has no
+    Schlick Fresnel (its conductors' is the exact one of an eta and k), so this floor is the port."""
     scene = cc.crosscheck_scene(0.0, floor_color=(0.95, 0.64, 0.54))
     ms = cc.mitsuba_scene(scene, width=W, height=H)
+    assert ms.own_bsdf == {}
     mit = cc.render_mitsuba(ms, spp=1)
     settings, kwargs, _ = cc.exact_options(_settings(composite="pbr", **TINY_BIAS))
     frame, truth = cc.ssrlab_reference(renderer, scene, settings, **kwargs)
@@ -131,8 +144,42 @@ def test_tinted_mirror_fresnel(renderer, mitsuba):
     assert value >= 55.0
 
 
+@pytest.mark.parametrize("roughness", [0.2, 0.5])
+def test_glossy_floor_mitsuba_roughconductor(renderer, mitsuba, roughness):
+    """Mitsuba's own roughconductor (GGX, visible normals, alpha = roughness^2, Fresnel 1) against
+    the converged reference (composite='pbr': the floor's direct light plus its reflection times
+    the GGX directional albedo) on the glossy floor, 128 samples per pixel in both, two seeds each.
+    They agree to their noise: the floor's mean difference and its per-pixel squared bias are both
+    within NOISE_Z standard errors measured from the seeds (crosscheck.noise_agreement; it measures
+    z = 1.2 and -0.04 at roughness 0.2, 1.9 and 0.5 at 0.5). The test's power, measured with
+    Mitsuba's floor changed: alpha = roughness (not squared) fails by z 55-135, Beckmann for GGX
+    by 22-91, a Fresnel factor of 0.98 by 15-17 (a 2 % darker floor), alpha 10 % too large by 44 at
+    roughness 0.5 (at 0.2 it stays just inside, z 3.9); sample_visible=False (another sampler of
+    the same BRDF) passes."""
+    scene = cc.crosscheck_scene(roughness)
+    ms = cc.mitsuba_scene(scene, width=GW, height=GH, bsdf="mitsuba")
+    assert ms.own_bsdf == {cc.FLOOR: "roughconductor"}
+    m1 = cc.render_mitsuba(ms, spp=GLOSSY_SPP, seed=1)
+    m2 = cc.render_mitsuba(ms, spp=GLOSSY_SPP, seed=2)
+    settings = ssrlab.Settings(width=GW, height=GH, composite="pbr")
+    fa, ta = cc.ssrlab_reference(renderer, scene, settings, rays=GLOSSY_SPP, seed=0)
+    a = ta.color.copy()
+    _, tb = cc.ssrlab_reference(renderer, scene, settings, rays=GLOSSY_SPP, seed=1)
+    b = tb.color.copy()
+    floor = cc.floor_pixels(fa)
+    assert floor.sum() > 1500
+    agree = cc.noise_agreement(a, b, m1, m2, floor)
+    print(f"glossy floor {roughness}, Mitsuba's roughconductor: {cc.floor_psnr(a, m1, floor):.2f} dB "
+          f"(Mitsuba's two seeds {cc.floor_psnr(m1, m2, floor):.2f} dB); mean "
+          f"{100 * agree['mean_relative']:+.2f} % ± {100 * agree['se_mean_relative']:.2f} % (z {agree['z_mean']:.2f}); "
+          f"squared bias z {agree['z_bias2']:.2f}; MSE / noise {agree['mse_over_noise']:.3f}")
+    assert agree["noise"] > 0
+    assert abs(agree["z_mean"]) <= NOISE_Z and agree["z_bias2"] <= NOISE_Z, agree
+
+
 def test_glossy_floor_within_noise(renderer, mitsuba):
-    """Roughness 0.2, 32 samples per pixel in both. Independent noise makes the mean squared
+    """The port of ssrlab's BRDF (bsdf="ssrlab") on the floor too: roughness 0.2, 32 samples per
+    pixel in both. Independent noise makes the mean squared
     difference the sum of the two images' noise variances (each half the MSE between two seeds)
     plus the squared bias: the ratio is 1 for unbiased images and is allowed 1.25 (at ~1400
     pixels x 3 channels its sampling spread is a few percent; it measures 1.03). The mean floor
@@ -141,7 +188,8 @@ def test_glossy_floor_within_noise(renderer, mitsuba):
     missing highlight or Fresnel factor is far more."""
     spp = 32
     scene = cc.crosscheck_scene(0.2)
-    ms = cc.mitsuba_scene(scene, width=W, height=H)
+    ms = cc.mitsuba_scene(scene, width=W, height=H, bsdf="ssrlab")
+    assert ms.own_bsdf == {}
     m1 = cc.render_mitsuba(ms, spp=spp, seed=1)
     m2 = cc.render_mitsuba(ms, spp=spp, seed=2)
     settings, kwargs, _ = cc.exact_options(_settings(composite="pbr", **TINY_BIAS))
@@ -204,6 +252,20 @@ def test_mask_and_emission_cases(renderer, mitsuba, case):
     assert value >= 40.0
 
 
+def test_own_bsdf_only_where_exact():
+    """Mitsuba's own BSDF stands in for ssrlab's model only where it computes the same: a metal
+    whose F0 is 1 (Schlick's F then 1 at every angle, as the conductors' with material "none"),
+    a mirror below roughness 0.01 and GGX from roughness 0.03 (ssrlab's punctual-light alpha floor)."""
+    assert cc.own_bsdf((1, 1, 1), 1.0, 0.0)["type"] == "conductor"
+    rough = cc.own_bsdf((1, 1, 1), 1.0, 0.5)
+    assert rough["type"] == "roughconductor" and rough["distribution"] == "ggx" and rough["sample_visible"]
+    assert rough["alpha"] == pytest.approx(0.25) and rough["material"] == "none"
+    assert cc.own_bsdf((1, 1, 1), 1.0, 0.02) is None  # lights see alpha 0.03^2, rays 0.02^2
+    assert cc.own_bsdf((0.95, 0.64, 0.54), 1.0, 0.0) is None  # Schlick's F with F0 < 1
+    assert cc.own_bsdf((1, 1, 1), 0.0, 0.5) is None  # dielectric: Lambert under (1 - F), F0 0.04
+    assert cc.own_bsdf((1, 1, 1), 1.0, 0.5, vertex_colors=True) is None
+
+
 def test_incomparable_scenes_are_refused(mitsuba):
     scene = cc.crosscheck_scene(0.0)
     scene.ambient = (0.1, 0.1, 0.1)
@@ -228,6 +290,8 @@ def test_incomparable_scenes_are_refused(mitsuba):
         cc.mitsuba_scene(scene, width=W, height=H)
     with pytest.raises(ValueError, match="spp"):
         cc.render_mitsuba(cc.mitsuba_scene(cc.crosscheck_scene(0.0), width=8, height=8), spp=0)
+    with pytest.raises(ValueError, match="bsdf"):
+        cc.mitsuba_scene(cc.crosscheck_scene(0.0), width=8, height=8, bsdf="pbrt")
 
 
 def test_harness_survives_repeated_loads(mitsuba, tmp_path):

@@ -13,13 +13,27 @@ What is the same in both:
   G-buffer samples them, so nothing is averaged over a pixel's footprint;
 * **lights**: a directional light's irradiance (W/m^2, light travelling along ``direction``)
   is Mitsuba's ``directional`` emitter's ``irradiance``; a point light's W/sr its ``intensity``;
-* **BSDF**: ssrlab's material model, written out again here in Dr.Jit as a Mitsuba BSDF
-  plugin (:class:`SsrlabBSDF`, from ``shaders/lib/shading.glsl`` and ``brdf.glsl``): Lambert
-  diffuse ``(1 - F) (1 - metallic) base / pi`` plus GGX specular ``F D G / (4 NoL NoV)``
-  with separable Smith G, Schlick's F from ``F0 = mix(dielectric_f0, base, metallic)`` (0.04
+* **BSDF** (``mitsuba_scene(..., bsdf=)``): with ``bsdf="mitsuba"`` (the default) every
+  material that one of Mitsuba's own BSDFs computes exactly is rendered by that BSDF
+  (:func:`own_bsdf`): a metal whose F0 is 1 (white base colour, metallic 1, no vertex colours),
+  for which Schlick's F is 1 at every angle, as is the Fresnel factor of Mitsuba's ``conductor``
+  and ``roughconductor`` with ``material="none"`` (eta 0, k 1) and a specular reflectance of F0
+  = 1. An ideal mirror (``roughness^2 < 1e-4``, where the reference traces one mirror ray) is
+  ``conductor``; a rough one is ``roughconductor`` with ``distribution="ggx"``,
+  ``sample_visible=True`` and ``alpha = roughness^2`` (ssrlab's GGX alpha for its reflection
+  rays and, from roughness 0.03 up, its punctual lights). ssrlab's diffuse term,
+  ``(1 - metallic) base``, is 0 for such a metal. So the cross-check's white metallic floor
+  tests ssrlab's microfacet BRDF, its Fresnel and its sampling against Mitsuba's own
+  implementations, not against a copy of them. Every other material (ssrlab's dielectric:
+  Lambert diffuse under Schlick's F with F0 0.04, which no Mitsuba BSDF computes; a tinted
+  metal's Schlick F; vertex colours) and, with ``bsdf="ssrlab"``, every material, is ssrlab's
+  model written out again in Dr.Jit as a Mitsuba BSDF plugin (:class:`SsrlabBSDF`, from
+  ``shaders/lib/shading.glsl`` and ``brdf.glsl``): Lambert diffuse
+  ``(1 - F) (1 - metallic) base / pi`` plus GGX specular ``F D G / (4 NoL NoV)`` with
+  separable Smith G, Schlick's F from ``F0 = mix(dielectric_f0, base, metallic)`` (0.04
   unless the material's ``ior``/``specular``/``specular_color`` say otherwise) and
   ``alpha = max(roughness, 0.03)^2``; surfaces with ``roughness^2 < 1e-4`` are ideal mirrors
-  with Schlick's F (the reference traces one mirror ray for them).
+  with Schlick's F. ``MitsubaScene.own_bsdf`` says which objects got Mitsuba's own BSDF.
 
 * **alpha masks** (glTF MASK/BLEND with a base colour texture of one colour whose alphas are 0
   or 255, :func:`mask_rgb`): Mitsuba's ``mask`` BSDF with a nearest-neighbour opacity bitmap,
@@ -304,6 +318,37 @@ def _register():
 
 SsrlabBSDF = None  # defined by load_mitsuba() for the chosen variant
 
+BSDFS = ("mitsuba", "ssrlab")  # mitsuba_scene's bsdf=: Mitsuba's own where exact, or the port everywhere
+
+
+def own_bsdf(base, metallic: float, roughness: float, vertex_colors: bool = False) -> dict | None:
+    """The Mitsuba BSDF (a load_dict dictionary) that computes exactly what ssrlab's model does
+    for a material of linear base colour `base`, `metallic` and perceptual `roughness`, or None
+    where Mitsuba has none.
+
+    That is a metal whose F0 = mix(dielectric_f0, base, metallic) is 1: metallic 1 and a white
+    base colour (without vertex colours, which would scale it per point). ssrlab's Schlick F is
+    then F0 + (1 - F0) (1 - cos)^5 = 1 at every angle and its diffuse colour (1 - metallic) base
+    is 0; Mitsuba's conductor with material="none" (eta 0, k 1) has a Fresnel factor of exactly 1
+    too, times its specular_reflectance, F0. An ideal mirror (roughness^2 < MIRROR_ROUGHNESS2) is
+    ``conductor``; a rough one ``roughconductor``, GGX, visible-normal sampling, alpha =
+    roughness^2, which is ssrlab's alpha both for its reflection rays (ray_generation.glsl) and,
+    from roughness ALPHA_FLOOR up, for its punctual lights (brdf.glsl ggx_alpha). Between the two
+    (0.01 <= roughness < 0.03) ssrlab's lights and rays see different alphas, which no single
+    Mitsuba BSDF has: None. Both BSDFs use separable Smith masking with the same G1 as
+    brdf.glsl's."""
+    f0 = [float(c) for c in base[:3]]
+    if vertex_colors or float(metallic) != 1.0 or any(c != 1.0 for c in f0):
+        return None
+    r = float(np.clip(roughness, 0.0, 1.0))
+    reflectance = {"type": "rgb", "value": f0}
+    if r * r < MIRROR_ROUGHNESS2:
+        return {"type": "conductor", "material": "none", "specular_reflectance": reflectance}
+    if r < ALPHA_FLOOR:
+        return None
+    return {"type": "roughconductor", "material": "none", "distribution": "ggx", "alpha": r * r,
+            "sample_visible": True, "specular_reflectance": reflectance}
+
 
 # ---------------------------------------------------------------------------------------------
 # The scene in Mitsuba
@@ -423,19 +468,28 @@ class MitsubaScene:
     shape_object: dict = field(default_factory=dict)
     bsdfs: list = field(default_factory=list)  # keeps the Python BSDFs alive
     masked: bool = False  # some object has an alpha mask (render_mitsuba then uses volpath)
+    bsdf: str = "mitsuba"  # mitsuba_scene's bsdf=
+    own_bsdf: dict = field(default_factory=dict)  # ssrlab object index -> Mitsuba's own BSDF plugin that renders it
 
 
-def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> MitsubaScene:
-    """The ssrlab `scene` seen by `camera` (default: the scene's) as a Mitsuba scene."""
+def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360, *, bsdf: str = "mitsuba") -> MitsubaScene:
+    """The ssrlab `scene` seen by `camera` (default: the scene's) as a Mitsuba scene.
+
+    bsdf="mitsuba" (default): every material Mitsuba's own BSDFs compute exactly (own_bsdf: a
+    white metal, the cross-check's floor) is rendered by them, the others by SsrlabBSDF, the
+    port of ssrlab's model; bsdf="ssrlab": every material by SsrlabBSDF."""
     mi = _mi or load_mitsuba()
     import drjit as dr
 
+    if bsdf not in BSDFS:
+        raise ValueError(f"crosscheck: bsdf must be one of {BSDFS}, got {bsdf!r}")
     check_comparable(scene)
     camera = camera if camera is not None else scene.camera
     if camera is None:
         raise ValueError("crosscheck: the scene has no default camera; pass camera=")
     d = {"type": "scene"}
     bsdfs = []
+    own = {}
     any_mask = False
     for i in range(scene.object_count):
         p, n, idx = _world_mesh(scene, i)
@@ -446,17 +500,22 @@ def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> Mi
         if m.base_color_texture >= 0:
             base = tuple(float(b) * float(c) for b, c in zip(base, mask_rgb(scene, i)))
         colors = scene.object_mesh(i).get("colors")
-        bsdf = SsrlabBSDF().configure(base, m.metallic, m.roughness, tuple(m.dielectric_f0),
-                                      vertex_colors=colors is not None)
-        bsdfs.append(bsdf)
+        native = own_bsdf(base, m.metallic, m.roughness, colors is not None) if bsdf == "mitsuba" else None
+        if native is not None:
+            surface = mi.load_dict(native)
+            own[i] = native["type"]
+        else:
+            surface = SsrlabBSDF().configure(base, m.metallic, m.roughness, tuple(m.dielectric_f0),
+                                             vertex_colors=colors is not None)
+        bsdfs.append(surface)
         props = mi.Properties()
         masked = m.base_color_texture >= 0
         any_mask = any_mask or masked
         if masked:
             # glTF MASK: Mitsuba's mask BSDF, a null (pass-through) interaction where the opacity is 0.
-            props["bsdf"] = mi.load_dict({"type": "mask", "opacity": _alpha_opacity(scene, i), "bsdf": bsdf})
+            props["bsdf"] = mi.load_dict({"type": "mask", "opacity": _alpha_opacity(scene, i), "bsdf": surface})
         else:
-            props["bsdf"] = bsdf
+            props["bsdf"] = surface
         if any(float(c) > 0 for c in m.emissive):
             props["emitter"] = mi.load_dict({"type": "area", "radiance": {
                 "type": "rgb", "value": [float(c) for c in m.emissive]}})
@@ -500,7 +559,7 @@ def mitsuba_scene(scene, camera=None, width: int = 640, height: int = 360) -> Mi
     shape_object = {}
     for k, shape in enumerate(ms.shapes()):
         shape_object[k] = int(shape.id()[len("object"):]) if shape.id().startswith("object") else -1
-    return MitsubaScene(ms, ms.sensors()[0], int(width), int(height), shape_object, bsdfs, any_mask)
+    return MitsubaScene(ms, ms.sensors()[0], int(width), int(height), shape_object, bsdfs, any_mask, bsdf, own)
 
 
 def _pixel_centre_rays(ms: MitsubaScene, spp: int):
@@ -882,6 +941,37 @@ def mean_ratio(ssr_a, ssr_b, mit_a, mit_b, mask) -> tuple[float, float]:
     ratio = float(s.mean()) / max(mean_m, 1e-30)
     err = float(d.std(ddof=1) / np.sqrt(max(len(d), 1))) / max(mean_m, 1e-30)
     return ratio, err
+
+
+def noise_agreement(ssr_a, ssr_b, mit_a, mit_b, mask) -> dict:
+    """Whether two renderers agree to their Monte-Carlo noise, for two independent ssrlab
+    references (seeds a, b) and two independent Mitsuba images, in standard errors measured from
+    the images themselves. Per pixel of `mask` (RGB averaged: a pixel's channels share its
+    paths), d = (s_a + s_b) / 2 - (m_a + m_b) / 2 and v = ((s_a - s_b)^2 + (m_a - m_b)^2) / 4,
+    whose expectation is d's variance when the noise is independent; so E[d^2 - v] is the squared
+    bias. Pixels' noise is independent, so over N pixels:
+
+    * ``z_mean``: mean(d) / (std(d) / sqrt(N)), a brightness bias (a Fresnel factor, a missing
+      energy term) in standard errors;
+    * ``z_bias2``: mean(d^2 - v) / (std(d^2 - v) / sqrt(N)), any per-pixel bias (a lobe of the
+      wrong shape or width moves light between pixels without changing the mean) in standard
+      errors.
+
+    With ``mean_relative`` (mean(d) over Mitsuba's mean) and ``mse_over_noise`` (mean(d^2) /
+    mean(v), 1 for unbiased images)."""
+    s_a, s_b, m_a, m_b = (np.asarray(x, np.float64)[mask].mean(axis=-1) for x in (ssr_a, ssr_b, mit_a, mit_b))
+    d = (s_a + s_b) / 2.0 - (m_a + m_b) / 2.0
+    v = ((s_a - s_b) ** 2 + (m_a - m_b) ** 2) / 4.0
+    t = d * d - v
+    n = max(len(d), 2)
+    se_mean = float(d.std(ddof=1)) / np.sqrt(n)
+    se_bias2 = float(t.std(ddof=1)) / np.sqrt(n)
+    mean_m = float(((m_a + m_b) / 2.0).mean())
+    return {"pixels": int(len(d)), "z_mean": float(d.mean()) / max(se_mean, 1e-30),
+            "z_bias2": float(t.mean()) / max(se_bias2, 1e-30), "bias2": float(t.mean()), "se_bias2": se_bias2,
+            "mean_relative": float(d.mean()) / max(mean_m, 1e-30),
+            "se_mean_relative": se_mean / max(mean_m, 1e-30),
+            "mse_over_noise": float(np.mean(d * d)) / max(float(np.mean(v)), 1e-30), "noise": float(np.mean(v))}
 
 
 def reference_ignores_origin_bias(renderer, width: int = 48, height: int = 32) -> bool:
