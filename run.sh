@@ -16,13 +16,15 @@ APT_PACKAGES=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libopenimageio-dev           # GLM, tinygltf, OpenImageIO
   libembree-dev                                                              # Embree: reference BVH
 )
+# What the tests need beyond the package: a real browser for the live viewer's page (tests/test_viewer.py)
+TEST_APT_PACKAGES=(chromium)
 PYTHON=${PYTHON:-python3}
 
 log() { printf '\033[1m[run.sh]\033[0m %s\n' "$*" >&2; }
 
 ensure_apt() {
   local missing=() p
-  for p in "${APT_PACKAGES[@]}"; do
+  for p in "${APT_PACKAGES[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -73,7 +75,7 @@ case "$command" in
     exec "$PYTHON" -m ssrlab render --scene spheres_and_boxes --layers 4 --set rays_per_pixel=4 --out renders/spheres_and_boxes "$@"
     ;;
   test)
-    ensure_apt; ensure_python_env; ensure_package "test"
+    ensure_apt "${TEST_APT_PACKAGES[@]}"; ensure_python_env; ensure_package "test"
     exec "$PYTHON" -m pytest -q "$@"
     ;;
   *)

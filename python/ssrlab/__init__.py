@@ -36,7 +36,7 @@ from . import display  # noqa: E402
 
 display.install()
 
-_LAZY = ("cli", "lab", "progress", "truth")
+_LAZY = ("cli", "lab", "progress", "truth", "viewer")
 
 
 def __getattr__(name: str):
@@ -46,6 +46,10 @@ def __getattr__(name: str):
         import importlib
 
         return importlib.import_module(f".{name}", __name__)
+    if name == "view":  # the live viewer (ssrlab.viewer.view): viser is imported on first use
+        from .viewer import view
+
+        return view
     raise AttributeError(f"module 'ssrlab' has no attribute {name!r}")
 
 
@@ -53,5 +57,5 @@ __all__ = [
     "Camera", "CameraPath", "DeviceError", "Keyframes", "Environment", "Frame", "GBuffer", "GLError", "Light", "Material",
     "NoReflectionWarning", "OutputError", "Renderer", "Reprojection", "Scene", "SceneError", "SceneWarning", "Settings", "UserPass", "Param",
     "ShaderError", "directional_light", "models", "point_light", "scenes", "spot_light",
-    "shader_dir", "transforms", "display", "devices", "__version__",
+    "shader_dir", "transforms", "display", "devices", "view", "__version__",
 ]

@@ -8,6 +8,7 @@
          [--reference converged|thesis] score the image: thesis error, RMSE, PSNR, FLIP, SSIM; write
                                         reference.exr and error.png
     ssrlab bench SWEEP_FILE             sweep settings, measure run time against error (ssrlab.bench)
+    ssrlab view [SCENE]                 a live view in the browser: camera, settings, views, numbers
 """
 
 from __future__ import annotations
@@ -441,6 +442,29 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_view(args) -> int:
+    import time
+
+    from .viewer import view
+
+    settings = _settings_from_args(args)
+    viewer = view(args.scene, settings, host=args.host, port=args.port, lossless=args.lossless, out=args.out,
+                  device=args.device, accumulate=args.accumulate)
+    print(f"ssrlab view: {viewer.url}  (scene {viewer.scene.name!r} on {viewer.renderer.info['renderer']})")
+    if args.host in ("127.0.0.1", "localhost", "::1"):
+        print(f"  from another machine: ssh -N -L {viewer.port}:127.0.0.1:{viewer.port} THIS_HOST, then open "
+              f"http://127.0.0.1:{viewer.port}/ there")
+    print("  Ctrl-C stops it", flush=True)
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        viewer.close()
+    return 0
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="ssrlab", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -493,6 +517,26 @@ def main(argv=None) -> int:
     r.add_argument("--rays", type=int, metavar="N",
                    help="rays per reflective pixel of the converged reference (default: 256; mirrors use one)")
     r.set_defaults(func=cmd_render)
+
+    v = sub.add_parser("view", help="a live view of a scene in the browser (ssrlab.view)",
+                       description="Serves a live view of SCENE (a procedural scene's name or a .gltf/.glb file): "
+                                   "the page's camera drives ssrlab's frames, every setting is a control, every "
+                                   "channel a view. Binds 127.0.0.1 unless --host says otherwise.")
+    v.add_argument("scene", nargs="?", default="hall", metavar="SCENE",
+                   help="a procedural scene name (`ssrlab scenes`) or a .gltf/.glb file (default: hall)")
+    v.add_argument("--set", action="append", metavar="FIELD=VALUE", help="any ssrlab.Settings field (repeatable)")
+    v.add_argument("--width", type=int, help=argparse.SUPPRESS)
+    v.add_argument("--height", type=int, help=argparse.SUPPRESS)
+    v.add_argument("--layers", type=int, help="G-buffer layers (Settings.layers)")
+    v.add_argument("--host", default="127.0.0.1",
+                   help="address to serve on (default: %(default)s, this machine only; 0.0.0.0 serves every "
+                        "network the machine is on)")
+    v.add_argument("--port", type=int, help="port (default: a free one)")
+    v.add_argument("--lossless", action="store_true", help="send frames as PNG instead of JPEG")
+    v.add_argument("--accumulate", type=int, default=8, metavar="N",
+                   help="frames of new seeds averaged while the camera rests (default: %(default)s)")
+    v.add_argument("--out", default="renders/view", help="folder of saved frames and camera paths")
+    v.set_defaults(func=cmd_view)
 
     bench_error_keys = ("thesis_error", "rmse", "thesis_error_reflective", "rmse_reflective", "flip_ldr", "flip_hdr",
                         "flip_ldr_reflective", "flip_hdr_reflective", "ssim", "ssim_reflective", "psnr",

@@ -80,6 +80,46 @@ class CameraPath(Sequence):
         return Camera(position=tuple(map(float, p)), target=tuple(map(float, t)), up=self.up, fov_y=self.fov_y,
                       near=self.near, far=self.far)
 
+    def to_dict(self) -> dict:
+        """The path as plain data (what save() writes)."""
+        return {"positions": self.positions.tolist(), "targets": self.targets.tolist(), "frames": self.frames,
+                "up": list(self.up), "fov_y": self.fov_y, "near": self.near, "far": self.far}
+
+    def save(self, path, *, overwrite: bool = False):
+        """Writes the path as JSON (CameraPath.load reads it back); refuses to replace a file unless
+        overwrite=True."""
+        import json
+        from pathlib import Path
+
+        from .io import atomic_write
+
+        target = Path(path)
+        if target.exists() and not overwrite:
+            raise FileExistsError(f"CameraPath.save: {target} exists (overwrite=True replaces it)")
+        text = json.dumps({"ssrlab": "camera_path", **self.to_dict()}, indent=1)
+        atomic_write(target, lambda tmp: tmp.write_text(text))  # an OutputError naming `target` on failure
+        return target
+
+    @classmethod
+    def load(cls, path) -> "CameraPath":
+        """A path written by save() (or the viewer's 'record camera path'); ValueError naming the
+        file where it is not one."""
+        import json
+        from pathlib import Path
+
+        path = Path(path)
+        try:
+            d = json.loads(path.read_text())
+        except ValueError as e:
+            raise ValueError(f"{path}: not a camera path file (JSON: {e})") from None
+        if not isinstance(d, dict) or d.get("ssrlab") != "camera_path":
+            raise ValueError(f"{path}: not a camera path file (no \"ssrlab\": \"camera_path\" entry)")
+        try:
+            return cls(d["positions"], d["targets"], d["frames"], up=d.get("up", (0.0, 1.0, 0.0)),
+                       fov_y=d.get("fov_y", 60.0), near=d.get("near", 0.1), far=d.get("far", 100.0))
+        except (KeyError, TypeError, ValueError) as e:
+            raise ValueError(f"{path}: {e}") from None
+
     def __repr__(self) -> str:
         return f"CameraPath({len(self.positions)} keyframes, {self.frames} frames)"
 

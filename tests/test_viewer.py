@@ -1,0 +1,315 @@
+"""The live viewer in a real headless browser (Debian's Chromium through Playwright): what the page
+shows is what Renderer.render gives for the camera and settings the server reports, pixel for pixel
+(frames sent as PNG), and the page survives what a user does to it."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ssrlab
+from ssrlab import display
+from ssrlab.viewer import views
+
+sys.path.insert(0, str(Path(__file__).parent))
+from viewer_page import browser, drag, open_page, require_browser, wait_shown  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[1]
+pytestmark = pytest.mark.usefixtures("_browser_available")
+
+
+@pytest.fixture(scope="module")
+def _browser_available():
+    require_browser()
+
+
+@pytest.fixture(scope="module")
+def chromium():
+    with browser() as b:
+        yield b
+
+
+@pytest.fixture(scope="module")
+def renderer():
+    return ssrlab.Renderer("cpu")
+
+
+def expected_pixels(renderer, shown, scene):
+    """The page's image of a colour view, from a render of its camera and settings."""
+    frame = renderer.render(scene, shown.camera, shown.settings)
+    return views.to_bytes(display.srgb(frame.color)), frame
+
+
+def rests(shown):
+    return shown.scale >= 1.0
+
+
+@pytest.fixture
+def hall_view(renderer):
+    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1)
+    yield v
+    v.close()
+
+
+def test_first_frame_is_the_render_of_the_reported_camera_and_a_drag_moves_it(chromium, hall_view, renderer):
+    page = open_page(chromium, hall_view.url)
+    start = time.time()
+    shown, pixels = wait_shown(page, hall_view, condition=lambda s: rests(s) and s.camera.fov_y == 60.0)
+    assert time.time() - start < 60
+    assert (shown.settings.width, shown.settings.height) == (320, 180)  # the page's canvas
+    assert np.allclose(shown.camera.position, hall_view.scene.camera.position, atol=1e-4)
+    expected, _ = expected_pixels(renderer, shown, hall_view.scene)
+    assert np.array_equal(pixels, expected)
+
+    drag(page, 40, 10)
+    moved, pixels2 = wait_shown(page, hall_view, condition=lambda s: rests(s) and s.serial > shown.serial
+                                and not np.allclose(s.camera.position, shown.camera.position))
+    assert not np.array_equal(pixels2, pixels)
+    expected2, _ = expected_pixels(renderer, moved, hall_view.scene)
+    assert np.array_equal(pixels2, expected2)
+    assert hall_view.camera.position == moved.camera.position  # the handle reports the page's camera
+
+
+def test_settings_from_the_page_and_a_refused_value_keeps_the_frame(chromium, hall_view, renderer):
+    page = open_page(chromium, hall_view.url)
+    first, _ = wait_shown(page, hall_view, condition=rests)
+    page.get_by_text("settings: deep G-buffer").click()
+    layers = page.get_by_label("layers", exact=True)
+    layers.fill("2")
+    layers.press("Enter")
+    two, pixels = wait_shown(page, hall_view, condition=lambda s: rests(s) and s.settings.layers == 2)
+    assert hall_view.settings.layers == 2
+    expected, _ = expected_pixels(renderer, two, hall_view.scene)
+    assert np.array_equal(pixels, expected)
+
+    layers.fill("0")
+    layers.press("Enter")
+    deadline = time.time() + 20
+    while "Settings.layers" not in hall_view.error and time.time() < deadline:
+        time.sleep(0.05)
+    assert "Settings.layers must be in [1," in hall_view.error
+    message = page.locator("p", has_text="refused:").first
+    message.wait_for(timeout=20000)
+    assert "Settings.layers must be in [1," in message.inner_text()
+    time.sleep(0.5)
+    same, pixels_after = wait_shown(page, hall_view)
+    assert same.serial == two.serial and np.array_equal(pixels_after, pixels)  # the last good frame stays
+    assert hall_view.settings.layers == 2
+
+
+def test_settings_set_from_python_change_every_page(chromium, hall_view, renderer):
+    a, b = open_page(chromium, hall_view.url), open_page(chromium, hall_view.url)
+    wait_shown(a, hall_view, condition=rests)
+    deadline = time.time() + 60
+    while len(hall_view.shown) < 2 and time.time() < deadline:
+        time.sleep(0.05)
+    assert len(hall_view.shown) == 2, "both pages get frames"
+    hall_view.settings = hall_view.settings.replace(method="linear")
+    with pytest.raises(ValueError, match="Settings.max_steps"):
+        hall_view.settings = hall_view.settings.replace(max_steps=-3)
+    for cid in list(hall_view.shown):
+        page = a if cid == min(hall_view.shown) else b
+        shown, pixels = wait_shown(page, hall_view, cid,
+                                   condition=lambda s: rests(s) and s.settings.method == "linear")
+        expected, _ = expected_pixels(renderer, shown, hall_view.scene)
+        assert np.array_equal(pixels, expected)
+
+
+def test_closing_a_page_mid_render_leaves_the_server_serving(chromium, hall_view):
+    page = open_page(chromium, hall_view.url)
+    wait_shown(page, hall_view, condition=rests)
+    drag(page, 30, 0)
+    page.close()  # while the dragged camera's frame renders
+    time.sleep(1.0)
+    again = open_page(chromium, hall_view.url)
+    shown, _ = wait_shown(again, hall_view, condition=rests)
+    assert hall_view._worker.is_alive() and hall_view.error == ""
+
+
+def test_every_view_of_the_frame_and_the_inspector(chromium, renderer):
+    v = ssrlab.view("box_stack", ssrlab.Settings(layers=2, rays_per_pixel=2, method="linear"), renderer,
+                    lossless=True, accumulate=1)
+    try:
+        page = open_page(chromium, v.url)
+        shown, _ = wait_shown(page, v, condition=rests)
+        frame = shown.frame
+        names = views.names(frame)
+        for want in ("gbuffer.depth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.roughness", "gbuffer.metallic",
+                     "gbuffer.coverage", "gbuffer.lit", "rays.hit_layer", "rays.hits", "rays.steps", "rays.source"):
+            assert want in names
+        for name in names:
+            if name == "error":
+                continue
+            rgb, caption = views.render(frame, name, layer=1, ray=1)
+            assert rgb.shape == (frame.settings.height, frame.settings.width, 3) and np.isfinite(rgb).all(), name
+            assert caption
+        # the steps view from the page: its pixels are the heat map of the ray's depth fetches
+        page.get_by_label("view", exact=True).click()
+        page.get_by_role("option", name="rays.steps", exact=True).click()
+        steps, pixels = wait_shown(page, v, condition=lambda s: s.view == "rays.steps" and rests(s))
+        rgb, _ = views.render(steps.frame, "rays.steps")
+        assert np.array_equal(pixels, views.to_bytes(rgb))
+        # the inspector: a click reads every layer of that pixel
+        page.mouse.click(100, 120)
+        deadline = time.time() + 20
+        while getattr(v, "inspected", None) is None and time.time() < deadline:
+            time.sleep(0.05)
+        values = v.inspected
+        row, col = values["pixel"]
+        assert (row, col) == (120 * steps.settings.height // 180, 100 * steps.settings.width // 320)
+        g = steps.frame.gbuffer
+        for k in range(2):
+            assert values["layers"][k]["depth"] == pytest.approx(float(g.depth[k, row, col]))
+            assert values["layers"][k]["object_id"] == int(g.object_id[k, row, col])
+        assert len(values["rays"]) == 2
+        page.get_by_text("pixel inspector", exact=True).click()
+        page.get_by_text(f"row {row}, column {col}").wait_for(timeout=20000)
+    finally:
+        v.close()
+
+
+def test_error_figures_are_image_metrics_of_the_frame_and_reference(chromium, renderer):
+    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1)
+    try:
+        page = open_page(chromium, v.url)
+        shown, _ = wait_shown(page, v, condition=rests)
+        page.get_by_label("reference", exact=True).check()
+        from ssrlab.viewer.server import REFERENCE_ROUNDS
+
+        deadline = time.time() + 240
+        while (not v.metrics or v.metrics["rays"] < REFERENCE_ROUNDS[-1]) and time.time() < deadline:
+            time.sleep(0.1)
+        got = dict(v.metrics)
+        ref = shown.frame.reference("converged", rays=got["rays"])
+        want = ssrlab.metrics.image_metrics(shown.frame.color, ref.color, ref.reflective)
+        for k in ("thesis_error", "psnr", "rmse", "psnr_reflective"):
+            assert got[k] == pytest.approx(want[k], rel=1e-6), k
+        page.get_by_text("numbers", exact=True).click()
+        text = page.get_by_text("error against the converged reference", exact=False).first
+        text.wait_for(timeout=20000)
+        deadline = time.time() + 20
+        while time.time() < deadline:  # the page's table follows the server's within its update
+            cells = page.locator("table", has_text="thesis_error").first.inner_text().split()
+            shown = {k: float(cells[i + 1]) for i, k in enumerate(cells[:-1]) if k in want}
+            if shown.get("psnr") == pytest.approx(want["psnr"], rel=1e-6):
+                break
+            time.sleep(0.1)
+        for k in ("thesis_error", "psnr", "rmse", "psnr_reflective"):
+            assert shown[k] == pytest.approx(want[k], rel=1e-6), k
+    finally:
+        v.close()
+
+
+def test_copy_as_python_renders_the_same_pixels_in_a_fresh_process(chromium, hall_view, tmp_path):
+    page = open_page(chromium, hall_view.url)
+    wait_shown(page, hall_view, condition=rests)
+    drag(page, -30, 5)
+    shown, pixels = wait_shown(page, hall_view, condition=lambda s: rests(s) and
+                               not np.allclose(s.camera.position, hall_view.scene.camera.position))
+    page.get_by_text("keep", exact=True).click()
+    page.get_by_role("button", name="copy as Python").click()
+    deadline = time.time() + 20
+    while not hall_view._snapshot and time.time() < deadline:
+        time.sleep(0.05)
+    script = hall_view._snapshot
+    assert "ssrlab.Camera(" in script and "renderer.render(scene, camera, settings)" in script
+    out = tmp_path / "color.npy"
+    program = script + f"\nimport numpy\nnumpy.save({str(out)!r}, frame.color)\n"
+    subprocess.run([sys.executable, "-c", program], check=True, cwd=tmp_path, env={**__import__("os").environ,
+                                                                                   "SSRLAB_DEVICE": "cpu"})
+    assert np.array_equal(views.to_bytes(display.srgb(np.load(out))), pixels)
+
+
+def test_a_user_pass_shader_edited_on_disk_changes_the_next_frame_and_an_error_keeps_it(chromium, tmp_path):
+    folder = tmp_path / "technique"
+    shutil.copytree(REPO / "examples" / "bilateral_filter", folder)
+    shader = folder / "filter.comp"
+    p = ssrlab.UserPass("tinted", shader, stage="reflection_filter",
+                        reads=("reflection", "linear_depth", "gbuffer.normal"),
+                        params=(ssrlab.Param("radius", "int", 3, 0, 8), ssrlab.Param("sigma_depth", "float", 0.02),
+                                ssrlab.Param("normal_power", "float", 32.0), ssrlab.Param("min_roughness", "float", 0.05)))
+    r = ssrlab.Renderer("cpu")
+    r.register_pass(p)
+    v = ssrlab.view("hall", ssrlab.Settings(user_passes=("tinted",)), r, lossless=True, accumulate=1)
+    try:
+        page = open_page(chromium, v.url)
+        before, pixels = wait_shown(page, v, condition=rests)
+        text = shader.read_text()
+        marker = "vec4 centre = texelFetch(u_reflection, p, 0);"
+        assert marker in text
+        time.sleep(0.05)  # a new modification time
+        shader.write_text(text.replace(marker, marker + " centre.rgb = vec3(1.0, 0.0, 1.0);"))
+        after, pixels2 = wait_shown(page, v, timeout=120,
+                                    condition=lambda s: rests(s) and s.serial > before.serial and "reloaded" in
+                                    v._message.content)
+        assert not np.array_equal(pixels, pixels2)
+        assert v.renderer is not r  # a fresh shader library read the edited file
+        expected, _ = expected_pixels(v.renderer, after, v.scene)
+        assert np.array_equal(pixels2, expected)
+
+        lines = shader.read_text().splitlines()
+        lines.insert(29, "    this is not GLSL;")
+        shader.write_text("\n".join(lines) + "\n")
+        deadline = time.time() + 120
+        while "ShaderError" not in v.error and time.time() < deadline:
+            time.sleep(0.1)
+        assert "ShaderError" in v.error and "filter.comp:30" in v.error, v.error
+        page.get_by_text("filter.comp:30", exact=False).first.wait_for(timeout=20000)
+        same, pixels3 = wait_shown(page, v)
+        assert same.serial == after.serial and np.array_equal(pixels3, pixels2)  # the last good frame stays
+    finally:
+        v.close()
+
+
+def test_camera_path_recorded_and_loaded(chromium, hall_view, tmp_path):
+    hall_view.out = tmp_path
+    page = open_page(chromium, hall_view.url)
+    wait_shown(page, hall_view, condition=rests)
+    page.get_by_text("keep", exact=True).click()
+    page.get_by_label("record camera path", exact=True).check()
+    drag(page, 20, 0)
+    wait_shown(page, hall_view, condition=lambda s: rests(s) and
+               not np.allclose(s.camera.position, hall_view.scene.camera.position))
+    page.get_by_label("record camera path", exact=True).uncheck()
+    deadline = time.time() + 20
+    while not list(tmp_path.glob("camera_path_*.json")) and time.time() < deadline:
+        time.sleep(0.05)
+    path = ssrlab.CameraPath.load(next(tmp_path.glob("camera_path_*.json")))
+    assert len(path) >= 2
+    frames = list(hall_view.renderer.render_sequence(hall_view.scene, path[:2], ssrlab.Settings(width=32, height=18)))
+    assert len(frames) == 2
+
+
+def test_viewer_refuses_bad_arguments():
+    with pytest.raises(ValueError, match="accumulate"):
+        ssrlab.view("hall", accumulate=0)
+    with pytest.raises(TypeError, match="settings"):
+        ssrlab.view("hall", settings={"layers": 2})
+    with pytest.raises(ValueError, match="unknown scene"):
+        ssrlab.view("no_such_scene")
+
+
+def test_view_command_serves_the_page(chromium, tmp_path):
+    proc = subprocess.Popen([sys.executable, "-m", "ssrlab", "--device", "cpu", "view", "hall", "--lossless",
+                             "--set", "method=\"linear\"", "--out", str(tmp_path)],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        seen = []
+        for line in proc.stdout:  # after viser's own banner
+            seen.append(line)
+            if line.startswith("ssrlab view: "):
+                break
+        assert line.startswith("ssrlab view: http://127.0.0.1:"), "".join(seen)
+        url = line.split()[2]
+        page = open_page(chromium, url)
+        page.get_by_text("hall", exact=True).wait_for(timeout=60000)  # the status names the scene once a frame shows
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
