@@ -313,3 +313,58 @@ def test_view_command_serves_the_page(chromium, tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def test_in_a_notebook_the_page_shows_inline_and_the_next_cell_changes_it(chromium, tmp_path):
+    import nbformat
+    from nbclient import NotebookClient
+
+    cells = [
+        "import ssrlab\nh = ssrlab.view('hall', ssrlab.Settings(method='hiz'), lossless=True, accumulate=1, "
+        "device='cpu')\nh",
+        "h.settings = h.settings.replace(method='linear')",
+        "print(h.snippet())",
+        "h.close()",
+    ]
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in cells])
+    client = NotebookClient(nb, timeout=120, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}})
+    with client.setup_kernel():
+        client.execute_cell(nb.cells[0], 0)
+        html = [o["data"]["text/html"] for o in nb.cells[0].outputs if "text/html" in o.get("data", {})]
+        html = next((h for h in html if "<iframe" in h), "")
+        assert "<iframe" in html, nb.cells[0].outputs
+        url = html.split('src="')[1].split('"')[0]
+        page = open_page(chromium, url)
+        # The inline page: its frame shows once the kernel's viewer rendered the page's camera.
+        before = page.screenshot()
+        deadline = time.time() + 60
+        while time.time() < deadline and page.locator("p", has_text="frames/s").count() == 0:
+            time.sleep(0.1)
+        first = _settled_canvas(page)
+        client.execute_cell(nb.cells[1], 1)
+        changed = _settled_canvas(page, differs_from=first)
+        assert not np.array_equal(changed, first), "setting handle.settings changed what the page shows"
+        client.execute_cell(nb.cells[2], 2)
+        script = "".join(o.get("text", "") for o in nb.cells[2].outputs)
+        assert "'method': 'hiz'" not in script and "ssrlab.Settings(" in script  # linear: the default
+        out = tmp_path / "color.npy"
+        subprocess.run([sys.executable, "-c", script + f"\nimport numpy\nnumpy.save({str(out)!r}, frame.color)\n"],
+                       check=True, cwd=tmp_path)
+        assert np.array_equal(views.to_bytes(display.srgb(np.load(out))), changed)
+        client.execute_cell(nb.cells[3], 3)
+        assert before is not None
+
+
+def _settled_canvas(page, differs_from=None, timeout: float = 90.0) -> np.ndarray:
+    """The canvas once two screenshots 0.5 s apart agree (and differ from `differs_from`)."""
+    from viewer_page import canvas_pixels
+
+    end = time.time() + timeout
+    last = canvas_pixels(page, (180, 320, 3))
+    while time.time() < end:
+        time.sleep(0.5)
+        now = canvas_pixels(page, (180, 320, 3))
+        if np.array_equal(now, last) and (differs_from is None or not np.array_equal(now, differs_from)):
+            return now
+        last = now
+    raise AssertionError("the page's canvas did not settle")
