@@ -368,3 +368,22 @@ def _settled_canvas(page, differs_from=None, timeout: float = 90.0) -> np.ndarra
             return now
         last = now
     raise AssertionError("the page's canvas did not settle")
+
+
+def test_the_readme_screenshot(chromium, renderer, tmp_path):
+    """The page as the README shows it; SSRLAB_UPDATE_IMAGES=1 writes it to docs/images/viewer.png."""
+    import os
+
+    v = ssrlab.view("hall", ssrlab.Settings(method="hiz", layers=2), renderer, lossless=True, accumulate=1)
+    try:
+        page = chromium.new_page(viewport={"width": 640 + 324, "height": 360}, device_scale_factor=1)
+        page.goto(v.url)
+        wait_shown(page, v, condition=lambda s: rests(s) and s.settings.width == 640)
+        page.get_by_text("numbers", exact=True).click()
+        page.locator("p", has_text="frames/s").first.wait_for(timeout=20000)
+        target = REPO / "docs" / "images" / "viewer.png" if os.environ.get("SSRLAB_UPDATE_IMAGES") == "1" \
+            else tmp_path / "viewer.png"
+        page.screenshot(path=str(target))
+        assert target.stat().st_size > 10_000
+    finally:
+        v.close()

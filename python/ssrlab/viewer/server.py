@@ -650,7 +650,8 @@ class Viewer:
         if tuple(self._view_control.options) != tuple(names):
             self._view_control.options = tuple(names)
         self._caption.content = caption
-        self._numbers_for(frame, times, scale, page.accum_count)
+        with self._render_lock:
+            self._numbers_for(frame, times, scale, page.accum_count, cid)
 
     def _send(self, page: _Page, image: np.ndarray) -> bool:
         try:
@@ -685,14 +686,14 @@ class Viewer:
                 page.moved_at = 0.0
                 self._cond.notify_all()
 
-    def _numbers_for(self, frame, times: dict, scale: float, accumulated: int) -> None:
+    def _numbers_for(self, frame, times: dict, scale: float, accumulated: int, cid: int = -1) -> None:
         timings = frame.timings
         viewer_ms = (times["sent"] - times["render_end"]) * 1e3
         entry = {"width": frame.settings.width, "height": frame.settings.height, "scale": scale,
                  "gpu_ms": float(timings.get("total", 0.0)), "wall_ms": float(frame.wall_ms),
                  "render_ms": (times["render_end"] - times["render_start"]) * 1e3, "viewer_ms": viewer_ms,
                  "passes": {k: float(v) for k, v in timings.items() if "." not in k and k != "total"},
-                 "shown_at": times["sent"]}
+                 "shown_at": times["sent"], "times": dict(times), "page": cid}
         self._history.append(entry)
         recent = [e for e in self._history if e["shown_at"] > times["sent"] - 2.0]
         fps = (len(recent) - 1) / (recent[-1]["shown_at"] - recent[0]["shown_at"]) if len(recent) > 1 and \
