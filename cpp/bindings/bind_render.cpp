@@ -195,7 +195,14 @@ void bind_render(py::module_& m) {
                                               "A rendered frame's textures on the GPU; use ssrlab.Frame, which wraps it.")
         .def(
             "read",
-            [](Frame& f, const std::string& name, int level) { return to_numpy(f.read(name, level)); },
+            [](Frame& f, const std::string& name, int level) {
+                Readback data;
+                {
+                    py::gil_scoped_release release;  // the GL context's own lock serialises GL calls
+                    data = f.read(name, level);
+                }
+                return to_numpy(std::move(data));
+            },
             py::arg("name"), py::arg("level") = 0,
             "Reads every layer of a texture's mip level as float32 (layers, height, width, 4); row 0 = top.")
         .def_property_readonly("texture_names", &Frame::texture_names, "names of the textures read() can read")
@@ -228,7 +235,12 @@ void bind_render(py::module_& m) {
         .def(
             "render",
             [](Renderer& r, const Scene& scene, const Camera& camera, const RenderSettings& s,
-               std::shared_ptr<Sequence> sequence) { return r.render(scene, camera, s, sequence.get()); },
+               std::shared_ptr<Sequence> sequence) {
+                // Other Python threads run while the frame renders (a viewer's server, a notebook's
+                // kernel); the GL context's own lock keeps any other call into it waiting.
+                py::gil_scoped_release release;
+                return r.render(scene, camera, s, sequence.get());
+            },
             py::arg("scene"), py::arg("camera"), py::arg("settings"), py::arg("sequence") = nullptr,
             "Runs the chain of passes; returns the Frame (with a sequence: reads and becomes its history).")
         .def(

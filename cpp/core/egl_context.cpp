@@ -379,7 +379,8 @@ void EglContext::make_current() {
 }
 
 CurrentContext::CurrentContext(EglContext& ctx)
-    : ctx_(ctx),
+    : lock_(ctx.mutex()),
+      ctx_(ctx),
       prev_display_(eglGetCurrentDisplay()),
       prev_draw_(eglGetCurrentSurface(EGL_DRAW)),
       prev_read_(eglGetCurrentSurface(EGL_READ)),

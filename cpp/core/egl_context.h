@@ -12,6 +12,7 @@
 #include <EGL/eglext.h>
 
 #include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,11 @@ public:
     // Errors reported by GL debug output since the last call, then cleared.
     std::vector<std::string> take_debug_errors();
 
+    // Held by every CurrentContext: one thread at a time in this context, even when the caller
+    // released Python's GIL for a long call (a render), so that other Python threads (a viewer's
+    // server, a notebook) run meanwhile without two threads ever issuing GL into one context.
+    std::recursive_mutex& mutex() { return mutex_; }
+
 private:
     // want: Gpu takes a hardware renderer only, Cpu a software one only, Auto either.
     bool try_display(EGLDisplay display, const std::string& platform, DeviceKind want,
@@ -83,6 +89,7 @@ private:
     EGLContext context_ = EGL_NO_CONTEXT;
     DeviceInfo info_;
     std::vector<std::string> debug_errors_;
+    std::recursive_mutex mutex_;
 
     friend void debug_callback_trampoline(EglContext*, const std::string&);
 };
@@ -100,6 +107,7 @@ public:
     CurrentContext& operator=(const CurrentContext&) = delete;
 
 private:
+    std::unique_lock<std::recursive_mutex> lock_;  // first: taken before, released after the rest
     EglContext& ctx_;
     EGLDisplay prev_display_;
     EGLSurface prev_draw_, prev_read_;

@@ -659,6 +659,7 @@ class Viewer:
                 page.client.scene.set_background_image(image, format="png")
             else:
                 page.client.scene.set_background_image(image, format="jpeg", jpeg_quality=self.jpeg_quality)
+            page.client.flush()  # now, not at the end of the server's next send window
             return True
         except Exception:  # the page closed while its frame rendered
             with self._cond:
