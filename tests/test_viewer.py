@@ -387,3 +387,32 @@ def test_the_readme_screenshot(chromium, renderer, tmp_path):
         assert target.stat().st_size > 10_000
     finally:
         v.close()
+
+
+def test_a_against_b_each_with_its_time_and_error_against_one_reference(chromium, renderer):
+    from ssrlab.viewer.server import REFERENCE_ROUNDS
+
+    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1)
+    try:
+        page = open_page(chromium, v.url)
+        wait_shown(page, v, condition=rests)
+        page.get_by_text("A against B", exact=True).click()
+        page.get_by_label("compare", exact=True).check()
+        shown, pixels = wait_shown(page, v, condition=lambda s: rests(s) and s.frame_b is not None)
+        a = views.to_bytes(display.srgb(shown.frame.color))
+        b = views.to_bytes(display.srgb(shown.frame_b.color))
+        assert shown.frame_b.settings.method == "linear" and shown.frame.settings.method == "hiz"
+        x = 160  # the divider at half the width: A left of it, the line, B right of it
+        assert np.array_equal(pixels[:, : x - 1], a[:, : x - 1]) and np.array_equal(pixels[:, x:], b[:, x:])
+        page.get_by_label("reference", exact=True).check()
+        deadline = time.time() + 240
+        while (not v.metrics_b or v.metrics_b["rays"] < REFERENCE_ROUNDS[-1]) and time.time() < deadline:
+            time.sleep(0.1)
+        got_a, got_b = dict(v.metrics), dict(v.metrics_b)
+        ref = shown.frame.reference("converged", rays=got_b["rays"])
+        for got, frame in ((got_a, shown.frame), (got_b, shown.frame_b)):
+            want = ssrlab.metrics.image_metrics(frame.color, ref.color, ref.reflective)
+            assert got["psnr"] == pytest.approx(want["psnr"], rel=1e-6)
+        page.locator("p", has_text="B (right)").first.wait_for(timeout=20000)
+    finally:
+        v.close()

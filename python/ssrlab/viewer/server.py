@@ -66,6 +66,7 @@ class Shown:
     scale: float
     times: dict
     serial: int
+    frame_b: object = None  # the right of the divider, comparing A against B
 
 
 @dataclasses.dataclass
@@ -132,6 +133,7 @@ class Viewer:
         self._frame = None
         self._reference = None  # (key, ConvergedReference, rays)
         self.metrics: dict = {}
+        self.metrics_b: dict | None = None
         self._recording: list | None = None
         self._playing = False
         self._time_base = (time.time(), float(getattr(scene, "time", 0.0)))
@@ -287,17 +289,19 @@ class Viewer:
             self._reference_control = gui.add_checkbox(
                 "reference", initial_value=False, hint="trace the converged reference while the camera rests and show the "
                                          "frame's error against it (thesis error, PSNR, FLIP)")
+            to_scene = gui.add_button("scene camera", hint="every page back to the scene's own camera")
             self._caption = gui.add_markdown("")
+        to_scene.on_click(lambda _e: setattr(self, "camera", self.scene.camera))
         for c in (self._view_control, self._layer_control, self._ray_control, self._exposure_control,
                   self._resolution_control, self._reference_control):
             c.on_update(self._on_view)
-        with gui.add_folder("numbers"):
+        with gui.add_folder("numbers") as self._numbers_folder:
             self._numbers = gui.add_markdown("")
-            self._chart = gui.add_uplot(
-                data=(np.zeros(1), np.zeros(1), np.zeros(1)),
-                series=({"label": "frame"}, {"label": "GPU ms", "stroke": "blue"},
-                        {"label": "viewer ms", "stroke": "red"}),
-                title="last frames", aspect=2.0)
+            self._chart = gui.add_uplot(data=(np.zeros(1), np.zeros(1)),
+                                        series=({"label": "frame"}, {"label": "GPU total", "stroke": "black"}),
+                                        title="milliseconds over the last frames", aspect=1.5)
+            self._chart_order = self._chart.order
+            self._chart_series = ("GPU total",)
             self._metrics_md = gui.add_markdown("")
         with gui.add_folder("pixel inspector", expand_by_default=False):
             self._inspector = gui.add_markdown("click the image to read every channel of every layer there")
@@ -559,9 +563,9 @@ class Viewer:
                 continue
             if page.shown.scale < self._resolution:
                 return page.client.client_id, "rest"
-            if self._compare or self._playing:
+            if self._playing:
                 continue
-            if page.accum_count < self.accumulate and _stochastic(self._settings):
+            if not self._compare and page.accum_count < self.accumulate and _stochastic(self._settings):
                 return page.client.client_id, "accumulate"
             if self._reference_on and page.reference_round < len(REFERENCE_ROUNDS):
                 return page.client.client_id, "reference"
@@ -631,10 +635,7 @@ class Viewer:
                 rgb_b, _ = views.render(frame_b, view if view in views.names(frame_b) else "color", layer=layer,
                                         ray=ray, exposure=exposure)
                 rgb = _split(rgb, rgb_b, self._divider)
-                self._compare_md.content = (f"A: {frame.timings.get('total', 0.0):.2f} ms GPU, "
-                                            f"{frame.wall_ms:.1f} ms wall  \nB: "
-                                            f"{frame_b.timings.get('total', 0.0):.2f} ms GPU, "
-                                            f"{frame_b.wall_ms:.1f} ms wall")
+                self._compare_md.content = self._compare_text(frame, frame_b)
             names = views.names(shown_frame)
         image = views.to_bytes(rgb)
         times["view"] = time.time()
@@ -644,7 +645,9 @@ class Viewer:
         with self._cond:
             self._serial += 1
             page.shown = Shown(image=image, frame=shown_frame, camera=camera, settings=s, view=view,
-                               accumulated=page.accum_count, scale=scale, times=times, serial=self._serial)
+                               accumulated=page.accum_count, scale=scale, times=times, serial=self._serial,
+                               frame_b=frame_b if frame_b is not None else
+                               (page.shown.frame_b if kind == "accumulate" and page.shown else None))
             if scale >= self._resolution:
                 self._frame = shown_frame
         if tuple(self._view_control.options) != tuple(names):
@@ -654,6 +657,10 @@ class Viewer:
             self._numbers_for(frame, times, scale, page.accum_count, cid)
 
     def _send(self, page: _Page, image: np.ndarray) -> bool:
+        if self._closed or page.client.client_id not in self.server.get_clients():
+            with self._cond:  # the page closed while its frame rendered
+                self._pages.pop(page.client.client_id, None)
+            return False
         try:
             if self.lossless:
                 page.client.scene.set_background_image(image, format="png")
@@ -671,21 +678,42 @@ class Viewer:
 
         shown = page.shown
         rays = REFERENCE_ROUNDS[page.reference_round]
+
+        def go_on(done: int, total: int) -> bool:  # a page's new request stops the round between its sample rounds
+            return not self._closed and not any(p.dirty for p in self._pages.values())
+
         with self._render_lock:
             if shown.frame.released:
                 return
-            ref = shown.frame.reference("converged", rays=rays)
+            try:
+                ref = shown.frame.reference("converged", rays=rays, progress=go_on)
+            except RuntimeError:
+                return  # stopped for a newer request: that request renders first, the round comes again later
             colour = page.accum / page.accum_count if page.accum is not None else shown.frame.color
             metrics = image_metrics(shown.frame.color if page.accum_count <= 1 else colour, ref.color, ref.reflective)
+            metrics_b = None
+            if shown.frame_b is not None and not shown.frame_b.released:
+                metrics_b = image_metrics(shown.frame_b.color, ref.color, ref.reflective)
             self._reference = (id(shown.frame), ref, rays)
         page.reference_round += 1
         self.metrics = {"rays": rays, **metrics}
+        self.metrics_b = None if metrics_b is None else {"rays": rays, **metrics_b}
         self._metrics_md.content = _metrics_markdown(rays, metrics, page.accum_count)
+        if metrics_b is not None:
+            self._compare_md.content = self._compare_text(shown.frame, shown.frame_b, metrics, metrics_b)
         if view == "error":
             with self._cond:
                 page.dirty = True
                 page.moved_at = 0.0
                 self._cond.notify_all()
+
+    @staticmethod
+    def _compare_text(a, b, metrics_a=None, metrics_b=None) -> str:
+        def line(name, f, m):
+            err = (f", thesis error {m['thesis_error']:.6g}, PSNR {m['psnr']:.4g} dB" if m else "")
+            return f"{name}: {f.timings.get('total', 0.0):.2f} ms GPU, {f.wall_ms:.1f} ms wall{err}"
+
+        return line("A (left)", a, metrics_a) + "  \n" + line("B (right)", b, metrics_b)
 
     def _numbers_for(self, frame, times: dict, scale: float, accumulated: int, cid: int = -1) -> None:
         timings = frame.timings
@@ -707,9 +735,23 @@ class Viewer:
                  "| pass | GPU ms |", "|---|---|"] + [f"| {k} | {v:.3f} |" for k, v in top]
         self._numbers.content = "\n".join(lines)
         self._status.content = f"**{self.scene.name}** on {self.renderer.info['renderer']}"
-        n = len(self._history)
-        self._chart.data = (np.arange(n, dtype=np.float64), np.array([e["gpu_ms"] for e in self._history]),
-                            np.array([e["viewer_ms"] for e in self._history]))
+        passes = tuple(entry["passes"])
+        series = ("GPU total",) + passes + ("viewer",)
+        columns = [np.array([e["gpu_ms"] for e in self._history])]
+        columns += [np.array([e["passes"].get(name, np.nan) for e in self._history]) for name in passes]
+        columns += [np.array([e["viewer_ms"] for e in self._history])]
+        data = (np.arange(len(self._history), dtype=np.float64), *columns)
+        if series != self._chart_series:
+            self._chart.remove()
+            with self._numbers_folder:
+                self._chart = self.server.gui.add_uplot(
+                    data=data, series=({"label": "frame"},) + tuple(
+                        {"label": name, "stroke": _CHART_COLOURS[i % len(_CHART_COLOURS)]}
+                        for i, name in enumerate(series)),
+                    title="milliseconds over the last frames", aspect=1.5, order=self._chart_order)
+            self._chart_series = series
+        else:
+            self._chart.data = data
 
     # -- shaders that change on disk --------------------------------------------------------------
     def _watched_files(self) -> list[Path]:
@@ -760,6 +802,10 @@ class Viewer:
             self._error = ""
             self._message.content = f"reloaded {', '.join(Path(c).name for c in changed)}"
             self._mark_all(reset=True)
+
+
+_CHART_COLOURS = ("black", "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
+                  "#7f7f7f", "#bcbd22", "#17becf")
 
 
 def _same_camera(a: _core.Camera, b: _core.Camera) -> bool:
