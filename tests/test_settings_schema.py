@@ -10,6 +10,7 @@ import dataclasses
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import ssrlab
@@ -215,3 +216,14 @@ def test_no_other_file_declares_a_setting_again():
         assert not re.search(rf"def {name}\(", stub_class), f"the stubs list RenderSettings.{name}"
     # The Python ranges are the schema's: no bound is written in settings.py.
     assert python.count("_setting(") == 2  # its definition and the one call that reads SCHEMA
+
+
+@pytest.mark.parametrize("glossy", ["cone", "blur_mips"])
+def test_frame_settings_say_the_one_mirror_ray_cone_and_blurred_mips_trace(glossy):
+    r = ssrlab.Renderer("cpu")
+    asked = ssrlab.Settings(width=64, height=36, method="hiz", glossy=glossy, rays_per_pixel=4, sampling="vndf")
+    frame = r.render(ssrlab.scenes.box_stack(floor_roughness=0.3), settings=asked)
+    assert frame.settings.rays_per_pixel == 1 and frame.settings.sampling == "mirror"
+    assert frame.rays.hit_layer.shape[0] == 1  # the rays the frame holds are the rays its settings say
+    same = r.render(ssrlab.scenes.box_stack(floor_roughness=0.3), settings=frame.settings)
+    assert np.array_equal(same.color, frame.color)
