@@ -94,7 +94,7 @@ def test_mirror_floor_default_settings(renderer, mirror):
 def test_hybrid_and_bvh_frames_against_mitsuba(renderer, mirror):
     """The frames themselves at default settings, not the reference: SSR + the BVH fallback and
     pure BVH (traced shadows in the BVH passes) against Mitsuba on the floor pixels whose
-    reflection lands on no silhouette (63.6 and 76.5 dB here; 320x180 and 640x360 in
+    reflection lands on no silhouette (59.8 and 76.5 dB here; 320x180 and 640x360 in
     benchmarks/mitsuba_crosscheck.py's frames table). SSR alone, which keeps every hit it finds,
     stays far below (34.8 dB)."""
     scene, ms, mit = mirror
