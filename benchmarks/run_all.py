@@ -65,6 +65,7 @@ BENCHMARKS = {
     "scene_updates": ([], ["--width", "96", "--height", "54", "--repeats", "2", "--suzannes", "10", "--moved", "1", "5"]),
     "temporal_motion": ([], ["--width", "96", "--height", "54", "--frames", "8", "--moving", "4", "--reference-rays", "8",
                              "--repeats", "2", "--suzannes", "10"]),
+    "render_estimate": ([], ["--width", "96", "--height", "54", "--instances", "100", "--stacked", "25"]),
 }
 
 

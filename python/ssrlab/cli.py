@@ -115,7 +115,7 @@ def cmd_render_sequence(args) -> int:
 
     settings = _settings_from_args(args)
     out = Path(args.out) if args.out else Path("renders") / (Path(args.scene).stem + "_sequence")
-    renderer = Renderer(args.device)
+    renderer = Renderer(args.device, max_triangles=args.max_triangles)
     kwargs = {"seed": args.seed} if args.seed is not None else {}
     if getattr(args, "stage", None) is not None:
         kwargs.update(stage=args.stage, stage_roughness=args.stage_roughness)
@@ -174,11 +174,28 @@ def _render_names(settings, reference: str | None) -> list[str]:
     return names + (["reference.exr", "error.png"] if reference else [])
 
 
+def _warnings_through(bar):
+    """A warnings.showwarning that writes "ssrlab: Category: message" lines on stderr, through
+    tqdm's write where `bar` is a tqdm bar (the bar is redrawn below the line, not cut by it)."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = f"ssrlab: {category.__name__}: {message}"
+        write = getattr(bar, "write", None)
+        if write is not None:
+            write(text, file=sys.stderr)
+        else:
+            print(text, file=sys.stderr, flush=True)
+    return show
+
+
 def cmd_render(args) -> int:
+    import warnings
+
     from .progress import progress_bar
 
     if args.frames != 1 or args.path:
-        return cmd_render_sequence(args)
+        with warnings.catch_warnings():  # a scene's warnings as lines of their own, as below
+            warnings.showwarning = _warnings_through(None)
+            return cmd_render_sequence(args)
 
     from . import scenes
     from .lab import bench
@@ -206,9 +223,11 @@ def cmd_render(args) -> int:
     steps = 4 + renders + (1 if args.reference else 0)
     timings, ref = [], None
     with progress_bar(total=steps, desc="ssrlab render", unit="step", file=sys.stderr,
-                      bar_format="{desc}: {n}/{total} {postfix}") as bar:
+                      bar_format="{desc}: {n}/{total} {postfix}") as bar, warnings.catch_warnings():
+        # A scene's warnings (what it does not draw, long work before a render) as lines of their own.
+        warnings.showwarning = _warnings_through(bar)
         bar.set_postfix_str("opening the GL device")
-        renderer = Renderer(args.device)
+        renderer = Renderer(args.device, max_triangles=args.max_triangles)
         bar.update(1)
         bar.set_postfix_str(f"building scene {args.scene}")
         kwargs = {"seed": args.seed} if args.seed is not None else {}
@@ -218,7 +237,10 @@ def cmd_render(args) -> int:
         bar.update(1)
         for i in range(renders):
             what = "warm-up" if i < warmup else f"timed {i - warmup + 1}/{args.repeats}"
-            bar.set_postfix_str(f"rendering {settings.width}x{settings.height}, {settings.layers} layer(s), {what}")
+            work = renderer.estimate(scene, settings)  # long work says what it is (and warns as it starts)
+            long = f"; {work.describe()}" if work.long else ""
+            bar.set_postfix_str(f"rendering {settings.width}x{settings.height}, {settings.layers} layer(s), "
+                                f"{what}{long}")
             frame = renderer.render(scene, settings=settings)
             if i >= warmup:
                 timings.append(frame.timings)
@@ -516,6 +538,10 @@ def main(argv=None) -> int:
                         "error.png")
     r.add_argument("--rays", type=int, metavar="N",
                    help="rays per reflective pixel of the converged reference (default: 256; mirrors use one)")
+    r.add_argument("--max-triangles", type=int, metavar="N",
+                   help="refuse a scene of more than N drawn triangles (instances included) instead of rendering "
+                        "it (Renderer(max_triangles=N); default: $SSRLAB_MAX_TRIANGLES where set, else no budget; "
+                        "0: none). A render estimated to take long warns before it starts either way")
     r.set_defaults(func=cmd_render)
 
     v = sub.add_parser("view", help="a live view of a scene in the browser (ssrlab.view)",

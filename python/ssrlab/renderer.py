@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _core
+from . import _core, workload
 from .animation import seconds_array
 from .settings import Settings
 
@@ -89,9 +89,23 @@ class Renderer:
     says which is used.
     It renders any number of scenes, cameras and settings, and may be used from any thread, one
     call at a time (its GL context is current only during a call).
+
+    Long work says so before it starts (ssrlab.workload): before render, render_sequence and
+    prepare draw anything, the renderer estimates the work from the scene's drawn triangles
+    (Scene.triangle_count, an instanced mesh once per instance), the geometry passes the settings
+    make over them and the device's rates (Renderer.estimate). Where the estimate reaches
+    ssrlab.workload.LONG_SECONDS, a SceneWarning names the scene, the triangle count and the
+    estimate. max_triangles: a budget of drawn triangles; a scene beyond it is refused with a
+    SceneError naming the scene, the count and the budget, before anything is drawn. None (the
+    default) takes $SSRLAB_MAX_TRIANGLES where it is set (20000000 or 2e7), else no budget; 0: no
+    budget whatever the variable says. Renderer.max_triangles reads and changes it, and
+    triangle_rates sets the rates the estimate assumes ({"draw": triangles a second a geometry pass,
+    "bvh": triangles a second into the BVH}; None: ssrlab.workload.RATES, measured on llvmpipe and
+    used as an upper bound on a GPU).
     """
 
-    def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None, input_fetch: str = "auto"):
+    def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None, input_fetch: str = "auto",
+                 max_triangles: int | None = None):
         device = resolve_device(device)
         if input_fetch not in ("auto", "imageLoad", "texelFetch"):
             raise ValueError(f"Renderer.input_fetch must be 'auto', 'imageLoad' or 'texelFetch', got {input_fetch!r}")
@@ -102,6 +116,51 @@ class Renderer:
         # Settings.deep_gbuffer 'auto': the method measured faster, per scene, size and layers.
         self._deep_gbuffer_auto: dict[tuple, str] = {}
         self.deep_gbuffer_measurements: dict[tuple, dict[str, dict[str, float]]] = {}
+        # The work a render will be (ssrlab.workload): the triangle budget, the rates, and the
+        # scene geometries whose BVH this renderer has built.
+        self._max_triangles = (workload.budget_from_env() if max_triangles is None else
+                               workload.check_budget(max_triangles, "Renderer(max_triangles=...)"))
+        self.triangle_rates: dict | None = None
+        self._bvh_built: set[tuple] = set()
+
+    @property
+    def max_triangles(self) -> int | None:
+        """The budget of drawn triangles (instances included) beyond which a render is refused
+        with a SceneError before anything is drawn; None: no budget. Set it to an int >= 1, or None
+        (or 0) for no budget."""
+        return self._max_triangles
+
+    @max_triangles.setter
+    def max_triangles(self, value: int | None) -> None:
+        self._max_triangles = workload.check_budget(value)
+
+    def estimate(self, scene: _core.Scene, settings: Settings | None = None, *, frames: int = 1,
+                 **overrides) -> "workload.Estimate":
+        """What rendering `scene` with `settings` (`frames` frames of a sequence) will cost on this
+        renderer's device, without rendering: its drawn triangles, geometry passes, whether a BVH is
+        built first and the seconds (ssrlab.workload.Estimate). This is what render and
+        render_sequence check before they start: a long estimate warns, a scene beyond
+        max_triangles is refused."""
+        settings = settings if settings is not None else Settings()
+        if overrides:
+            settings = settings.replace(**overrides)
+        if isinstance(frames, bool) or not isinstance(frames, int) or frames < 1:
+            raise ValueError(f"Renderer.estimate: frames must be an int >= 1, got {frames!r}")
+        device = self.info["device"]
+        return workload.estimate(
+            scene, settings, device=device, frames=frames,
+            measures_auto=self._deep_gbuffer_key(scene, settings) not in self._deep_gbuffer_auto,
+            builds_bvh=(id(scene), scene.geometry_revision) not in self._bvh_built, rates=self.triangle_rates)
+
+    def _check_workload(self, scene, settings: Settings, what: str, frames: int = 1) -> None:
+        """Before a render draws anything: refuses a scene beyond max_triangles (SceneError), warns
+        where the work will be long (SceneWarning, pointing at the caller of `what`)."""
+        workload.check(self.estimate(scene, settings, frames=frames), self._max_triangles, what, stacklevel=3)
+
+    def _drew(self, scene, settings: Settings) -> None:
+        """Records what a render left built: the scene's BVH where the settings trace it."""
+        if workload.needs_bvh(settings):
+            self._bvh_built.add((id(scene), scene.geometry_revision))
 
     @property
     def live_frames(self) -> list["Frame"]:
@@ -205,11 +264,13 @@ class Renderer:
             camera = scene.camera
             if camera is None:
                 raise ValueError("render: the scene has no default camera; pass camera=ssrlab.Camera(...)")
+        self._check_workload(scene, settings, "Renderer.render")
         _warn_depth_precision(camera, settings)
         self._register_modules(settings)
         settings = self._decide_deep_gbuffer(scene, camera, settings)
         settings = settings.resolved(self.info["device"])  # 'auto' decided for this device
         native = self._native.render(scene, camera, settings.to_native())
+        self._drew(scene, settings)
         frame = Frame(native, settings, renderer=self, scene=scene)
         if settings.method != "off" and not any(p.startswith("trace") or p in settings.user_passes
                                                 for p in native.passes):
@@ -307,6 +368,8 @@ class Renderer:
         if times is not None and len(times) != len(cameras):
             raise ValueError(f"render_sequence: {len(times)} times for {len(cameras)} cameras; give one time per "
                              "camera, or one Camera for every time")
+        # At the call, not at the first frame the generator is asked for: the whole sequence's work.
+        self._check_workload(scene, settings, "Renderer.render_sequence", frames=len(cameras))
         return self._sequence(scene, cameras, settings, times)
 
     def _sequence(self, scene, cameras, settings, times=None):
@@ -323,6 +386,7 @@ class Renderer:
                 s = settings.replace(seed=(settings.seed + i) % 2**31).resolved(self.info["device"])
                 _warn_depth_precision(camera, s)
                 native = self._native.render(scene, camera, s.to_native(), sequence)
+                self._drew(scene, s)
                 frame = Frame(native, s, renderer=self, scene=scene)
                 frame.time = None if times is None else times[i]
                 self._frames.add(frame)
@@ -353,8 +417,7 @@ class Renderer:
         cpu = self.info["device"] == "cpu"
         if settings.layers == 1 and cpu:
             return settings.replace(deep_gbuffer="peel")
-        key = (id(scene), scene.geometry_revision, settings.width, settings.height, settings.layers,
-               settings.backface_culling, settings.depth_mode, settings.min_separation)
+        key = self._deep_gbuffer_key(scene, settings)
         if key not in self._deep_gbuffer_auto:
             # With a minimum separation the lists' selection walks each list once per layer.
             base = Settings(width=settings.width, height=settings.height, layers=settings.layers,
@@ -369,6 +432,13 @@ class Renderer:
             self.deep_gbuffer_measurements[key] = measured
             self._deep_gbuffer_auto[key] = choose_deep_gbuffer(measured)
         return settings.replace(deep_gbuffer=self._deep_gbuffer_auto[key])
+
+    @staticmethod
+    def _deep_gbuffer_key(scene, settings: Settings) -> tuple:
+        """What deep_gbuffer 'auto''s measurement is kept for: the scene and its geometry, the size,
+        layers, culling, depth mode and minimum separation."""
+        return (id(scene), scene.geometry_revision, settings.width, settings.height, settings.layers,
+                settings.backface_culling, settings.depth_mode, settings.min_separation)
 
     def _measure_deep_gbuffer(self, scene, camera, base: Settings) -> dict[str, dict[str, float]]:
         """GPU milliseconds of the G-buffer's construction with each exact method: median, min, max."""

@@ -628,6 +628,41 @@ def _(d):
     return json.dumps([d]).encode()
 
 
+def read_glb(path) -> tuple[dict, bytes]:
+    """The JSON document and the BIN chunk of a .glb file."""
+    data = Path(path).read_bytes()
+    json_length = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(data[20:20 + json_length])
+    at = 20 + json_length
+    bin_length = struct.unpack_from("<I", data, at)[0] if at + 8 <= len(data) else 0
+    return doc, data[at + 8:at + 8 + bin_length]
+
+
+def instanced(path, instances: int = 20_000, *, model=None, mesh: int = 3, spacing: float = 60.0) -> Path:
+    """Writes `path` (.glb): `instances` nodes that all draw one mesh of a sample model
+    (default: 2CylinderEngine's mesh 3, 2163 triangles), on a square grid `spacing` apart in the
+    model's units, under the model's own camera: the fuzzer's instancing mutant, a file of a few MB
+    whose drawn triangles run to the tens of millions (20,000 instances: 43 million). No light is
+    added (Scene.load adds none; ssrlab.scenes.load gives the model its default lighting)."""
+    if model is None:
+        from ..models import find
+
+        model = find("2CylinderEngine")
+    doc, bin_bytes = read_glb(model)
+    side = max(1, int(round(instances ** 0.5)))
+    cameras = [i for i, n in enumerate(doc["nodes"]) if "camera" in n]
+    doc["nodes"] = [doc["nodes"][i] for i in cameras] + [
+        {"name": f"instance {i}", "mesh": mesh,
+         "translation": [spacing * (i % side - side / 2), 0.0, spacing * (i // side - side / 2)]}
+        for i in range(instances)]
+    first = len(cameras)
+    doc["scenes"] = [{"nodes": list(range(first + instances))}]
+    doc["scene"] = 0
+    path = Path(path)
+    path.write_bytes(glb(json.dumps(doc, separators=(",", ":")).encode(), bin_bytes))
+    return path
+
+
 def write(folder) -> dict:
     """Writes every case into `folder` (created; its earlier .gltf/.glb files removed) with
     manifest.json; returns the manifest."""
