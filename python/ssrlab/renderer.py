@@ -112,6 +112,9 @@ class Renderer:
         folder = Path(shader_dir) if shader_dir is not None else globals()["shader_dir"]()
         self._native = _core.Renderer(device=device, shader_dir=str(folder), input_fetch=input_fetch)
         self.device = device
+        # What a second renderer of the same device and shaders is made with (the live viewer
+        # makes one when a shader file changes: its shader library reads every file again).
+        self._shader_dir, self._input_fetch = folder, input_fetch
         self._frames: "weakref.WeakSet[Frame]" = weakref.WeakSet()
         # Settings.deep_gbuffer 'auto': the method measured faster, per scene, size and layers.
         self._deep_gbuffer_auto: dict[tuple, str] = {}
