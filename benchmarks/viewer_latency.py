@@ -1,6 +1,6 @@
 """The live viewer's latency in a real browser: from a drag event in the page to its frame on
-screen, split into render, view (the picture of the chosen view), encode and send, transport,
-decode in the page and display; and the frames shown per second while the camera moves.
+screen, split into the event's way to the server, the wait for the render before it (queue), render,
+view (the picture of the chosen view), encode and send, transport, decode in the page and display; and the frames shown per second while the camera moves.
 
 Debian's Chromium, headless, drives the page (Playwright); the page's clock and the server's are
 the same machine's. The page records each pointer event, each frame's arrival (the blob the
@@ -8,7 +8,7 @@ background image is made of), its decode (the image's load event) and its displa
 animation frame after the decode: the frame in which the new texture was drawn). The viewer's own
 cost is everything but the render.
 
-    python benchmarks/viewer_latency.py [--scene hall] [--width 640 --height 360] [--seconds 4] [--device cpu]
+    python benchmarks/viewer_latency.py [--scene hall] [--width 640 --height 360] [--seconds 4] [--device cpu] [--floor]
 
 Goals on a 2-core llvmpipe machine (hall): at least 10 frames shown per second while the camera
 moves (progressive resolution), and the viewer's own cost at most 50 ms median at 640x360. On a GPU:
@@ -45,7 +45,7 @@ PAGE_HOOKS = """
     set(v) {
       const rec = blobs.get(v);
       if (rec) this.addEventListener('load', () => {
-        rec.decoded = now();
+        rec.decoded = now(); rec.width = this.naturalWidth; rec.height = this.naturalHeight;
         requestAnimationFrame(() => requestAnimationFrame(() => { rec.displayed = now(); }));
       }, {once: true});
       desc.set.call(this, v);
@@ -60,6 +60,59 @@ def percentile(values, q):
     return float(np.percentile(values, q)) if len(values) else float("nan")
 
 
+def page_floor(args) -> None:
+    """The page's own path with nothing rendering: one fixed frame of the canvas's size sent 30 times,
+    10 a second (encode and send, transport, decode, display): the floor under viewer_own on this
+    machine, whatever the renderer does."""
+    import viser
+    from playwright.sync_api import sync_playwright
+
+    from ssrlab.viewer.server import free_port
+
+    port = free_port("127.0.0.1")
+    server = viser.ViserServer(host="127.0.0.1", port=port, verbose=False)
+    server.gui.main_panel.dock_right()
+    rng = np.random.default_rng(0)
+    # A smooth picture (a JPEG of noise would be far larger than a rendered frame's)
+    y, x = np.mgrid[0:args.height, 0:args.width]
+    image = np.stack([x / args.width, y / args.height, 0.5 + 0.1 * rng.random((args.height, args.width))], -1)
+    image = (image * 255).astype(np.uint8)
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path="/usr/bin/chromium", args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": args.width + PANEL_PX, "height": args.height})
+        page.add_init_script(PAGE_HOOKS)
+        page.goto(f"http://127.0.0.1:{port}/")
+        deadline = time.time() + 60
+        while not server.get_clients() and time.time() < deadline:
+            time.sleep(0.1)
+        time.sleep(2.0)
+        client = next(iter(server.get_clients().values()))
+        sent = []
+        for _ in range(30):
+            t = time.time()
+            if args.lossless:
+                client.scene.set_background_image(image, format="png")
+            else:
+                client.scene.set_background_image(image, format="jpeg", jpeg_quality=90)
+            client.flush()
+            sent.append((t, time.time()))
+            time.sleep(0.1)
+        time.sleep(1.0)
+        frames = page.evaluate("window.__frames")[-len(sent):]
+        browser.close()
+    server.stop()
+    parts = {"encode_send": [1e3 * (b - a) for a, b in sent],
+             "transport": [r["received"] - 1e3 * b for (a, b), r in zip(sent, frames)],
+             "decode": [r["decoded"] - r["received"] for r in frames if r["decoded"]],
+             "display": [r["displayed"] - r["decoded"] for r in frames if r["displayed"] and r["decoded"]]}
+    print(f"the page's path alone (nothing rendering), {args.width}x{args.height}, "
+          f"{'PNG' if args.lossless else 'JPEG'}, {len(frames)} frames:")
+    print(f"{'part':<16} {'median ms':>10} {'p90 ms':>10}")
+    for k, vals in parts.items():
+        print(f"{k:<16} {percentile(vals, 50):>10.1f} {percentile(vals, 90):>10.1f}")
+    print(f"{'sum':<16} {sum(percentile(v, 50) for v in parts.values()):>10.1f}")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", default="hall")
@@ -69,11 +122,13 @@ def main() -> int:
     ap.add_argument("--device", default="auto")
     ap.add_argument("--lossless", action="store_true", help="PNG frames instead of JPEG")
     ap.add_argument("--set", action="append", metavar="FIELD=VALUE", default=[])
+    ap.add_argument("--floor", action="store_true",
+                    help="also measure the page's own path with nothing rendering (the floor under viewer_own)")
     args = ap.parse_args()
-    from ssrlab.viewer.server import _parse_changes
+    from ssrlab.viewer.server import parse_changes
     from playwright.sync_api import sync_playwright
 
-    settings = ssrlab.Settings().replace(**_parse_changes(",".join(args.set)))
+    settings = ssrlab.Settings().replace(**parse_changes(",".join(args.set)))
     v = ssrlab.view(args.scene, settings, device=args.device, lossless=args.lossless, accumulate=1)
     info = v.renderer.info
     print(f"device: {info['renderer']} ({info['device']}), OpenGL {info['gl_version']}; scene {args.scene}, "
@@ -109,10 +164,24 @@ def main() -> int:
     finally:
         v.close()
     sent = [e for e in v.history[start_hist:]]
-    received = frames[-len(sent):] if len(frames) >= len(sent) else frames
-    rows = {k: [] for k in ("event_to_screen", "render", "view", "encode_send", "transport", "decode", "display",
-                            "viewer_own")}
-    for s, r in zip(sent, received):
+
+    # Each frame the page got, matched with the frame the server sent: the next one sent before it
+    # arrived with its size (the server's message buffer may replace a frame not yet sent by a newer
+    # one, so some frames sent never arrive).
+    pairs, i = [], 0
+    for r in frames:
+        if r.get("width") is None:
+            continue
+        j = i
+        while j < len(sent) and not ((sent[j]["width"], sent[j]["height"]) == (r["width"], r["height"])
+                                     and sent[j]["times"]["sent"] <= r["received"] / 1e3 + 0.002):
+            j += 1
+        if j < len(sent) and r["received"] / 1e3 - sent[j]["times"]["sent"] < 1.0:
+            pairs.append((sent[j], r))
+            i = j + 1
+    rows = {k: [] for k in ("event_to_screen", "event_to_server", "queue", "render", "view", "encode_send",
+                            "transport", "decode", "display", "viewer_own")}
+    for s, r in pairs:
         t = s["times"]
         if r["displayed"] is None or r["decoded"] is None:
             continue  # superseded in the page before it was shown
@@ -120,7 +189,8 @@ def main() -> int:
         if not before:
             continue
         ev = before[-1] / 1e3
-        parts = {"render": t["render_end"] - t["render_start"], "view": t["view"] - t["render_end"],
+        parts = {"event_to_server": t["request"] - ev, "queue": t["render_start"] - t["request"],
+                 "render": t["render_end"] - t["render_start"], "view": t["view"] - t["render_end"],
                  "encode_send": t["sent"] - t["view"], "transport": r["received"] / 1e3 - t["sent"],
                  "decode": (r["decoded"] - r["received"]) / 1e3, "display": (r["displayed"] - r["decoded"]) / 1e3}
         total = r["displayed"] / 1e3 - ev
@@ -147,6 +217,8 @@ def main() -> int:
               f"({fps:.1f})")
         print(f"goal: viewer's own cost <= {own_goal:.0f} ms median at {args.width}x{args.height}: "
               f"{'met' if own <= own_goal else 'not met'} ({own:.1f} ms)")
+    if args.floor:
+        page_floor(args)
     return 0
 
 

@@ -18,8 +18,7 @@ import ssrlab
 from ssrlab import display
 from ssrlab.viewer import views
 
-sys.path.insert(0, str(Path(__file__).parent))
-from viewer_page import browser, drag, open_page, require_browser, wait_shown  # noqa: E402
+from viewer_page import browser, drag, open_page, require_browser, wait_shown
 
 REPO = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.usefixtures("_browser_available")

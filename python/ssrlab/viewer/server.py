@@ -398,7 +398,7 @@ class Viewer:
 
     def _on_compare(self, _event) -> None:
         try:
-            b = self._settings.replace(**_parse_changes(str(self._b_control.value))) if self._compare_control.value \
+            b = self._settings.replace(**parse_changes(str(self._b_control.value))) if self._compare_control.value \
                 else None
         except ValueError as e:
             self._show_error(f"B: {e}")
@@ -430,7 +430,7 @@ class Viewer:
             self._settings = settings
             if self._settings_b is not None:
                 try:
-                    self._settings_b = settings.replace(**_parse_changes(str(self._b_control.value)))
+                    self._settings_b = settings.replace(**parse_changes(str(self._b_control.value)))
                 except ValueError:
                     pass
             self._error = ""
@@ -825,7 +825,7 @@ def _duration(scene) -> float:
     return longest if longest > 0 else 10.0
 
 
-def _parse_changes(text: str) -> dict:
+def parse_changes(text: str) -> dict:
     """'a=1, b="x"' as {'a': 1, 'b': 'x'} (values as JSON where they parse, else the text)."""
     out = {}
     for item in [t for t in text.split(",") if t.strip()]:
