@@ -788,7 +788,11 @@ class Viewer:
         old = self.renderer
         with self._render_lock:
             try:
-                new = Renderer(old.device, shader_dir=old._shader_dir, input_fetch=old._input_fetch)
+                new = Renderer(old.device, shader_dir=old._shader_dir, input_fetch=old._input_fetch,
+                               max_triangles=old.max_triangles or 0)
+                new.triangle_rates = old.triangle_rates
+                new.readback_path, new.clear_path, new.visibility_tiles = \
+                    old.readback_path, old.clear_path, old.visibility_tiles
                 for p in old.user_passes.values():
                     new.register_pass(p)
                 page = self._newest()
