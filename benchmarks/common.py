@@ -1,5 +1,5 @@
-"""Helpers shared by the benchmark scripts: options, device header; the timing protocol is
-ssrlab.lab.timing's."""
+"""Helpers shared by the benchmark scripts: options, device header and the protocol are
+ssrlab.lab.protocol's (re-exported here), the timing statistics ssrlab.lab.timing's."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from ssrlab.lab.protocol import arguments, device_header, open_renderer  # noqa: E402,F401  (one protocol)
 from ssrlab.lab.timing import median_timings  # noqa: E402,F401  (the scripts' timing protocol)
 
 
@@ -33,30 +34,11 @@ def frame_ms(renderer, scene, settings, repeats: int) -> tuple[float, float, flo
     return median_range(renderer.render(scene, settings=settings).timings["total"] for _ in range(repeats))
 
 
-def device_header(renderer) -> str:
-    i = renderer.info
-    return f"device: {i['renderer']} ({i['device']}), {i['vendor']}, OpenGL {i['gl_version']}"
-
-
-def benchmark_arguments(doc: str, repeats: int | None = None) -> argparse.ArgumentParser:
-    """The options every benchmark takes: image size, scenes, device (and repeats when timed)."""
-    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--width", type=int, default=640)
-    ap.add_argument("--height", type=int, default=360)
-    ap.add_argument("--scenes", nargs="+", default=["spheres_and_boxes", "hall"])
-    ap.add_argument("--device", default="auto", choices=("auto", "gpu", "cpu"))
-    if repeats is not None:
-        ap.add_argument("--repeats", type=int, default=repeats)
-    return ap
-
-
-def open_renderer(args):
-    """The benchmark's Renderer, with the device line every benchmark prints first."""
-    import ssrlab
-
-    renderer = ssrlab.Renderer(args.device)
-    print(device_header(renderer))
-    return renderer
+def benchmark_arguments(doc: str, repeats: int | None = None, *, settings: bool = False) -> argparse.ArgumentParser:
+    """The options every benchmark takes (ssrlab.lab.protocol.arguments): image size, scenes,
+    device, --records (and repeats when timed; --set with `settings`, for the scripts whose
+    configurations all take it: the A/B tools parse their own sides')."""
+    return arguments(doc, repeats, settings=settings)
 
 
 def ab_scenes(renderer, scenes: dict, settings, parts, repeats: int, header: str) -> None:

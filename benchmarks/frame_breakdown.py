@@ -10,7 +10,8 @@ by visibility lists, and the thesis's
 configuration. Per case: the median GPU ms of every timing key (e.g. `classify.clear`,
 `depth_peel.layer0`, which the roofline leaves out) over `repeats` renders after a warm-up, the
 render() wall time, the time to read `frame.color` back, and the trace's depth fetches per ray
-(from `rays.sample`, so with skip on or off).
+(from `rays.sample`, so with skip on or off). Every figure is a record (ssrlab.lab.records) with
+its samples; the last table is rendered from them.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
+from ssrlab.lab.protocol import Bench  # noqa: E402
 
 BASE = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, reuse_radius=1)
 CASES = {
@@ -44,38 +46,55 @@ CASES = {
 
 
 def main(argv=None) -> int:
-    ap = benchmark_arguments(__doc__, repeats=7)
+    ap = benchmark_arguments(__doc__, repeats=7, settings=True)
     ap.set_defaults(scenes=["hall", "spheres_and_boxes"])
     args = ap.parse_args(argv)
     import ssrlab
 
     r = open_renderer(args)
+    bench = Bench("frame_breakdown", args, r, warmup=1)
     print(f"{args.width}x{args.height}; GPU ms, medians of {args.repeats} renders after a warm-up")
     for scene_name in args.scenes:
         scene = ssrlab.scenes.load(scene_name)
         for name, kw in CASES.items():
-            s = ssrlab.Settings(width=args.width, height=args.height, **{**BASE, **kw})
-            r.render(scene, settings=s).color
-            frames, walls, reads = [], [], []
-            for _ in range(args.repeats):
+            s = ssrlab.Settings(width=args.width, height=args.height, **{**BASE, **kw, **bench.settings})
+            last = {}
+
+            def measure():
                 t0 = time.perf_counter()
                 f = r.render(scene, settings=s)
                 t1 = time.perf_counter()
                 f.color
                 t2 = time.perf_counter()
-                frames.append(f)
-                walls.append((t1 - t0) * 1e3)
-                reads.append((t2 - t1) * 1e3)
-            med = {k: statistics.median(f.timings[k] for f in frames) for k in frames[0].timings}
-            sample = frames[-1].read("rays.sample")
+                last["frame"] = f
+                return {**f.timings, "render_wall": (t1 - t0) * 1e3, "color_read": (t2 - t1) * 1e3}
+
+            values = bench.rounds({name: measure})[name]
+            f = last["frame"]
+            sample = f.read("rays.sample")
             rays = int((sample[..., 0] > 0).sum())
             fetches = float(sample[..., 2].astype(np.float64).sum())
-            print(f"{scene_name} {name} (skip={frames[-1].settings.skip}, "
-                  f"deep_gbuffer={frames[-1].settings.deep_gbuffer}): "
+            params = dict(scene=scene_name, case=name, width=args.width, height=args.height,
+                          skip=f.settings.skip, deep_gbuffer=f.settings.deep_gbuffer)
+            timings = [k for k in values if k not in ("render_wall", "color_read")]
+            bench.record_all(params, values, "ms", timings)
+            bench.record({**params, "side": "cpu"}, "render_wall", "ms", values["render_wall"])
+            bench.record({**params, "side": "cpu"}, "color_read", "ms", values["color_read"])
+            bench.record(params, "rays", "count", [rays])
+            bench.record(params, "depth_fetches_per_ray", "fetches", [fetches / max(rays, 1)])
+            med = {k: statistics.median(values[k]) for k in timings}
+            print(f"{scene_name} {name} (skip={f.settings.skip}, "
+                  f"deep_gbuffer={f.settings.deep_gbuffer}): "
                   + ", ".join(f"{k} {v:.3f}" for k, v in med.items()))
-            print(f"   render() wall {statistics.median(walls):.2f} ms, color read {statistics.median(reads):.2f} ms, "
+            print(f"   render() wall {statistics.median(values['render_wall']):.2f} ms, color read "
+                  f"{statistics.median(values['color_read']):.2f} ms, "
                   f"{rays} rays, {fetches / max(rays, 1):.1f} depth fetches per ray", flush=True)
-            frames.clear()
+            last.clear()
+    print("\nthe frame and its main passes, GPU ms (from the records)")
+    main_passes = [k for k in ("total", "depth_peel", "deep_gbuffer", "lighting", "hiz_build", "trace_hiz",
+                               "trace_linear", "resolve") if bench.find(k)]
+    bench.print_table([x for x in bench.recorder.records if x["metric"] in main_passes and "side" not in x["params"]],
+                      rows=("scene", "case"), columns="metric", order=main_passes)
     return 0
 
 

@@ -8,6 +8,8 @@
          [--reference converged|thesis] score the image: thesis error, RMSE, PSNR, FLIP, SSIM; write
                                         reference.exr and error.png
     ssrlab bench SWEEP_FILE             sweep settings, measure run time against error (ssrlab.bench)
+    ssrlab bench compare OLD NEW        two folders of benchmark records: NEW/OLD and a verdict per figure
+    ssrlab bench --suite standard       every technique on fixed scenes and budgets: DIR/leaderboard.md
     ssrlab view [SCENE]                 a live view in the browser: camera, settings, views, numbers
 """
 
@@ -19,22 +21,14 @@ import sys
 from pathlib import Path
 
 
-def _parse_value(text: str):
-    try:
-        return json.loads(text)
-    except ValueError:
-        return text
-
-
 def _settings_from_args(args) -> "Settings":
+    from .lab.protocol import parse_set  # the one parser of --set, the benchmarks' too
     from .settings import Settings
 
-    changes = {}
-    for item in args.set or []:
-        if "=" not in item:
-            raise SystemExit(f"ssrlab: --set expects FIELD=VALUE, got {item!r}")
-        key, value = item.split("=", 1)
-        changes[key.strip()] = _parse_value(value.strip())
+    try:
+        changes = parse_set(args.set)
+    except ValueError as e:
+        raise SystemExit(f"ssrlab: {e}") from None
     for name in ("width", "height", "layers"):
         if getattr(args, name) is not None:
             changes[name] = getattr(args, name)
@@ -356,9 +350,58 @@ def _bench_config(args):
     return config, out
 
 
+def cmd_bench_compare(argv) -> int:
+    """ssrlab bench compare OLD NEW: every figure of both result folders side by side (see
+    ssrlab.lab.records.figure_verdict for the verdict's rule)."""
+    from .lab import records
+
+    ap = argparse.ArgumentParser(
+        prog="ssrlab bench compare", formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Compares two folders of benchmark records (benchmarks/results/<device>/*.jsonl, or "
+                    "git:<commit>:<folder> for a commit's committed records): every figure (benchmark, params, "
+                    "metric) present in both, NEW/OLD of the medians with its 95 %% bootstrap interval, each "
+                    "side's median [25th-75th percentile] and a verdict: same where the whole interval lies "
+                    "within the band (default 2 %%), faster / slower (better / worse for a figure that is not a "
+                    "time) where it lies wholly beyond it, else undecided (also with fewer than 3 samples).")
+    ap.add_argument("old", metavar="OLD")
+    ap.add_argument("new", metavar="NEW")
+    ap.add_argument("--band", type=float, default=records.SAME_BAND,
+                    help="practical equivalence: NEW/OLD within 1 +- BAND is the same (default: %(default)s)")
+    ap.add_argument("--benchmark", nargs="+", help="only these benchmarks' figures")
+    ap.add_argument("--changed", action="store_true", help="print only the figures whose verdict is not 'same'")
+    ap.add_argument("--json", metavar="FILE", help="also write the comparison as JSON")
+    args = ap.parse_args(argv)
+    try:
+        old, new = records.read_records(args.old), records.read_records(args.new)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"ssrlab: {e}", file=sys.stderr)
+        return 1
+    if args.benchmark:
+        old = [r for r in old if r["benchmark"] in args.benchmark]
+        new = [r for r in new if r["benchmark"] in args.benchmark]
+    rows = records.compare(old, new, band=args.band)
+    counts = {}
+    for r in rows:
+        counts[r["verdict"]] = counts.get(r["verdict"], 0) + 1
+    shown = [r for r in rows if r["verdict"] != "same"] if args.changed else rows
+    print(f"OLD {args.old} ({len(records.latest(old))} figures), NEW {args.new} ({len(records.latest(new))} "
+          f"figures): {len(rows)} in both; " + ", ".join(f"{v} {n}" for v, n in sorted(counts.items())))
+    if shown:
+        print(records.compare_table(shown))
+    if args.json:
+        Path(args.json).write_text(json.dumps(rows, indent=1))
+    return 0
+
+
 def cmd_bench(args) -> int:
     from .lab import bench
 
+    if args.suite is not None:
+        from .lab import standard
+
+        return standard.run_suite(args)
+    if args.entry or args.quick:
+        raise SystemExit("ssrlab: --entry and --quick apply to --suite standard")
     try:
         config, out = _bench_config(args)
     except (ValueError, FileNotFoundError, FileExistsError) as e:
@@ -603,8 +646,21 @@ def main(argv=None) -> int:
     b.add_argument("--error-key", default="thesis_error", choices=bench_error_keys,
                    help="row column of the error axis (default: %(default)s); psnr and ssim are similarities, "
                         "higher is better, every other an error, lower is better")
+    b.add_argument("--suite", choices=("standard",),
+                   help="run the standard evaluation instead of a sweep: fixed scenes, budgets and references, "
+                        "every built-in technique and each --entry scored with its time; writes --out/leaderboard.md "
+                        "and the records (ssrlab.lab.standard)")
+    b.add_argument("--quick", action="store_true",
+                   help="--suite at a size for checking, not for quoting (its records say quick: true)")
+    b.add_argument("--entry", action="append", default=[], metavar="MODULE:NAME",
+                   help="a user technique for --suite: a user module spec whose UserPass NAME runs as a pass "
+                        "(Settings(user_modules=..., user_passes=...)), e.g. "
+                        "examples/bilateral_filter/technique.py:bilateral_filter (repeatable)")
     b.set_defaults(func=cmd_bench)
 
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if "bench" in argv and argv[argv.index("bench") + 1:argv.index("bench") + 2] == ["compare"]:
+        return cmd_bench_compare(argv[argv.index("bench") + 2:])
     args = parser.parse_args(argv)
     try:
         return args.func(args)
