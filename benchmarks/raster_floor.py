@@ -22,7 +22,8 @@ shared machine falls on all of them alike. The floors:
 
 Beside each: its rate (fragments and triangles a second for the draws, bytes a second for
 full-frame writes), and the floors of one layer built each way. construction_floor() below is
-what benchmarks/deep_gbuffer.py compares each construction with.
+what benchmarks/deep_gbuffer.py compares each construction with. Each floor's repeats are a record
+(ssrlab.lab.records).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import statistics
 
 import ssrlab
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 
 # (floor, what it is, bytes it writes per pixel of the frame: None for the draws, whose work is
 # counted in fragments)
@@ -89,6 +91,7 @@ def main() -> None:
     ap.set_defaults(scenes=["hall"])
     args = ap.parse_args()
     renderer = open_renderer(args)
+    bench = Bench("raster_floor", args, renderer, warmup=1)
     print(f"{args.width}x{args.height}, median [min - max] of {args.repeats} repeats after one untimed run, floors "
           f"interleaved within each repeat; GPU milliseconds (timer queries)\n")
     pixels = args.width * args.height
@@ -97,6 +100,11 @@ def main() -> None:
             ssrlab.scenes.load(name)
         f = renderer.raster_floor(scene, width=args.width, height=args.height, repeats=args.repeats)
         c = f.counts
+        params = dict(scene=name, width=args.width, height=args.height)
+        for key, samples in f.ms.items():  # each floor's repeats, the floors interleaved within each
+            bench.record({**params, "floor": key}, "floor", "ms", samples)
+        for key in ("fragments", "triangles", "max_fragments_per_pixel"):
+            bench.record(params, key, "count", [c[key]])
         print(f"{name} ({c['triangles']} triangles): {c['fragments']} fragments "
               f"({c['fragments'] / pixels:.2f} a pixel, {c['max_fragments_per_pixel']} the deepest pixel), "
               f"{c['pixels_depth']} of {pixels} pixels covered, {c['samples_depth']} samples passed the depth "

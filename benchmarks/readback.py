@@ -13,7 +13,8 @@ A texture reaches numpy by one of two paths (Renderer.readback_path):
 For one frame of `hall` per size, the script times the native read of each texture below (the
 Python-side cache is bypassed: every read goes to the device), the two paths interleaved read by
 read, medians and IQR of --repeats after 2 warm-up reads. The verdict says "faster" or "slower"
-only where the IQRs do not overlap.
+only where the IQRs do not overlap. Each path's reads are a record (ssrlab.lab.records) of their
+samples; the table is rendered from them.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
+from ssrlab.lab.protocol import Bench  # noqa: E402
 
 # name: readback path (float formats downloaded directly, the others through the copy pass)
 TEXTURES = {"color": "direct", "lit": "direct", "gbuffer.albedo": "copy pass", "gbuffer.material": "copy pass"}
@@ -51,27 +53,32 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", nargs="+", default=["640x360", "1920x1080"], help="WIDTHxHEIGHT")
     args = ap.parse_args(argv)
     import ssrlab
-    from ssrlab.lab import timing
+    from ssrlab.lab import records, timing
 
     renderer = open_renderer(args)
+    bench = Bench("readback", args, renderer)
     scene = ssrlab.scenes.hall()
     print(f"medians (IQR) of {args.repeats} native reads per path after 2 warm-ups, the paths interleaved; "
           f"the float32 RGBA array delivered; 'auto' is {renderer.info['readback_path']} on this device")
-    print("| size | texture | download path | MB | download ms (IQR) | staged ms (IQR) | staged / download | verdict |")
-    print("|---|---|---|---|---|---|---|---|")
+    rows = []
     for size in args.sizes:
         w, h = (int(v) for v in size.lower().split("x"))
         frame = renderer.render(scene, settings=ssrlab.Settings(width=w, height=h, method="hiz", sampling="mirror"))
         for name, path in TEXTURES.items():
             ms, nbytes = time_reads(renderer, frame, name, args.repeats)
-            q = {p: np.percentile(v, [25, 50, 75]) for p, v in ms.items()}
+            params = dict(size=f"{w}x{h}", texture=name, download_path=path, bytes=nbytes)
+            recs = {p: bench.record({**params, "path": p}, "read", "ms", ms[p]) for p in PATHS}
+            q = {p: records.summary(r["samples"]) for p, r in recs.items()}
             d, st = q["download"], q["staged"]
             # (median, q1, q3): the interquartile ranges apart, or no verdict
-            apart = timing.verdict((d[1], d[0], d[2]), (st[1], st[0], st[2]))
+            apart = timing.verdict((d["median"], d["p25"], d["p75"]), (st["median"], st["p25"], st["p75"]))
             verdict = f"staged {apart}" if apart != "undecided" else "no verdict (IQRs overlap)"
-            print(f"| {w}x{h} | {name} | {path} | {nbytes / 1e6:.1f} | {d[1]:.3f} ({d[0]:.3f}-{d[2]:.3f}) | "
-                  f"{st[1]:.3f} ({st[0]:.3f}-{st[2]:.3f}) | {st[1] / d[1]:.2f} | {verdict} |")
+            rows.append([f"{w}x{h}", name, path, f"{nbytes / 1e6:.1f}"]
+                        + [f"{x['median']:.3f} ({x['p25']:.3f}-{x['p75']:.3f})" for x in (d, st)]
+                        + [f"{st['median'] / d['median']:.2f}", verdict])
         frame.release()
+    print(records.markdown(["size", "texture", "download path", "MB", "download ms (IQR)", "staged ms (IQR)",
+                            "staged / download", "verdict"], rows))
     return 0
 
 

@@ -11,6 +11,8 @@ Runs each benchmark script below as its own process on the chosen device, one af
 (never side by side: they would time each other), and writes
     <out>/<device>/run_all.json   the device, each benchmark's command, exit status, seconds and output
     <out>/<device>/tables.md      each benchmark's printed tables, for the README
+    <out>/<device>/<name>.jsonl   the records of every benchmark written through ssrlab.lab.protocol
+                                  (appended run after run: `ssrlab bench compare` reads them)
 <device> is a slug of the renderer string (e.g. nvidia-h100-80gb-hbm3, llvmpipe-llvm-15-0-6-256-bits).
 --quick runs every benchmark at a reduced size (a smoke run of this script, not figures to quote).
 On a machine with a GPU, `--device gpu` fails at once when the EGL device cannot be opened.
@@ -22,7 +24,6 @@ import argparse
 import datetime
 import json
 import os
-import re
 import subprocess
 import sys
 import time
@@ -71,20 +72,15 @@ BENCHMARKS = {
 
 def git_commit() -> str:
     """The checkout's commit, "+dirty" when it has uncommitted changes (what the figures come from)."""
-    def git(*a):
-        return subprocess.run(["git", "-C", str(HERE), *a], capture_output=True, text=True, timeout=60)
+    from ssrlab.lab.records import git_commit as commit_of
 
-    if os.environ.get("SSRLAB_COMMIT"):  # a copy of the tree without its .git (a device machine)
-        return os.environ["SSRLAB_COMMIT"]
-    head = git("rev-parse", "--short=10", "HEAD")
-    if head.returncode:
-        return "unknown (not a git checkout)"
-    dirty = git("status", "--porcelain", "--untracked-files=no").stdout.strip()
-    return head.stdout.strip() + ("+dirty" if dirty else "")
+    return commit_of(HERE)
 
 
 def slug(text: str) -> str:
-    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")[:60]
+    from ssrlab.lab.records import slug as slug_of  # the records' folder name: one rule
+
+    return slug_of(text)
 
 
 def main() -> int:
@@ -96,6 +92,7 @@ def main() -> int:
     args = ap.parse_args()
 
     import ssrlab
+    from ssrlab.lab.records import QUICK_ENV, RECORDS_ENV, read_records
 
     info = ssrlab.Renderer(args.device).info  # fails here, before any benchmark, without the device
     folder = Path(args.out) / slug(f"{info['renderer']}")
@@ -127,7 +124,10 @@ def main() -> int:
             cmd += ["--device", args.device]
         print(f"[run_all] {' '.join(cmd[1:])}", flush=True)
         t0 = time.perf_counter()
-        p = subprocess.run(cmd, capture_output=True, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+        # Every benchmark converted to the protocol appends its records to <folder>/<name>.jsonl.
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", RECORDS_ENV: str(folder), QUICK_ENV: "1" if args.quick else "0"}
+        before = len(read_records(folder / f"{name}.jsonl")) if (folder / f"{name}.jsonl").is_file() else 0
+        p = subprocess.run(cmd, capture_output=True, text=True, env=env)
         seconds = time.perf_counter() - t0
         print(p.stdout, end="")
         if p.returncode:
@@ -135,7 +135,9 @@ def main() -> int:
         results["benchmarks"][name] = {"command": " ".join(["python", f"benchmarks/{name}.py", *cmd[2:]]),
                                        "exit": p.returncode, "seconds": round(seconds, 1), "output": p.stdout,
                                        "stderr_tail": p.stderr[-4000:], "started": started, "commit": commit,
-                                       "quick": args.quick, "run_command": command}
+                                       "quick": args.quick, "run_command": command,
+                                       "records": (len(read_records(folder / f"{name}.jsonl")) - before
+                                                   if (folder / f"{name}.jsonl").is_file() else 0)}
         (folder / "run_all.json").write_text(json.dumps(results, indent=1))
     md = [f"# Benchmarks on {info['renderer']}", "",
           f"{info['vendor']}, OpenGL {info['gl_version']}, device `{info['device']}`; "

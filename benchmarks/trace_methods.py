@@ -4,8 +4,9 @@
 
 For `spheres_and_boxes` and `hall`, with 1 and 4 G-buffer layers: linear tracing with stride
 1, 2, 4 and 8, and Hi-Z tracing. Times are the median GPU time of the trace and resolve
-passes (GL timestamp queries) over --repeats renders after 2 warm-up renders, all in one
-run. Then seed 002's claim, that the hierarchical trace is far faster than linear marching
+passes (GL timestamp queries) over --repeats rounds after 2 warm-up rounds, the configurations of a
+scene and layer count interleaved round by round (ssrlab.lab.protocol); every figure is a record
+and the tables are rendered from them. Then seed 002's claim, that the hierarchical trace is far faster than linear marching
 for long rays: the ratio of linear (stride 1) to Hi-Z depth fetches per ray, by the screen
 distance the ray travelled to its hit, and the ratio of their trace times.
 """
@@ -15,8 +16,10 @@ from __future__ import annotations
 import numpy as np
 
 import ssrlab
-from common import benchmark_arguments, median_timings, open_renderer
+from common import benchmark_arguments, open_renderer
 from ssrlab import experiments
+from ssrlab.lab import records
+from ssrlab.lab.protocol import Bench
 
 CONFIGS = [("linear", 1), ("linear", 2), ("linear", 4), ("linear", 8), ("hiz", None)]
 
@@ -27,48 +30,60 @@ def settings(args, method, stride, layers, **kw):
 
 
 def main() -> None:
-    ap = benchmark_arguments(__doc__, repeats=5)
+    ap = benchmark_arguments(__doc__, repeats=5, settings=True)
     args = ap.parse_args()
 
     r = open_renderer(args)
-    print(f"{args.width}x{args.height}, 1 ray per pixel, GGX sampling (default settings); median of "
-          f"{args.repeats} runs after 2 warm-up runs; GPU milliseconds\n")
-    print(f"{'scene':<18} {'layers':>6} {'method':<10} {'trace':>9} {'hiz_build':>9} {'resolve':>8} "
-          f"{'fetches/ray':>11} {'hit rate':>8}")
+    bench = Bench("trace_methods", args, r)
+    print(f"{args.width}x{args.height}, 1 ray per pixel, GGX sampling (default settings); median [25th-75th "
+          f"percentile] of {args.repeats} rounds after 2 warm-up rounds, the configurations interleaved round by "
+          f"round; GPU milliseconds\n")
     for name in args.scenes:
         scene = ssrlab.scenes.load(name)
         for layers in (1, 4):
-            for method, stride in CONFIGS:
-                s = settings(args, method, stride, layers)
-                t = median_timings(r, scene, s, repeats=args.repeats)
+            configs = {(f"linear/{stride}" if method == "linear" else "hiz"):
+                       settings(args, method, stride, layers, **bench.settings) for method, stride in CONFIGS}
+            times = bench.frames(r, scene, configs)
+            for label, s in configs.items():
+                params = dict(scene=name, layers=layers, method=label, width=args.width, height=args.height)
+                trace = "trace_linear" if s.method == "linear" else "trace_hiz"
+                t = times[label]
+                bench.record(params, "trace", "ms", t[trace])
+                if "hiz_build" in t:
+                    bench.record(params, "hiz_build", "ms", t["hiz_build"])
+                bench.record_all(params, t, "ms", ("resolve", "total"))
                 rays = r.render(scene, settings=s).rays
                 traced = np.broadcast_to(rays.traced, rays.hit.shape) & (rays.weight > 0)
-                label = f"linear/{stride}" if method == "linear" else "hiz"
-                trace = t["trace_linear" if method == "linear" else "trace_hiz"]
-                print(f"{name:<18} {layers:>6} {label:<10} {trace:>7.2f}ms {t.get('hiz_build', 0):>7.2f}ms "
-                      f"{t['resolve']:>6.2f}ms {rays.mean_fetches():>11.1f} {rays.hit[traced].mean():>8.3f}")
-        print()
+                bench.record(params, "fetches_per_ray", "fetches", [rays.mean_fetches()])
+                bench.record(params, "hit_rate", "share", [float(rays.hit[traced].mean())], better="higher")
+    bench.print_table(rows=("scene", "layers", "method"),
+                      order=["trace", "hiz_build", "resolve", "total", "fetches_per_ray", "hit_rate"])
 
-    print("Seed 002's claim, long rays: linear (stride 1) over Hi-Z, same rays, one run")
-    print(f"{'scene':<18} {'layers':>6} {'hit distance (px)':>18} {'rays':>7} {'linear fetches':>14} "
-          f"{'hiz fetches':>11} {'ratio':>6}")
+    print("\nSeed 002's claim, long rays: linear (stride 1) over Hi-Z, same rays, one run")
+    rows = []
     for name in args.scenes:
         scene = ssrlab.scenes.load(name)
         for layers in (1, 4):
-            bins = experiments.fetches_by_ray_length(r, scene, settings(args, "linear", 1, layers),
-                                                     settings(args, "hiz", None, layers))
+            bins = experiments.fetches_by_ray_length(r, scene, settings(args, "linear", 1, layers, **bench.settings),
+                                                     settings(args, "hiz", None, layers, **bench.settings))
             for b in bins:
                 if b["rays"] < 20:
                     continue
                 rng = f"{b['lo']:g}-{b['hi']:g}" if b["hi"] < 1e9 else f">= {b['lo']:g}"
-                fl, fh = b["fetches_a"], b["fetches_b"]
-                print(f"{name:<18} {layers:>6} {rng:>18} {b['rays']:>7} {fl:>14.1f} {fh:>11.1f} {fl / fh:>5.1f}x")
-            tl = median_timings(r, scene, settings(args, "linear", 1, layers), repeats=args.repeats)["trace_linear"]
-            th = median_timings(r, scene, settings(args, "hiz", None, layers), repeats=args.repeats)
-            hz = th["trace_hiz"] + th["hiz_build"]
-            print(f"{name:<18} {layers:>6} {'trace time':>18} {'':>7} {tl:>12.2f}ms {hz:>9.2f}ms {tl / hz:>5.1f}x"
-                  f"   (Hi-Z time includes hiz_build)")
-        print()
+                params = dict(scene=name, layers=layers, hit_distance_px=rng, width=args.width, height=args.height)
+                fl = bench.record({**params, "method": "linear/1"}, "fetches_per_ray", "fetches", [b["fetches_a"]])
+                fh = bench.record({**params, "method": "hiz"}, "fetches_per_ray", "fetches", [b["fetches_b"]])
+                a, c = fl["samples"][0], fh["samples"][0]
+                rows.append([name, layers, rng, b["rays"], f"{a:.1f}", f"{c:.1f}", f"{a / c:.1f}x"])
+            tl = bench.find("trace", scene=name, layers=layers, method="linear/1")[0]["samples"]
+            hz = bench.find("trace", scene=name, layers=layers, method="hiz")[0]["samples"]
+            hb = bench.find("hiz_build", scene=name, layers=layers, method="hiz")[0]["samples"]
+            # one ratio per round: both sides were rendered in the same round
+            ratio = [a / (b + c) for a, b, c in zip(tl, hz, hb)]
+            rows.append([name, layers, "trace time (Hi-Z with hiz_build)", "", records.cell(tl) + " ms",
+                         records.cell([b + c for b, c in zip(hz, hb)]) + " ms", records.cell(ratio) + "x"])
+    print(records.markdown(["scene", "layers", "hit distance (px)", "rays", "linear fetches", "hiz fetches",
+                            "ratio"], rows))
 
 
 if __name__ == "__main__":
