@@ -142,3 +142,23 @@ def test_a_converted_benchmark_writes_records_and_prints_their_table(tmp_path):
     assert len(total) >= 7 and all(len(x["samples"]) == 3 for x in total)
     assert all(x["benchmark"] == "frame_breakdown" and x["params"]["scene"] == "mirror_test" for x in recs)
     assert "| scene | case |" in r.stdout
+
+
+def test_the_standard_evaluation_gives_an_entry_its_row_beside_every_builtin_technique(tmp_path):
+    from ssrlab.lab.standard import TECHNIQUES
+
+    r = run_cli("--device", "cpu", "bench", "--suite", "standard", "--quick", "--entry",
+                "examples/bilateral_filter/technique.py:bilateral_filter", "--out", str(tmp_path / "std"))
+    assert r.returncode == 0, r.stderr[-3000:]
+    board = (tmp_path / "std" / "leaderboard.md").read_text()
+    recs = records.read_records(tmp_path / "std")
+    scenes = {x["params"]["scene"] for x in recs}
+    assert len(scenes) >= 2 and all(x["params"]["quick"] for x in recs)
+    for technique in [*TECHNIQUES, "entry: bilateral_filter"]:
+        for scene in scenes:
+            mine = records.select(recs, technique=technique, scene=scene)
+            assert {x["metric"] for x in mine} >= {"thesis_error", "psnr", "frame", "reflection"}, (technique, scene)
+            assert all(len(x["samples"]) >= 3 for x in mine if x["unit"] == "ms")
+        row = [line for line in board.splitlines() if line.startswith(f"| {technique} |")]
+        assert len(row) == 1 + len(scenes), technique  # the overall table and each scene's
+        assert all("-" not in line.split(" | ")[1] for line in row)  # an error in every row

@@ -64,6 +64,8 @@ def git_commit(where: Path | str = REPO) -> str:
 def command_line() -> str:
     """This process's command as a person would type it from the repository's root."""
     argv = list(sys.argv)
+    if argv and Path(argv[0]).name == "__main__.py" and Path(argv[0]).parent.name == "ssrlab":
+        return " ".join(["ssrlab", *argv[1:]])  # python -m ssrlab
     if argv and argv[0].endswith(".py"):
         p = Path(argv[0]).resolve()
         try:
@@ -71,7 +73,7 @@ def command_line() -> str:
         except ValueError:
             argv[0] = str(p)
         return " ".join(["python", *argv])
-    return " ".join(["ssrlab" if a.endswith(("ssrlab", "__main__.py")) else a for a in argv[:1]] + argv[1:])
+    return " ".join(["ssrlab" if a.endswith("ssrlab") else a for a in argv[:1]] + argv[1:])
 
 
 def is_timing(record: dict) -> bool:
