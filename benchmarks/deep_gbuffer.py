@@ -51,7 +51,9 @@ Goals (on llvmpipe at 640x360): 8 layers in at most 3x one peeled layer on hall,
 the geometry-bound scenes (spheres_and_boxes, 2CylinderEngine); at 1 layer each visibility
 construction within 1.2x of peeling. Each is judged on the rounds' ratios (each ratio from two
 renders of the same round): "met" where the middle half of them (25th-75th percentile) meets the
-goal, "not met" where it misses it, else "undecided at this noise".
+goal, "not met" where it misses it, else "undecided at this noise". Every figure is a record
+(ssrlab.lab.records) with one sample per round: the construction's ms, its floor's, x floor and
+x one peeled layer (the goals' ratios) and the CPU ms.
 """
 
 from __future__ import annotations
@@ -64,7 +66,7 @@ import numpy as np
 import ssrlab
 from common import benchmark_arguments, open_renderer
 from raster_floor import construction_floor, describe_floor
-from ssrlab.lab.timing import MIN_JUDGED_REPEATS, target_verdict
+from ssrlab.lab.protocol import Bench, goal_verdict
 
 METHODS = ("peel", "lists", "visibility", "visibility_lists")
 # Each method's parts (Frame.timings keys) and the short names they are printed under.
@@ -121,14 +123,8 @@ def extra_bytes(method: str, stats: dict, width: int, height: int, layers: int, 
 
 
 def verdict(ratios: list[float], goal: float) -> str:
-    """met / not met / undecided at this noise, from the rounds' ratios (ssrlab.lab.timing)."""
-    if len(ratios) < MIN_JUDGED_REPEATS:
-        return f"undecided: {len(ratios)} round(s), at least {MIN_JUDGED_REPEATS} needed"
-    v = target_verdict(ratios, "<=", goal)
-    if v in ("met", "not met"):
-        return v
-    q1, q3 = np.percentile(ratios, [25, 75])
-    return f"undecided at this noise (the middle half of the rounds, {q1:.2f}-{q3:.2f}x, straddles {goal:g}x)"
+    """met / not met / undecided at this noise, from the rounds' ratios (the protocol's verdict)."""
+    return goal_verdict(ratios, "<=", goal)
 
 
 def quartiles(values) -> str:
@@ -143,6 +139,7 @@ def main() -> None:
     ap.add_argument("--methods", nargs="+", default=list(METHODS), choices=METHODS)
     args = ap.parse_args()
     renderer = open_renderer(args)
+    bench = Bench("deep_gbuffer", args, renderer)
     device = renderer.info["device"]
     print(f"{args.width}x{args.height}, median [min-max] of {args.repeats} renders after 2 warm-up renders, "
           f"configurations and floors interleaved round by round; GPU milliseconds of the construction "
@@ -208,6 +205,15 @@ def main() -> None:
             x_floor = statistics.median(t / construction_floor(floor_of, used, r) for t, r in zip(ts, floors))
             distance[(name, method, layers)] = (x_floor, floor_ms)
             summary[(name, method, layers)] = [t / b for t, b in zip(ts, times[base_key])]
+            params = dict(scene=name, method=method, built=built, layers=layers, used=used, width=args.width,
+                          height=args.height)
+            bench.record(params, "deep_gbuffer", "ms", ts)
+            bench.record(params, "floor", "ms", [construction_floor(floor_of, used, r) for r in floors])
+            # the goals' ratios, one per round: to the construction's floor, and to one peeled layer
+            bench.record(params, "x_floor", "ratio", [t / construction_floor(floor_of, used, r)
+                                                      for t, r in zip(ts, floors)])
+            bench.record(params, "x_one_peeled_layer", "ratio", summary[(name, method, layers)])
+            bench.record(params, "cpu", "ms", cpu[c])
             parts = " ".join(f"{short} {statistics.median(t.get(key, 0.0) for t, _ in runs[c]):.2f}"
                              for short, key in PARTS[floor_of] if key in runs[c][-1][0])
             frags = f"{int(st['deep_gbuffer_fragments']):>10}" if "deep_gbuffer_fragments" in st else f"{'':>10}"
