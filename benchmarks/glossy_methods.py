@@ -12,7 +12,8 @@ Time: the median GPU time over --repeats renders after 2 warm-up renders of the 
 passes (hiz_build, trace, resolve or preconvolve/preintegrate/cone_trace/blur_mips) and of the
 whole frame. Then, per roughness, the method with the least error and the fastest method within
 10 % of it, and seed 002's claims: "the larger the cone is, the faster it runs" (cone_trace time
-against roughness) and the time of the cone pass against the Hi-Z trace.
+against roughness) and the time of the cone pass against the Hi-Z trace. Every figure is a
+record (ssrlab.lab.records) with its samples.
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ from __future__ import annotations
 import numpy as np
 
 import ssrlab
-from common import benchmark_arguments, median_timings, open_renderer
+from common import benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 from ssrlab.bench import REFLECTION_PASSES
 from ssrlab.metrics import image_metrics
 
@@ -42,6 +44,16 @@ def main() -> None:
     ap.add_argument("--reference-rays", type=int, default=128)
     args = ap.parse_args()
     r = open_renderer(args)
+    bench = Bench("glossy_methods", args, r)
+
+    def timed(scene, s, params):
+        """Median GPU ms per pass of the protocol's rounds; every pass's samples recorded."""
+        t = bench.frames(r, scene, {"x": s})["x"]
+        refl = [sum(t[p][i] for p in REFLECTION_PASSES if p in t) for i in range(len(t["total"]))]
+        bench.record(params, "reflection", "ms", refl)
+        bench.record_all(params, t, "ms", ("total", "cone_trace", "trace_hiz"))
+        return {k: float(np.median(v)) for k, v in t.items()}, float(np.median(refl))
+
     print(f"{args.width}x{args.height}, Hi-Z tracing, 1 layer; error: thesis error over reflective pixels "
           f"vs the converged reference ({args.reference_rays} VNDF rays); time: median GPU ms of "
           f"{args.repeats} runs after 2 warm-ups\n")
@@ -58,8 +70,10 @@ def main() -> None:
                 if truth is None:
                     truth = f.reference("converged", rays=args.reference_rays)
                 err = image_metrics(f.color, truth.color, truth.reflective)["thesis_error_reflective"]
-                t = median_timings(r, scene, s, repeats=args.repeats)
-                refl = sum(t.get(p, 0.0) for p in REFLECTION_PASSES)
+                params = dict(scene=name, roughness=rough, method=label, width=args.width, height=args.height,
+                              reference_rays=args.reference_rays)
+                bench.record(params, "thesis_error", "", [err])
+                t, refl = timed(scene, s, params)
                 row = dict(scene=name, roughness=rough, method=label, error=err, refl_ms=refl,
                            frame_ms=t["total"], cone_ms=t.get("cone_trace", 0.0), trace_ms=t["trace_hiz"])
                 rows.append(row)
@@ -104,7 +118,10 @@ def main() -> None:
             s = ssrlab.Settings(**base, **kw)
             f = r.render(scene, settings=s)
             err = image_metrics(f.color, truth.color, truth.reflective)["thesis_error_reflective"]
-            t = median_timings(r, scene, s, repeats=args.repeats)
+            params = dict(scene=name, roughness=0.2, variant=label, width=args.width, height=args.height,
+                          reference_rays=args.reference_rays)
+            bench.record(params, "thesis_error", "", [err])
+            t, _ = timed(scene, s, params)
             out.append(f"{label}: {err:.4f} / {t['cone_trace']:.2f} ms")
         print(f"  {name:<18} " + "; ".join(out))
 

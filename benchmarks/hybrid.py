@@ -33,7 +33,7 @@ are wrong against the per-ray reference (ssrlab.reference.wrong_hits: another su
 2 px from the true hit; after the confidence test where it runs); and the median GPU time of the
 frame and of its tracing and fallback passes over --repeats renders after warm-up. The probes'
 one-time capture is printed apart (it is never in a frame's timings). All methods use origin_bias
-0.0005 (see README).
+0.0005 (see README). Every figure is a record (ssrlab.lab.records) with its samples.
 """
 
 from __future__ import annotations
@@ -45,7 +45,9 @@ import numpy as np
 import ssrlab
 from ssrlab.metrics import psnr, thesis_error
 from ssrlab.reference import wrong_hits
-from common import HYBRID_FRAMES, benchmark_arguments, frame_ms, median_timings, open_renderer
+from common import HYBRID_FRAMES, benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
+from ssrlab.lab.timing import median_range
 
 NEAR_PROBE = (0.0, 0.5, 1.5)  # hall: low over the floor, near the camera (both views)
 CONFIGS = {
@@ -83,7 +85,17 @@ SIZE_VIEWS = ("hall", "hall_floor60", "crosscheck")
 GOAL_DB = 40.0
 
 
-def sizes_table(r, sizes: list[tuple[int, int]], repeats: int) -> None:
+def timed(bench, r, scene, settings, params) -> dict[str, list[float]]:
+    """Every pass's GPU ms over the protocol's rounds (2 warm-ups), the frame's and the tracing
+    and fallback passes' recorded."""
+    t = bench.frames(r, scene, {"x": settings})["x"]
+    trace = [sum(t[p][i] for p in TRACE_PASSES if p in t) for i in range(len(t["total"]))]
+    bench.record(params, "frame", "ms", t["total"])
+    bench.record(params, "trace", "ms", trace)
+    return {**t, "trace": trace}
+
+
+def sizes_table(r, sizes: list[tuple[int, int]], repeats: int, bench) -> None:
     """The hybrid's floor accuracy at every size against both named references, and each frame's time."""
     print(f"floor pixels' reflection PSNR (dB) against two converged references: 'frame's shadows' "
           f"(shadows='map') and 'physical' (shadows='traced'), both viewed from the ray; default settings "
@@ -106,7 +118,10 @@ def sizes_table(r, sizes: list[tuple[int, int]], repeats: int) -> None:
                 st = base.replace(**kw)
                 g = r.render(scene, settings=st)
                 scores = {k: psnr(g.reflection, t, mask=floor) for k, t in refs.items()}
-                times[label] = t = frame_ms(r, scene, st, repeats)
+                params = dict(view=name, width=w, height=h, method=label)
+                for k, v in scores.items():
+                    bench.record({**params, "reference": k}, "floor_psnr", "dB", [v], better="higher")
+                times[label] = t = median_range(timed(bench, r, scene, st, params)["total"])
                 default = label.replace(", bvh_shadows='map'", "")
                 share = f"{t[0] / times[default][0]:>12.2f}" if default != label else ""
                 print("  {:<40}".format(label) + "".join(f"{v:>20.2f}" for v in scores.values())
@@ -128,9 +143,10 @@ def main() -> None:
     ap.add_argument("--reference-rays", type=int, default=64, help="converged reference rays per glossy pixel")
     args = ap.parse_args()
     r = open_renderer(args)
+    bench = Bench("hybrid", args, r)
     if args.sizes:
         sizes = [tuple(int(x) for x in s.lower().split("x")) for s in args.sizes.split(",")]
-        sizes_table(r, sizes, args.repeats)
+        sizes_table(r, sizes, args.repeats, bench)
         return
     print(f"{args.width}x{args.height}, median of {args.repeats} renders after 2 warm-up renders\n")
     for name in args.scenes:
@@ -168,8 +184,14 @@ def main() -> None:
             s = g.fallback_stats
             wrong = wrong_hits(g, g.reference("per_ray"), tolerance_px=2.0) \
                 if st.method != "bvh" else None
-            t = median_timings(r, sc, st, repeats=args.repeats)
-            trace_ms = sum(t.get(p, 0.0) for p in TRACE_PASSES)
+            params = dict(view=name, width=args.width, height=args.height, method=label)
+            for k, m in masks.items():
+                bench.record({**params, "pixels": k}, "psnr", "dB", [psnr(refl, truth, mask=m)], better="higher")
+            bench.record(params, "thesis_error", "", [thesis_error(refl, truth, masks["reflective"])])
+            if wrong:
+                bench.record(params, "wrong_hits", "share", [wrong["wrong_share"]])
+            t = {k: float(np.median(v)) for k, v in timed(bench, r, sc, st, params).items()}
+            trace_ms = t["trace"]
             row = "  {:<34}".format(label) + "".join(f"{psnr(refl, truth, mask=m):>14.2f} dB" for m in masks.values())
             row += f"{thesis_error(refl, truth, masks['reflective']):>9.4f}"
             row += f"{s['screen']:>8.2f}{s['probes']:>6.2f}{s['bvh']:>6.2f}{s['environment']:>6.2f}{s['rejected']:>6.2f}"
