@@ -26,6 +26,8 @@ The ratios the issue asks for (skip on: 10 % reflective <= 20 % of 100 %, 0 % <=
 are printed after each sweep, for the trace alone and for trace + resolve.
 
     python benchmarks/skip.py --sections shares peel adaptive
+
+Every timed figure is a record (ssrlab.lab.records) with its samples.
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ import ssrlab
 from ssrlab.scene import Camera, Environment, Material, Scene, directional_light
 from ssrlab.scenes import GALLERY_ROUGHNESS, gallery
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 
 STRIPS = 100
 
@@ -80,12 +83,19 @@ def strip_floor(share: float, roughness, boxes: bool = True, reflective=None) ->
     return s
 
 
-def timed(renderer, scene, settings, keys, repeats):
-    for _ in range(2):
-        renderer.render(scene, settings=settings)
-    frames = [renderer.render(scene, settings=settings) for _ in range(repeats)]
-    totals = [sum(f.timings.get(k, 0.0) for k in keys) for f in frames]
-    return statistics.median(totals), min(totals), max(totals), frames[-1]
+BENCH = None  # the run's Bench (ssrlab.lab.protocol), made by main()
+
+
+def timed(renderer, scene, settings, keys, repeats, params=None):
+    """(median, min, max, last frame) of the summed GPU ms of `keys` over the protocol's rounds
+    after 2 warm-ups; recorded as a figure of `params` (the scene, settings and keys)."""
+    last = {}
+    t = BENCH.frames(renderer, scene, {"x": settings}, repeats=repeats, keep=lambda _, f: last.update(f=f))["x"]
+    totals = [sum(t[k][i] for k in keys if k in t) for i in range(len(t["total"]))]
+    BENCH.record({**(params or {"scene": scene.name}), "method": settings.method, "skip": settings.skip,
+                  "layers": settings.layers, "rays_per_pixel": settings.rays_per_pixel, "width": settings.width,
+                  "height": settings.height}, "+".join(keys), "ms", totals)
+    return statistics.median(totals), min(totals), max(totals), last["f"]
 
 
 # Trace keys: the first trace, classify before it, and the variance-guided second pass.
@@ -133,7 +143,8 @@ def shares_section(r, args):
                 for keys in (trace, trace + ("resolve",)):
                     for skip in (True, False):
                         s = ssrlab.Settings(width=args.width, height=args.height, method=method, skip=skip, **kw)
-                        cols.append(timed(r, scene, s, keys, args.repeats))
+                        cols.append(timed(r, scene, s, keys, args.repeats,
+                                          dict(section="shares", share=share, surface=label)))
                 medians[share] = [c[0] for c in cols]
                 f = cols[0][3]
                 px = float((f.gbuffer.reflectivity[0] > 0).mean())  # the measured reflective share of the screen
@@ -158,7 +169,7 @@ def peel_section(r, args):
     for layers, skip in ((2, True), (16, True), (16, False)):
         s = ssrlab.Settings(width=args.width, height=args.height, layers=layers, method="hiz", sampling="mirror",
                             rays_per_pixel=1, skip=skip)
-        cols = [timed(r, scene, s, (k,), args.repeats) for k in keys]
+        cols = [timed(r, scene, s, (k,), args.repeats, dict(section="peel", layers_allowed=layers)) for k in keys]
         f = cols[0][3]
         print(f"  {layers:>14} {str(skip):>5} {f.stats['layers_used']:>11} " +
               " ".join(fmt(m, lo, hi) for m, lo, hi, _ in cols))
@@ -276,6 +287,11 @@ def adaptive_scene(r, args, wall, roughness):
             mt, mtr = statistics.median(times[label][0]), statistics.median(times[label][1])
             mse = max(statistics.mean(x * x for x in e) - truth_mse, 0.0)
             summary[label] = (count, times[label], e)
+            params = dict(section="adaptive", wall=wall, roughness=list(roughness), method=method,
+                          reuse_radius=reuse, rays=label, width=args.width, height=args.height)
+            BENCH.record(params, "+".join(trace), "ms", times[label][0])
+            BENCH.record(params, "+".join(trace + ("resolve",)), "ms", times[label][1])
+            BENCH.record(params, "rmse", "", e)
             print(f"  {label:>26} {rays[label]:>11} {statistics.mean(e):>8.5f} ({min(e):.5f}-{max(e):.5f}) "
                   f"{fmt(mt, min(times[label][0]), max(times[label][0])):>22} "
                   f"{fmt(mtr, min(times[label][1]), max(times[label][1])):>22} {1e3 * mse * mtr:>9.4f} "
@@ -391,6 +407,8 @@ def main() -> None:
     ap.add_argument("--adaptive-methods", nargs="+", default=["bvh", "hiz"], choices=("bvh", "hiz", "linear"))
     args = ap.parse_args()
     r = open_renderer(args)
+    global BENCH
+    BENCH = Bench("skip", args, r)
 
     def sized(width, height):
         return argparse.Namespace(**{**vars(args), "width": args.width or width, "height": args.height or height})
