@@ -320,8 +320,9 @@ def figure_verdict(old: dict, new: dict, band: float = SAME_BAND) -> tuple[str, 
     Where the whole interval lies within the band [1 - band, 1 + band] (2 %): "same". Where it
     lies wholly above 1 + band: "slower" for a time (a lower-is-better figure: "worse"), wholly
     below 1 - band: "faster" ("better"); for a higher-is-better figure the other way round.
-    Otherwise, or with fewer than 3 samples a side: "undecided" - except that figures of one
-    sample each (a deterministic count or error) are judged by their ratio alone against the band.
+    Otherwise, or with fewer than 3 samples a side: "undecided" - except that identical samples
+    are "same", and figures of one sample each (a deterministic count or error) are judged by
+    their ratio alone against the band.
     """
     a = np.asarray(old["samples"], np.float64)
     b = np.asarray(new["samples"], np.float64)
@@ -329,6 +330,8 @@ def figure_verdict(old: dict, new: dict, band: float = SAME_BAND) -> tuple[str, 
     if a.size == 0 or b.size == 0:
         return "undecided", float("nan"), float("nan"), float("nan")
     ma, mb = float(np.median(a)), float(np.median(b))
+    if a.size == b.size and np.array_equal(np.sort(a), np.sort(b)):
+        return "same", 1.0, 1.0, 1.0  # the very same samples (a run against itself)
     if ma == mb:
         ratio = 1.0
     elif ma == 0:
