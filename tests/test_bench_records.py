@@ -87,7 +87,8 @@ def test_verdict_rule():
     noisy = {"samples": [5.0, 15.0, 9.0, 12.0, 7.0], "unit": "ms"}
     assert records.figure_verdict(old, noisy)[0] == "undecided"
     two = {"samples": [10.0, 11.0], "unit": "ms"}
-    assert records.figure_verdict(two, two)[0] == "undecided"  # too few samples to tell
+    assert records.figure_verdict(two, two)[0] == "same"  # the very same samples
+    assert records.figure_verdict(two, {**two, "samples": [10.0, 11.5]})[0] == "undecided"  # too few to tell
     psnr = {"samples": [40.0], "unit": "dB", "better": "higher"}
     assert records.figure_verdict(psnr, {**psnr, "samples": [44.0]})[0] == "better"
 
