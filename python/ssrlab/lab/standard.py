@@ -55,7 +55,7 @@ def load_scene(name: str):
     import ssrlab
 
     if name == "crosscheck":
-        from ..crosscheck import crosscheck_scene
+        from ..truth.crosscheck import crosscheck_scene
 
         return crosscheck_scene(0.2)  # its glossy floor: every technique has something to resolve
     if name == "2CylinderEngine on glossy stage":
