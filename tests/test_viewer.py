@@ -175,15 +175,15 @@ def test_every_view_of_the_frame_and_the_inspector(chromium, renderer):
 
 
 def test_error_figures_are_image_metrics_of_the_frame_and_reference(chromium, renderer):
-    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1)
+    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1,
+                    reference_rays=(2, 8))
     try:
         page = open_page(chromium, v.url)
         shown, _ = wait_shown(page, v, condition=rests)
         page.get_by_label("reference", exact=True).check()
-        from ssrlab.viewer.server import REFERENCE_ROUNDS
 
         deadline = time.time() + 240
-        while (not v.metrics or v.metrics["rays"] < REFERENCE_ROUNDS[-1]) and time.time() < deadline:
+        while (not v.metrics or v.metrics["rays"] < v.reference_rays[-1]) and time.time() < deadline:
             time.sleep(0.1)
         got = dict(v.metrics)
         ref = shown.frame.reference("converged", rays=got["rays"])
@@ -389,9 +389,8 @@ def test_the_readme_screenshot(chromium, renderer, tmp_path):
 
 
 def test_a_against_b_each_with_its_time_and_error_against_one_reference(chromium, renderer):
-    from ssrlab.viewer.server import REFERENCE_ROUNDS
-
-    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1)
+    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1,
+                    reference_rays=(2, 8))
     try:
         page = open_page(chromium, v.url)
         wait_shown(page, v, condition=rests)
@@ -405,7 +404,7 @@ def test_a_against_b_each_with_its_time_and_error_against_one_reference(chromium
         assert np.array_equal(pixels[:, : x - 1], a[:, : x - 1]) and np.array_equal(pixels[:, x:], b[:, x:])
         page.get_by_label("reference", exact=True).check()
         deadline = time.time() + 240
-        while (not v.metrics_b or v.metrics_b["rays"] < REFERENCE_ROUNDS[-1]) and time.time() < deadline:
+        while (not v.metrics_b or v.metrics_b["rays"] < v.reference_rays[-1]) and time.time() < deadline:
             time.sleep(0.1)
         got_a, got_b = dict(v.metrics), dict(v.metrics_b)
         ref = shown.frame.reference("converged", rays=got_b["rays"])

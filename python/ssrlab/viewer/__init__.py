@@ -17,7 +17,7 @@ __all__ = ["Viewer", "Shown", "view"]
 
 def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: int | None = None,
          lossless: bool = False, accumulate: int = 8, out="renders/view", device: str = "auto",
-         watch_shaders: bool = True, verbose: bool = False) -> Viewer:
+         watch_shaders: bool = True, reference_rays=(4, 16, 64), verbose: bool = False) -> Viewer:
     """Opens a live view of `scene` and returns at once with its handle (ssrlab.viewer.Viewer): its
     ``url``, ``settings``, ``camera`` and ``frame`` readable and settable while the page is open,
     ``close()``. In Jupyter the handle shows the page inline.
@@ -29,7 +29,8 @@ def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: 
     lossless: PNG frames instead of JPEG (what the tests compare pixel for pixel); accumulate: frames
     of new seeds averaged while the camera rests; out: the folder 'save frame' and 'record camera
     path' write into (never replacing a file); watch_shaders: re-render when a user pass's shader
-    (or, in a source checkout, any of ssrlab's) changes on disk."""
+    (or, in a source checkout, any of ssrlab's) changes on disk; reference_rays: the converged
+    reference's rays per reflective pixel in each round while the camera rests (with 'reference' on)."""
     from .. import scenes
     from ..scene import Scene
 
@@ -41,4 +42,5 @@ def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: 
     elif isinstance(scene, Scene) and scene.name in scenes.SCENES:
         source = f"ssrlab.scenes.load({scene.name!r})"
     return Viewer(scene, settings, renderer, host=host, port=port, scene_source=source, lossless=lossless,
-                  accumulate=accumulate, out=out, device=device, watch_shaders=watch_shaders, verbose=verbose)
+                  accumulate=accumulate, out=out, device=device, watch_shaders=watch_shaders,
+                  reference_rays=reference_rays, verbose=verbose)

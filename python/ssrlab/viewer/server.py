@@ -95,7 +95,8 @@ class Viewer:
     def __init__(self, scene, settings: Settings | None = None, renderer: Renderer | None = None, *,
                  host: str = "127.0.0.1", port: int | None = None, scene_source: str | None = None,
                  lossless: bool = False, jpeg_quality: int = 90, accumulate: int = 8, out: str | Path = "renders/view",
-                 device: str = "auto", watch_shaders: bool = True, verbose: bool = False):
+                 device: str = "auto", watch_shaders: bool = True, reference_rays=REFERENCE_ROUNDS,
+                 verbose: bool = False):
         import viser
 
         if settings is None:
@@ -104,6 +105,11 @@ class Viewer:
             raise TypeError(f"ssrlab.view: settings must be an ssrlab.Settings, got {type(settings).__name__}")
         if isinstance(accumulate, bool) or not isinstance(accumulate, int) or not 1 <= accumulate <= 1024:
             raise ValueError(f"ssrlab.view: accumulate must be an int in [1, 1024], got {accumulate!r}")
+        rounds = tuple(reference_rays)
+        if not rounds or any(isinstance(r, bool) or not isinstance(r, int) or r < 1 for r in rounds):
+            raise ValueError(f"ssrlab.view: reference_rays must be rays per pixel >= 1 of each round, got "
+                             f"{reference_rays!r}")
+        self.reference_rays = rounds
         if not 1 <= int(jpeg_quality) <= 100:
             raise ValueError(f"ssrlab.view: jpeg_quality must be in [1, 100], got {jpeg_quality!r}")
         if scene.camera is None:
@@ -567,7 +573,7 @@ class Viewer:
                 continue
             if not self._compare and page.accum_count < self.accumulate and _stochastic(self._settings):
                 return page.client.client_id, "accumulate"
-            if self._reference_on and page.reference_round < len(REFERENCE_ROUNDS):
+            if self._reference_on and page.reference_round < len(self.reference_rays):
                 return page.client.client_id, "reference"
         return None
 
@@ -677,7 +683,7 @@ class Viewer:
         from ..truth.metrics import image_metrics
 
         shown = page.shown
-        rays = REFERENCE_ROUNDS[page.reference_round]
+        rays = self.reference_rays[page.reference_round]
 
         def go_on(done: int, total: int) -> bool:  # a page's new request stops the round between its sample rounds
             return not self._closed and not any(p.dirty for p in self._pages.values())
