@@ -5,7 +5,8 @@
 //   inputs : linear_depth, gbuffer.normal, gbuffer.material, gbuffer.motion (+ the previous
 //            frame's depth, normal and material, every layer, from the sequence's history)
 //   outputs: reprojection (RGBA32F: previous window position in pixels, valid, reason)
-// In the chain when a temporal technique is on (Settings.temporal_reflections).
+// In the chain whenever anything reprojects (reprojects() in render/render_pass.h): temporal
+// reflections, clamped TAA, bounces through history, temporal ray reuse, or SVGF's temporal pass.
 #pragma once
 
 #include "render/render_pass.h"

@@ -691,8 +691,9 @@ class FrameStats(Mapping):
             return repr(self._counts)[:-1] + ", (rays_traced, depth_fetches: not read before the release)}"
 
 
-# Counts the trace passes keep no counter for (their atomics were 4-13 % of the Hi-Z
-# trace on llvmpipe): Frame.stats sums them from the rays the trace wrote, when first read.
+# Counts the trace passes keep no counter for (an atomic per ray, which llvmpipe runs lane by
+# lane, is a visible share of the Hi-Z trace there): Frame.stats sums them from the rays the
+# trace wrote, when first read.
 TRACE_SUMS = ("rays_traced", "depth_fetches")
 
 

@@ -61,8 +61,8 @@ int rays_for_roughness(float roughness) {
 #endif
 }
 
-// A pass may compile its sampling method in (the trace passes do:); the value must be
-// the settings block's.
+// A pass may compile its sampling method in (the trace passes do, so that the sampler's branch
+// on the method folds away); the value must be the settings block's.
 #ifndef RAY_SAMPLING
 #define RAY_SAMPLING ssr.sampling
 #endif

@@ -1,7 +1,8 @@
 // What a resolve needs of one ray (seed 000, 2.4): the radiance it brings and its weight, and
 // where it went (its hit point, or its direction if it missed) with the pdf it was drawn with,
 // shared by the resolve's tile fill (passes/resolve.comp, shared memory) and by resolve_fetch
-// (passes/resolve_fetch.comp, the same data into textures where shared memory is slow:).
+// (passes/resolve_fetch.comp, the same data into textures where shared memory is the slower
+// path, as on llvmpipe).
 // Declares the inputs both bind alike (passes/resolve.cpp, bind_ray_inputs); needs
 // frame_uniforms, depth_convention, ssr_settings, gbuffer, environment and input_fetch.
 

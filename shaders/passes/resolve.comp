@@ -11,9 +11,10 @@
 // at 1/2 or 1/4 resolution (thesis 2.6). As in the thesis, a work group first fetches every
 // ray its pixels can reuse into shared memory once, then every pixel sums from there; the
 // group is 16x16 pixels with an apron of `reuse_radius` trace pixels (the thesis used 32x32
-// groups whose edge pixels only fetch). Where the passes read by imageLoad (llvmpipe, whose
-// shared-memory loads are slow:) resolve_fetch.comp fetches every ray once into
-// textures instead, and the pixels sum from those (RESOLVE_SHARED_TILE 0): the same sums.
+// groups whose edge pixels only fetch). Where the passes read by imageLoad (llvmpipe, where a
+// shared-memory load costs more than the image load it would save), resolve_fetch.comp fetches
+// every ray once into textures instead, and the pixels sum from those (RESOLVE_SHARED_TILE 0):
+// the same sums.
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/depth_convention.glsl"
 #include "../lib/ssr_settings.glsl"
