@@ -57,6 +57,21 @@ def test_code_comments_say_why_not_which_issue():
     assert not offenders, "\n".join(offenders[:20])
 
 
+def test_code_comments_keep_no_cut_out_figure():
+    """A figure cut out of a comment leaves a stub: "slow:)" where "slow (3 ms against 1 ms):"
+    stood, or empty parentheses. A comment says why in words, or names the command that prints the
+    figure."""
+    stubs = re.compile(r"(//|#).*?(\w:\)|\s\(\s*\)|\(\s*%\s*\)|\bwas\s+\d+(\.\d+)?\s*-\s*\d+\s*%)")
+    offenders = []
+    for root in CODE_ROOTS:
+        for p in (REPO / root).rglob("*"):
+            if p.suffix in (".cpp", ".h", ".glsl", ".comp", ".vert", ".frag", ".py") and p.is_file():
+                for i, line in enumerate(p.read_text().splitlines(), 1):
+                    if stubs.search(line):
+                        offenders.append(f"{p.relative_to(REPO)}:{i}: {line.strip()}")
+    assert not offenders, "\n".join(offenders[:20])
+
+
 def test_docs_figures_link_a_recorded_benchmark_run():
     """A page that discusses a benchmark's figures links its section of a results page, which
     gen_pages.py makes from a committed run_all.json: the run must be there, have succeeded and

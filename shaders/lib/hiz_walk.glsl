@@ -250,8 +250,8 @@ void walk_step(inout HizWalk w) {
     int layer = cell_overlap(cell, w.level, min(sa, sb), max(sa, sb), w.front, w.fetches, stop, ahead);
     bool hit = layer >= 0 && w.level <= g_stop_level;
     // Nothing for this ray in the cell: cross it and go up (after the linear steps, the level
-    // stays 0 while they last); else go down. Selects, no branches (llvmpipe runs every
-    // if-block, taken or not, even on a uniform condition:).
+    // stays 0 while they last); else go down. Selects, no branches: llvmpipe runs every
+    // if-block, taken or not, even on a uniform condition.
     bool miss = layer < 0;
 #if STOP_UNSEEN
     walk_sight(w, cell, min(sa, sb), max(sa, sb), t_out, stop, ahead, layer);

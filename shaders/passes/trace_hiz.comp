@@ -37,7 +37,7 @@ void main() {
     // Frame.stats of the variance-guided second trace (extra_rays, extra_depth_fetches): one
     // counter update for both rays. The first trace counts nothing: Frame.stats sums its rays
     // and fetches from rays.sample when asked (the atomic pair, which llvmpipe runs lane by
-    // lane, was 4-13 % of this pass:).
+    // lane, was a visible share of this pass there).
     bool c0 = keep0 && ray0.weight > 0.0, c1 = keep1 && ray1.weight > 0.0;
     ray_list_add(uint(c0) + uint(c1), (c0 ? uint(walk_fetches(w0)) : 0u) + (c1 ? uint(walk_fetches(w1)) : 0u));
 #endif
