@@ -296,7 +296,7 @@ def test_viewer_refuses_bad_arguments():
 
 
 def test_view_command_serves_the_page(chromium, tmp_path):
-    proc = subprocess.Popen([sys.executable, "-m", "ssrlab", "--device", "cpu", "view", "hall", "--lossless",
+    proc = subprocess.Popen([sys.executable, "-m", "ssrlab", "view", "hall", "--device", "cpu", "--lossless",
                              "--set", "method=\"linear\"", "--out", str(tmp_path)],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:

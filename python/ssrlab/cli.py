@@ -514,7 +514,7 @@ def cmd_view(args) -> int:
 
     settings = _settings_from_args(args)
     viewer = view(args.scene, settings, host=args.host, port=args.port, lossless=args.lossless, out=args.out,
-                  device=args.device, accumulate=args.accumulate)
+                  device=args.view_device or args.device, accumulate=args.accumulate)
     print(f"ssrlab view: {viewer.url}  (scene {viewer.scene.name!r} on {viewer.renderer.info['renderer']})")
     if args.host in ("127.0.0.1", "localhost", "::1"):
         print(f"  from another machine: ssh -N -L {viewer.port}:127.0.0.1:{viewer.port} THIS_HOST, then open "
@@ -601,6 +601,8 @@ def main(argv=None) -> int:
                    help="address to serve on (default: %(default)s, this machine only; 0.0.0.0 serves every "
                         "network the machine is on)")
     v.add_argument("--port", type=int, help="port (default: a free one)")
+    v.add_argument("--device", dest="view_device", type=_device_arg, metavar="{auto,gpu,gpu:N,cpu}",
+                   help="EGL device (as `ssrlab --device`)")
     v.add_argument("--lossless", action="store_true", help="send frames as PNG instead of JPEG")
     v.add_argument("--accumulate", type=int, default=8, metavar="N",
                    help="frames of new seeds averaged while the camera rests (default: %(default)s)")
