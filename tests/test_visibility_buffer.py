@@ -287,22 +287,39 @@ def test_triangle_records_where_the_samples_outnumber_the_triangles(renderer, co
 
 
 @pytest.mark.parametrize("scene_name", ["hall", "spheres_and_boxes"])
-def test_reflections_within_60_db_of_peelings(renderer, scene_name):
+def test_reflections_follow_peelings_within_the_albedo_tolerance(renderer, scene_name):
     """Downstream of the layers the whole frame follows: the reflection (Hi-Z, 4 layers, glossy
-    rays) of each visibility construction against peeling's, PSNR on the reflective pixels."""
+    rays) of each visibility construction against peeling's, on the reflective pixels. The hits are
+    the same rays' (the depths are bit for bit); what a reflection fetches may differ only as the
+    albedo's tolerance lets it (docs/deep_gbuffer.md: one step of its 8-bit sRGB code): llvmpipe's
+    raster encodes some albedos one code below the correctly rounded one that the compute pass
+    stores (hall's stone, 0.72 -> 220.59: the raster writes 220), so on a scene of such albedos
+    most samples differ by that step. Each pixel's reflection is held to the largest relative
+    change one code step makes to an albedo the frame holds (the lit colour scales with it), and the
+    whole reflection to 50 dB."""
     scene = ssrlab.scenes.load(scene_name)
     kw = dict(width=96, height=64, layers=4, method="hiz", rays_per_pixel=2, shadow_map_size=256)
     peel = renderer.render(scene, settings=small(deep_gbuffer="peel", **kw))
     ref = peel.reflection
     mask = peel.gbuffer.reflectivity[0] > 0
     assert mask.sum() > 100
+    albedo = peel.gbuffer.albedo[peel.gbuffer.coverage]
+    lit = albedo[albedo > 0.04]  # codes above the sRGB curve's linear toe, where a step is relative
+    code = srgb_codes(lit)
+    decode = lambda c: ((np.clip(c, 0, 255) / 255 + 0.055) / 1.055) ** 2.4  # noqa: E731
+    step = float(((decode(code + 1) - decode(code)) / decode(code)).max())
     for construction in CONSTRUCTIONS:
         vis = renderer.render(scene, settings=small(deep_gbuffer=construction, **kw))
         assert vis.passes[1:3] == ["visibility_buffer", "gbuffer_attributes"]
-        err = np.mean((vis.reflection[mask] - ref[mask]) ** 2)
-        peak = max(float(ref[mask].max()), 1e-6)
+        assert np.array_equal(vis.rays.hit_layer, peel.rays.hit_layer), f"{scene_name} {construction}"
+        a, b = vis.reflection[mask], ref[mask]
+        rel = np.abs(a - b) / np.maximum(b, 1e-3)
+        assert float(rel.max()) <= 1.5 * step, (f"{scene_name} {construction}: a reflection {rel.max():.4f} "
+                                                 f"from peeling's, beyond one albedo code step ({step:.4f})")
+        err = np.mean((a - b) ** 2)
+        peak = max(float(b.max()), 1e-6)
         psnr = float("inf") if err == 0 else 10 * np.log10(peak ** 2 / err)
-        assert psnr >= 60.0, f"{scene_name} {construction}: reflection {psnr:.1f} dB against peeling's"
+        assert psnr >= 50.0, f"{scene_name} {construction}: reflection {psnr:.1f} dB against peeling's"
 
 
 def test_the_lists_store_grows_and_falls_back_without_truncating(renderer):
