@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "python" / "ssrlab"
 RANK = {"library": 0, "truth": 1, "lab": 2, "door": 3}
 # The one import against the direction: Frame.reference() runs the reference tracer of the native
 # renderer on the frame's own resources and returns the truth's result types (imported when called).
-UPWARD = {("renderer", "truth.reference")}
+UPWARD = {("frame", "truth.reference")}
 
 
 def module_names() -> dict[str, Path]:
