@@ -289,6 +289,33 @@ class Frame:
             raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
         return RayResults(self)
 
+    # Where a ray's reflection came from: Frame.ray_sources' codes.
+    RAY_SOURCES = ("none", "screen", "bvh", "probes", "environment")
+
+    def ray_sources(self) -> np.ndarray:
+        """(rays, h, w) int8: where each ray's reflection came from, an index into RAY_SOURCES:
+        0 no ray (or, with fallback 'none', a ray nothing resolved), 1 a screen-space hit at full
+        strength, 2 the BVH's hit, 3 a reflection probe's surface, 4 the environment."""
+        self._check_live("the ray sources")
+        if "rays.hit" not in self.texture_names:
+            raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
+        smp = self.read("rays.sample")
+        hit = self.read("rays.hit")
+        traced = (smp[..., 3] > 0.5) & (smp[..., 0] > 0.0)
+        screen = traced & (hit[..., 2] > 0.5) & (hit[..., 3] >= 1.0)
+        unresolved = traced & ~screen
+        if "rays.radiance" in self.texture_names:
+            found = unresolved & (self.read("rays.radiance")[..., 3] >= 0.0)
+        else:
+            found = np.zeros_like(traced)
+        probes = self.settings.method != "bvh" and self.settings.fallback == "probes"
+        none = self.settings.method != "bvh" and self.settings.fallback == "none"
+        codes = np.zeros(traced.shape, np.int8)
+        codes[screen] = 1
+        codes[found] = 3 if probes else 2
+        codes[unresolved & ~found] = 0 if none else 4
+        return codes
+
     @property
     def fallback_stats(self) -> dict:
         """Where this frame's rays were resolved, as shares of the rays traced:
@@ -299,30 +326,19 @@ class Frame:
         'rays' is the count of rays traced. Shares sum to 1 (all 0 when no ray was traced).
         'rejected' (a part of 'bvh'/'probes' + 'environment'): rays fallback_confidence sent to the
         fallback: rays the tracer handed over where they left the G-buffer's sight, and hits that
-        failed the confidence test."""
-        self._check_live("the fallback statistics")
-        if "rays.hit" not in self.texture_names:
-            raise ValueError("this frame traced no rays (method='off', or no surface has reflectivity > 0)")
+        failed the confidence test. Per ray: ray_sources()."""
+        codes = self.ray_sources()
         smp = self.read("rays.sample")
         hit = self.read("rays.hit")
         traced = (smp[..., 3] > 0.5) & (smp[..., 0] > 0.0)
-        screen = traced & (hit[..., 2] > 0.5) & (hit[..., 3] >= 1.0)
-        unresolved = traced & ~screen
-        if "rays.radiance" in self.texture_names:
-            dist = self.read("rays.radiance")[..., 3]
-            found = unresolved & (dist >= 0.0)
-        else:
-            found = np.zeros_like(traced)
-        probes = self.settings.method != "bvh" and self.settings.fallback == "probes"
-        bvh, by_probe = (np.zeros_like(found), found) if probes else (found, np.zeros_like(found))
-        rest = unresolved & ~found
         n = int(traced.sum())
         share = (lambda m: float(m.sum()) / n) if n else (lambda m: 0.0)
         none = self.settings.method != "bvh" and self.settings.fallback == "none"
         rejected = traced & (hit[..., 2] < 0.5) & (hit[..., 3] < 0.0)
-        return {"rays": n, "screen": share(screen), "bvh": share(bvh), "probes": share(by_probe),
-                "rejected": share(rejected), "environment": 0.0 if none else share(rest),
-                "none": share(rest) if none else 0.0}
+        out = {"rays": n, **{k: share(traced & (codes == i)) for i, k in enumerate(self.RAY_SOURCES) if i}}
+        out["none"] = share(traced & (codes == 0)) if none else 0.0
+        out["rejected"] = share(rejected)
+        return {k: out[k] for k in ("rays", "screen", "bvh", "probes", "rejected", "environment", "none")}
 
     def reference(self, kind: str = "converged", *, rays: int | None = None, seed: int = 0,
                   sampling: str = "vndf", viewer: str = "ray", shadows: str = "traced", tracer: str = "auto",

@@ -22,7 +22,7 @@ RAY_VIEWS = ("hit_layer", "hits", "steps", "source")
 # Where each ray's reflection came from (Frame.fallback_stats, per ray): colours of the source view.
 SOURCE_COLOURS = {"none": (0.0, 0.0, 0.0), "screen": (0.15, 0.75, 0.25), "bvh": (0.2, 0.45, 0.95),
                   "probes": (0.95, 0.6, 0.1), "environment": (0.55, 0.55, 0.55)}
-SOURCE_CODES = ("none", "screen", "bvh", "probes", "environment")
+SOURCE_CODES = ("none", "screen", "bvh", "probes", "environment")  # Frame.RAY_SOURCES
 
 
 def names(frame) -> list[str]:
@@ -48,25 +48,9 @@ def _at_size(rgb: np.ndarray, height: int, width: int) -> np.ndarray:
 
 
 def source_codes(frame) -> np.ndarray:
-    """(rays, h, w) int8 index into SOURCE_CODES of where each ray's reflection came from, by the same
-    tests as Frame.fallback_stats."""
-    smp = frame.read("rays.sample")
-    hit = frame.read("rays.hit")
-    traced = (smp[..., 3] > 0.5) & (smp[..., 0] > 0.0)
-    screen = traced & (hit[..., 2] > 0.5) & (hit[..., 3] >= 1.0)
-    unresolved = traced & ~screen
-    if "rays.radiance" in frame.texture_names:
-        found = unresolved & (frame.read("rays.radiance")[..., 3] >= 0.0)
-    else:
-        found = np.zeros_like(traced)
-    probes = frame.settings.method != "bvh" and frame.settings.fallback == "probes"
-    codes = np.zeros(traced.shape, np.int8)
-    codes[screen] = 1
-    codes[found] = 3 if probes else 2
-    rest = unresolved & ~found
-    if not (frame.settings.method != "bvh" and frame.settings.fallback == "none"):
-        codes[rest] = 4
-    return codes
+    """(rays, h, w) int8 index into SOURCE_CODES of where each ray's reflection came from
+    (Frame.ray_sources)."""
+    return frame.ray_sources()
 
 
 def error_image(color: np.ndarray, reference: np.ndarray) -> tuple[np.ndarray, float]:
