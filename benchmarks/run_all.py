@@ -44,6 +44,8 @@ BENCHMARKS = {
     "temporal": ([], ["--width", "96", "--height", "64", "--frames", "4"]),
     "skip": ([], ["--width", "160", "--height", "90", "--repeats", "2", "--reference-rays", "32", "--error-seeds", "1"]),
     "hybrid": (["--sizes", "320x180,640x360"], ["--sizes", "96x54", "--repeats", "2"]),
+    "hybrid_confidence": (["--baseline", "e417b81"], ["--baseline", "e417b81", "--sizes", "96x54",
+                                                      "--timing-sizes", "96x54", "--repeats", "2"]),
     "svgf": ([], ["--width", "96", "--height", "64", "--frames", "4", "--repeats", "1"]),
     "depth_precision": ([], ["--width", "96", "--height", "64"]),
     "memory": ([], ["--renders", "50"]),

@@ -160,12 +160,39 @@ def test_kept_screen_hits_are_the_object_the_ray_meets(renderer, view):
     assert np.count_nonzero(objects_g != truth_g.object[kept_g]) > 0
 
 
-@pytest.mark.parametrize("size", [(160, 90), (320, 180)])
-def test_hybrid_is_physical_on_the_cross_check_mirror_floor(renderer, size):
-    # Default settings (traced shadows in the BVH passes): SSR + the BVH fallback against the
-    # converged physical reference on the floor's pixels, where screen space alone is far off.
+HYBRID_SCENES = dict(HYBRID_VIEWS, box_stack=lambda: ssrlab.scenes.box_stack())
+# Every scene x size x tracer x layer count up to 640x360; at 1280x720 one configuration per scene
+# (Hi-Z, one layer: the default tracer of the cross-check's frames), the rest of that size in
+# benchmarks/hybrid_confidence.py, which prints the counts of the whole grid.
+CONFIDENCE_GRID = [(v, size, method, layers) for v in sorted(HYBRID_SCENES)
+                   for size in ((160, 90), (320, 180), (640, 360)) for method in ("hiz", "linear") for layers in (1, 3)]
+CONFIDENCE_GRID += [(v, (1280, 720), "hiz", 1) for v in sorted(HYBRID_SCENES)]
+
+
+@pytest.mark.parametrize("view, size, method, layers", CONFIDENCE_GRID,
+                         ids=[f"{v}-{w}x{h}-{m}-L{n}" for v, (w, h), m, n in CONFIDENCE_GRID])
+def test_no_kept_screen_hit_lies_on_another_object(renderer, view, size, method, layers):
+    # The confidence test keeps a screen hit only where it is the surface the ray meets, at every
+    # size, with either tracer and with deep layers: the Hi-Z walk sees the edges a skipped cell
+    # hides (its sight map), both tracers march the ray the BVH retraces (no origin_bias), and a
+    # hit the ray grazes over (a sphere's top falling away behind its face's plane) is retraced.
+    from ssrlab.lab import hybrid
+
+    st = ssrlab.Settings(width=size[0], height=size[1], method=method, layers=layers, fallback="bvh")
+    out = hybrid.wrong_object_hits(renderer, HYBRID_SCENES[view](), st, against_bvh=False)
+    assert out["wrong"] == 0, out["wrong"]
+    visible = (out["frame"].rays.weight > 0) & (out["truth"].in_gbuffer >= 0)
+    assert out["kept"] > 0.45 * visible.sum()  # screen space still keeps most of what it can see
+
+
+@pytest.mark.parametrize("size, method", [((160, 90), "linear"), ((320, 180), "linear"), ((320, 180), "hiz"),
+                                          ((640, 360), "linear"), ((640, 360), "hiz")])
+def test_hybrid_is_physical_on_the_cross_check_mirror_floor(renderer, size, method):
+    # Default settings (traced shadows in the BVH passes) but the tracer: SSR + the BVH fallback
+    # against the converged physical reference on the floor's pixels, where screen space alone is
+    # far off.
     scene = crosscheck_scene(0.0)
-    st = ssrlab.Settings(width=size[0], height=size[1])
+    st = ssrlab.Settings(width=size[0], height=size[1], method=method)
     f = renderer.render(scene, settings=st)
     floor = f.gbuffer.object_id[0] == 0
     truth = f.reference("converged", rays=1).reflection.copy()

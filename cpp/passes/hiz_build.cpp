@@ -19,20 +19,30 @@ void HizBuildPass::execute(FrameContext& ctx) {
     const bool atlas = ctx.settings.method == TraceMethod::Hiz;
     if (atlas) bind_image_layered(2, ctx.resources.get("hiz_trace"), GL_WRITE_ONLY, 0);
 
+    // The sight map of the hybrid's Hi-Z walk (shaders/lib/screen_sight.glsl), and the coarser
+    // levels' min built from it.
+    const char* sight_map = sight(ctx.settings) ? "1" : "0";
     Defines level0 = ctx.defines;
     level0["HIZ_LEVEL0"] = "1";
     level0["HIZ_TRACE_ATLAS"] = atlas ? "1" : "0";
+    level0["HIZ_SIGHT"] = sight_map;
     GLuint prog = ctx.shaders.program({"passes/hiz_build.comp"}, level0);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_level"), 0);
     glBindTextureUnit(0, ctx.resources.get("gbuffer.depth").id());
     glBindTextureUnit(1, ctx.resources.get("gbuffer.material").id());
+    if (sight(ctx.settings)) {
+        // The sight map's neighbourhoods: view depths, the far plane where a layer is empty.
+        glBindTextureUnit(2, ctx.resources.get("linear_depth").id());
+        if (ctx.fetch_by_image()) bind_input_images(ctx.resources, 3, {"linear_depth"});
+    }
     bind_image_layered(0, hiz, GL_WRITE_ONLY, 0);
     dispatch_2d(hiz.width(), hiz.height(), layers, 8, 8);
 
     Defines coarser = ctx.defines;
     coarser["HIZ_LEVEL0"] = "0";
     coarser["HIZ_TRACE_ATLAS"] = atlas ? "1" : "0";
+    coarser["HIZ_SIGHT"] = sight_map;
     prog = ctx.shaders.program({"passes/hiz_build.comp"}, coarser);
     glUseProgram(prog);
     const GLint level_loc = glGetUniformLocation(prog, "u_level");

@@ -12,7 +12,11 @@
 // Layout for a W x H image: level 0 at (0, 0); level l >= 1 at (W, H - (H >> (l - 1)) + l - 1),
 // stacked to the right of level 0 (each level starts below the previous one's last row: the
 // floor sizes sum to at most H - (H >> (l - 1)), and the + l - 1 keeps the 1-pixel-high tail
-// levels apart). The atlas is (W + max(W >> 1, 1)) x (H + levels) texels.
+// levels apart). The atlas is (W + max(W >> 1, 1)) x (H + levels) texels; with the sight map
+// (passes/hiz_build.comp's HIZ_SIGHT: the hybrid's walk, lib/screen_sight.glsl), W x H more
+// texels at (0, H), under level 0, each the hull (lo, hi) in screen depth of the slabs of the
+// surfaces beside the pixel that may reach into it ((EMPTY, -EMPTY) for none), and the atlas is
+// max(H + levels, 2 H) texels high.
 // Needs frame_uniforms, depth_convention and ssr_settings.
 
 const float HIZ_EMPTY = 1e30;
@@ -20,6 +24,11 @@ const float HIZ_EMPTY = 1e30;
 ivec2 hiz_atlas_origin(int level) {
     ivec2 size = ivec2(frame.viewport.xy);
     return level == 0 ? ivec2(0) : ivec2(size.x, size.y - (size.y >> (level - 1)) + level - 1);
+}
+
+// Where the sight map starts: under level 0 (the coarser levels lie right of it).
+ivec2 hiz_sight_origin() {
+    return ivec2(0, int(frame.viewport.y));
 }
 
 // Levels of the full mip chain of the image: floor(log2(max(W, H))) + 1, GL's count.

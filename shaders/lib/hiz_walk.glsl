@@ -37,7 +37,6 @@
 #include "../lib/hiz_cells.glsl"
 #include "../lib/hiz_atlas.glsl"
 #include "../lib/input_fetch.glsl"
-#include "../lib/screen_sight.glsl"
 
 
 // Texture units 0-4; with FETCH_BY_IMAGE the float inputs are image units 3-5 (trace_pass.cpp).
@@ -67,10 +66,14 @@ int g_max_level, g_start_level, g_stop_level, g_max_steps, g_layers;
 #endif
 // 1 when an exact fallback takes the rays screen space cannot vouch for (trace_pass.cpp): the
 // walk ends as a miss where the ray leaves the G-buffer's sight (lib/screen_sight.glsl): behind
-// every slab of a cell at any level; at level 0 also the edges between and beside samples
-// (one more fetch per level-0 step). With deep layers a coarse cell whose layers the segment
-// lies between is descended into, not skipped: only a pixel's own layers say whether the gap
-// is inside an object.
+// every slab of a cell at any level; at level 0 also where, in front of the pixel's sample, it
+// reaches into the slabs of the sight map there: an edge between or beside samples (one more
+// fetch per level-0 step). The pyramid's min is then the sight map's (passes/hiz_build.comp,
+// HIZ_SIGHT), so a coarse cell the walk skips holds no such edge either, nor one at its border:
+// the walk loses a ray wherever a walk over every pixel would. The ray leaves from the exact surface point (no
+// origin_bias), the ray the fallback retraces and the confidence test checks. With deep layers
+// a coarse cell whose layers the segment lies between is descended into, not skipped: only a
+// pixel's own layers say whether the gap is inside an object.
 #ifndef STOP_UNSEEN
 #define STOP_UNSEEN 0
 #endif
@@ -94,10 +97,9 @@ vec2 hiz_fetch(ivec2 cell, int layer, int level) {
 // deeper layers that `return`s measured 1.4x slower on llvmpipe than the one loop; without any
 // loop, for one layer, 1.3x faster.)
 // `stop`: the layer the walk over layers stopped at (the one overlapped, or the first the
-// segment lies in front of; g_layers when it lies behind every one), `ahead` that layer's min
-// (HIZ_EMPTY behind every one), for lib/screen_sight.glsl.
-int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, inout float fetches, out int stop,
-                 out float ahead) {
+// segment lies in front of; g_layers when it lies behind every one), for lib/screen_sight.glsl's
+// tests.
+int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, inout float fetches, out int stop) {
 #if TRACE_ONE_LAYER
     // One layer in use (the common case; trace_pass.cpp compiles this variant for it): the
     // test without a loop around it, 1.3x faster on llvmpipe than a loop of one iteration.
@@ -105,18 +107,15 @@ int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, ino
     front = mb.x;
     bool behind = lo > mb.y && !(hi < mb.x);
     stop = behind ? 1 : 0;
-    ahead = behind ? HIZ_EMPTY : mb.x;
     return hi < mb.x || lo > mb.y ? -1 : 0;
 #else
     front = 0.0;
     int found = -1;
     stop = g_layers;
-    ahead = HIZ_EMPTY;
     for (int k = 0; k < g_layers; ++k) {
         vec2 mb = hiz_fetch(cell, k, level);
         fetches += 1.0;
         stop = k;
-        ahead = mb.x;
         if (hi < mb.x) break;  // in front of this layer, so of every deeper one
         if (lo <= mb.y) {
             front = mb.x;
@@ -124,7 +123,6 @@ int cell_overlap(ivec2 cell, int level, float lo, float hi, out float front, ino
             break;
         }
         stop = g_layers;
-        ahead = HIZ_EMPTY;
     }
     return found;
 #endif
@@ -142,7 +140,7 @@ struct HizWalk {
     bool walking;  // still walking
     bool valid;   // the segment was set up (a hit can be resolved)
 #if STOP_UNSEEN
-    Sight sight;
+    bool lost;    // the ray left the G-buffer's sight
 #endif
 };
 
@@ -152,7 +150,7 @@ HizWalk walk_start(ReflectionRay ray, bool traced) {
     w.t = 0.0; w.front = 0.0; w.level = 0; w.linear_left = 0;
     w.o = vec3(0.0); w.v = vec3(0.0); w.eps_t = 0.0; w.inv_v = vec2(0.0); w.ahead = ivec2(0);
 #if STOP_UNSEEN
-    w.sight = sight_start();
+    w.lost = false;
 #endif
     if (!traced) return w;
     float len = ray_length_in_front_of_near(ray.origin, ray.dir, ssr.max_distance);
@@ -202,11 +200,16 @@ void walk_cell(HizWalk w, out ivec2 cell, out float t_out, out float sa) {
 }
 
 #if STOP_UNSEEN
-// lib/screen_sight.glsl's bookkeeping for one step over `cell` (segment depths [lo, hi], screen
-// depth s; the step ends at t_out): behind every slab at any level; at level 0 the sample, the
-// edges between consecutive level-0 samples and beside the ray. A step at a coarser level
-// breaks the chain of samples.
-void walk_sight(inout HizWalk w, ivec2 cell, float lo, float hi, float t_out, int stop, float ahead, int layer) {
+// The sight map (lib/hiz_atlas.glsl: hiz_sight_origin) of a level-0 pixel's layer.
+vec2 hiz_sight(ivec2 pixel, int layer) {
+    return FETCH(u_hiz_trace, ivec3(hiz_sight_origin() + pixel, layer)).xy;
+}
+
+// lib/screen_sight.glsl's tests for one step over `cell` (segment depths [lo, hi], screen depth
+// s): behind every slab at any level; at level 0, in the gap behind a layer that faces the
+// camera, and, in front of the layer `stop`'s sample, inside the slabs the sight map holds there
+// (rule 2). A coarse cell the walk skips lies in front of the sight map over all its pixels.
+void walk_sight(inout HizWalk w, ivec2 cell, float lo, float hi, int stop, int layer) {
     bool inside = false;
 #if !TRACE_ONE_LAYER
     if (w.level == 0 && layer < 0 && stop > 0 && stop < g_layers) {
@@ -215,25 +218,11 @@ void walk_sight(inout HizWalk w, ivec2 cell, float lo, float hi, float t_out, in
         inside = dot(FETCH(u_normal, ivec3(cell, stop - 1)).xyz, -view_position(vec2(cell) + 0.5, view_depth_of_screen(s))) > 0.0;
     }
 #endif
-    bool behind = layer < 0 && (stop == g_layers || inside);
-    if (w.level > 0) {
-        w.sight.lost = w.sight.lost || behind;
-        w.sight.prev_w = 0.0;
-        w.sight.smooth_ = false;
-        return;
-    }
-    // The pixel beside the ray's midpoint in the cell, across its major axis.
-    vec2 pos = w.o.xy + w.v.xy * (0.5 * (w.t + t_out));
-    bool along_x = abs(w.v.x) >= abs(w.v.y);
-    float minor = along_x ? pos.y : pos.x;
-    ivec2 step = (fract(minor) < 0.5 ? -1 : 1) * (along_x ? ivec2(0, 1) : ivec2(1, 0));
-    ivec2 side = clamp(cell + step, ivec2(0), ivec2(frame.viewport.xy) - 1);
-    float far = frame.clip.y;
-    float d = ahead >= HIZ_EMPTY ? far : view_depth_of_screen(ahead);
-    float side_s = hiz_fetch(side, min(stop, g_layers - 1), 0).x;
+    w.lost = w.lost || (layer < 0 && (stop == g_layers || inside));
+    if (w.level > 0) return;
+    vec2 edge = hiz_sight(cell, min(stop, g_layers - 1));
     w.fetches += 1.0;
-    float d_side = side_s >= HIZ_EMPTY ? far : view_depth_of_screen(side_s);
-    sight_step(w.sight, view_depth_of_screen(lo), view_depth_of_screen(hi), d, behind, d_side, ssr.thickness);
+    w.lost = w.lost || (layer < 0 && stop < g_layers && hi >= edge.x && lo <= edge.y);
 }
 #endif
 
@@ -246,18 +235,17 @@ void walk_step(inout HizWalk w) {
     walk_cell(w, cell, t_out, sa);
     float sb = w.o.z + w.v.z * t_out;
     int stop;
-    float ahead;
-    int layer = cell_overlap(cell, w.level, min(sa, sb), max(sa, sb), w.front, w.fetches, stop, ahead);
+    int layer = cell_overlap(cell, w.level, min(sa, sb), max(sa, sb), w.front, w.fetches, stop);
     bool hit = layer >= 0 && w.level <= g_stop_level;
     // Nothing for this ray in the cell: cross it and go up (after the linear steps, the level
     // stays 0 while they last); else go down. Selects, no branches: llvmpipe runs every
     // if-block, taken or not, even on a uniform condition.
     bool miss = layer < 0;
 #if STOP_UNSEEN
-    walk_sight(w, cell, min(sa, sb), max(sa, sb), t_out, stop, ahead, layer);
+    walk_sight(w, cell, min(sa, sb), max(sa, sb), stop, layer);
     // between two layers of a coarse cell: down to the pixels, whose layers say if it is inside
     miss = miss && !(w.level > 0 && stop > 0 && stop < g_layers);
-    hit = hit && !w.sight.lost;
+    hit = hit && !w.lost;
 #endif
 #if HIZ_LINEAR_STEPS
     int up = w.linear_left > 1 ? w.level : w.linear_left == 1 ? g_start_level : min(w.level + 1, g_max_level);
@@ -271,7 +259,7 @@ void walk_step(inout HizWalk w) {
     w.steps += 1;
     w.walking = !hit && w.steps < g_max_steps && w.t < 1.0;
 #if STOP_UNSEEN
-    w.walking = w.walking && !w.sight.lost;
+    w.walking = w.walking && !w.lost;
 #endif
 }
 
@@ -295,7 +283,7 @@ HizHit walk_result(HizWalk w) {
     HizHit result;
     result.hit = false;
 #if STOP_UNSEEN
-    if (w.sight.lost) return result;
+    if (w.lost) return result;
 #endif
     if (w.valid && w.layer >= 0) {
         ivec2 cell;
@@ -339,7 +327,15 @@ ReflectionRay slot_ray(ivec3 id, bool has, out GSample g, out bool keep) {
     if (id.z < adaptive_ray_count(g.roughness)) keep = false;
 #endif
     vec3 pos = view_position(vec2(p) + 0.5, FETCH(u_linear_depth, ivec3(p, 0)).r);
-    return generate_ray(g, pos, id.xy, id.z);
+    ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
+#if STOP_UNSEEN
+    // From the exact surface point, as the fallback retraces the ray and the confidence test
+    // checks its hit (passes/trace_bvh.comp): lifted by origin_bias, a ray passed beside the edge
+    // of a box or sphere that the true ray meets, and the hit it found on the wall behind is where
+    // the true ray crosses the wall too, which no test of the hit can tell from a true one.
+    ray.origin = pos;
+#endif
+    return ray;
 }
 
 void slot_store(ivec3 id, ReflectionRay ray, GSample g, HizWalk w) {
@@ -348,7 +344,7 @@ void slot_store(ivec3 id, ReflectionRay ray, GSample g, HizWalk w) {
 #if STOP_UNSEEN
     // A ray lost from sight: a miss marked as the confidence test marks the hits it rejects,
     // for the fallback to retrace.
-    if (w.sight.lost) hit = vec4(0.0, 0.0, 0.0, -1.0);
+    if (w.lost) hit = vec4(0.0, 0.0, 0.0, -1.0);
 #endif
     if (h.hit) {
         vec3 hit_view = view_position(h.pixel, view_depth_of_screen(h.s));

@@ -35,7 +35,12 @@
 //   3. the pixel's object and surface are its 4 neighbours' (same layer: same object id,
 //      shading normals within CONFIDENCE_CREASE): at a silhouette the layer's depth jumps and
 //      at a crease (a box's edge) the surface turns within the pixel, and a ray crossing there
-//      may pass just beside the surface the pixel shows (sub-pixel geometry).
+//      may pass just beside the surface the pixel shows (sub-pixel geometry);
+//   4. the ray goes into the surface: where it reaches the centre of the next pixel along its
+//      image's major axis, it lies behind the face's plane through that pixel's sample, on the
+//      same object. A curved surface falls away behind the face's plane, and a ray that grazes
+//      a sphere near its silhouette crosses the plane and passes over the sphere (with deep
+//      layers, within the slab of a small sphere's front, thicker than the sphere is there).
 // The settled pixel, not the tracer's, is the one the fallback shades: near a silhouette the
 // tracer's pixel is often the neighbour of the one the ray meets (it reaches the slab a pixel
 // before the surface), and its normal, point and shadow are that neighbour's.
@@ -163,6 +168,21 @@ bool screen_hit_confident(inout vec4 hit, vec3 origin, vec3 dir) {
         }
     }
     if (!settled || !s.uniform_) return false;
+    // 4. The ray goes into the surface: where it reaches the centre of the next pixel along its
+    // image's major axis, it lies behind the face's plane through that pixel's sample, on the
+    // same object.
+    vec3 x = origin + dot(s.point - origin, s.face) / dot(dir, s.face) * dir;
+    vec2 image_dir = view_to_window(x + dir * pixel_footprint(-x.z)) - q;
+    int k = abs(image_dir.x) >= abs(image_dir.y) ? 0 : 1;
+    float centre = (floor(q[k]) + (image_dir[k] > 0.0 ? 1.5 : -0.5)) * frame.viewport[k + 2] * 2.0 - 1.0;
+    vec4 c0 = frame.proj * vec4(x, 1.0), c1 = frame.proj * vec4(dir, 0.0);
+    float t1 = (centre * c0.w - c0[k]) / (c1[k] - centre * c1.w);  // NDC along axis k reaches `centre`
+    vec3 x1 = x + t1 * dir;
+    ivec2 p1 = ivec2(floor(view_to_window(x1)));
+    p1[k] = int(floor(q[k])) + (image_dir[k] > 0.0 ? 1 : -1);
+    if (!(t1 > 0.0) || x1.z >= 0.0 || any(lessThan(p1, ivec2(0))) || any(greaterThanEqual(p1, size))) return false;
+    GSample g1 = screen_sample(p1, layer);
+    if (!g1.covered || g1.object_id != object || dot(x1 - screen_point(p1, layer), s.face) > 0.0) return false;
     hit.xy = clamp(q, vec2(hp) + 0.001, vec2(hp) + 0.999);
     return true;
 }

@@ -16,6 +16,19 @@
 //      b. across it, the neighbouring pixel the ray passes nearer to (the other one of the two
 //         its half-pixel-wide footprint straddles) shows a surface nearer than this one by
 //         more than the thickness (a silhouette beside the ray), and the ray reaches its depth.
+// The linear march (passes/trace_linear.comp) keeps rule 2's chain of samples (sight_step). The
+// Hi-Z walk (lib/hiz_walk.glsl) skips whole cells, and a chain broken at each coarse step let
+// rays pass a box's crease or a sphere's silhouette between two samples unseen; it reads the
+// sight map instead, which hiz_build writes with the pyramid (passes/hiz_build.comp, HIZ_SIGHT):
+// per pixel and layer, the hull of the slabs [e, e + thickness] of the surfaces beside the pixel
+// that may reach into it at depth e in front of its sample, whichever way the ray comes: rule 2a
+// toward each of its 4 neighbours (the neighbour's surface, known to run on from the pixels beyond
+// it, continued to the pixel), rule 2b where the neighbour's surface is not known to run on (a
+// nearer sample, by more than the thickness), none where the pixel and its neighbour lie on one
+// surface (however steeply it recedes) or the neighbour's surface turns away behind the pixel's (a
+// floor running under a wall). A level-0 step in front of its sample whose depths reach into that
+// hull is lost; the pyramid's min is the sight map's, so a coarse cell the walk skips holds no
+// such edge.
 // What is left is what the confidence test of the hit can check (lib/screen_confidence.glsl).
 // Needs frame_uniforms. Depths are positive view depths.
 

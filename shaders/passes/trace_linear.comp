@@ -244,6 +244,12 @@ void main() {
 #endif
     vec3 pos = view_position(vec2(p) + 0.5, FETCH(u_linear_depth, ivec3(p, 0)).r);
     ReflectionRay ray = generate_ray(g, pos, id.xy, id.z);
+#if STOP_UNSEEN
+    // From the exact surface point, as the fallback retraces the ray and the confidence test
+    // checks its hit (passes/trace_bvh.comp), not lifted by origin_bias (lib/hiz_walk.glsl's
+    // slot_ray says why).
+    ray.origin = pos;
+#endif
     vec4 hit = vec4(0.0);
     g_sight = sight_start();
     if (ray.weight > 0.0) {

@@ -14,11 +14,17 @@ the front's times differ beyond the timing noise (ssrlab.experiments.timing_doub
 table says why not and names only the least-error configuration, which is no timing claim.
 
 Used by notebooks/hybrid.ipynb.
+
+Whether the hybrid keeps only true hits (the confidence test, docs/guide/hybrid.md):
+
+    hybrid.wrong_object_hits(renderer, scene, settings)   # kept screen hits on another object
 """
 
 from __future__ import annotations
 
 import dataclasses
+
+import numpy as np
 
 from ..settings import Settings
 from . import experiments, report, run
@@ -123,3 +129,52 @@ def sweep(scale: str | None = None, *, progress: bool = False, executor=None) ->
     r0 = rows[0]
     return HybridExperiment(scale=p["name"], rows=rows, fronts=fronts, verdicts=verdicts,
                             device=f"{r0['gl_renderer']} ({r0['device']})", probes="SSR + probes" in configs)
+
+
+def kept_screen_hits(frame) -> np.ndarray:
+    """(R, h, w) bool: the rays whose screen-space hit the frame kept at full strength (the
+    'screen' share of Frame.fallback_stats: hit layer > 0 and fade >= 1, on a ray with a weight).
+    With fallback="bvh" these are the hits the confidence test vouched for; every other ray was
+    retraced against the triangles."""
+    rays = frame.rays
+    return rays.hit & (rays.fade >= 1.0) & (rays.weight > 0)
+
+
+def hit_objects(frame) -> np.ndarray:
+    """(R, h, w) int: the G-buffer object id at each ray's screen hit (the hit layer's sample at
+    rays.hit_pixel, which with fallback="bvh" is the pixel the confidence test settled on); -1
+    where the ray has no screen hit."""
+    rays, g, s = frame.rays, frame.gbuffer, frame.settings
+    px = np.floor(rays.hit_pixel).astype(np.int64)
+    layer = np.clip(rays.hit_layer - 1, 0, g.layers - 1)
+    row, col = np.clip(px[..., 1], 0, s.height - 1), np.clip(px[..., 0], 0, s.width - 1)
+    return np.where(rays.hit, g.object_id[layer, row, col], -1)
+
+
+def wrong_object_hits(renderer, scene, settings: Settings | None = None, *, camera=None, against_bvh: bool = True,
+                      threshold: float = 0.02) -> dict:
+    """Renders the hybrid frame (`settings`, fallback "bvh" unless they say otherwise), traces the
+    very rays it traced against the triangles (the per-ray reference) and counts the screen hits it
+    kept on another object than the one the ray meets: each is a reflection of the wrong thing,
+    reported as a hit.
+
+    Returns {'rays': rays traced, 'kept': screen hits kept, 'wrong': kept hits on another object
+    than the per-ray reference's (a true miss counts: its object is -1), 'screen', 'bvh',
+    'rejected': Frame.fallback_stats' shares, 'frame': the hybrid frame, 'truth': its per-ray
+    reference}; with `against_bvh`, also 'visible': of the wrong ones, those on a reflective
+    layer-0 pixel whose reflection differs from pure BVH's (method="bvh", the same rays) by more
+    than `threshold` in some channel, 'differs': all such pixels, and 'bvh_frame'."""
+    settings = settings if settings is not None else Settings(fallback="bvh")
+    frame = renderer.render(scene, camera, settings=settings)
+    truth = frame.reference("per_ray")
+    kept = kept_screen_hits(frame)
+    wrong = kept & (hit_objects(frame) != truth.object)
+    stats = frame.fallback_stats
+    out = {"rays": stats["rays"], "kept": int(kept.sum()), "wrong": int(wrong.sum()), "screen": stats["screen"],
+           "bvh": stats["bvh"], "rejected": stats["rejected"], "frame": frame, "truth": truth}
+    if against_bvh:
+        b = renderer.render(scene, camera, settings=settings.replace(method="bvh"))
+        differs = np.abs(frame.reflection[..., :3] - b.reflection[..., :3]).max(axis=-1) > threshold
+        differs &= frame.rays.traced
+        out.update(visible=int((wrong & differs[None]).sum()), differs=int(differs.sum()), bvh_frame=b)
+    return out
