@@ -105,15 +105,6 @@ class Side:
         self.proc.wait(timeout=60)
 
 
-def parse_value(text: str):
-    for conv in (int, float):
-        try:
-            return conv(text)
-        except ValueError:
-            pass
-    return {"true": True, "false": False}.get(text.lower(), text)
-
-
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--baseline-python", required=True, help="interpreter whose ssrlab is the baseline")
@@ -133,11 +124,12 @@ def main(argv=None) -> int:
     if args.frames < 1 or args.warmup < 0:
         ap.error("--frames must be >= 1 and --warmup >= 0")
     settings = dict(THESIS, width=args.width, height=args.height)
-    for item in args.set:
-        key, sep, value = item.partition("=")
-        if not sep:
-            ap.error(f"--set {item!r}: expected KEY=VALUE")
-        settings[key] = parse_value(value)
+    from ssrlab.lab.protocol import parse_set
+
+    try:
+        settings.update(parse_set(args.set))
+    except ValueError as e:
+        ap.error(str(e))
 
     import numpy as np
 

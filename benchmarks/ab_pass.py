@@ -30,19 +30,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
 from ssrlab.lab.lanes import lane_use  # noqa: E402
+from ssrlab.lab.protocol import parse_set  # noqa: E402
 
 HIZ_MIRROR = dict(layers=1, method="hiz", sampling="mirror", rays_per_pixel=1, reuse_radius=1)
-
-
-def parse_value(text: str):
-    if text in ("True", "False"):
-        return text == "True"
-    for cast in (int, float):
-        try:
-            return cast(text)
-        except ValueError:
-            pass
-    return text
 
 
 def main(argv=None) -> int:
@@ -60,7 +50,10 @@ def main(argv=None) -> int:
     after = ssrlab.Renderer(args.device, shader_dir=args.after) if args.after else now
     before = ssrlab.Renderer(args.device, shader_dir=args.before)
     kw = dict(HIZ_MIRROR)
-    kw.update({k: parse_value(v) for k, v in (item.split("=", 1) for item in args.set)})
+    try:
+        kw.update(parse_set(args.set))
+    except ValueError as e:
+        ap.error(str(e))
     print(f"{args.width}x{args.height}, {', '.join(f'{k}={v}' for k, v in kw.items())}; "
           f"medians (min-max) of {args.repeats}, frames interleaved")
     for scene_name in args.scenes:

@@ -27,7 +27,8 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ab_pass import HIZ_MIRROR, parse_value  # noqa: E402
+from ab_pass import HIZ_MIRROR  # noqa: E402
+from ssrlab.lab.protocol import parse_set  # noqa: E402
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
 SETUP = """void main() {
@@ -101,7 +102,10 @@ def main(argv=None) -> int:
 
     open_renderer(args)
     kw = dict(HIZ_MIRROR)
-    kw.update({k: parse_value(v) for k, v in (item.split("=", 1) for item in args.set)})
+    try:
+        kw.update(parse_set(args.set))
+    except ValueError as e:
+        ap.error(str(e))
     with tempfile.TemporaryDirectory() as tmp:
         renderers = {}
         for i, (label, body) in enumerate(PARTS.items()):

@@ -125,10 +125,11 @@ def main() -> int:
     ap.add_argument("--floor", action="store_true",
                     help="also measure the page's own path with nothing rendering (the floor under viewer_own)")
     args = ap.parse_args()
-    from ssrlab.viewer.server import parse_changes
     from playwright.sync_api import sync_playwright
 
-    settings = ssrlab.Settings().replace(**parse_changes(",".join(args.set)))
+    from ssrlab.lab.protocol import parse_set
+
+    settings = ssrlab.Settings().replace(**parse_set(args.set))
     v = ssrlab.view(args.scene, settings, device=args.device, lossless=args.lossless, accumulate=1)
     info = v.renderer.info
     print(f"device: {info['renderer']} ({info['device']}), OpenGL {info['gl_version']}; scene {args.scene}, "

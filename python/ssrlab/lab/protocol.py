@@ -32,7 +32,10 @@ WARMUP = 2  # untimed rounds before the timed ones: uploads, driver caches, firs
 
 
 def parse_value(text: str):
-    """A --set value: JSON where it parses (numbers, booleans, lists), else the string."""
+    """A --set value: JSON where it parses (numbers, booleans, lists), Python's True and False,
+    else the string."""
+    if text in ("True", "False"):
+        return text == "True"
     try:
         return json.loads(text)
     except ValueError:

@@ -836,17 +836,11 @@ def _duration(scene) -> float:
 
 
 def parse_changes(text: str) -> dict:
-    """'a=1, b="x"' as {'a': 1, 'b': 'x'} (values as JSON where they parse, else the text)."""
-    out = {}
-    for item in [t for t in text.split(",") if t.strip()]:
-        if "=" not in item:
-            raise ValueError(f"expected FIELD=VALUE, got {item.strip()!r}")
-        k, v = item.split("=", 1)
-        try:
-            out[k.strip()] = json.loads(v.strip())
-        except ValueError:
-            out[k.strip()] = v.strip()
-    return out
+    """'a=1, b="x"' as {'a': 1, 'b': 'x'}: --set's FIELD=VALUE items (ssrlab.lab.protocol.parse_set),
+    separated by commas."""
+    from ..lab.protocol import parse_set
+
+    return parse_set([t for t in text.split(",") if t.strip()])
 
 
 def _split(a: np.ndarray, b: np.ndarray, divider: float) -> np.ndarray:
