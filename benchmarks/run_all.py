@@ -127,7 +127,9 @@ def main() -> int:
         print(f"[run_all] {' '.join(cmd[1:])}", flush=True)
         t0 = time.perf_counter()
         # Every benchmark converted to the protocol appends its records to <folder>/<name>.jsonl.
-        env = {**os.environ, "PYTHONUNBUFFERED": "1", RECORDS_ENV: str(folder), QUICK_ENV: "1" if args.quick else "0"}
+        # The records carry this checkout's commit, whichever copy of ssrlab the scripts import.
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", RECORDS_ENV: str(folder), QUICK_ENV: "1" if args.quick else "0",
+               "SSRLAB_COMMIT": os.environ.get("SSRLAB_COMMIT", commit)}
         before = len(read_records(folder / f"{name}.jsonl")) if (folder / f"{name}.jsonl").is_file() else 0
         p = subprocess.run(cmd, capture_output=True, text=True, env=env)
         seconds = time.perf_counter() - t0

@@ -30,7 +30,11 @@ from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[3]
+# The checkout the figures come from: this package's own source tree where it runs from one, else
+# the folder the command runs in (an installed package lies in site-packages, whose enclosing git
+# repository, if any, is not the project's).
+_SOURCE = Path(__file__).resolve().parents[3]
+REPO = _SOURCE if (_SOURCE / ".git").exists() and (_SOURCE / "benchmarks").is_dir() else Path.cwd()
 TIME_UNITS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
 FIELDS = ("benchmark", "params", "metric", "unit", "samples", "device", "driver", "commit", "date", "command")
 # Environment variables that route a benchmark's records (run_all.py sets them for every script).
