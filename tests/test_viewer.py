@@ -414,3 +414,18 @@ def test_a_against_b_each_with_its_time_and_error_against_one_reference(chromium
         page.locator("p", has_text="B (right)").first.wait_for(timeout=20000)
     finally:
         v.close()
+
+
+def test_without_viser_the_viewer_says_what_to_install(monkeypatch):
+    import builtins
+
+    real = builtins.__import__
+
+    def no_viser(name, *args, **kwargs):
+        if name == "viser" or name.startswith("viser."):
+            raise ImportError("No module named 'viser'")
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_viser)
+    with pytest.raises(ImportError, match=r"pip install 'ssrlab\[viewer\]'"):
+        ssrlab.view("hall")

@@ -97,7 +97,10 @@ class Viewer:
                  lossless: bool = False, jpeg_quality: int = 90, accumulate: int = 8, out: str | Path = "renders/view",
                  device: str = "auto", watch_shaders: bool = True, reference_rays=REFERENCE_ROUNDS,
                  verbose: bool = False):
-        import viser
+        try:
+            import viser
+        except ImportError as e:
+            raise ImportError(f"ssrlab.view needs viser, the viewer's page: pip install 'ssrlab[viewer]' ({e})") from None
 
         if settings is None:
             settings = Settings()
