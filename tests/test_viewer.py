@@ -4,7 +4,7 @@ shows is what Renderer.render gives for the camera and settings the server repor
 
 from __future__ import annotations
 
-import json
+import contextlib
 import shutil
 import subprocess
 import sys
@@ -50,9 +50,36 @@ def rests(shown):
     return shown.scale >= 1.0
 
 
+def hall_hiz(renderer, **kw):
+    """The viewer most tests open: hall, Hi-Z, frames sent as PNG, no averaging of seeds."""
+    return ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1, **kw)
+
+
+@contextlib.contextmanager
+def resting_page(chromium, viewer):
+    """A page on `viewer` once it shows its first full-resolution frame; the viewer closes after."""
+    try:
+        page = open_page(chromium, viewer.url)
+        shown, pixels = wait_shown(page, viewer, condition=rests)
+        yield page, shown
+    finally:
+        viewer.close()
+
+
+def wait_rounds(viewer, figures: str, timeout: float = 240.0) -> None:
+    """Waits until the viewer's `figures` (metrics, metrics_b) come from its last reference round."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        m = getattr(viewer, figures)
+        if m and m["rays"] >= viewer.reference_rays[-1]:
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"the viewer's {figures} did not reach its last reference round in {timeout} s")
+
+
 @pytest.fixture
 def hall_view(renderer):
-    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1)
+    v = hall_hiz(renderer)
     yield v
     v.close()
 
@@ -175,16 +202,11 @@ def test_every_view_of_the_frame_and_the_inspector(chromium, renderer):
 
 
 def test_error_figures_are_image_metrics_of_the_frame_and_reference(chromium, renderer):
-    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1,
-                    reference_rays=(2, 8))
-    try:
-        page = open_page(chromium, v.url)
-        shown, _ = wait_shown(page, v, condition=rests)
+    v = hall_hiz(renderer, reference_rays=(2, 8))
+    with resting_page(chromium, v) as (page, shown):
         page.get_by_label("reference", exact=True).check()
 
-        deadline = time.time() + 240
-        while (not v.metrics or v.metrics["rays"] < v.reference_rays[-1]) and time.time() < deadline:
-            time.sleep(0.1)
+        wait_rounds(v, "metrics")
         got = dict(v.metrics)
         ref = shown.frame.reference("converged", rays=got["rays"])
         want = ssrlab.metrics.image_metrics(shown.frame.color, ref.color, ref.reflective)
@@ -202,8 +224,6 @@ def test_error_figures_are_image_metrics_of_the_frame_and_reference(chromium, re
             time.sleep(0.1)
         for k in ("thesis_error", "psnr", "rmse", "psnr_reflective"):
             assert shown[k] == pytest.approx(want[k], rel=1e-6), k
-    finally:
-        v.close()
 
 
 def test_copy_as_python_renders_the_same_pixels_in_a_fresh_process(chromium, hall_view, tmp_path):
@@ -389,11 +409,8 @@ def test_the_readme_screenshot(chromium, renderer, tmp_path):
 
 
 def test_a_against_b_each_with_its_time_and_error_against_one_reference(chromium, renderer):
-    v = ssrlab.view("hall", ssrlab.Settings(method="hiz"), renderer, lossless=True, accumulate=1,
-                    reference_rays=(2, 8))
-    try:
-        page = open_page(chromium, v.url)
-        wait_shown(page, v, condition=rests)
+    v = hall_hiz(renderer, reference_rays=(2, 8))
+    with resting_page(chromium, v) as (page, _):
         page.get_by_text("A against B", exact=True).click()
         page.get_by_label("compare", exact=True).check()
         shown, pixels = wait_shown(page, v, condition=lambda s: rests(s) and s.frame_b is not None)
@@ -403,17 +420,13 @@ def test_a_against_b_each_with_its_time_and_error_against_one_reference(chromium
         x = 160  # the divider at half the width: A left of it, the line, B right of it
         assert np.array_equal(pixels[:, : x - 1], a[:, : x - 1]) and np.array_equal(pixels[:, x:], b[:, x:])
         page.get_by_label("reference", exact=True).check()
-        deadline = time.time() + 240
-        while (not v.metrics_b or v.metrics_b["rays"] < v.reference_rays[-1]) and time.time() < deadline:
-            time.sleep(0.1)
+        wait_rounds(v, "metrics_b")
         got_a, got_b = dict(v.metrics), dict(v.metrics_b)
         ref = shown.frame.reference("converged", rays=got_b["rays"])
         for got, frame in ((got_a, shown.frame), (got_b, shown.frame_b)):
             want = ssrlab.metrics.image_metrics(frame.color, ref.color, ref.reflective)
             assert got["psnr"] == pytest.approx(want["psnr"], rel=1e-6)
         page.locator("p", has_text="B (right)").first.wait_for(timeout=20000)
-    finally:
-        v.close()
 
 
 def test_without_viser_the_viewer_says_what_to_install(monkeypatch):
