@@ -291,10 +291,10 @@ def test_reflections_follow_peelings_within_the_albedo_tolerance(renderer, scene
     """Downstream of the layers the whole frame follows: the reflection (Hi-Z, 4 layers, glossy
     rays) of each visibility construction against peeling's, on the reflective pixels. The hits are
     the same rays' (the depths are bit for bit); what a reflection fetches may differ only as the
-    albedo's tolerance lets it (docs/deep_gbuffer.md: one step of its 8-bit sRGB code): llvmpipe's
-    raster encodes some albedos one code below the correctly rounded one that the compute pass
-    stores (hall's stone, 0.72 -> 220.59: the raster writes 220), so on a scene of such albedos
-    most samples differ by that step. Each pixel's reflection is held to the largest relative
+    albedo's tolerance lets it (docs/deep_gbuffer.md: one step of its 8-bit sRGB code): a raster's
+    sRGB encoding may store an albedo one code off the correctly rounded one that the compute pass
+    stores (test_every_scene_equals_peeling holds the codes), so on a scene of such albedos most
+    samples may differ by that step. Each pixel's reflection is held to the largest relative
     change one code step makes to an albedo the frame holds (the lit colour scales with it), and the
     whole reflection to 50 dB."""
     scene = ssrlab.scenes.load(scene_name)
