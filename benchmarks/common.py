@@ -10,7 +10,6 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from ssrlab.lab.protocol import arguments, device_header, open_renderer  # noqa: E402,F401  (one protocol)
-from ssrlab.lab.timing import median_timings  # noqa: E402,F401  (the scripts' timing protocol)
 
 
 # SSR alone, the hybrid and pure BVH, each with the BVH passes' default traced shadows and with the
@@ -24,16 +23,6 @@ HYBRID_FRAMES = {
 }
 
 
-def frame_ms(renderer, scene, settings, repeats: int) -> tuple[float, float, float]:
-    """The frame's GPU ms, (median, min, max) of `repeats` renders after 2 warm-ups (compilation,
-    uploads and first builds are never timed)."""
-    from ssrlab.lab.timing import median_range
-
-    for _ in range(2):
-        renderer.render(scene, settings=settings)
-    return median_range(renderer.render(scene, settings=settings).timings["total"] for _ in range(repeats))
-
-
 def benchmark_arguments(doc: str, repeats: int | None = None, *, settings: bool = False) -> argparse.ArgumentParser:
     """The options every benchmark takes (ssrlab.lab.protocol.arguments): image size, scenes,
     device, --records (and repeats when timed; --set with `settings`, for the scripts whose
@@ -41,33 +30,18 @@ def benchmark_arguments(doc: str, repeats: int | None = None, *, settings: bool 
     return arguments(doc, repeats, settings=settings)
 
 
-def ab_scenes(renderer, scenes: dict, settings, parts, repeats: int, header: str) -> None:
+def ab_scenes(bench, renderer, scenes: dict, settings, parts, header: str, params: dict | None = None) -> None:
     """Times `parts` (keys of Frame.timings) of two scenes, {"texture": a, "factor": b} style (the
-    feature on, then off), rendered interleaved `repeats` times each after one untimed render of
-    each (compilation, uploads), and prints per part both medians with min-max and interquartile
-    range, the paired ratio first / second and ssrlab.lab.timing's verdict (undecided where the
-    ranges overlap)."""
-    import numpy as np
+    feature on, then off), rendered interleaved round by round after the protocol's warm-up
+    rounds (compilation, uploads: ssrlab.lab.protocol.Bench.rounds); records each part of each
+    side (param "scene_variant") and prints the A/B table rendered from the records, with the
+    paired ratio second / first and the verdict of the second against the first."""
+    def render(scene):
+        return lambda: renderer.render(scene, settings=settings).timings
 
-    from ssrlab.lab.timing import median_range, paired, verdict
-
-    (name_a, a_scene), (name_b, b_scene) = scenes.items()
-    for scene in (a_scene, b_scene):
-        renderer.render(scene, settings=settings)  # first use
-    times = {name: {p: [] for p in parts} for name in scenes}
-    for _ in range(repeats):
-        for name, scene in scenes.items():
-            t = renderer.render(scene, settings=settings).timings
-            for p in parts:
-                times[name][p].append(t[p])
-    print(f"{header}, {repeats} interleaved repeats; ms (median [min, max], IQR)")
-
-    def iqr(v):
-        return float(np.subtract(*np.percentile(v, [75, 25])))
-
-    for p in parts:
-        a, b = times[name_a][p], times[name_b][p]
-        ma, mb = median_range(a), median_range(b)
-        print(f"{p:11s} {name_a} {ma[0]:8.2f} [{ma[1]:.2f}, {ma[2]:.2f}] IQR {iqr(a):.2f} | {name_b} {mb[0]:8.2f} "
-              f"[{mb[1]:.2f}, {mb[2]:.2f}] IQR {iqr(b):.2f} | {name_a}/{name_b} {np.median(paired(a, b)):.3f} "
-              f"-> {name_a} {verdict(mb, ma)}")
+    times = bench.rounds({name: render(scene) for name, scene in scenes.items()})
+    for name in scenes:
+        bench.record_all({**(params or {}), "scene_variant": name}, times[name], "ms", parts)
+    print(f"{header}, {bench.repeats} interleaved rounds after {bench.warmup} warm-up rounds; GPU ms")
+    a, b = scenes
+    bench.print_ab("scene_variant", a, b)

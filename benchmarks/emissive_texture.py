@@ -1,9 +1,9 @@
 """What an emissive texture costs a frame: ssrlab.crosscheck's emissive-texture scene (a black quad
 emitting a checkerboard over a mirror floor) rendered with its emissive texture and with the
-factor alone, interleaved, `--repeats` timed frames each (first use excluded). Prints the median,
-min-max and interquartile range of depth_peel (which writes gbuffer.emission only with the
-texture), lighting (which reads it) and the frame's total, the paired ratio texture / factor and
-a verdict that says 'undecided' where the two ranges overlap.
+factor alone, interleaved round by round, `--repeats` timed rounds after the protocol's warm-up
+rounds (ssrlab.lab.protocol). Records, and prints from them, the median and interquartile range of depth_peel (which writes gbuffer.emission only with the
+texture), lighting (which reads it) and the frame's total, the paired ratio factor / texture and
+the verdict of factor against texture (records.figure_verdict: 'undecided' where the noise cannot tell).
 
     python benchmarks/emissive_texture.py                       # 640x360, 4 layers
     python benchmarks/emissive_texture.py --deep-gbuffer lists
@@ -12,6 +12,7 @@ a verdict that says 'undecided' where the two ranges overlap.
 from __future__ import annotations
 
 from common import ab_scenes, benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 
 import ssrlab
 from ssrlab import crosscheck as cc
@@ -33,8 +34,10 @@ def main() -> None:
     factor.set_material(quad, m)
     settings = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers,
                                deep_gbuffer=args.deep_gbuffer)
-    ab_scenes(renderer, {"texture": textured, "factor": factor}, settings, PARTS, args.repeats,
-              f"{args.width}x{args.height}, {args.layers} layers, deep_gbuffer={args.deep_gbuffer}")
+    bench = Bench("emissive_texture", args, renderer)
+    ab_scenes(bench, renderer, {"texture": textured, "factor": factor}, settings, PARTS,
+              f"{args.width}x{args.height}, {args.layers} layers, deep_gbuffer={args.deep_gbuffer}",
+              dict(width=args.width, height=args.height, layers=args.layers, deep_gbuffer=args.deep_gbuffer))
 
 if __name__ == "__main__":
     main()

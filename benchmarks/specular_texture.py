@@ -2,9 +2,10 @@
 dielectric wall whose specularTexture and specularColorTexture are checkerboards, rendered with the
 textures (FrameFacts.specular_texture: gbuffer.specular written by depth_peel, read by lighting and
 the PBR composite) and the same scene without them (the factors only, no extra layer),
-interleaved, `--repeats` timed frames each (first use excluded). Prints the median, min-max and
-interquartile range of depth_peel, lighting, composite and the frame's total, the paired ratio
-texture / factor and a verdict that says 'undecided' where the two ranges overlap.
+interleaved round by round, `--repeats` timed rounds after the protocol's warm-up rounds
+(ssrlab.lab.protocol). Records, and prints from them, the median and interquartile range of depth_peel,
+lighting, composite and the frame's total, the paired ratio factor / texture and the verdict of
+factor against texture (records.figure_verdict: 'undecided' where the noise cannot tell).
 
     python benchmarks/specular_texture.py                       # 640x360, 4 layers, PBR composite
     python benchmarks/specular_texture.py --deep-gbuffer lists
@@ -20,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from common import ab_scenes, benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 
 import ssrlab
 
@@ -62,9 +64,12 @@ def main() -> None:
     textured, factor = scene(True, args.base_texture), scene(False, args.base_texture)
     settings = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers,
                                deep_gbuffer=args.deep_gbuffer, composite=args.composite)
-    ab_scenes(renderer, {"texture": textured, "factor": factor}, settings, PARTS, args.repeats,
+    bench = Bench("specular_texture", args, renderer)
+    ab_scenes(bench, renderer, {"texture": textured, "factor": factor}, settings, PARTS,
               f"{args.width}x{args.height}, {args.layers} layers, deep_gbuffer={args.deep_gbuffer}, "
-              f"composite={args.composite}, base texture {args.base_texture}")
+              f"composite={args.composite}, base texture {args.base_texture}",
+              dict(width=args.width, height=args.height, layers=args.layers, deep_gbuffer=args.deep_gbuffer,
+                   composite=args.composite, base_texture=args.base_texture))
 
 if __name__ == "__main__":
     main()

@@ -10,7 +10,9 @@ tables and verdicts. Every benchmark script that measures something goes through
                                    warm-up rounds recorded: interleaved, so a slow spell of a shared
                                    machine falls on every configuration alike
       .frames(renderer, scene, settings_by_name)    the same for renders: Frame.timings per round
+      .calls(named_calls)          the same for CPU-side calls: wall milliseconds per round
       .record(...) / .table(...)   the run's records, and Markdown tables rendered from them
+      .print_ab(side, a, b)        an A/B table of the records (records.ab_table) with verdicts
     goal_verdict(values, op, goal) met / not met / undecided at this noise, from per-round ratios
 
 The statistics are ssrlab.lab.timing's; the record format and the tables ssrlab.lab.records'.
@@ -153,6 +155,20 @@ class Bench:
 
         return self.rounds({n: measure(n, s) for n, s in settings.items()}, repeats=repeats, warmup=warmup)
 
+    def calls(self, calls: dict[str, Callable[[], object]], *, repeats: int | None = None,
+              warmup: int | None = None) -> dict[str, list[float]]:
+        """The wall milliseconds of each named call (CPU-side work: a metric, a readback, a
+        reference), interleaved round by round (rounds()); returns {name: [ms per round]}."""
+        def timed(fn):
+            def run():
+                t0 = time.perf_counter()
+                fn()
+                return {"wall": (time.perf_counter() - t0) * 1e3}
+            return run
+
+        out = self.rounds({n: timed(fn) for n, fn in calls.items()}, repeats=repeats, warmup=warmup)
+        return {n: v["wall"] for n, v in out.items()}
+
     # -- records and tables --------------------------------------------------------------------------
     def record(self, params: dict, metric: str, unit: str, samples, **kw) -> dict:
         return self.recorder.add(params, metric, unit, samples, **kw)
@@ -169,6 +185,14 @@ class Bench:
     def table(self, records=None, rows=(), columns: str = "metric", **kw) -> str:
         recs = self.recorder.records if records is None else records
         return _records.table(recs, list(rows), columns, **kw)
+
+    def print_ab(self, side: str, a, b, records=None, rows=(), note: bool = True, **kw) -> None:
+        """Prints records.ab_table of this run's records (or `records`): side `a` against `b`."""
+        recs = self.recorder.records if records is None else list(records)
+        print(_records.ab_table(recs, side, a, b, list(rows), **kw))
+        if note and recs:
+            print(_records.spread_note(recs, kw.get("spread", "iqr")) + f"; verdict: {b} against {a} "
+                  "(records.figure_verdict)")
 
     def print_table(self, records=None, rows=(), columns: str = "metric", note: bool = True, **kw) -> None:
         recs = self.recorder.records if records is None else list(records)

@@ -15,6 +15,7 @@ Samples are the raw values, never a median: whoever reads the records computes t
     Recorder(benchmark, folder, renderer)   fills device, driver, commit, date and command itself
     read_records(folder | "git:<commit>:<folder>")   every record of a folder, or of a commit's
     table(records, rows, columns)           a Markdown table: median [25th-75th percentile] per cell
+    ab_table(records, side, a, b, rows)     an A/B table: both sides, B/A and the verdict of each figure
     compare(old, new)                       each figure present in both: NEW/OLD and a verdict
 """
 
@@ -294,6 +295,37 @@ def spread_note(records, spread: str = "iqr") -> str:
     return f"cells: median [{what}] of {n} sample(s)"
 
 
+
+def ab_table(records, side: str, a, b, rows=(), *, digits: int = 2, spread: str = "iqr") -> str:
+    """A Markdown table of an A/B measurement rendered from records: every figure measured on
+    both sides (two records of one metric whose params differ only by `side`, one `a`, one `b`),
+    as the `rows` params, the metric, each side's cell, B/A and the verdict of B against A
+    (figure_verdict(): faster / slower / same / undecided, better / worse for what is not a
+    time). B/A is the median [spread] of the per-sample ratios where both sides have as many
+    samples (the rounds of an interleaved run pair them), else the ratio of the medians."""
+    pairs: dict[tuple, dict] = {}
+    for r in records:
+        v = r["params"].get(side)
+        if v not in (a, b):
+            continue
+        rest = {k: x for k, x in r["params"].items() if k != side}
+        pairs.setdefault((json.dumps(rest, sort_keys=True, default=str), r["metric"]), {})[v] = r
+    body = []
+    for (_, metric), d in pairs.items():
+        if a not in d or b not in d:
+            continue
+        ra, rb = d[a], d[b]
+        verdict, ratio, _, _ = figure_verdict(ra, rb)
+        sa, sb = np.asarray(ra["samples"], np.float64), np.asarray(rb["samples"], np.float64)
+        if sa.size == sb.size and sa.size > 1 and np.all(sa != 0):
+            over = cell(sb / sa, 3, spread)
+        else:
+            over = _num(ratio, 3)
+        unit = f" ({ra['unit']})" if ra.get("unit") else ""
+        body.append([("-" if ra["params"].get(k) is None else str(ra["params"].get(k))) for k in rows]
+                    + [metric + unit, cell(sa, digits, spread), cell(sb, digits, spread), over, f"{b} {verdict}"])
+    return markdown([*rows, "metric", str(a), str(b), f"{b} / {a}", "verdict"], body)
+
 # -- comparing ------------------------------------------------------------------------------------------
 SAME_BAND = 0.02     # NEW/OLD within 2 % either way is the same figure
 CONFIDENCE = 0.95    # the bootstrap interval of the ratio of medians
@@ -395,4 +427,5 @@ def compare_table(rows: list[dict]) -> str:
 
 __all__ = ["FIELDS", "TIME_UNITS", "RECORDS_ENV", "QUICK_ENV", "slug", "git_commit", "command_line", "Recorder",
            "select", "read_records", "figure_key", "latest", "summary", "cell", "markdown", "table", "spread_note",
+           "ab_table",
            "SAME_BAND", "ratio_interval", "figure_verdict", "compare", "compare_table", "is_timing", "better"]
