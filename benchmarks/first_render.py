@@ -1,23 +1,26 @@
 """Timings without compilation: the first render of a variant against the ones after it.
 
-    python benchmarks/first_render.py [--width 160 --height 90 --repeats 9]
+    python benchmarks/first_render.py [--width 160 --height 90 --rounds 3 --repeats 9]
 
 For each variant (linear and Hi-Z tracing, 1 and 4 layers, the thesis's and the pbr composite)
-a fresh Renderer renders the same frame 1 + --repeats times. The first render compiles every
-program and pays the driver's first-use costs, but untimed (Frame.warmup_runs = 1); its reported
-GPU total should then match the later renders'. Printed: the first render's total, the median and
-IQR of the later ones, their ratio, the first call's wall time (which does include compilation),
-and a verdict only where the spread allows one.
+each round opens a fresh Renderer and renders the same frame 1 + --repeats times (no warm-up
+round: the first render is what is measured). The first render compiles every program and pays
+the driver's first-use costs, but untimed (Frame.warmup_runs = 1); its reported GPU total should
+then match the later renders'. Recorded per round: the first render's total, the later renders'
+totals, the first over the median of the same round's later ones, and the first call's wall time
+(which does include compilation). The table is rendered from the records; the verdict (is the
+first render within 20 % of the later ones?) is goal_verdict's over the rounds' ratios: met, not
+met, or undecided at this noise.
 """
 
 from __future__ import annotations
 
 import statistics
 
-import numpy as np
-
 import ssrlab
-from common import benchmark_arguments, device_header
+from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
+from ssrlab.lab.protocol import Bench, goal_verdict
 
 VARIANTS = {
     "linear, 1 layer": dict(method="linear"),
@@ -25,40 +28,45 @@ VARIANTS = {
     "hiz, 4 layers, 4 rays": dict(method="hiz", layers=4, rays_per_pixel=4),
     "linear, pbr composite": dict(method="linear", composite="pbr"),
 }
+WITHIN = 0.2  # the first render's total within this share of the later renders' median
 
 
 def main() -> None:
     ap = benchmark_arguments(__doc__, repeats=9)
+    ap.add_argument("--rounds", type=int, default=3, help="fresh renderers per variant (one first render each)")
     ap.set_defaults(width=160, height=90)
     args = ap.parse_args()
-    print(device_header(ssrlab.Renderer(args.device)))
-    print(f"{args.width}x{args.height}; each variant in a fresh renderer; GPU milliseconds (total of the passes)")
-    print(f"\n{'scene':<18} {'variant':<24} {'first':>8} {'later median':>13} {'IQR':>7} {'first/later':>11}"
-          f" {'first wall':>10}  verdict (within 20 %?)")
+    bench = Bench("first_render", args, open_renderer(args), repeats=args.rounds, warmup=0)
+    print(f"{args.width}x{args.height}; {args.rounds} rounds, each a fresh renderer per variant, its first render "
+          f"and {args.repeats} later ones; GPU milliseconds (total of the passes)\n")
+    rows = []
     for name in args.scenes:
         scene = ssrlab.scenes.load(name)
         for label, kw in VARIANTS.items():
-            r = ssrlab.Renderer(args.device)
             s = ssrlab.Settings(width=args.width, height=args.height, **kw)
-            first = r.render(scene, settings=s)
-            later = [r.render(scene, settings=s).timings["total"] for _ in range(args.repeats)]
-            med = statistics.median(later)
-            q1, q3 = np.percentile(later, [25, 75])
-            ratio = first.timings["total"] / med
-            # One first render against the spread of the later ones: it shows a first-use cost
-            # only if it lies above every later render and more than 20 % above their median.
-            lo, hi = min(later), max(later)
-            if abs(ratio - 1) <= 0.2:
-                verdict = "yes"
-            elif lo <= first.timings["total"] <= hi:
-                verdict = f"within the later renders' range ({lo:.1f}-{hi:.1f} ms): noise, not a first-use cost"
-            elif (q3 - q1) / med > 0.2:
-                verdict = "too noisy to judge (IQR > 20 % of the median)"
-            else:
-                verdict = "no"
-            print(f"{name:<18} {label:<24} {first.timings['total']:>8.2f} {med:>13.2f} {q3 - q1:>7.2f} "
-                  f"{ratio:>10.2f}x {first.wall_ms:>8.0f}ms  {verdict}"
-                  + ("" if first.warmup_runs == 1 else "  (first render was not warmed!)"))
+            later_all, warmed = [], []
+
+            def measure():
+                r = ssrlab.Renderer(args.device)
+                first = r.render(scene, settings=s)
+                later = [r.render(scene, settings=s).timings["total"] for _ in range(args.repeats)]
+                later_all.extend(later)
+                warmed.append(first.warmup_runs == 1)
+                return {"first": first.timings["total"], "first_wall": first.wall_ms,
+                        "first_over_later": first.timings["total"] / statistics.median(later)}
+
+            t = bench.rounds({label: measure})[label]
+            params = dict(scene=name, variant=label, width=args.width, height=args.height)
+            bench.record(params, "first", "ms", t["first"])
+            bench.record(params, "later", "ms", later_all)
+            ratio = bench.record(params, "first_over_later", "x", t["first_over_later"])
+            bench.record(params, "first_wall", "ms", t["first_wall"])
+            verdict = goal_verdict([abs(v - 1) for v in ratio["samples"]], "<=", WITHIN)
+            rows.append([name, label, records.cell(ratio["samples"]),
+                         verdict + ("" if all(warmed) else " (a first render was not warmed!)")])
+    bench.print_table(rows=("scene", "variant"), order=["first", "later", "first_over_later", "first_wall"])
+    print(f"\nfirst render within {100 * WITHIN:.0f} % of the later ones (|first / later - 1| <= {WITHIN:g} per round)")
+    print(records.markdown(["scene", "variant", "first / later", "verdict"], rows))
 
 
 if __name__ == "__main__":
