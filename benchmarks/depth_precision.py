@@ -1,8 +1,9 @@
 """Depth precision against the near/far ratio, standard and reversed-Z depth (
 seed 000 2.3.4, seed 002 4.6.3): view-depth reconstruction error against the exact depth
 (Embree) and SSR hit-position error against the per-ray reference, per distance, for
-far/near = 1e2 ... 1e8 (ssrlab.precision). Prints the table and, per mode, the largest ratio
-keeping the hit-position error under one pixel (the README's table).
+far/near = 1e2 ... 1e8 (ssrlab.precision). Every figure is a record (one value: the measurement
+is deterministic); prints the table rendered from them and, per mode, the largest ratio keeping
+the hit-position error under one pixel (the README's table).
 
     python benchmarks/depth_precision.py                     # 320x180, linear tracer
     python benchmarks/depth_precision.py --method hiz --width 160 --height 90
@@ -22,12 +23,24 @@ def main() -> None:
     import ssrlab.precision as P
     from ssrlab.renderer import STANDARD_DEPTH_SAFE_RATIO
 
+    from ssrlab.lab.protocol import Bench
+
     renderer = open_renderer(args)
+    bench = Bench("depth_precision", args, renderer)
     rows = P.study(renderer, width=args.width, height=args.height, method=args.method)
+    for r in rows:
+        params = dict(mode=r["mode"], far_over_near=f"{r['ratio']:.0e}", near=f"{r['near']:.0e}",
+                      width=args.width, height=args.height, method=args.method)
+        for key, unit in (("depth_rel_median", "relative"), ("depth_rel_p99", "relative"), ("hit_px_median", "px"),
+                          ("hit_px_p95", "px")):
+            bench.record(params, key, unit, [r[key]])
+        bench.record(params, "worst_bin_hit_px_p95", "px", [P.worst_bin_p95(r)])
+        bench.record(params, "false_hits", "share", [r["false_hits"]])
+        bench.record(params, "true_hits_found", "share", [r["found"]], better="higher")
     print(f"scene: mirror floor, boxes at {', '.join(f'{d:g}' for d in P.BOX_DISTANCES)}, wall at "
           f"{P.WALL_DISTANCE:g}; far = {P.FAR:g}, near = far / ratio; {args.width}x{args.height}, "
           f"{args.method} tracer, mirror rays; pixels nearer than {P.DISTANCE_BINS[0]:g} not scored")
-    print(P.table(rows))
+    bench.print_table(rows=("mode", "far_over_near", "near"), digits=3, note=False)
     if args.bins:
         for r in rows:
             print(r["mode"], f"{r['ratio']:.0e}", " ".join(

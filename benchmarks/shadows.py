@@ -5,9 +5,11 @@ which reads every map) against the casting lights.
 
 Cases, on each scene's own sun (a directional caster): "1 directional"; "+ spot" adds a casting
 spot light (a second layer of the 2D array); "+ point" adds a casting point light too (a cube:
-six faces, six draws of the scene). The cases run interleaved, one render of each per repeat,
-after a warm-up render of each (compilation and the scene upload are not timed); medians with
-min, max and interquartile range. The renderer keeps a scene's maps between frames; interleaved,
+six faces, six draws of the scene). The cases run interleaved round by round after the
+protocol's warm-up rounds (ssrlab.lab.protocol: compilation and the scene upload are not timed);
+every figure is a record with its samples, and the table is rendered from them (median
+[interquartile range]); shadow_map_ratio is each round's shadow_map over the same round's one
+directional caster. The renderer keeps a scene's maps between frames; interleaved,
 each render follows another scene's and draws its maps (checked), which is what is timed. Settings.shadow_map_size is the default unless --map-size.
 Memory: shadow_map_size^2 x 4 bytes x (layers + 6 x cubes).
 """
@@ -51,38 +53,35 @@ def main(argv=None) -> int:
     ap.add_argument("--map-size", type=int, default=None, help="Settings.shadow_map_size (default: the setting's)")
     args = ap.parse_args(argv)
     import ssrlab
-    from ssrlab.lab.timing import spread
+    from ssrlab.lab.protocol import Bench
 
     r = open_renderer(args)
+    bench = Bench("shadows", args, r)
     kw = {} if args.map_size is None else dict(shadow_map_size=args.map_size)
     settings = ssrlab.Settings(width=args.width, height=args.height, **kw)
     n = settings.shadow_map_size
-    print(f"{args.width}x{args.height}, shadow_map_size {n}; GPU ms, median [min - max] (iqr) of {args.repeats} "
-          f"interleaved renders after a warm-up")
+    print(f"{args.width}x{args.height}, shadow_map_size {n}; GPU ms of {args.repeats} interleaved rounds after "
+          f"{bench.warmup} warm-up rounds")
     for scene_name in args.scenes:
         runs = cases(scene_name)
-        for _, scene, _, _ in runs:
-            r.render(scene, settings=settings)
-        times = {name: {"shadow_map": [], "lighting": []} for name, *_ in runs}
-        for _ in range(args.repeats):
-            for name, scene, layers, cubes in runs:
+
+        def measure(scene, layers, cubes):
+            def run():
                 f = r.render(scene, settings=settings)
                 # Each render follows another scene's: its maps are drawn, not reused from the last frame.
                 assert f.stats["shadow_maps_rendered"] == layers + cubes, f.stats
-                t = f.timings
-                for key in times[name]:
-                    times[name][key].append(t[key])
-        print(f"{scene_name}:")
-        base = spread(times[runs[0][0]]["shadow_map"])["median"]
+                return {k: f.timings[k] for k in ("shadow_map", "lighting")}
+            return run
+
+        times = bench.rounds({name: measure(scene, layers, cubes) for name, scene, layers, cubes in runs})
+        base = times[runs[0][0]]["shadow_map"]
         for name, _, layers, cubes in runs:
-            mib = n * n * 4 * (layers + 6 * cubes) / 2**20
-            parts = []
-            for key, values in times[name].items():
-                st = spread(values)
-                parts.append(f"{key} {st['median']:8.2f} [{st['min']:.2f} - {st['max']:.2f}] ({st['iqr']:.2f})")
-            ratio = spread(times[name]["shadow_map"])["median"] / base
-            print(f"  {name:14s} {layers} layers + {cubes} cubes, {mib:6.0f} MiB: {'   '.join(parts)}   "
-                  f"shadow_map x{ratio:.2f}")
+            params = dict(scene=scene_name, case=name, map_layers=layers, cubes=cubes, map_size=n,
+                          width=args.width, height=args.height)
+            bench.record_all(params, times[name], "ms", ("shadow_map", "lighting"))
+            bench.record(params, "shadow_map_ratio", "x", [a / b for a, b in zip(times[name]["shadow_map"], base)])
+            bench.record(params, "map_memory", "MiB", [n * n * 4 * (layers + 6 * cubes) / 2**20])
+    bench.print_table(rows=("scene", "case", "map_layers", "cubes"))
     return 0
 
 

@@ -82,11 +82,12 @@ def arguments(doc: str, repeats: int | None = None, *, scenes=("spheres_and_boxe
     return ap
 
 
-def open_renderer(args):
-    """The benchmark's Renderer, with the device line every benchmark prints first."""
+def open_renderer(args, **options):
+    """The benchmark's Renderer (Renderer options beside the device), with the device line every
+    benchmark prints first."""
     import ssrlab
 
-    renderer = ssrlab.Renderer(args.device)
+    renderer = ssrlab.Renderer(args.device, **options)
     print(device_header(renderer), flush=True)
     return renderer
 
