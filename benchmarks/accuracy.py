@@ -6,7 +6,10 @@ Prints, on mirror_test, the share of floor pixels whose mirror ray hits within 0
 analytic mirror point (among pixels whose true hit is visible) and the median error, for the
 linear (stride 1) and Hi-Z tracers at two image sizes; the hit/miss agreement of the two tracers
 on every procedural scene; the converged reference against the analytic mirror image; and the
-Monte-Carlo weight integral of the GLSL samplers against the GGX directional albedo.
+Monte-Carlo weight integral of the GLSL samplers against the GGX directional albedo. Every figure is
+a record (one value: each is deterministic), and the tables are rendered from the records.
+
+    python benchmarks/accuracy.py [--device auto|gpu|cpu]
 """
 
 from __future__ import annotations
@@ -15,7 +18,8 @@ import numpy as np
 
 import ssrlab
 from ssrlab.analytic import ggx_shade, mirror_test_hits, pixel_rays
-from common import device_header
+from common import benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 
 
 def directional_albedo(v, a, n=1500):
@@ -32,8 +36,10 @@ def directional_albedo(v, a, n=1500):
 
 
 def main() -> None:
-    r = ssrlab.Renderer()
-    print(device_header(r), "\n")
+    args = benchmark_arguments(__doc__).parse_args()
+    r = open_renderer(args)
+    bench = Bench("accuracy", args, r)
+    rec = bench.record
     scene = ssrlab.scenes.mirror_test()
     print("mirror_test, mirror rays: hits within 0.5 px of the analytic mirror point")
     for w, h in ((160, 90), (97, 61), (320, 180)):
@@ -46,8 +52,11 @@ def main() -> None:
             ok &= g.coverage[0] & (g.reflectivity[0] > 0.5) & g.coverage[0][row, col] & (g.reflectivity[0][row, col] < 0.5)
             err = np.linalg.norm(f.rays.hit_pixel[0] - expected, axis=-1)
             good = ok & f.rays.hit[0] & (err <= 0.5)
-            print(f"  {w}x{h} {method:<6} {100 * good.sum() / ok.sum():6.2f} % of {ok.sum()} pixels, "
-                  f"median error {np.median(err[ok & f.rays.hit[0]]):.3f} px")
+            params = dict(size=f"{w}x{h}", method=method, pixels=int(ok.sum()))
+            rec(params, "within_half_px", "%", [100 * good.sum() / ok.sum()], better="higher")
+            rec(params, "median_error", "px", [np.median(err[ok & f.rays.hit[0]])])
+    bench.print_table(bench.find("within_half_px") + bench.find("median_error"), rows=("size", "method", "pixels"),
+                      note=False, digits=3)
     print("\nlinear (stride 1) and Hi-Z agree on hit or miss (200x112, 2 rays per pixel)")
     for name in ssrlab.scenes.SCENES:
         for layers in (1, 4):
@@ -55,7 +64,9 @@ def main() -> None:
             a = r.render(ssrlab.scenes.load(name), method="linear", **kw).rays
             b = r.render(ssrlab.scenes.load(name), method="hiz", **kw).rays
             t = np.broadcast_to(a.traced, a.hit.shape) & (a.weight > 0)
-            print(f"  {name:<18} {layers} layer(s): {100 * (a.hit == b.hit)[t].mean():6.2f} % of {t.sum()} rays")
+            rec(dict(scene=name, layers=layers, rays=int(t.sum())), "hit_agreement", "%",
+                [100 * (a.hit == b.hit)[t].mean()], better="higher")
+    bench.print_table(bench.find("hit_agreement"), rows=("scene", "layers", "rays"), note=False)
     print("\nconverged reference against the analytic mirror image (160x90, floor pixels off tile edges)")
     f = r.render(scene, width=160, height=90)
     for viewer in ("camera", "ray"):
@@ -75,18 +86,22 @@ def main() -> None:
         expected = ggx_shade(albedo, 0.0, 0.9, np.broadcast_to([0.0, 0.0, 1.0], hit.shape),
                              (cam if viewer == "camera" else p) - hit,
                              [(light.direction, np.array(light.color) * light.intensity)], scene.ambient)
-        print(f"  viewer={viewer:<6} max abs error {np.abs(ref.reflection[ok] - expected[ok]).max():.2e} "
-              f"over {ok.sum()} pixels")
+        rec(dict(viewer=viewer, pixels=int(ok.sum())), "reference_max_abs_error", "",
+            [np.abs(ref.reflection[ok] - expected[ok]).max()])
+    bench.print_table(bench.find("reference_max_abs_error"), rows=("viewer", "pixels"), note=False, digits=6)
     print("\nGLSL samplers: Monte-Carlo weight integral over 1e5 samples against the GGX directional albedo")
     for alpha in (0.1, 0.5):
         for theta in (0, 45, 70):
             v = np.array([np.sin(np.radians(theta)), 0.0, np.cos(np.radians(theta))])
             exact = directional_albedo(v, alpha)
-            line = [f"  alpha {alpha} view {theta:2d} deg: exact {exact:.4f}"]
+            rec(dict(alpha=alpha, view_deg=theta, sampling="exact"), "directional_albedo", "", [exact])
             for sampling in ("ggx", "vndf", "ggx_thesis_literal"):
                 est = r.sample_reflections(sampling, alpha, v, 100_000, seed=11)["weight"].mean()
-                line.append(f"{sampling} {100 * (est / exact - 1):+6.2f} %")
-            print("  ".join(line))
+                rec(dict(alpha=alpha, view_deg=theta, sampling=sampling), "relative_error", "%",
+                    [100 * (est / exact - 1)])
+    print("(exact: the directional albedo; each sampler: its estimate's relative error, %)")
+    bench.print_table(bench.find("directional_albedo") + bench.find("relative_error"), rows=("alpha", "view_deg"),
+                      columns="sampling", note=False, digits=4)
 
 
 if __name__ == "__main__":

@@ -5,8 +5,9 @@
 Writes copies of the installed shader tree into a temporary folder, each with a trace_hiz.comp whose
 main() stops after one more part of the per-ray work (every copy still stores something, so that
 no part is compiled away), and renders the 1-layer Hi-Z mirror frame with each copy, frames
-interleaved in one process (2 warm-ups each; timings never include compilation). Printed: the
-trace pass's median GPU ms (min-max) per copy, cumulative:
+interleaved round by round in one process after the protocol's warm-up rounds (timings never
+include compilation). Recorded, and printed in a table rendered from the records: the trace
+pass's GPU ms per copy, cumulative:
     entries         the list entries (or pixels) and one RGBA32F store per invocation
     + ray           the G-buffer fetches and the reflected ray (slot_ray)
     + set-up        the walk's set-up (projection, screen exit, first crossing)
@@ -21,14 +22,13 @@ after it measures the full walk. The copies are instruments, not renderers: thei
 from __future__ import annotations
 
 import shutil
-import statistics
 import sys
 import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ab_pass import HIZ_MIRROR  # noqa: E402
-from ssrlab.lab.protocol import parse_set  # noqa: E402
+from ssrlab.lab.protocol import Bench  # noqa: E402
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
 SETUP = """void main() {
@@ -100,34 +100,29 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     import ssrlab
 
-    open_renderer(args)
-    kw = dict(HIZ_MIRROR)
+    first = open_renderer(args)
     try:
-        kw.update(parse_set(args.set))
+        bench = Bench("trace_parts", args, first)  # parses --set (ssrlab.lab.protocol.parse_set)
     except ValueError as e:
         ap.error(str(e))
+    kw = {**HIZ_MIRROR, **bench.settings}
     with tempfile.TemporaryDirectory() as tmp:
         renderers = {}
         for i, (label, body) in enumerate(PARTS.items()):
             folder = Path(tmp) / f"part{i}"
             make_copy(ssrlab.shader_dir(), folder, body)
             renderers[label] = ssrlab.Renderer(args.device, shader_dir=str(folder))
-        print(f"{args.width}x{args.height}, {', '.join(f'{k}={v}' for k, v in kw.items())}; trace_hiz GPU ms, "
-              f"medians (min-max) of {args.repeats}, frames interleaved")
-        print("| scene | " + " | ".join(PARTS) + " |")
-        print("|---|" + "---|" * len(PARTS))
+        print(f"{args.width}x{args.height}, {', '.join(f'{k}={v}' for k, v in kw.items())}; trace_hiz GPU ms of "
+              f"{args.repeats} rounds after {bench.warmup} warm-up rounds, frames interleaved")
         for scene_name in args.scenes:
             scene = getattr(ssrlab.scenes, scene_name)()
             s = ssrlab.Settings(width=args.width, height=args.height, **kw)
-            for r in renderers.values():
-                for _ in range(2):
-                    r.render(scene, settings=s)
-            ms = {label: [] for label in PARTS}
-            for _ in range(args.repeats):
-                for label, r in renderers.items():
-                    ms[label].append(r.render(scene, settings=s).timings["trace_hiz"])
-            print(f"| {scene_name} | " + " | ".join(
-                f"{statistics.median(v):.2f} ({min(v):.2f}-{max(v):.2f})" for v in ms.values()) + " |")
+            ms = bench.rounds({label: (lambda r=r: {"trace_hiz": r.render(scene, settings=s).timings["trace_hiz"]})
+                               for label, r in renderers.items()})
+            for label in PARTS:
+                bench.record(dict(scene=scene_name, part=label, width=args.width, height=args.height,
+                                  settings=bench.settings), "trace_hiz", "ms", ms[label]["trace_hiz"])
+    bench.print_table(rows=("scene",), columns="part", order=list(PARTS))
     return 0
 
 
