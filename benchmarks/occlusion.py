@@ -12,19 +12,19 @@ reference (`--reference-rays` VNDF rays per pixel, the same reference for every 
 scene and roughness):
     relative MAE  = sum |image - reference| / sum reference   (every colour channel)
     relative bias = sum (image - reference) / sum reference
-on the final colour, and the relative bias of the reflection term alone. Time: the median GPU
-ms of the specular_occlusion pass over --repeats renders after 2 warm-up renders, and of the
-whole frame; frame.stats' occluded_misses / unresolved_rays.
+on the final colour, and the relative bias of the reflection term alone. Time: the GPU ms of the
+specular_occlusion pass and of the whole frame, the occlusion modes of a method interleaved
+round by round, --repeats rounds after the protocol's warm-up rounds; frame.stats'
+occluded_misses / unresolved_rays. Every figure is a record and the table is rendered from them.
 """
 
 from __future__ import annotations
 
-import datetime
-
 import numpy as np
 
 import ssrlab
-from common import benchmark_arguments, median_timings, open_renderer
+from common import benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 
 ROUGHNESS = (0.0, 0.2, 0.5)
 METHODS = {
@@ -53,11 +53,10 @@ def main() -> None:
                     help="sampling of the stochastic rays (default: Settings' default)")
     args = ap.parse_args()
     r = open_renderer(args)
-    print(f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC; {args.width}x{args.height}, Hi-Z, "
-          f"1 layer, fallback 'environment'; floor pixels vs the converged reference ({args.reference_rays} VNDF "
-          f"rays); time: median GPU ms of {args.repeats} renders after 2 warm-ups\n")
-    print(f"{'scene':<18} {'rough':>5} {'method':<11} {'occlusion':<9} {'rel MAE':>8} {'bias':>7} "
-          f"{'refl bias':>9} {'occl ms':>8} {'frame ms':>9} {'occluded/unresolved':>20}")
+    bench = Bench("occlusion", args, r)
+    print(f"{args.width}x{args.height}, Hi-Z, 1 layer, fallback 'environment'; floor pixels vs the converged reference "
+          f"({args.reference_rays} VNDF rays); time: GPU ms of {args.repeats} rounds after {bench.warmup} warm-up "
+          f"rounds, the occlusion modes interleaved\n")
     for name in args.scenes:
         for rough in args.roughness:
             scene = ssrlab.scenes.load(name, floor_roughness=rough)
@@ -69,22 +68,32 @@ def main() -> None:
                     kw = dict(kw, sampling=args.sampling)
                 if rough == 0.0 and label == "stochastic":
                     kw = dict(rays_per_pixel=1)  # a mirror: one ray, any sampling
-                for occ in args.occlusion:
-                    s = ssrlab.Settings(width=args.width, height=args.height, method="hiz",
-                                        specular_occlusion=occ, **kw)
+                configs = {occ: ssrlab.Settings(width=args.width, height=args.height, method="hiz",
+                                                specular_occlusion=occ, **kw) for occ in args.occlusion}
+                for occ, s in configs.items():
                     f = r.render(scene, settings=s)
                     if truth is None:
                         truth = f.reference("converged", rays=args.reference_rays)
                         floor = (f.gbuffer.object_id[0] == FLOOR) & truth.reflective
                     mae, bias, rbias = floor_errors(f, truth, floor)
-                    st = f.stats
-                    counts = (f"{int(st.get('occluded_misses', 0))}/{int(st.get('unresolved_rays', 0))}"
-                              if occ != "off" else "-")
-                    t = median_timings(r, scene, s, repeats=args.repeats) if args.repeats > 0 else {}
-                    print(f"{name:<18} {rough:>5.2f} {label:<11} {occ:<9} {mae:>8.4f} {bias * 100:>+6.1f}% "
-                          f"{rbias * 100:>+8.1f}% {t.get('specular_occlusion', 0.0):>8.2f} "
-                          f"{t.get('total', float('nan')):>9.2f} {counts:>20}", flush=True)
-        print()
+                    params = dict(scene=name, roughness=rough, method=label, occlusion=occ, width=args.width,
+                                  height=args.height, reference_rays=args.reference_rays)
+                    bench.record(params, "rel_mae", "", [mae])
+                    bench.record(params, "bias", "%", [100 * bias])
+                    bench.record(params, "refl_bias", "%", [100 * rbias])
+                    if occ != "off":
+                        bench.record(params, "occluded_misses", "rays", [f.stats.get("occluded_misses", 0)])
+                        bench.record(params, "unresolved_rays", "rays", [f.stats.get("unresolved_rays", 0)])
+                if args.repeats > 0:
+                    times = bench.frames(r, scene, configs)
+                    for occ, t in times.items():
+                        params = dict(scene=name, roughness=rough, method=label, occlusion=occ, width=args.width,
+                                      height=args.height, reference_rays=args.reference_rays)
+                        bench.record_all(params, t, "ms", ("specular_occlusion", "total"))
+                print(f"{name} roughness {rough:g} {label}: done", flush=True)
+    bench.print_table(rows=("scene", "roughness", "method", "occlusion"),
+                      order=["rel_mae", "bias", "refl_bias", "specular_occlusion", "total", "occluded_misses",
+                             "unresolved_rays"], digits=3)
 
 
 if __name__ == "__main__":
