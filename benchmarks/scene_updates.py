@@ -12,17 +12,18 @@ Frames (Settings: the image size, --layers, everything else the defaults): per r
             the hall, so the scene's bounds and the lights' frusta stay),
   material  a render after Scene.set_material of one Suzanne (its roughness and colour),
 each timed on the wall clock around Renderer.render and reading frame.color back (what a program
-pays per frame), with the GPU total (Frame.timings["total"]) beside it; after one untimed pass over
-the cases (compilation, uploads, the deep G-buffer's 'auto' measurement). Printed: median [min - max]
-(interquartile range) of each, and the median of the per-repeat ratios to the still frame of the
-same repeat (the shared machine's load drifts between repeats; a ratio within a repeat does not).
+pays per frame), with the GPU total (Frame.timings["total"]) beside it; the protocol's rounds after
+one untimed round over the cases (compilation, uploads, the deep G-buffer's 'auto' measurement).
+Recorded, and printed in tables rendered from the records: each figure's samples, and each
+round's ratio to the still frame of the same round (the shared machine's load drifts between
+rounds; a ratio within a round does not).
 The same with method "bvh" (the moved frame pays the BVH update of the moved triangles).
 
 BVH update against moved triangles: with method "bvh" (and, in a second table, with the Embree
 scene of the CPU reference built too, which follows the same objects), k Suzannes are moved before
 a render; Renderer.stats bvh_update_ms (the update's wall time: the moved objects' trees rebuilt,
 the top tree, the uploads of what changed, Embree's commit) and bvh_update_last_triangles, median
-[min - max] over the repeats. The last row moves every object (hall's too): the whole BVH rebuilt
+over the rounds (one untimed first). The last row moves every object (hall's too): the whole BVH rebuilt
 object by object, against which the rows compare. These frames are 64x36 (the update does not
 depend on the image; small frames keep the benchmark short).
 """
@@ -61,26 +62,15 @@ def place(home, obj, k):
     return T.translate((0.2 * (k % 2), 0.15 * (k % 2), 0.0)) @ home[obj]
 
 
-def fmt(values, unit=""):
-    from ssrlab.lab.timing import spread
-
-    st = spread(values)
-    return f"{st['median']:8.1f}{unit} [{st['min']:.1f} - {st['max']:.1f}] ({st['iqr']:.1f})"
-
-
-def time_frames(r, scene, home, ids, settings, repeats):
-    """{case: [(wall ms, GPU ms)]} of still, moved and material frames, interleaved."""
+def time_frames(bench, r, scene, home, ids, settings, params: dict) -> list[dict]:
+    """Records the wall and GPU ms of still, moved and material frames, interleaved round by round
+    (bench.rounds, one untimed round), with each round's wall ratio to its still frame; returns
+    the records."""
     import ssrlab
 
     mover, painted = ids[len(ids) // 2], ids[len(ids) // 2 + 1]
     base = scene.material(painted)
-
-    def frame():
-        t = time.perf_counter()
-        f = r.render(scene, settings=settings)
-        _ = f.color
-        wall = (time.perf_counter() - t) * 1e3
-        return wall, f.timings["total"], f
+    state = {"k": 0, "stats": {}}
 
     def change(case, k):
         if case == "moved":
@@ -90,61 +80,62 @@ def time_frames(r, scene, home, ids, settings, repeats):
                                 metallic=base.metallic, reflectivity=base.reflectivity)
             scene.set_material(painted, m)
 
-    out = {c: [] for c in ("still", "moved", "material")}
-    stats = {c: [] for c in out}
-    for k in range(repeats + 1):
-        for case in out:
-            change(case, k)
-            wall, gpu, f = frame()
-            if k > 0:  # k == 0 pays compilation, uploads, 'auto' measurements
-                out[case].append((wall, gpu))
-                stats[case].append(dict(f.stats))
-    return out, stats
+    def frame(case):
+        def run():
+            if case == "still":
+                state["k"] += 1  # a new round: the moved and painted objects take their other place
+            change(case, state["k"])
+            t = time.perf_counter()
+            f = r.render(scene, settings=settings)
+            _ = f.color
+            wall = (time.perf_counter() - t) * 1e3
+            state["stats"][case] = dict(f.stats)
+            return {"wall": wall, "gpu": f.timings["total"]}
+        return run
+
+    cases = ("still", "moved", "material")
+    times = bench.rounds({c: frame(c) for c in cases}, warmup=1)
+    out = []
+    for case in cases:
+        p = {**params, "case": case}
+        out.append(bench.record(p, "wall", "ms", times[case]["wall"]))
+        out.append(bench.record(p, "gpu_total", "ms", times[case]["gpu"]))
+        out.append(bench.record(p, "wall_over_still", "x",
+                                [a / b for a, b in zip(times[case]["wall"], times["still"]["wall"])]))
+        st = state["stats"][case]
+        for key in ("shadow_maps_reused", "shadow_maps_updated", "shadow_maps_rendered"):
+            if key in st:
+                out.append(bench.record(p, key, "maps", [st[key]]))
+    return out
 
 
-def print_frames(title, out, stats):
-    print(title)
-    still = [w for w, _ in out["still"]]
-    for case, rows in out.items():
-        wall, gpu = [w for w, _ in rows], [g for _, g in rows]
-        ratio = np.median([w / s for w, s in zip(wall, still)])
-        extra = ""
-        if "shadow_maps_reused" in stats[case][0]:
-            st = stats[case][-1]
-            extra = (f"   shadow maps reused {st['shadow_maps_reused']:.0f} updated {st['shadow_maps_updated']:.0f} "
-                     f"drawn {st['shadow_maps_rendered']:.0f}")
-        print(f"  {case:9s} wall ms {fmt(wall)}   GPU ms {fmt(gpu)}   / still {ratio:.3f}{extra}")
-
-
-def time_bvh_updates(r, scene, home, ids, settings, counts, repeats):
-    """[(k, triangles, [update ms])] for k moved Suzannes (and every object last)."""
-    rows = []
+def time_bvh_updates(bench, r, scene, home, ids, settings, counts, params: dict) -> list[dict]:
+    """Records the BVH update's ms (Renderer.stats bvh_update_ms) after moving k Suzannes (and
+    every object last), bench's rounds with one untimed first; returns the records."""
     everything = list(range(scene.object_count))
+    out = []
     for k in [*counts, len(everything)]:
         movers = everything if k == len(everything) else ids[:k]
-        times, tris = [], 0
-        for rep in range(repeats + 1):
+        state = {"rep": 0, "tris": 0}
+
+        def update():
+            state["rep"] += 1
             for obj in movers:
-                scene.set_object_transform(obj, place(home, obj, rep + 1))
+                scene.set_object_transform(obj, place(home, obj, state["rep"]))
             before = r.stats["bvh_updates"]
             r.render(scene, settings=settings)
             st = r.stats
             assert st["bvh_updates"] == before + 1, "a render after a move updates the BVH once"
-            if rep > 0:
-                times.append(st["bvh_update_ms"])
-            tris = int(st["bvh_update_last_triangles"])
-        rows.append((len(movers), tris, times))
+            state["tris"] = int(st["bvh_update_last_triangles"])
+            return {"bvh_update": st["bvh_update_ms"]}
+
+        times = bench.rounds({"update": update}, warmup=1)["update"]
+        moved = "every object" if k == len(everything) else f"{k} Suzanne{'s' if k > 1 else ''}"
+        out.append(bench.record({**params, "moved": moved, "triangles": state["tris"]}, "bvh_update", "ms",
+                                times["bvh_update"]))
         for obj in movers:  # back home
             scene.set_object_transform(obj, home[obj])
-    return rows
-
-
-def print_bvh(title, rows):
-    print(title)
-    full = np.median(rows[-1][2])
-    for k, tris, times in rows:
-        what = "every object" if k == rows[-1][0] else f"{k:3d} Suzanne{'s' if k > 1 else ' '}"
-        print(f"  {what:13s} {tris:8d} triangles: {fmt(times, ' ms')}   / all {np.median(times) / full:.3f}")
+    return out
 
 
 def main(argv=None) -> int:
@@ -157,24 +148,30 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     import ssrlab
 
+    from ssrlab.lab.protocol import Bench
+
     r = open_renderer(args)
+    bench = Bench("scene_updates", args, r)
     scene, ids = suzanne_hall(args.suzannes)
     home = {i: scene.object_transform(i) for i in range(scene.object_count)}
     settings = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers)
     print(f"{scene.name}: {scene.triangle_count} triangles, {scene.object_count} objects; "
-          f"{args.width}x{args.height}, {args.layers} layers; {args.repeats} repeats after one untimed pass over the cases")
-    print_frames("frames (ms: median [min - max] (iqr); / still: median of the per-repeat ratios):",
-                 *time_frames(r, scene, home, ids, settings, args.repeats))
-    bvh = settings.replace(method="bvh")
-    print_frames('frames with method "bvh":', *time_frames(r, scene, home, ids, bvh, args.repeats))
+          f"{args.width}x{args.height}, {args.layers} layers; {args.repeats} rounds after one untimed round over the cases")
+    size = dict(width=args.width, height=args.height, layers=args.layers, suzannes=args.suzannes)
+    frames = time_frames(bench, r, scene, home, ids, settings, {**size, "method": settings.method})
+    frames += time_frames(bench, r, scene, home, ids, settings.replace(method="bvh"), {**size, "method": "bvh"})
+    print("frames (wall_over_still: each round's wall ms over its still frame's):")
+    bench.print_table(frames, rows=("method", "case"), digits=3)
     counts = [k for k in args.moved if k <= len(ids)]
-    bvh = bvh.replace(width=64, height=36)
-    print_bvh('BVH update after moving k Suzannes (method "bvh"), ms:',
-              time_bvh_updates(r, scene, home, ids, bvh, counts, args.repeats))
+    bvh = settings.replace(method="bvh", width=64, height=36)
+    small = dict(width=64, height=36, layers=args.layers, suzannes=args.suzannes)
+    updates = time_bvh_updates(bench, r, scene, home, ids, bvh, counts, {**small, "embree": False})
     f = r.render(scene, settings=bvh)
     f.reference("converged", rays=1, tracer="cpu")  # Embree's scene of the CPU reference, kept from now on
-    print_bvh("the same with the CPU reference's Embree scene built (it follows the moved objects too), ms:",
-              time_bvh_updates(r, scene, home, ids, bvh, counts, args.repeats))
+    updates += time_bvh_updates(bench, r, scene, home, ids, bvh, counts, {**small, "embree": True})
+    print('\nBVH update after moving k Suzannes (method "bvh"; embree: with the CPU reference\'s Embree scene built, '
+          'which follows the moved objects too):')
+    bench.print_table(updates, rows=("embree", "moved", "triangles"), digits=3)
     return 0
 
 

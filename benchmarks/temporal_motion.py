@@ -74,26 +74,35 @@ def excess(result, name):
     return float(result[name]["ghost"].sum() - result["single frame"]["ghost"].sum())
 
 
-def print_study(title, result, moving):
+def record_study(bench, params, result, moving) -> list[dict]:
+    """Records each configuration's figures of a motion study (the module notes): err@K, its ratio
+    to the single frame's, the moving frames' errors by region (one sample per frame), the ghost
+    energy and its excess over the single frame's, the lag and the still ratio; returns them."""
     k = moving - 1
     single = result["single frame"]["all"][k]
-    print(title)
+    out = []
     masks = result["masks"]
-    print(f"  pixels per moving frame (mean): moved {masks['moved'][1:moving].mean():.0f}, disoccluded "
-          f"{masks['disoccluded'][1:moving].mean():.0f}, ghost region {masks['ghost'][1:].mean():.0f}, footprint "
-          f"{masks['footprint'][0]}")
-    print(f"  {'configuration':26s} {'err@' + str(moving):>8s} {'/single':>7s} {'moved':>7s} {'disocc.':>7s} {'rest':>7s} "
-          f"{'ghost':>9s} {'excess':>9s} {'lag':>5s} {'still':>6s}")
-    names = [n for n in result if isinstance(result[n], dict) and "all" in result[n]]
-    for name in names:
+    for key, values in (("moved", masks["moved"][1:moving]), ("disoccluded", masks["disoccluded"][1:moving]),
+                        ("ghost region", masks["ghost"][1:])):
+        out.append(bench.record({**params, "configuration": "(pixels per frame)"}, f"{key} pixels", "pixels",
+                                list(np.asarray(values, float))))
+    for name in [n for n in result if isinstance(result[n], dict) and "all" in result[n]]:
         r = result[name]
+        p = {**params, "configuration": name}
         window = slice(1, moving)
-        lag = "-" if name == "single frame" else (f">{result['frames'] - result['still_from'] - 1}" if r["lag"] is None
-                                                  else str(r["lag"]))
-        print(f"  {name:26s} {r['all'][k]:8.4f} {r['all'][k] / single:7.3f} {np.nanmean(r['moved'][window]):7.4f} "
-              f"{np.nanmean(r['disoccluded'][window]):7.4f} {np.nanmean(r['rest'][window]):7.4f} "
-              f"{r['ghost'].sum():9.3f} {excess(result, name) if name != 'single frame' else 0.0:+9.3f} {lag:>5s} "
-              f"{r['still at stop'] / single:6.3f}")
+        out.append(bench.record(p, f"err@{moving}", "", [r["all"][k]]))
+        out.append(bench.record(p, "over_single", "x", [r["all"][k] / single]))
+        for region in ("moved", "disoccluded", "rest"):
+            v = np.asarray(r[region][window], float)
+            out.append(bench.record(p, region, "", list(v[np.isfinite(v)])))
+        out.append(bench.record(p, "ghost", "", [float(r["ghost"].sum())]))
+        out.append(bench.record(p, "excess", "", [excess(result, name) if name != "single frame" else 0.0]))
+        if name != "single frame":
+            # frames after the stop; where never within reach, the frames the sequence had left
+            lag = result["frames"] - result["still_from"] if r["lag"] is None else r["lag"]
+            out.append(bench.record(p, "lag", "frames", [lag], reached=r["lag"] is not None))
+        out.append(bench.record(p, "still", "x", [r["still at stop"] / single]))
+    return out
 
 
 def claims(result, moving, bound):
@@ -123,29 +132,34 @@ def claims(result, moving, bound):
     return lines
 
 
-def costs(renderer, args):
+def costs(bench, renderer, args):
     """Moving costs what moved: scene_updates' still and moved frames and its BVH updates."""
     import ssrlab
+    from ssrlab.lab.protocol import goal_verdict
 
     scene, ids = scene_updates.suzanne_hall(args.suzannes)
     home = {i: scene.object_transform(i) for i in range(scene.object_count)}
     settings = ssrlab.Settings(width=args.width, height=args.height, layers=args.layers)
     print(f"\nmoving costs what moved: {scene.name}, {scene.triangle_count} triangles, {args.width}x{args.height}, "
-          f"{args.layers} layers; {args.repeats} repeats after one untimed pass")
-    out, stats = scene_updates.time_frames(renderer, scene, home, ids, settings, args.repeats)
-    scene_updates.print_frames("frames (ms: median [min - max] (iqr); / still: median of the per-repeat ratios):",
-                               out, stats)
+          f"{args.layers} layers; {args.repeats} rounds after one untimed round")
+    size = dict(study="costs", width=args.width, height=args.height, layers=args.layers, suzannes=args.suzannes)
+    frames = scene_updates.time_frames(bench, renderer, scene, home, ids, settings, size)
+    bench.print_table(frames, rows=("case",), digits=3)
     bvh = settings.replace(method="bvh", width=64, height=36)
     renderer.render(scene, settings=bvh)  # builds the BVH: what follows updates it
     counts = [k for k in (1, 5, 25) if k <= len(ids)]
-    rows = scene_updates.time_bvh_updates(renderer, scene, home, ids, bvh, counts, args.repeats)
-    scene_updates.print_bvh('BVH update after moving k Suzannes (method "bvh"), ms:', rows)
-    still = float(np.median([w for w, _ in out["still"]]))
-    moved = float(np.median([w for w, _ in out["moved"]]))
-    update = float(np.median(rows[0][2]))
-    print(f"  claim: moved frame {moved:.1f} ms <= {COST_RATIO} x still {still:.1f} ms + BVH update of one Suzanne "
-          f"({rows[0][1]} triangles) {update:.1f} ms = {COST_RATIO * still + update:.1f} ms: "
-          f"{'yes' if moved <= COST_RATIO * still + update else 'no'} (wall-clock medians)")
+    rows = scene_updates.time_bvh_updates(bench, renderer, scene, home, ids, bvh, counts,
+                                          {**size, "width": 64, "height": 36})
+    print('BVH update after moving k Suzannes (method "bvh"):')
+    bench.print_table(rows, rows=("moved", "triangles"), digits=3)
+    still = [x for x in frames if x["metric"] == "wall" and x["params"]["case"] == "still"][0]["samples"]
+    moved = [x for x in frames if x["metric"] == "wall" and x["params"]["case"] == "moved"][0]["samples"]
+    update = float(np.median(rows[0]["samples"]))
+    # one value per round: the moved frame over the same round's still frame plus the update's median
+    ratio = [m / (COST_RATIO * s + update) for m, s in zip(moved, still)]
+    print(f"  claim: moved frame <= {COST_RATIO} x still frame + BVH update of one Suzanne "
+          f"({rows[0]['params']['triangles']} triangles), per round (wall clock): "
+          f"{goal_verdict(ratio, '<=', 1.0)}")
 
 
 def main(argv=None) -> int:
@@ -163,7 +177,10 @@ def main(argv=None) -> int:
     import ssrlab
     from ssrlab.lab import temporal
 
+    from ssrlab.lab.protocol import Bench
+
     r = open_renderer(args)
+    bench = Bench("temporal_motion", args, r)
     print(time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()) +
           f"; {args.width}x{args.height}, {args.layers} layers, 1 ray per pixel, {args.frames} frames (objects move over "
           f"the first {args.moving}), converged references of {args.reference_rays} rays")
@@ -177,7 +194,15 @@ def main(argv=None) -> int:
             result = temporal.motion_study(r, seq, cfg, reference_rays=args.reference_rays)
             camera = "still camera" if orbit == 0.0 else f"camera orbiting {orbit:g} degrees"
             bound = temporal.accumulation_bound(r, seq, base, reference_rays=args.reference_rays)
-            print_study(f"\n{name}, {camera} ({time.perf_counter() - t:.0f} s):", result, args.moving)
+            params = dict(sequence=name, camera=camera, width=args.width, height=args.height, layers=args.layers,
+                          frames=args.frames, moving=args.moving, reference_rays=args.reference_rays)
+            recs = record_study(bench, params, result, args.moving)
+            print(f"\n{name}, {camera} ({time.perf_counter() - t:.0f} s):")
+            pixels = [x for x in recs if x["params"]["configuration"] == "(pixels per frame)"]
+            bench.print_table(pixels, rows=("configuration",), digits=0, note=False)
+            bench.print_table([x for x in recs if x not in pixels], rows=("configuration",), digits=4)
+            bench.record({**params, "configuration": "bound"}, f"err@{args.moving}", "", [bound["mean"]])
+            bench.record({**params, "configuration": "bound"}, "over_single", "x", [bound["ratio"]])
             print(f"  bound: the mean of {bound['count']} independent renders of frame {args.moving}'s pose "
                   f"{bound['mean']:.4f} = {bound['ratio']:.3f} x single (an accumulation of {bound['count']} frames "
                   "does no better, up to the noise of one draw)")
@@ -187,7 +212,7 @@ def main(argv=None) -> int:
         print(title)
         print("\n".join(lines))
     if not args.no_costs:
-        costs(r, args)
+        costs(bench, r, args)
     return 0
 
 
