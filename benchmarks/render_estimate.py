@@ -9,12 +9,13 @@ them small on screen or outside it), and "stacked", --stacked copies in one plac
 what the others do: the fill, not the triangles, is the work). Each configuration is rendered by
 a fresh Renderer, once (the first render: scene upload, compilation, deep_gbuffer 'auto''s
 measurement, the BVH) and once more (a repeat); wall seconds from the call to the colour read
-back, at 640x360.
+back, at 640x360; --rounds rounds of the protocol (no warm-up round: the first render is what is
+measured), each a fresh Renderer. Every figure is a record; the table is rendered from them.
 
 Columns: the drawn triangles, Renderer.estimate's geometry passes and seconds, the first render's
 and the repeat's measured seconds, and the rates they imply: "draw rate", triangles x passes a
 second of the first render (of a configuration without a BVH), and "bvh rate", triangles a second
-into the BVH (the first render with fallback="bvh" less the same without it). ssrlab.workload.RATES
+into the BVH (the first render with fallback="bvh" less the same without it, round by round). ssrlab.workload.RATES
 takes its figures from these columns on llvmpipe: the estimate leans long on the spread scenes and
 short on the stacked ones, which it counts by their triangles only.
 """
@@ -29,6 +30,8 @@ from pathlib import Path
 import ssrlab
 from ssrlab.lab import hostile_gltf
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
+from ssrlab.lab.protocol import Bench
 
 CONFIGURATIONS = [
     ("1 layer", {}),
@@ -38,7 +41,8 @@ CONFIGURATIONS = [
 ]
 
 
-def measure(device: str, path: Path, settings: ssrlab.Settings) -> tuple[ssrlab.workload.Estimate, float, float]:
+def measure(device: str, path: Path, settings: ssrlab.Settings):
+    """One round: a fresh Renderer's estimate, its first render's and its repeat's wall seconds."""
     renderer = ssrlab.Renderer(device)
     scene = ssrlab.scenes.load(str(path))
     est = renderer.estimate(scene, settings)
@@ -58,15 +62,15 @@ def main() -> None:
     ap = benchmark_arguments(__doc__)
     ap.add_argument("--instances", type=int, nargs="+", default=[2000], help="copies of the spread scenes")
     ap.add_argument("--stacked", type=int, nargs="+", default=[500], help="copies of the stacked scenes")
+    ap.add_argument("--rounds", type=int, default=3, help="fresh renderers per configuration")
     args = ap.parse_args()
     renderer = open_renderer(args)
     device = renderer.info["device"]
+    bench = Bench("render_estimate", args, renderer, repeats=args.rounds, warmup=0)
     del renderer
-    print(f"{args.width}x{args.height}; a fresh Renderer per configuration: its first render, then a repeat; wall "
-          f"seconds. Estimates at ssrlab.workload.RATES[{device!r}] = "
+    print(f"{args.width}x{args.height}; {args.rounds} rounds, each a fresh Renderer per configuration: its first "
+          f"render, then a repeat; wall seconds. Estimates at ssrlab.workload.RATES[{device!r}] = "
           f"{ssrlab.workload.RATES.get(device, ssrlab.workload.RATES['cpu'])}\n")
-    print(f"{'scene':<8} {'copies':>6} {'triangles':>11}  {'settings':<23} {'passes':>6} {'estimate s':>10} "
-          f"{'first s':>8} {'repeat s':>8} {'draw rate':>10} {'bvh rate':>9}")
     with tempfile.TemporaryDirectory() as tmp:
         for layout, counts, spacing in (("spread", args.instances, 60.0), ("stacked", args.stacked, 0.0)):
             for n in counts:
@@ -74,18 +78,38 @@ def main() -> None:
                 first_without_bvh = None
                 for label, changes in CONFIGURATIONS:
                     settings = ssrlab.Settings(width=args.width, height=args.height, **changes)
-                    est, first, repeat = measure(args.device, path, settings)
-                    draw = bvh = "-"
+                    last = {}
+
+                    def run():
+                        last["est"], first, repeat = measure(args.device, path, settings)
+                        return {"first": first, "repeat": repeat}
+
+                    t = bench.rounds({label: run})[label]
+                    est = last["est"]
+                    params = dict(scene=layout, copies=n, triangles=est.triangles, settings=label,
+                                  width=args.width, height=args.height)
+                    bench.record(params, "passes", "passes", [est.passes])
+                    bench.record(params, "estimate", "s", [est.seconds])
+                    bench.record(params, "first", "s", t["first"])
+                    bench.record(params, "repeat", "s", t["repeat"])
+                    rate = ""
                     if not est.bvh:
-                        draw = f"{est.triangles * est.passes / first / 1e6:.2f}M"
+                        draw = bench.record(params, "draw_rate", "Mtri/s",
+                                            [est.triangles * est.passes / v / 1e6 for v in t["first"]], better="higher")
+                        rate = f", draw rate {records.cell(draw['samples'])} M"
                         if not changes:
-                            first_without_bvh = first
-                    elif first_without_bvh is not None and first > first_without_bvh:
-                        bvh = f"{est.triangles / (first - first_without_bvh) / 1e6:.2f}M"
-                    print(f"{layout:<8} {n:>6} {est.triangles:>11,}  {label:<23} {est.passes:>6} {est.seconds:>10.1f} "
-                          f"{first:>8.2f} {repeat:>8.2f} {draw:>10} {bvh:>9}", flush=True)
+                            first_without_bvh = t["first"]
+                    elif first_without_bvh is not None:
+                        # round by round: the same round's first render without the BVH
+                        extra = [a - b for a, b in zip(t["first"], first_without_bvh)]
+                        if all(x > 0 for x in extra):
+                            bench.record(params, "bvh_rate", "Mtri/s", [est.triangles / x / 1e6 for x in extra],
+                                         better="higher")
+                    print(f"{layout} {n} copies, {label}: measured (estimate {est.seconds:.1f} s){rate}", flush=True)
+    bench.print_table(rows=("scene", "copies", "triangles", "settings"),
+                      order=["passes", "estimate", "first", "repeat", "draw_rate", "bvh_rate"])
     print("\ndraw rate: triangles x geometry passes / the first render's seconds; bvh rate: triangles / (the first "
-          "render with fallback='bvh' less the first with the same settings without it)")
+          "render with fallback='bvh' less the first with the same settings without it, in the same round)")
 
 
 if __name__ == "__main__":
