@@ -47,7 +47,7 @@ def main() -> None:
     full = rss()
     per_frame_api = sum(f.gpu_bytes for f in kept) / len(kept)
     live = len(renderer.live_frames)
-    del kept
+    kept.clear()
     gc.collect()
     end = rss()
     params = dict(scene=args.scenes[0], width=args.width, height=args.height, renders=args.renders,

@@ -104,8 +104,8 @@ def main() -> None:
     print(f"{args.width}x{args.height}; rmse against 64-ray converged references (or 4x4 supersampling); one value, "
           f"or the frames' values\n")
     bench.print_table([x for x in bench.recorder.records if x["metric"] == "rmse"], rows=("study", "case"), digits=4)
-    print(f"\nGPU ms of frames 2..N (the first pays compilation and an empty history); share_of_frame: each "
-          f"frame's part over its total\n")
+    print("\nGPU ms of frames 2..N (the first pays compilation and an empty history); share_of_frame: each "
+          "frame's part over its total\n")
     bench.print_table([x for x in bench.recorder.records if x["metric"] != "rmse"], rows=("study", "case"), digits=3)
 
 
