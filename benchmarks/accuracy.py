@@ -36,7 +36,9 @@ def directional_albedo(v, a, n=1500):
 
 
 def main() -> None:
-    args = benchmark_arguments(__doc__).parse_args()
+    ap = benchmark_arguments(__doc__)
+    ap.set_defaults(scenes=list(ssrlab.scenes.SCENES))  # the tracers' agreement: every procedural scene
+    args = ap.parse_args()
     r = open_renderer(args)
     bench = Bench("accuracy", args, r)
     rec = bench.record
@@ -58,7 +60,7 @@ def main() -> None:
     bench.print_table(bench.find("within_half_px") + bench.find("median_error"), rows=("size", "method", "pixels"),
                       note=False, digits=3)
     print("\nlinear (stride 1) and Hi-Z agree on hit or miss (200x112, 2 rays per pixel)")
-    for name in ssrlab.scenes.SCENES:
+    for name in args.scenes:
         for layers in (1, 4):
             kw = dict(width=200, height=112, layers=layers, rays_per_pixel=2, stride=1.0)
             a = r.render(ssrlab.scenes.load(name), method="linear", **kw).rays

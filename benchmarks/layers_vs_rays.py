@@ -20,8 +20,9 @@ half resolution, 250 steps; the plain G-buffer, peeled) three ways to spend more
   rays             8, 16 rays a pixel, or rays traced at full resolution (1 layer)
   steps            stride 2, 1: more, shorter steps per ray (1 layer)
 
-Every configuration renders `repeats` single frames, with seeds 0..repeats-1, after 2 warm-up
-renders, configurations interleaved round by round. Time: the median GPU time of the whole
+Every configuration renders `repeats` single frames, with seeds 0..repeats-1, after the
+protocol's 2 warm-up rounds, configurations interleaved round by round (ssrlab.lab.protocol);
+every time and error is a record with one sample per seed, and the tables are rendered from them. Time: the median GPU time of the whole
 frame (timings['total']) and its interquartile range; on llvmpipe also the CPU time the process
 spent in the render call (its rasteriser threads included): llvmpipe's GPU timer measures wall
 time, which a machine shared with other jobs inflates (most at each CPU-GPU synchronisation, and
@@ -53,6 +54,8 @@ import numpy as np
 
 import ssrlab
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
+from ssrlab.lab.protocol import Bench
 from ssrlab.experiments import MIN_JUDGED_MS, THESIS_SETTINGS
 from ssrlab.metrics import image_metrics
 from ssrlab.reference import reference_image
@@ -153,12 +156,13 @@ def main() -> None:
     if unknown:
         ap.error(f"--scenes: unknown {unknown}; choose from {list(SCENES)}")
     renderer = open_renderer(args)
+    bench = Bench("layers_vs_rays", args, renderer)
     base = ssrlab.Settings(width=args.width, height=args.height, **THESIS_SETTINGS)
     configs = configurations(base, args.deep_gbuffer)
     constructions = list(dict.fromkeys(["peel", *args.deep_gbuffer]))
     clocks = ["gpu"] + (["cpu"] if renderer.info["device"] == "cpu" else [])
     print(f"{args.width}x{args.height}, from the thesis settings {THESIS_SETTINGS} with 1 layer; {args.repeats} "
-          f"frames per configuration (seeds 0-{args.repeats - 1}) after 2 warm-ups, interleaved; error: {ERROR} "
+          f"frames per configuration (seeds 0-{args.repeats - 1}) after {bench.warmup} warm-up rounds, interleaved; error: {ERROR} "
           f"against {args.reference_rays}-ray converged references, mean over the seeds; time, median [IQR]: "
           + "; ".join(CLOCKS[c] for c in clocks) + "\n")
     summary = []
@@ -166,22 +170,36 @@ def main() -> None:
         label, make = SCENES[key]
         scene = make()
         ref = reference_image(renderer, scene, scene.camera, base, kind="converged", rays=args.reference_rays)
-        times = {(clock, c): [] for clock in clocks for c in configs}
-        errors = {c: [] for c in configs}
         used = {c: None for c in configs}
-        for rnd in range(2 + args.repeats):
-            for c, s in configs.items():
-                seed = max(rnd - 2, 0)
+        state = {"round": -1}
+
+        def measure(c, s):
+            def run():
+                if c == first:
+                    state["round"] += 1
+                seed = max(state["round"] - bench.warmup, 0)  # the warm-up rounds render seed 0
                 cpu0 = time.process_time()
                 f = renderer.render(scene, settings=s.replace(seed=seed))
                 cpu = 1000.0 * (time.process_time() - cpu0)
-                if rnd >= 2:
-                    times[("gpu", c)].append(f.timings["total"])
-                    if "cpu" in clocks:
-                        times[("cpu", c)].append(cpu)
-                    errors[c].append(image_metrics(f.color, ref.color, ref.reflective, perceptual=False)[ERROR])
-                    used[c] = (f.stats["layers_used"], f.stats.get("deep_gbuffer_method", f.settings.deep_gbuffer))
+                out = {"gpu": f.timings["total"], "error": image_metrics(f.color, ref.color, ref.reflective,
+                                                                         perceptual=False)[ERROR]}
+                if "cpu" in clocks:
+                    out["cpu"] = cpu
+                used[c] = (f.stats["layers_used"], f.stats.get("deep_gbuffer_method", f.settings.deep_gbuffer))
                 f.release()
+                return out
+            return run
+
+        first = next(iter(configs))
+        measured = bench.rounds({c: measure(c, s) for c, s in configs.items()})
+        times, errors = {}, {}
+        for c in configs:
+            params = dict(scene=key, series=c[0], configuration=c[1], built_by=used[c][1], layers_used=used[c][0],
+                          width=args.width, height=args.height, reference_rays=args.reference_rays)
+            errors[c] = bench.record(params, ERROR, "", measured[c]["error"])["samples"]
+            for clock in clocks:
+                times[(clock, c)] = bench.record({**params, "clock": clock}, "frame", "ms",
+                                                 measured[c][clock])["samples"]
         start = ("start", "1 layer")
         e0 = statistics.fmean(errors[start])
         print(f"{label} ({int(ref.reflective.sum())} reflective pixels): 1 layer, thesis settings: error {e0:.5f}, "
@@ -196,20 +214,17 @@ def main() -> None:
                 best = min((c for c in configs if c[0].startswith("layers (") and c[1] == label_l),
                            key=lambda c: statistics.median(times[(clock, c)]))
                 fastest[(FASTEST, label_l)] = best
-            width = max(len(FASTEST), *(len(c[0]) for c in configs))
             print(f"  by {clock} time")
-            print(f"  {'series':<{width}} {'configuration':<10} {'built by':>16} {'used':>4} {'ms':>8} {'[IQR]':>7} "
-                  f"{'error':>9} {'removed (± s.e.)':>21} {'+ms':>7} {'error/ms':>10}  measured?")
             results: dict[str, list] = {}
+            table = []
             for c in [*configs, *fastest]:
                 series, name = c
                 m = fastest.get(c, c)  # the measured configuration behind the row
                 ts = times[(clock, m)]
                 t, e = statistics.median(ts), statistics.fmean(errors[m])
-                row = (f"  {series:<{width}} {name:<10} {used[m][1]:>16} {used[m][0]:>4} {t:>8.1f} [{iqr(ts):>5.1f}] "
-                       f"{e:>9.5f}")
+                row = [series, name, used[m][1], used[m][0], records.cell(ts, 1), f"{e:.5f}"]
                 if c == start:
-                    print(row)
+                    table.append(row + ["", "", "", ""])
                     continue
                 gains = [a - b for a, b in zip(errors[start], errors[m])]  # paired by seed
                 gain = statistics.fmean(gains)
@@ -220,17 +235,19 @@ def main() -> None:
                 ratio = gain / added if added > 0 else float("nan")
                 why = [w for ok, w in ((gain_measured, "gain within noise"), (time_measured, "time within noise"))
                        if not ok]
-                print(f"{row} {gain:>+10.5f} ± {se:<8.5f} {added:>+7.1f} {ratio:>10.2e}  "
-                      f"{'yes' if not why else 'no: ' + ', '.join(why)}")
+                table.append(row + [f"{gain:+.5f} ± {se:.5f}", f"{added:+.1f}", f"{ratio:.2e}",
+                                    "yes" if not why else "no: " + ", ".join(why)])
                 results.setdefault(series, []).append((ratio, se / added if added > 0 else float("nan"), name,
                                                        gain_measured, time_measured))
+            print(records.markdown(["series", "configuration", "built by", "used", "ms [IQR]", "error",
+                                    "removed (± s.e.)", "+ms", "error/ms", "measured?"], table))
             # Rays and steps together: the time spent on the rays.
             rays = series_result(results["rays"] + results["steps"])
             verdicts[clock] = {series: judge(series_result(results[series]), rays, series, "rays/steps")
                                for series in [FASTEST, *(layer_series(x) for x in constructions)]}
             print(f"  more error removed per {clock} ms, layers vs rays:")
             for series, v in verdicts[clock].items():
-                print(f"    {series:<{width}} -> {v}")
+                print(f"    {series} -> {v}")
             print()
         summary.append((label, verdicts))
     print("seed 000, 4.2 (\"the time spent constructing the deep G-buffers is better spent on other parts of "

@@ -21,7 +21,8 @@ reflective pixels (thesis_error_reflective) and of rmse_reflective; for each sep
 mean paired difference to 2 plain layers (same frames, same rays) with its standard error over
 the frames, the share of pixels whose layer 1 changed, and the verdict computed from them:
 "lower" or "higher" where the difference exceeds twice its standard error, else "no difference
-beyond the frames' noise".
+beyond the frames' noise". Every error is a record with one sample per frame (the share of
+changed pixels one per frame too); the tables are rendered from the records.
 """
 
 from __future__ import annotations
@@ -33,6 +34,8 @@ import numpy as np
 
 import ssrlab
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
+from ssrlab.lab.protocol import Bench
 from ssrlab.experiments import THESIS_SETTINGS
 from ssrlab.metrics import image_metrics
 from ssrlab.reference import reference_image
@@ -81,6 +84,7 @@ def main() -> None:
     if unknown:
         ap.error(f"--scenes: unknown {unknown}; choose from {list(SCENES)}")
     renderer = open_renderer(args)
+    bench = Bench("min_separation", args, renderer)
     base = ssrlab.Settings(width=args.width, height=args.height, deep_gbuffer="lists", **THESIS_SETTINGS)
     configs = {"1 layer": base.replace(layers=1), "2 layers": base.replace(layers=2)}
     for sep in args.separations:
@@ -111,27 +115,33 @@ def main() -> None:
                     elif s.layers == 2:
                         changed.append(float(np.mean(f.gbuffer.window_depth[1] != plain_depth[i])))
                     f.release()
+                params = dict(scene=key, camera=how, configuration=name, frames=len(cameras), width=args.width,
+                              height=args.height, reference_rays=args.reference_rays)
+                bench.record(params, ERROR, "", errors[name])
+                bench.record(params, "rmse_reflective", "", rmses[name])
+                if changed:
+                    bench.record(params, "layer1_changed", "share", changed)
                 layer1[name] = statistics.fmean(changed) if changed else None
             print(f"{label}, {how} camera ({len(cameras)} frames, {int(refs[0].reflective.sum())} reflective "
                   f"pixels in frame 0)")
-            print(f"  {'configuration':<20} {ERROR:>24} {'rmse_reflective':>16} {'layer 1 changed':>16} "
-                  f"{'vs 2 layers (± s.e.)':>24}  verdict")
+            rows = []
             for name in configs:
                 e, r = statistics.fmean(errors[name]), statistics.fmean(rmses[name])
-                ch = f"{100 * layer1[name]:>15.1f}%" if layer1[name] is not None else f"{'':>16}"
+                ch = f"{100 * layer1[name]:.1f} %" if layer1[name] is not None else ""
                 if name == "2 layers":
-                    print(f"  {name:<20} {e:>24.5f} {r:>16.5f} {ch} {'(baseline)':>24}")
+                    rows.append([name, f"{e:.5f}", f"{r:.5f}", ch, "(baseline)", ""])
                     continue
                 diffs = [a - b for a, b in zip(errors[name], errors["2 layers"])]
                 mean, se, word = verdict(diffs)
-                print(f"  {name:<20} {e:>24.5f} {r:>16.5f} {ch} {mean:>+13.5f} ± {se:<8.5f}  {word}")
+                rows.append([name, f"{e:.5f}", f"{r:.5f}", ch, f"{mean:+.5f} ± {se:.5f}", word])
                 if name != "1 layer":
                     verdicts.append((label, how, name, word))
+            print(records.markdown(["configuration", f"{ERROR} (mean)", "rmse_reflective (mean)", "layer 1 changed",
+                                    "vs 2 layers (± s.e.)", "verdict"], rows))
             print()
     print("verdict: 2 layers with a minimum separation against 2 plain peeled layers, error against the converged "
           "reference")
-    for label, how, name, word in verdicts:
-        print(f"  {label:<38} {how:<7} {name:<20} {word}")
+    print(records.markdown(["scene", "camera", "configuration", "verdict"], [list(v) for v in verdicts]))
 
 
 if __name__ == "__main__":

@@ -22,7 +22,12 @@ Dr.Jit port of ssrlab's BRDF (bsdf="ssrlab"); the objects are the port in both. 
   alone, SSR + the BVH fallback (fallback="bvh": traced shadows by default, and
   bvh_shadows="map") and pure BVH (method="bvh", both shadows), each frame's image against
   Mitsuba and against ssrlab's converged physical reference (shadows="traced", viewer="ray"),
-  with the frame's GPU time (median [min, max] of --repeats renders after 2 warm-ups).
+  with the frame's GPU time (--repeats rounds after the protocol's warm-up rounds, the frames
+  interleaved round by round).
+
+Every figure is a record (ssrlab.lab.records): the PSNRs and noise statistics one value each (the
+renders are deterministic for their seeds), the frames' GPU times with their samples; the
+tables are rendered from the records and the verdicts printed from the same figures.
 
     python benchmarks/mitsuba_crosscheck.py                 # 640x360, about 12 minutes on llvmpipe
     python benchmarks/mitsuba_crosscheck.py --width 160 --height 90 --spp 64
@@ -35,7 +40,8 @@ import time
 
 import numpy as np
 
-from common import HYBRID_FRAMES, benchmark_arguments, frame_ms, open_renderer
+from common import HYBRID_FRAMES, benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 
 import ssrlab
 from ssrlab import crosscheck as cc
@@ -57,10 +63,12 @@ FRAME_GOALS = {"SSR + BVH fallback": (40.0, True), "pure BVH": (45.0, False)}
 MIRROR_GOAL, NOISE_Z = 45.0, 4.0
 
 
-def frames_table(renderer, sizes, repeats: int) -> None:
-    """Each frame's image on the mirror floor against Mitsuba and the converged physical reference."""
+def frames_table(bench, renderer, sizes) -> None:
+    """Each frame's image on the mirror floor against Mitsuba and the converged physical reference,
+    and its GPU time (the frames interleaved round by round)."""
     scene = cc.crosscheck_scene(0.0)
     verdicts = []
+    recs = []
     for W, H in sizes:
         ms = cc.mitsuba_scene(scene, width=W, height=H)
         mit = cc.render_mitsuba(ms, spp=1)
@@ -69,24 +77,27 @@ def frames_table(renderer, sizes, repeats: int) -> None:
         physical = truth.color.copy()
         raw, inner = cc.floor_pixels(frame, interior=False), cc.floor_pixels(frame)
         smooth = inner & ~cc.reflected_silhouettes(ms)
-        print(f"\nframes on the mirror floor, {W}x{H} (default settings, traced shadows in the BVH passes, but for "
-              f"the row's): final image's PSNR "
-              f"against Mitsuba (all floor pixels, interior, smooth) and against ssrlab's converged physical "
-              f"reference (interior); frame GPU ms, median [min, max] of {repeats} after 2 warm-ups")
-        print(f"{'frame':40s} {'Mitsuba':>9s} {'interior':>9s} {'smooth':>9s} {'physical':>9s} {'frame ms':>24s}")
-        for name, kw in HYBRID_FRAMES.items():
-            st = base.replace(**kw)
+        configs = {name: base.replace(**kw) for name, kw in HYBRID_FRAMES.items()}
+        times = bench.frames(renderer, scene, configs)
+        for name, st in configs.items():
             c = renderer.render(scene, settings=st).color.copy()
-            t = frame_ms(renderer, scene, st, repeats)
-            row = [cc.floor_psnr(c, mit, raw), cc.floor_psnr(c, mit, inner), cc.floor_psnr(c, mit, smooth),
-                   cc.floor_psnr(c, physical, inner)]
-            print(f"{name:40s} " + " ".join(f"{v:6.2f} dB" for v in row) + f" {t[0]:9.1f} [{t[1]:.1f}, {t[2]:.1f}]")
+            params = dict(section="frames", frame=name, width=W, height=H)
+            row = {"vs_mitsuba_floor": cc.floor_psnr(c, mit, raw), "vs_mitsuba_interior": cc.floor_psnr(c, mit, inner),
+                   "vs_mitsuba_smooth": cc.floor_psnr(c, mit, smooth),
+                   "vs_physical_interior": cc.floor_psnr(c, physical, inner)}
+            recs += [bench.record(params, k, "dB", [v], better="higher") for k, v in row.items()]
+            recs.append(bench.record(params, "frame", "ms", times[name]["total"]))
             if name in FRAME_GOALS:
                 goal, also_physical = FRAME_GOALS[name]
-                value = min(row[1], row[3]) if also_physical else row[1]
+                value = min(row["vs_mitsuba_interior"], row["vs_physical_interior"]) if also_physical \
+                    else row["vs_mitsuba_interior"]
                 target = "Mitsuba and the physical reference" if also_physical else "Mitsuba"
                 verdicts.append(f"{name} {W}x{H}: {value:.2f} dB against {target} (interior floor pixels); "
-                                f"goal >= {goal:.0f} dB: {'met' if value >= goal else 'NOT met'}")
+                                f"goal >= {goal:.0f} dB: {'met' if value >= goal else 'not met'}")
+    print(f"\nframes on the mirror floor (default settings, traced shadows in the BVH passes, but for the row's): "
+          f"final image's PSNR against Mitsuba (all floor pixels, interior, smooth) and against ssrlab's converged "
+          f"physical reference (interior); frame GPU ms of {bench.repeats} rounds after {bench.warmup} warm-up rounds")
+    bench.print_table(recs, rows=("width", "height", "frame"), digits=2)
     print("\n" + "\n".join(verdicts))
 
 
@@ -100,11 +111,12 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=5, help="timed renders per frame of the frames' table")
     args = ap.parse_args()
     renderer = open_renderer(args)
+    bench = Bench("mitsuba_crosscheck", args, renderer)
     cc.load_mitsuba()
     print(cc.mitsuba_version())
     sizes = [tuple(int(x) for x in s.lower().split("x")) for s in args.frame_sizes.split(",") if s]
     if args.only_frames:
-        frames_table(renderer, sizes, args.repeats)
+        frames_table(bench, renderer, sizes)
         return
     W, H = args.width, args.height
     base = ssrlab.Settings(width=W, height=H)
@@ -140,22 +152,32 @@ def main() -> None:
     edges = cc.reflected_silhouettes(ms)
     print("PSNR against Mitsuba's conductor over all floor pixels, interior ones (no silhouette in the image) and\n"
           "interior ones whose reflection lands on no silhouette (reflected silhouettes: where Mitsuba's larger ray\n"
-          "offset flips hits); the last column: smooth ones against the port of ssrlab's BRDF on the floor")
-    print(f"{'ssrlab reference':50s} {'floor':>9s} {'interior':>9s} {'smooth':>9s} {'MSE smooth':>11s} {'port':>9s}")
+          "offset flips hits); smooth_vs_port: smooth ones against the port of ssrlab's BRDF on the floor")
+    size = dict(width=W, height=H)
+
+    def psnrs(section, reference, c, target, raw, inner, smooth, port=None, **extra):
+        params = dict(section=section, reference=reference, **size, **extra)
+        out = [bench.record(params, "floor", "dB", [cc.floor_psnr(c, target, raw)], better="higher"),
+               bench.record(params, "interior", "dB", [cc.floor_psnr(c, target, inner)], better="higher"),
+               bench.record(params, "smooth", "dB", [cc.floor_psnr(c, target, smooth)], better="higher"),
+               bench.record(params, "mse_smooth", "", [mse(c, target, smooth)])]
+        if port is not None:
+            out.append(bench.record(params, "smooth_vs_port", "dB", [cc.floor_psnr(c, port, smooth)], better="higher"))
+        return out
+
+    mirror = []
     for name, s, kw in rows:
         frame, truth = cc.ssrlab_reference(renderer, scene, s, **kw)
         raw, inner = cc.floor_pixels(frame, interior=False), cc.floor_pixels(frame)
         smooth = inner & ~edges
         c = truth.color
-        print(f"{name:50s} {cc.floor_psnr(c, mit, raw):6.2f} dB {cc.floor_psnr(c, mit, inner):6.2f} dB "
-              f"{cc.floor_psnr(c, mit, smooth):6.2f} dB {mse(c, mit, smooth):11.3e} "
-              f"{cc.floor_psnr(c, mit_port, smooth):6.2f} dB")
+        mirror += psnrs("mirror floor", name, c, mit, raw, inner, smooth, mit_port)
         if name == "default settings":
             value = cc.floor_psnr(c, mit, smooth)
             verdicts.append(f"mirror floor {W}x{H}, Mitsuba's conductor: {value:.2f} dB at default settings (smooth "
                             f"floor pixels; interior {cc.floor_psnr(c, mit, inner):.2f} dB); goal >= "
-                            f"{MIRROR_GOAL:.0f} dB: {'met' if value >= MIRROR_GOAL else 'NOT met'}")
-    print(f"({raw.sum()} floor pixels, {inner.sum()} interior, {smooth.sum()} smooth)")
+                            f"{MIRROR_GOAL:.0f} dB: {'met' if value >= MIRROR_GOAL else 'not met'}")
+    pixels = f"({raw.sum()} floor pixels, {inner.sum()} interior, {smooth.sum()} smooth)"
 
     # -- a frame after objects moved: the sequence's second frame, crosscheck.MOVES applied ------
     moved_scene = cc.crosscheck_scene(0.0)
@@ -165,10 +187,10 @@ def main() -> None:
     inner = cc.floor_pixels(frame)
     smooth = inner & ~cc.reflected_silhouettes(mms)
     agree = float((np.where(frame.gbuffer.coverage[0], frame.gbuffer.object_id[0], -1) == cc.first_hit_objects(mms)).mean())
-    print(f"{'moved frame (crosscheck.MOVES), default settings':50s} "
-          f"{cc.floor_psnr(truth.color, mmit, cc.floor_pixels(frame, interior=False)):6.2f} dB "
-          f"{cc.floor_psnr(truth.color, mmit, inner):6.2f} dB {cc.floor_psnr(truth.color, mmit, smooth):6.2f} dB "
-          f"{mse(truth.color, mmit, smooth):11.3e}   (camera rays on the same object: {100 * agree:.2f} %)")
+    mirror += psnrs("mirror floor", "moved frame (crosscheck.MOVES), default settings", truth.color, mmit,
+                    cc.floor_pixels(frame, interior=False), inner, smooth)
+    bench.print_table(mirror, rows=("reference",), digits=2)
+    print(f"{pixels}; the moved frame's camera rays hit the same object in {100 * agree:.2f} % of pixels")
 
     # -- tinted Schlick mirror --------------------------------------------------------------
     tint = (0.95, 0.64, 0.54)
@@ -178,13 +200,14 @@ def main() -> None:
     edges = cc.reflected_silhouettes(ms)
     print(f"\ntinted mirror (F0 = {tint}, Schlick), composite='pbr' (the port on the floor: Mitsuba's BSDFs have no "
           f"Schlick Fresnel):")
+    tinted = []
     for name, s, kw in [("composite='pbr'", base.replace(composite="pbr"), {}),
                         ("pbr, exact options, origin_bias 1e-5", exact.replace(composite="pbr", **TINY_BIAS),
                          exact_kw)]:
         frame, truth = cc.ssrlab_reference(renderer, scene, s, **kw)
         raw, inner = cc.floor_pixels(frame, interior=False), cc.floor_pixels(frame)
-        print(f"{name:50s} {cc.floor_psnr(truth.color, mit, raw):6.2f} dB "
-              f"{cc.floor_psnr(truth.color, mit, inner):6.2f} dB {cc.floor_psnr(truth.color, mit, inner & ~edges):6.2f} dB")
+        tinted.extend(psnrs("tinted mirror", name, truth.color, mit, raw, inner, inner & ~edges))
+    bench.print_table(tinted, rows=("reference",), digits=2)
 
     # -- glossy floors -----------------------------------------------------------------------
     for rough in args.roughness:
@@ -200,11 +223,10 @@ def main() -> None:
         label = {"mitsuba": f"Mitsuba's {own}", "ssrlab": "port"}
         same_seed = float(np.abs(mits["mitsuba"][0] - mits["ssrlab"][0]).max())
         print(f"\nglossy floor, roughness {rough} (white metal), {args.spp} samples per pixel each (Mitsuba "
-              f"{seconds['mitsuba']:.1f} s per image with its {own}, {seconds['ssrlab']:.1f} s with the port; "
-              f"with the same seed the two differ by at most {same_seed:.2e}); noise from two seeds of each; "
-              f"z: standard errors")
-        print(f"{'ssrlab reference':38s} {'floor BSDF':>24s} {'PSNR':>8s} {'Mit-Mit':>8s} {'ssr-ssr':>8s} "
-              f"{'MSE/noise':>9s} {'bias PSNR':>9s} {'mean ssrlab/Mitsuba':>21s} {'z mean':>7s} {'z bias2':>7s}")
+              f"{seconds['mitsuba']:.1f} s per image with its {own}, {seconds['ssrlab']:.1f} s with the port, one "
+              f"render each; with the same seed the two differ by at most {same_seed:.2e}); noise from two seeds of "
+              f"each; z: standard errors")
+        glossy = []
         for name, s, kw in [("composite='pbr'", base.replace(composite="pbr"), {}),
                             ("pbr, exact options, origin_bias 1e-5",
                              exact.replace(composite="pbr", **TINY_BIAS), exact_kw),
@@ -219,23 +241,28 @@ def main() -> None:
                 na = cc.noise_agreement(a, b, m1, m2, inner)
                 bias_db = 10 * np.log10(1.0 / na["bias2"]) if na["bias2"] > 0 else float("inf")
                 psnr = cc.floor_psnr(a, m1, inner)
-                print(f"{name if bsdf == 'mitsuba' else '':38s} {label[bsdf]:>24s} {psnr:6.2f}dB "
-                      f"{cc.floor_psnr(m1, m2, inner):6.2f}dB {cc.floor_psnr(a, b, inner):6.2f}dB "
-                      f"{na['mse_over_noise']:9.3f} {bias_db:7.1f}dB "
-                      f"{1 + na['mean_relative']:12.4f} ± {na['se_mean_relative']:.4f} "
-                      f"{na['z_mean']:7.2f} {na['z_bias2']:7.2f}")
+                params = dict(section="glossy floor", roughness=rough, reference=name, floor_bsdf=label[bsdf],
+                              spp=args.spp, **size)
+                for metric, unit, v in (("psnr", "dB", psnr), ("mitsuba_vs_mitsuba", "dB", cc.floor_psnr(m1, m2, inner)),
+                                        ("ssrlab_vs_ssrlab", "dB", cc.floor_psnr(a, b, inner)),
+                                        ("mse_over_noise", "", na["mse_over_noise"]), ("bias_psnr", "dB", bias_db),
+                                        ("mean_ssrlab_over_mitsuba", "x", 1 + na["mean_relative"]),
+                                        ("se_mean", "x", na["se_mean_relative"]), ("z_mean", "z", na["z_mean"]),
+                                        ("z_bias2", "z", na["z_bias2"])):
+                    glossy.append(bench.record(params, metric, unit, [v]))
                 if bsdf == "mitsuba" and name == "composite='pbr'":
                     ok = abs(na["z_mean"]) <= NOISE_Z and na["z_bias2"] <= NOISE_Z
                     verdicts.append(f"glossy floor {rough} {W}x{H}, {label[bsdf]}: {psnr:.2f} dB "
                                     f"(Mitsuba's two seeds {cc.floor_psnr(m1, m2, inner):.2f} dB), mean "
                                     f"{1 + na['mean_relative']:.4f} ± {na['se_mean_relative']:.4f}, z mean "
                                     f"{na['z_mean']:.2f}, z bias2 {na['z_bias2']:.2f}; goal: both within "
-                                    f"{NOISE_Z:.0f} standard errors: {'met' if ok else 'NOT met'}")
+                                    f"{NOISE_Z:.0f} standard errors: {'met' if ok else 'not met'}")
+        bench.print_table(glossy, rows=("reference", "floor_bsdf"), digits=3, note=False)
     print("\n" + "\n".join(verdicts))
 
     # -- the frames: SSR, the hybrid and pure BVH -----------------------------------------------
     if sizes:
-        frames_table(renderer, sizes, args.repeats)
+        frames_table(bench, renderer, sizes)
 
 
 if __name__ == "__main__":

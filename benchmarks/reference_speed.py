@@ -15,9 +15,10 @@ the frame's reflective pixels (one ray for mirror pixels, `--rays` for the rest)
   event estimation) on the same pixel-centre camera rays of the same reflective pixels, with the
   same number of samples per pixel (after a warm-up run that compiles its kernels).
 
-Samples per second = (rays asked per reflective pixel, summed over them) / seconds. Medians of
-`--repeats` interleaved runs, with each one's spread (min-max over the runs, as a percentage of
-the median) so a noisy machine shows. Mitsuba sees spheres_and_boxes without its ambient term and with a
+Samples per second = (rays asked per reflective pixel, summed over them) / seconds, one value
+per round. `--repeats` rounds of the protocol (Bench.calls), the tracers and Mitsuba interleaved
+within each round, each round with its own seed; every figure is a record with its samples, and
+the table is rendered from them (median [interquartile range]), so a noisy machine shows. Mitsuba sees spheres_and_boxes without its ambient term and with a
 black environment (its comparable form, ssrlab.crosscheck.check_comparable); ssrlab renders the
 scene as it is. Dr.Jit uses `--jit-threads` worker threads (default: every core, as ssrlab's
 Embree and llvmpipe do).
@@ -26,13 +27,13 @@ Embree and llvmpipe do).
 from __future__ import annotations
 
 import os
-import statistics
 import time
 
 import numpy as np
 
 import ssrlab
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab.protocol import Bench
 from ssrlab import crosscheck as cc
 
 
@@ -81,12 +82,9 @@ def main() -> None:
         except ImportError as e:
             print(f"Mitsuba unavailable ({e}): ssrlab only")
             mitsuba = False
+    bench = Bench("reference_speed", args, r, warmup=0)  # the warm-ups below are lighter than a round
     print(f"{args.width}x{args.height}, {args.rays} samples per rough reflective pixel (1 for mirrors), "
-          f"{os.cpu_count()} cores, medians of {args.repeats}\n")
-    cols = [f"{t} s" for t in args.tracers] + [f"{t} Ms/s" for t in args.tracers]
-    if mitsuba:
-        cols += ["Mitsuba s", "Mitsuba Ms/s"] + [f"{t}/Mitsuba" for t in args.tracers]
-    print(f"{'scene':<20} {'pixels':>7} {'samples':>10} " + " ".join(f"{c:>13}" for c in cols))
+          f"{os.cpu_count()} cores, {args.repeats} rounds\n")
     for name in args.scenes:
         scene = cc.crosscheck_scene(args.roughness) if name == "crosscheck" else ssrlab.scenes.load(name)
         frame = r.render(scene, width=args.width, height=args.height, method="off")
@@ -103,34 +101,50 @@ def main() -> None:
         if mitsuba:
             ms = cc.mitsuba_scene(comparable(scene.copy()), width=args.width, height=args.height)
             mitsuba_on_pixels(ms, pixels[:64], spp_map[:64])  # warm-up: kernel compilation
-        runs: dict[str, list[float]] = {k: [] for k in args.tracers + ["mitsuba"]}
-        for rep in range(args.repeats):
-            for t in args.tracers:
-                start = time.perf_counter()
-                frame.reference("converged", rays=args.rays, tracer=t, seed=rep)
-                runs[t].append(time.perf_counter() - start)
-            if mitsuba:
-                runs["mitsuba"].append(mitsuba_on_pixels(ms, pixels, spp_map, seed=rep))
-        sec = {k: statistics.median(v) for k, v in runs.items() if v}
-        vals = [f"{sec[t]:13.2f}" for t in args.tracers] + [f"{samples / sec[t] / 1e6:13.3f}" for t in args.tracers]
+        seed = {"round": -1}
+
+        def reference(t):
+            def run():
+                if t == args.tracers[0]:
+                    seed["round"] += 1  # each round its own seed, the same for every side of it
+                frame.reference("converged", rays=args.rays, tracer=t, seed=seed["round"])
+            return run
+
+        calls = {t: reference(t) for t in args.tracers}
         if mitsuba:
-            vals += [f"{sec['mitsuba']:13.2f}", f"{samples / sec['mitsuba'] / 1e6:13.3f}"]
-            vals += [f"{sec['mitsuba'] / sec[t]:12.2f}x" for t in args.tracers]
-        print(f"{name:<20} {int(reflective.sum()):>7} {samples:>10} " + " ".join(vals))
-        spread = {k: (max(v) - min(v)) / statistics.median(v) for k, v in runs.items() if v}
-        print(f"{'':<20} spread (max-min)/median: " + ", ".join(f"{k} {100 * v:.0f}%" for k, v in spread.items()))
+            calls["mitsuba"] = lambda: mitsuba_on_pixels(ms, pixels, spp_map, seed=seed["round"])
+        runs = bench.calls(calls)
+        params = dict(scene=name, pixels=int(reflective.sum()), samples=samples, width=args.width,
+                      height=args.height, rays=args.rays)
+        for k, v in runs.items():
+            p = {**params, "tracer": k}
+            bench.record(p, "seconds", "s", [x / 1e3 for x in v])
+            bench.record(p, "samples_per_s", "Ms/s", [samples / (x / 1e3) / 1e6 for x in v], better="higher")
+            if mitsuba and k != "mitsuba":
+                # round by round: Mitsuba's seconds over this tracer's in the same round
+                bench.record(p, "over_mitsuba", "x", [m / x for m, x in zip(runs["mitsuba"], v)], better="higher")
         if "cpu" in args.tracers:
             ref = frame.reference("converged", rays=args.rays, tracer="cpu")
             st = ref.timings
-            print(f"{'':<20} cpu stages (ms): trace and shade {st['reference.cpu']:.0f}, transfer "
-                  f"{st['reference.transfer']:.0f}; {ref.rays_traced} rays traced "
-                  f"({ref.rays_traced / st['reference.cpu'] / 1e3:.2f} M rays/s with their shading)")
+            p = {**params, "tracer": "cpu"}
+            bench.record(p, "stage: trace and shade", "ms", [st["reference.cpu"]])
+            bench.record(p, "stage: transfer", "ms", [st["reference.transfer"]])
+            bench.record(p, "rays_traced", "rays", [ref.rays_traced])
         if "embree" in args.tracers:
             ref = frame.reference("converged", rays=args.rays, tracer="embree")
             st = ref.timings
-            print(f"{'':<20} embree stages (ms): shade (GLSL) {st['reference.shade']:.0f}, intersect (Embree) "
-                  f"{st['reference.intersect']:.0f}, transfer {st['reference.transfer']:.0f}; "
-                  f"{ref.rays_traced} rays traced")
+            p = {**params, "tracer": "embree"}
+            bench.record(p, "stage: shade (GLSL)", "ms", [st["reference.shade"]])
+            bench.record(p, "stage: intersect (Embree)", "ms", [st["reference.intersect"]])
+            bench.record(p, "stage: transfer", "ms", [st["reference.transfer"]])
+            bench.record(p, "rays_traced", "rays", [ref.rays_traced])
+    main_figures = ["seconds", "samples_per_s", "over_mitsuba"]
+    bench.print_table([x for x in bench.recorder.records if x["metric"] in main_figures],
+                      rows=("scene", "pixels", "samples", "tracer"), order=main_figures, digits=3)
+    print("\nover_mitsuba: Mitsuba's seconds over the tracer's, round by round; the stages of one more reference each "
+          "(one value):")
+    bench.print_table([x for x in bench.recorder.records if x["metric"] not in main_figures],
+                      rows=("scene", "tracer"), digits=0, note=False)
 
 
 if __name__ == "__main__":

@@ -13,8 +13,8 @@
 2. The frame at two configurations per scene: the thesis's (4 layers, 4 GGX rays, half
    resolution, stride 4, 250 steps, linear tracing) and one layer of Hi-Z mirror rays, one ray
    per pixel, reuse radius 1 (the issue's resolve-vs-trace pair).
-   Per pass: median GPU time (min-max) of `repeats` renders after a warm-up (timings never
-   include compilation or first use), its counted work (fetches, bytes read and written: the
+   Per pass: GPU time over `repeats` rounds of the protocol after its warm-up rounds (timings
+   never include compilation or first use; ssrlab.lab.protocol), its counted work (fetches, bytes read and written: the
    tracers' depth fetches are counted by the shaders, the rest derived from the dispatch sizes,
    the formats and the ray-list counters; the model is `work_of` below), the achieved rate and
    its share of the matching peak (coherent fetches; dependent fetches for the tracers, with their
@@ -29,10 +29,11 @@
    (--baseline-shaders DIR, e.g. `git archive main shaders | tar -x -C /tmp/main`: the frames of
    both renderers interleaved, at both configurations, with every pass's time before and now and
    the thesis error between their images).
-   Each ratio is taken once per repeat, from the pair of timings measured at the same moments,
-   and printed as the median with the middle half of the repeats (25th-75th percentile); the
+   Each ratio is taken once per round, from the pair of timings measured at the same moments,
+   and printed as the median with the middle half of the rounds (25th-75th percentile); the
    verdict against the issue's target is "met" or "not met" only when that middle half lies on
-   one side of it, else "too small to judge" (ssrlab.lab.timing.target_verdict).
+   one side of it, else undecided at this noise (ssrlab.lab.protocol.goal_verdict).
+Every figure is a record (ssrlab.lab.records) with its samples; the tables are rendered from them.
 4. A render call's CPU overhead: wall time of render() plus reading frame.color against the GPU
    total, and the readback alone.
 
@@ -44,7 +45,6 @@ from __future__ import annotations
 
 import json
 import math
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -54,7 +54,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
-from ssrlab.lab.timing import median_range as spread, paired  # noqa: E402
+from ssrlab.lab import records  # noqa: E402
+from ssrlab.lab.protocol import Bench, goal_verdict  # noqa: E402
+from ssrlab.lab.timing import paired  # noqa: E402
 
 THESIS = dict(layers=4, rays_per_pixel=4, stride=4.0, downscale=2, max_steps=250)
 # The issue's resolve-vs-trace pair: one layer, Hi-Z mirror rays, 1 ray, reuse radius 1.
@@ -70,19 +72,21 @@ PEAKS = {
 }
 
 
-def measure_peaks(renderer, width, height, frame_width, frame_height, repeats):
-    """Operations (and bytes) per second of each micro-kernel; the copy pass at the frame's size."""
+def measure_peaks(bench, renderer, width, height, frame_width, frame_height, repeats):
+    """Records the ms (the kernel's own `repeats` timed dispatches) and the operations and bytes per
+    second of each micro-kernel, the copy passes at the frame's size; returns {name: median rate}."""
     out = {}
-    for name, (kernel, its, rd, wr) in PEAKS.items():
-        ms = renderer.microbenchmark(kernel, width, height, its, repeats)
-        med, lo, hi = spread(ms)
-        ops = width * height * its
-        out[name] = dict(ms=med, lo=lo, hi=hi, ops=ops, rate=ops / (med * 1e-3), bytes_rate=ops * (rd + wr) / (med * 1e-3))
     px = frame_width * frame_height
-    for name in ("copy", "copy_image"):
-        ms = renderer.microbenchmark(name, frame_width, frame_height, 1, repeats)
-        med, lo, hi = spread(ms)
-        out[name] = dict(ms=med, lo=lo, hi=hi, ops=px, rate=px / (med * 1e-3), bytes_rate=px * 24 / (med * 1e-3))
+    kernels = {name: (kernel, its, rd + wr, width, height) for name, (kernel, its, rd, wr) in PEAKS.items()}
+    kernels.update({name: (name, 1, 24, frame_width, frame_height) for name in ("copy", "copy_image")})
+    for name, (kernel, its, nbytes, w, h) in kernels.items():
+        ms = renderer.microbenchmark(kernel, w, h, its, repeats)
+        ops = w * h * its if name not in ("copy", "copy_image") else px
+        params = dict(peak=name, grid=f"{w}x{h}")
+        bench.record(params, "ms", "ms", ms)
+        rate = bench.record(params, "rate", "Gop/s", [ops / (m * 1e-3) / 1e9 for m in ms], better="higher")
+        bench.record(params, "bytes_rate", "GB/s", [ops * nbytes / (m * 1e-3) / 1e9 for m in ms], better="higher")
+        out[name] = float(np.median(rate["samples"])) * 1e9
     return out
 
 
@@ -163,73 +167,65 @@ def work_of(pass_name, s, stats, passes=()):
     return None
 
 
-def run_config(renderer, scene, settings, repeats):
-    """Median, min, max GPU ms per pass (top-level keys) of `repeats` renders after warm-ups, the
-    last frame's stats, and the CPU side of a render call."""
-    for _ in range(2):
-        renderer.render(scene, settings=settings).color
-    runs, walls, reads, peaks = [], [], [], {"copy": [], "copy_image": [], "dependent": [], "dependent_image": []}
-    frame = None
-    for _ in range(repeats):
+def run_config(bench, renderer, scene, settings):
+    """Every round's GPU ms per pass (top-level keys), the CPU side of a render call and the peak
+    kernels at the frame's size run between the frames (bench.rounds after its warm-up rounds);
+    and the last frame's stats."""
+    last = {}
+
+    def measure():
         t0 = time.perf_counter()
         frame = renderer.render(scene, settings=settings)
         t1 = time.perf_counter()
         frame.color
         t2 = time.perf_counter()
-        runs.append(frame.timings)
-        walls.append((t2 - t0) * 1e3)
-        reads.append((t2 - t1) * 1e3)
+        last["stats"] = dict(frame.stats)  # rays_traced, depth_fetches: summed from rays.sample, skip on or off
+        out = {k: v for k, v in frame.timings.items() if "." not in k}
+        out.update({"cpu:wall": (t2 - t0) * 1e3, "cpu:readback": (t2 - t1) * 1e3})
         # The peaks the ratios use, between the frames: on a shared machine (llvmpipe on busy
         # cores) the load changes within seconds, so a ratio takes both sides at the same moments.
-        peaks["copy"] += renderer.microbenchmark("copy", settings.width, settings.height, 1, 1)
-        peaks["copy_image"] += renderer.microbenchmark("copy_image", settings.width, settings.height, 1, 1)
-        peaks["dependent"] += renderer.microbenchmark("dependent", settings.width, settings.height, 64, 1)
-        peaks["dependent_image"] += renderer.microbenchmark("dependent_image", settings.width, settings.height, 64, 1)
-    keys = [k for k in runs[0] if "." not in k]
-    stats = dict(frame.stats)  # rays_traced, depth_fetches: summed from rays.sample, skip on or off
-    return ({k: spread([r[k] for r in runs]) for k in keys}, stats,
-            dict(wall=spread(walls), readback=spread(reads), copy=spread(peaks["copy"]),
-                 dependent=spread(peaks["dependent"]), dependent_image=spread(peaks["dependent_image"]),
-                 # every repeat's timings, for ratios taken pair by pair
-                 each=dict(runs=runs, copy=peaks["copy"], copy_image=peaks["copy_image"], dependent=peaks["dependent"],
-                           dependent_image=peaks["dependent_image"])))
+        w, h = settings.width, settings.height
+        out["peak:copy"] = renderer.microbenchmark("copy", w, h, 1, 1)[0]
+        out["peak:copy_image"] = renderer.microbenchmark("copy_image", w, h, 1, 1)[0]
+        out["peak:dependent"] = renderer.microbenchmark("dependent", w, h, 64, 1)[0]
+        out["peak:dependent_image"] = renderer.microbenchmark("dependent_image", w, h, 64, 1)[0]
+        return out
+
+    return bench.rounds({"frame": measure})["frame"], last["stats"]
 
 
-def ab_shaders(before, now, scene, settings, key, repeats, ratios):
-    # ratios: key -> every repeat's value (the caller takes medians and verdicts)
-    """Frames of two renderers (two shader trees) interleaved: every pass's median before and now
-    and the error between their images; the frame and resolve ratios go into `ratios`."""
+def ab_shaders(bench, before, now, scene, settings, key, ratios):
+    """Frames of two renderers (two shader trees) interleaved round by round: every pass's
+    records on both sides (side "before" / "now") and the error between their images; the frame
+    and resolve ratios before / now go into `ratios` (key -> every round's value)."""
     from ssrlab import metrics
 
-    for r in (before, now):
-        for _ in range(2):
-            r.render(scene, settings=settings)
-    per_pass = {}  # pass: (before, now) timings of every pass both frames ran
-    for _ in range(repeats):
-        fb, fn = before.render(scene, settings=settings), now.render(scene, settings=settings)
-        for k in fb.timings.keys() & fn.timings.keys():
-            per_pass.setdefault(k, ([], []))
-            per_pass[k][0].append(fb.timings[k])
-            per_pass[k][1].append(fn.timings[k])
-    err = metrics.thesis_error(fn.color, fb.color)
-    diff = float(abs(fn.color - fb.color).sum(axis=-1).max())
-    print(f"{key}: thesis error of the image {err:.2e}, largest per-pixel error {diff:.2e}")
-    for k in sorted(per_pass):
-        b, n = per_pass[k]
-        print(f"  {k}: before {statistics.median(b):.2f} ms ({min(b):.2f}-{max(b):.2f}), now "
-              f"{statistics.median(n):.2f} ms ({min(n):.2f}-{max(n):.2f}), now / before "
-              f"{statistics.median(n) / statistics.median(b):.3f}")
+    last = {}
+
+    def render(name, r):
+        def run():
+            f = r.render(scene, settings=settings)
+            last[name] = f
+            return dict(f.timings)
+        return run
+
+    t = bench.rounds({"before": render("before", before), "now": render("now", now)})
+    fb, fn = last["before"], last["now"]
+    params = dict(config=key, width=settings.width, height=settings.height)
+    bench.record({**params, "side": "now"}, "thesis_error_vs_before", "", [metrics.thesis_error(fn.color, fb.color)])
+    bench.record({**params, "side": "now"}, "largest_pixel_error_vs_before", "",
+                 [float(abs(fn.color - fb.color).sum(axis=-1).max())])
+    common = [k for k in t["before"] if k in t["now"]]
+    recs = []
+    for side in ("before", "now"):
+        for k in common:
+            recs.append(bench.record({**params, "side": side, "pass": k}, "gpu", "ms", t[side][k]))
+    print(f"\n{key}: before / now, this run")
+    bench.print_ab("side", "before", "now", records=recs, rows=("config", "pass"))
     # Not the issue's speed-up target, which is against 069e706 (benchmarks/ab_frame.py).
-    ratios[f"{key}: frame before / now, same run"] = paired(*per_pass["total"])
-    if "resolve" in per_pass:
-        ratios[f"{key}: resolve before / now, same run"] = paired(*per_pass["resolve"])
-
-
-def fmt_rate(x):
-    for unit, div in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
-        if x >= div:
-            return f"{x / div:.2f} {unit}"
-    return f"{x:.0f} "
+    ratios[f"{key}: frame before / now, same run"] = paired(t["before"]["total"], t["now"]["total"])
+    if "resolve" in common:
+        ratios[f"{key}: resolve before / now, same run"] = paired(t["before"]["resolve"], t["now"]["resolve"])
 
 
 def main(argv=None) -> int:
@@ -248,91 +244,88 @@ def main(argv=None) -> int:
         args.scenes = args.scenes[:1]
 
     import ssrlab
-    from ssrlab.lab.timing import target_verdict
 
     renderer = open_renderer(args)
+    bench = Bench("roofline", args, renderer)
     print(f"frame {args.width}x{args.height}, peaks at {args.micro_width}x{args.micro_height}, "
-          f"medians (min-max) of {args.repeats} after warm-up")
-    peaks = measure_peaks(renderer, args.micro_width, args.micro_height,
-                          args.width, args.height, args.repeats)
-    print("\n| peak | ms (min-max) | rate /s | bytes /s |\n|---|---|---|---|")
-    for name, p in peaks.items():
-        print(f"| {name} | {p['ms']:.2f} ({p['lo']:.2f}-{p['hi']:.2f}) | {fmt_rate(p['rate'])} | "
-              f"{fmt_rate(p['bytes_rate'])}B |")
+          f"{args.repeats} rounds after {bench.warmup} warm-up rounds")
+    peaks = measure_peaks(bench, renderer, args.micro_width, args.micro_height, args.width, args.height, args.repeats)
+    print()
+    bench.print_table(rows=("peak", "grid"), order=["ms", "rate", "bytes_rate"], digits=3)
 
-    result = {"device": renderer.info["renderer"], "peaks": peaks, "configs": {}, "ratios": {}, "ratio_repeats": {}}
-    each = {}  # config -> every repeat's timings
+    result = {"device": renderer.info["renderer"], "configs": {}, "ratios": {}, "ratio_repeats": {}}
     configs = {"thesis": THESIS, "hiz_mirror": HIZ_MIRROR}
+    each = {}
     for scene_name in args.scenes:
         scene = getattr(ssrlab.scenes, scene_name)()
         for cname, kw in configs.items():
             s = ssrlab.Settings(width=args.width, height=args.height, **kw)
-            times, stats, cpu = run_config(renderer, scene, s, args.repeats)
-            rows = {}
-            print(f"\n{scene_name} {cname} ({', '.join(f'{k}={v}' for k, v in kw.items())})")
-            print("| pass | ms (min-max) | fetches | read B | written B | rate /s | share of peak |")
-            print("|---|---|---|---|---|---|---|")
-            for name, (med, lo, hi) in times.items():
-                w = work_of(name, s, stats, tuple(times))
-                row = dict(ms=med, lo=lo, hi=hi)
-                if w is None or name == "total" or med <= 0:
-                    print(f"| {name} | {med:.2f} ({lo:.2f}-{hi:.2f}) | | | | | |")
-                else:
-                    f, rd, wr, bound = w
-                    rate = f / (med * 1e-3)
-                    share = rate / peaks[bound]["rate"]
-                    row.update(fetches=f, bytes_read=rd, bytes_written=wr, rate=rate, share=share, bound=bound)
-                    also = ""
-                    if bound == "dependent":
-                        row["share_image"] = rate / peaks["dependent_image"]["rate"]
-                        also = f" ({100 * row['share_image']:.1f} % of dependent_image)"
-                    print(f"| {name} | {med:.2f} ({lo:.2f}-{hi:.2f}) | {f:,} | {rd:,} | {wr:,} | "
-                          f"{fmt_rate(rate)} | {100 * share:.1f} % of {bound}{also} |")
-                rows[name] = row
-            print(f"render() + frame.color wall {cpu['wall'][0]:.1f} ms against GPU total "
-                  f"{times['total'][0]:.1f} ms (CPU-side overhead {cpu['wall'][0] - times['total'][0]:.1f} ms), "
-                  f"color readback {cpu['readback'][0]:.1f} ms")
+            runs, stats = run_config(bench, renderer, scene, s)
+            key = f"{scene_name}/{cname}"
+            base = dict(config=key, width=args.width, height=args.height)
+            passes = [k for k in runs if ":" not in k]
+            recs, rows = [], {}
+            for name in passes:
+                p = {**base, "pass": name}
+                recs.append(bench.record(p, "ms", "ms", runs[name]))
+                w = work_of(name, s, stats, tuple(passes))
+                if w is None or name == "total" or np.median(runs[name]) <= 0:
+                    continue
+                f, rd, wr, bound = w
+                recs += [bench.record(p, "fetches", "fetches", [f]), bench.record(p, "bytes_read", "B", [rd]),
+                         bench.record(p, "bytes_written", "B", [wr])]
+                rate = [f / (m * 1e-3) for m in runs[name]]
+                recs.append(bench.record(p, "rate", "Gfetch/s", [v / 1e9 for v in rate], better="higher"))
+                recs.append(bench.record(p, "share_of_peak", "share", [v / peaks[bound] for v in rate],
+                                         better="higher", bound=bound))
+                if bound == "dependent":
+                    recs.append(bench.record(p, "share_of_dependent_image", "share",
+                                             [v / peaks["dependent_image"] for v in rate], better="higher"))
+                rows[name] = dict(fetches=f)
+            cpu = {k: bench.record({**base, "side": "cpu"}, k.split(":")[1], "ms", runs[k])
+                   for k in ("cpu:wall", "cpu:readback")}
+            overhead = [a - b for a, b in zip(runs["cpu:wall"], runs["total"])]
+            bench.record({**base, "side": "cpu"}, "overhead", "ms", overhead)
             px = s.width * s.height
-            dep_rate = px * 64 / (cpu["dependent"][0] * 1e-3)
-            dep_image_rate = px * 64 / (cpu["dependent_image"][0] * 1e-3)
-            print(f"interleaved peaks: copy pass {cpu['copy'][0]:.2f} ms ({cpu['copy'][1]:.2f}-{cpu['copy'][2]:.2f}), "
-                  f"dependent fetches {fmt_rate(dep_rate)}/s, by imageLoad {fmt_rate(dep_image_rate)}/s")
-            result["configs"][f"{scene_name}/{cname}"] = dict(
-                passes=rows, stats=stats, wall_ms=cpu["wall"][0], readback_ms=cpu["readback"][0],
-                copy_ms=cpu["copy"][0], dependent_rate=dep_rate, dependent_image_rate=dep_image_rate)
-            each[f"{scene_name}/{cname}"] = dict(cpu["each"], px=px)
+            for k in ("peak:copy", "peak:copy_image", "peak:dependent", "peak:dependent_image"):
+                bench.record({**base, "side": "interleaved peak", "pass": k.split(":")[1]}, "ms", "ms", runs[k])
+            print(f"\n{key} ({', '.join(f'{k}={v}' for k, v in kw.items())}); share_of_peak: of the peak named by "
+                  f"the record's bound")
+            bench.print_table(recs, rows=("pass",), order=["ms", "fetches", "bytes_read", "bytes_written", "rate",
+                                                           "share_of_peak", "share_of_dependent_image"], digits=3)
+            print(f"render() + frame.color wall {records.cell(cpu['cpu:wall']['samples'], 1)} ms, CPU-side overhead "
+                  f"over the GPU total {records.cell(overhead, 1)} ms, color readback "
+                  f"{records.cell(cpu['cpu:readback']['samples'], 1)} ms")
+            result["configs"][key] = dict(passes=rows, stats=stats)
+            each[key] = dict(runs=runs, px=px)
 
-    ratios = {}  # key -> every repeat's value
+    ratios = {}  # key -> every round's value
     for key, cfg in result["configs"].items():
-        p, e = cfg["passes"], each[key]
-        ms = {name: [r[name] for r in e["runs"]] for name in ("composite", "trace_hiz", "resolve", "total")
-              if name in p}
-        if "composite" in p:
-            ratios[f"{key}: composite / copy"] = paired(ms["composite"], e["copy"])
+        p, e = cfg["passes"], each[key]["runs"]
+        px = each[key]["px"]
+        if "composite" in e:
+            ratios[f"{key}: composite / copy"] = paired(e["composite"], e["peak:copy"])
             # The same against a copy that reads by imageLoad, as the composite does on the CPU
             # device (input_fetch): no target (the issue's copy pass reads by texelFetch).
-            ratios[f"{key}: composite / copy by imageLoad"] = paired(ms["composite"], e["copy_image"])
-        if "trace_hiz" in p and "rate" in p["trace_hiz"]:
-            # (fetches / trace time) / (the dependent kernel's fetches / its time), repeat by repeat
+            ratios[f"{key}: composite / copy by imageLoad"] = paired(e["composite"], e["peak:copy_image"])
+        if "trace_hiz" in p:
+            # (fetches / trace time) / (the dependent kernel's fetches / its time), round by round
             ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = [
-                p["trace_hiz"]["fetches"] / (e["px"] * 64) * dep / t for t, dep in zip(ms["trace_hiz"], e["dependent"])]
+                p["trace_hiz"]["fetches"] / (px * 64) * dep / t for t, dep in zip(e["trace_hiz"], e["peak:dependent"])]
             # The same against the imageLoad chain, the faster of the two on llvmpipe and the path
             # the trace reads its pyramid by there: no target (the issue's peak is texelFetch's).
             ratios[f"{key}: trace_hiz share of the dependent imageLoad rate"] = [
-                p["trace_hiz"]["fetches"] / (e["px"] * 64) * dep / t
-                for t, dep in zip(ms["trace_hiz"], e["dependent_image"])]
-    for key, cfg in result["configs"].items():
-        p = cfg["passes"]
-        if "trace_hiz" in p and "resolve" in p:
-            runs = each[key]["runs"]
-            ratios[f"{key}: resolve / trace_hiz"] = paired([r["resolve"] for r in runs], [r["trace_hiz"] for r in runs])
+                p["trace_hiz"]["fetches"] / (px * 64) * dep / t
+                for t, dep in zip(e["trace_hiz"], e["peak:dependent_image"])]
+        if "trace_hiz" in e and "resolve" in e:
+            ratios[f"{key}: resolve / trace_hiz"] = paired(e["resolve"], e["trace_hiz"])
     if args.baseline:
         base = json.loads(Path(args.baseline).read_text())
         for scene_name in args.scenes:
             b = base.get(scene_name)
             cur = each.get(f"{scene_name}/thesis")
             if b and cur:
-                ratios[f"{scene_name}/thesis: baseline / now (frame speed-up)"] = [b / r["total"] for r in cur["runs"]]
+                ratios[f"{scene_name}/thesis: baseline / now (frame speed-up)"] = [b / v for v in cur["runs"]["total"]]
     if args.baseline_shaders:
         print(f"\nagainst the shaders in {args.baseline_shaders} (frames interleaved, this run)")
         before = ssrlab.Renderer(args.device, shader_dir=args.baseline_shaders)
@@ -340,19 +333,20 @@ def main(argv=None) -> int:
             scene = getattr(ssrlab.scenes, scene_name)()
             for cname, kw in configs.items():
                 s = ssrlab.Settings(width=args.width, height=args.height, **kw)
-                ab_shaders(before, renderer, scene, s, f"{scene_name}/{cname}", args.repeats, ratios)
+                ab_shaders(bench, before, renderer, scene, s, f"{scene_name}/{cname}", ratios)
     targets = {"composite / copy": ("<=", 2.0), "resolve / trace_hiz": ("<=", 0.6),
                "share of dependent-fetch rate": (">=", 0.25), "speed-up": (">=", 2.0)}
-    print("\nratios (the targets; median of the repeats' paired ratios [middle half])")
+    print("\nratios, one per round (the targets' verdicts from the rounds' middle half)")
+    rows = []
     for k, values in ratios.items():
-        v = float(np.median(values))
-        q1, q3 = np.percentile(values, [25, 75])
-        result["ratios"][k] = v
+        rec = bench.record(dict(ratio=k, width=args.width, height=args.height), "ratio", "x", values)
+        result["ratios"][k] = float(np.median(values))
         result["ratio_repeats"][k] = [float(x) for x in values]
         # The issue's targets are set against its texelFetch kernels; the imageLoad ratios have none.
         op, goal = next((t for name, t in targets.items() if name in k and "imageLoad" not in k), ("", None))
-        verdict = "" if goal is None else f"  (target {op} {goal}: {target_verdict(values, op, goal)})"
-        print(f"  {k}: {v:.3g} [{q1:.3g}-{q3:.3g}]{verdict}")
+        rows.append([k, records.cell(rec["samples"], 3), "" if goal is None else f"{op} {goal:g}",
+                     "" if goal is None else goal_verdict(values, op, goal)])
+    print(records.markdown(["ratio", "median [25th-75th percentile]", "target", "verdict"], rows))
     bad = [k for k, v in result["ratios"].items() if not math.isfinite(v)]
     if args.json:
         Path(args.json).write_text(json.dumps(result, indent=1, default=float))
