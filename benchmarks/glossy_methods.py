@@ -22,6 +22,7 @@ import numpy as np
 
 import ssrlab
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
 from ssrlab.lab.protocol import Bench
 from ssrlab.bench import REFLECTION_PASSES
 from ssrlab.metrics import image_metrics
@@ -56,9 +57,7 @@ def main() -> None:
 
     print(f"{args.width}x{args.height}, Hi-Z tracing, 1 layer; error: thesis error over reflective pixels "
           f"vs the converged reference ({args.reference_rays} VNDF rays); time: median GPU ms of "
-          f"{args.repeats} runs after 2 warm-ups\n")
-    print(f"{'scene':<18} {'rough':>5} {'method':<18} {'error':>8} {'refl ms':>8} {'frame ms':>9} "
-          f"{'cone ms':>8} {'trace ms':>9}")
+          f"{args.repeats} rounds after {bench.warmup} warm-up rounds\n")
     rows = []
     for name in args.scenes:
         for rough in ROUGHNESS:
@@ -77,11 +76,13 @@ def main() -> None:
                 row = dict(scene=name, roughness=rough, method=label, error=err, refl_ms=refl,
                            frame_ms=t["total"], cone_ms=t.get("cone_trace", 0.0), trace_ms=t["trace_hiz"])
                 rows.append(row)
-                print(f"{name:<18} {rough:>5.2f} {label:<18} {err:>8.4f} {refl:>8.2f} {t['total']:>9.2f} "
-                      f"{row['cone_ms']:>8.2f} {row['trace_ms']:>9.2f}", flush=True)
-        print()
+            print(f"{name} roughness {rough:g}: measured", flush=True)
+    bench.print_table([x for x in bench.recorder.records if "method" in x["params"]],
+                      rows=("scene", "roughness", "method"),
+                      order=["thesis_error", "reflection", "total", "cone_trace", "trace_hiz"], digits=4)
 
-    print("Per scene and roughness: least error, and the fastest method within 10 % of it")
+    print("\nPer scene and roughness: least error, and the fastest method within 10 % of it")
+    table = []
     for name in args.scenes:
         for rough in ROUGHNESS:
             sel = [x for x in rows if x["scene"] == name and x["roughness"] == rough]
@@ -91,27 +92,30 @@ def main() -> None:
             cone = next(x for x in sel if x["method"] == "cone")
             s1 = next(x for x in sel if x["method"] == "stoch vndf 1")
             s4 = next(x for x in sel if x["method"] == "stoch vndf 4")
-            print(f"  {name:<18} {rough:.2f}: best {best['method']} ({best['error']:.4f}); fastest within 10 %: "
-                  f"{fast['method']} ({fast['refl_ms']:.2f} ms); cone {cone['error']:.4f} / {cone['refl_ms']:.2f} ms "
-                  f"vs 1 ray {s1['error']:.4f} / {s1['refl_ms']:.2f} ms vs 4 rays {s4['error']:.4f} / "
-                  f"{s4['refl_ms']:.2f} ms")
+            table.append([name, f"{rough:.2f}", f"{best['method']} ({best['error']:.4f})",
+                          f"{fast['method']} ({fast['refl_ms']:.2f} ms)"]
+                         + [f"{x['error']:.4f} / {x['refl_ms']:.2f} ms" for x in (cone, s1, s4)])
+    print(records.markdown(["scene", "roughness", "least error", "fastest within 10 %", "cone (error / ms)",
+                            "1 ray", "4 rays"], table))
 
     print("\nSeed 002: 'the larger the cone is, the faster it runs' (cone_trace ms by floor roughness)")
+    table = []
     for name in args.scenes:
         cone = [x for x in rows if x["scene"] == name and x["method"] == "cone"]
         times = [x["cone_ms"] for x in cone]
         falls = all(b <= a * 1.05 for a, b in zip(times, times[1:]))
-        print(f"  {name:<18} " + ", ".join(f"{x['roughness']:.2f}: {x['cone_ms']:.2f} ms" for x in cone)
-              + f"  -> {'holds' if falls else 'does not hold'} here (5 % tolerance; one image, "
-              f"{args.repeats} runs: a weak verdict)")
+        table.append([name, ", ".join(f"{x['roughness']:.2f}: {x['cone_ms']:.2f} ms" for x in cone),
+                      f"{'holds' if falls else 'does not hold'} here (5 % tolerance; one image, {args.repeats} "
+                      f"rounds: a weak verdict)"])
+    print(records.markdown(["scene", "cone_trace ms by roughness (medians)", "verdict"], table))
     print("\nCone variants at floor roughness 0.2 (error / cone_trace ms): 4 G-buffer layers (the cone "
           "reads the layer its ray hit), the chapter's remainder from the environment, and stretched "
           "footprints (4.6.8)")
+    variants = []
     for name in args.scenes:
         scene = ssrlab.scenes.load(name, floor_roughness=0.2)
         base = dict(width=args.width, height=args.height, method="hiz", glossy="cone")
         truth = r.render(scene, settings=ssrlab.Settings(**base)).reference("converged", rays=args.reference_rays)
-        out = []
         for label, kw in [("1 layer", {}), ("4 layers", dict(layers=4)),
                           ("remainder=environment", dict(cone_remainder="environment")),
                           ("cone_stretch", dict(cone_stretch=True))]:
@@ -120,14 +124,14 @@ def main() -> None:
             err = image_metrics(f.color, truth.color, truth.reflective)["thesis_error_reflective"]
             params = dict(scene=name, roughness=0.2, variant=label, width=args.width, height=args.height,
                           reference_rays=args.reference_rays)
-            bench.record(params, "thesis_error", "", [err])
-            t, _ = timed(scene, s, params)
-            out.append(f"{label}: {err:.4f} / {t['cone_trace']:.2f} ms")
-        print(f"  {name:<18} " + "; ".join(out))
+            variants.append(bench.record(params, "thesis_error", "", [err]))
+            timed(scene, s, params)
+            variants += bench.find("cone_trace", **params)
+    bench.print_table(variants, rows=("scene", "variant"), digits=4)
 
     ratio = [x["cone_ms"] / x["trace_ms"] for x in rows if x["method"] == "cone" and x["trace_ms"] > 0]
-    print(f"\ncone_trace / trace_hiz time: median {np.median(ratio):.2f} (range {min(ratio):.2f}-{max(ratio):.2f}) "
-          f"over {len(ratio)} scene x roughness cases")
+    print(f"\ncone_trace / trace_hiz time (of their medians): median {np.median(ratio):.2f} (range {min(ratio):.2f}-"
+          f"{max(ratio):.2f}) over {len(ratio)} scene x roughness cases")
 
 
 if __name__ == "__main__":
