@@ -47,7 +47,7 @@ from ssrlab.metrics import psnr, thesis_error
 from ssrlab.reference import wrong_hits
 from common import HYBRID_FRAMES, benchmark_arguments, open_renderer
 from ssrlab.lab.protocol import Bench
-from ssrlab.lab.timing import median_range
+from ssrlab.lab import records
 
 NEAR_PROBE = (0.0, 0.5, 1.5)  # hall: low over the floor, near the camera (both views)
 CONFIGS = {
@@ -99,8 +99,8 @@ def sizes_table(r, sizes: list[tuple[int, int]], repeats: int, bench) -> None:
     """The hybrid's floor accuracy at every size against both named references, and each frame's time."""
     print(f"floor pixels' reflection PSNR (dB) against two converged references: 'frame's shadows' "
           f"(shadows='map') and 'physical' (shadows='traced'), both viewed from the ray; default settings "
-          f"(origin_bias 0.0005) but for the row's; GPU ms: median [min, max] of {repeats} renders after 2 "
-          f"warm-ups; 'map/traced': the shadow map variant's median time over the default's\n")
+          f"(origin_bias 0.0005) but for the row's; GPU ms of {repeats} rounds after {bench.warmup} warm-up "
+          f"rounds\n")
     verdicts = []
     for name in SIZE_VIEWS:
         scene = load(name)
@@ -111,9 +111,7 @@ def sizes_table(r, sizes: list[tuple[int, int]], repeats: int, bench) -> None:
             refs = {"frame's shadows": f.reference("converged", rays=1, shadows="map").reflection.copy(),
                     "physical": f.reference("converged", rays=1, shadows="traced").reflection.copy()}
             print(f"{name} {w}x{h}: {int(floor.sum())} floor pixels")
-            print("  {:<40}".format("method") + "".join(f"{'vs ' + k:>20}" for k in refs)
-                  + f"{'frame ms':>24}{'map/traced':>12}")
-            times = {}
+            recs = []
             for label, kw in HYBRID_FRAMES.items():
                 st = base.replace(**kw)
                 g = r.render(scene, settings=st)
@@ -121,14 +119,13 @@ def sizes_table(r, sizes: list[tuple[int, int]], repeats: int, bench) -> None:
                 params = dict(view=name, width=w, height=h, method=label)
                 for k, v in scores.items():
                     bench.record({**params, "reference": k}, "floor_psnr", "dB", [v], better="higher")
-                times[label] = t = median_range(timed(bench, r, scene, st, params)["total"])
-                default = label.replace(", bvh_shadows='map'", "")
-                share = f"{t[0] / times[default][0]:>12.2f}" if default != label else ""
-                print("  {:<40}".format(label) + "".join(f"{v:>20.2f}" for v in scores.values())
-                      + f"{t[0]:.1f} [{t[1]:.1f}, {t[2]:.1f}]".rjust(24) + share)
+                    # the same figure under the table's column name
+                    recs.append({**bench.find("floor_psnr", **params, reference=k)[0], "metric": f"vs {k}"})
+                timed(bench, r, scene, st, params)
+                recs += bench.find("frame", **params)
                 if label == "SSR + BVH fallback":
                     verdicts.append((name, w, h, scores["physical"]))
-            print()
+            print(records.table(recs, ["method"], "metric", digits=2))
     worst = min(verdicts, key=lambda v: v[3])
     met = all(v[3] >= GOAL_DB for v in verdicts)
     print(f"SSR + BVH fallback (default settings) against the physical reference: lowest {worst[3]:.2f} dB "
@@ -148,7 +145,7 @@ def main() -> None:
         sizes = [tuple(int(x) for x in s.lower().split("x")) for s in args.sizes.split(",")]
         sizes_table(r, sizes, args.repeats, bench)
         return
-    print(f"{args.width}x{args.height}, median of {args.repeats} renders after 2 warm-up renders\n")
+    print(f"{args.width}x{args.height}, GPU ms of {args.repeats} rounds after {bench.warmup} warm-up rounds\n")
     for name in args.scenes:
         scene = load(name)
         hall = name.startswith("hall")
@@ -160,10 +157,7 @@ def main() -> None:
         if hall:
             masks["floor"] = f.gbuffer.object_id[0] == 0
         print(f"{name}" + (" (mirror floor)" if hall else "") + f": {int(ref.reflective.sum())} reflective pixels")
-        head = "  {:<34}".format("method") + "".join(f"{'PSNR ' + k:>17}" for k in masks)
-        print(head + f"{'E refl.':>9}{'screen':>8}{'probe':>6}{'bvh':>6}{'env':>6}{'rej.':>6}{'wrong':>7}"
-              f"{'frame ms':>10}{'trace ms':>10}")
-        captures = []
+        captures, table = [], []
         for label, kw in CONFIGS.items():
             kw = dict(kw)
             probes = kw.pop("_probes", None)
@@ -190,14 +184,20 @@ def main() -> None:
             bench.record(params, "thesis_error", "", [thesis_error(refl, truth, masks["reflective"])])
             if wrong:
                 bench.record(params, "wrong_hits", "share", [wrong["wrong_share"]])
-            t = {k: float(np.median(v)) for k, v in timed(bench, r, sc, st, params).items()}
-            trace_ms = t["trace"]
-            row = "  {:<34}".format(label) + "".join(f"{psnr(refl, truth, mask=m):>14.2f} dB" for m in masks.values())
-            row += f"{thesis_error(refl, truth, masks['reflective']):>9.4f}"
-            row += f"{s['screen']:>8.2f}{s['probes']:>6.2f}{s['bvh']:>6.2f}{s['environment']:>6.2f}{s['rejected']:>6.2f}"
-            row += f"{100 * wrong['wrong_share']:>6.2f}%" if wrong else f"{'-':>7}"
-            row += f"{t['total']:>10.1f}{trace_ms:>10.1f}"
-            print(row)
+            for k in ("screen", "probes", "bvh", "environment", "rejected"):
+                bench.record(params, f"share_{k}", "share", [s[k]])
+            timed(bench, r, sc, st, params)
+            mine = bench.find(None, **params)
+            cells = [records.cell(next(x["samples"] for x in mine if x["params"].get("pixels") == k), 2) + " dB"
+                     for k in masks]
+            one = {x["metric"]: x["samples"] for x in mine if "pixels" not in x["params"]}
+            table.append([label, *cells, records.cell(one["thesis_error"], 4),
+                          *(records.cell(one[f"share_{k}"], 2) for k in ("screen", "probes", "bvh", "environment",
+                                                                        "rejected")),
+                          records.cell([100 * v for v in one["wrong_hits"]], 2) + " %" if "wrong_hits" in one else "-",
+                          records.cell(one["frame"], 1), records.cell(one["trace"], 1)])
+        print(records.markdown(["method", *(f"PSNR {k}" for k in masks), "E refl.", "screen", "probe", "bvh", "env",
+                                "rej.", "wrong", "frame ms", "trace ms"], table))
         for label, n, ms in captures:
             print(f"  probe capture ({label}): {n} probe(s) of 6 x {base.probe_size}^2 texels, {ms:.1f} ms once "
                   "(wall clock around the finished GPU work, cached until the scene or probe set changes)")

@@ -18,10 +18,11 @@ share of rays screen space kept, 'bvh' the share the BVH traced and hit (Frame.f
 PSNR: the cross-check's floor pixels' reflection against the converged physical reference
 (viewer "ray", traced shadows) at each timing size, per tracer; the goal is 40 dB.
 
-Cost: the GPU ms of hiz_build, the trace pass, fallback_bvh and the whole frame, median [min, max]
-of --repeats renders after 2 warm-ups, one layer, per scene, timing size and tracer; with a
-baseline, both sides rendered alternately in one process (each its own Renderer) and the paired
-ratio current / baseline of the frame, with ssrlab.lab.timing's verdict.
+Cost: the GPU ms of hiz_build, the trace pass, fallback_bvh and the whole frame, --repeats rounds
+after the protocol's warm-up rounds, one layer, per scene, timing size and tracer; with a
+baseline, both sides rendered alternately in one process (each its own Renderer), and the table
+gives the per-round ratio current / baseline with records.figure_verdict's verdict.
+Every figure is a record; the tables are rendered from the records.
 
 --baseline COMMIT: the shaders of that commit (git archive of its shaders/) run by this build. The
 build's side of the sight map only allocates it and defines its construction (HIZ_SIGHT), which a
@@ -30,21 +31,17 @@ baseline's shaders ignore, so the two sides differ by their shaders alone.
 
 from __future__ import annotations
 
-import statistics
 import subprocess
 import tarfile
 import tempfile
 from io import BytesIO
 from pathlib import Path
 
-import numpy as np
-
 import ssrlab
 from common import benchmark_arguments
 from ssrlab.crosscheck import crosscheck_scene
 from ssrlab.lab import hybrid
 from ssrlab.lab.protocol import Bench, device_header
-from ssrlab.lab.timing import median_range, paired, verdict
 from ssrlab.metrics import psnr
 
 REPO = Path(__file__).resolve().parents[1]
@@ -92,80 +89,66 @@ def main(argv=None) -> int:
         scenes = {name: make() for name, make in SCENES.items()}
         wrong_total = {side: 0 for side in sides}
 
-        print("\nkept screen hits on another object than the per-ray reference's ('wrong'), the share of rays "
-              "kept on screen and the share the BVH traced and hit" +
-              (", baseline -> current" if len(sides) > 1 else ""))
-        print(f"{'scene':11s} {'size':>9s} {'tracer':6s} {'layers':>6s} {'wrong':>13s} {'kept':>15s} {'bvh':>15s}")
+        counts = []
         for name, scene in scenes.items():
             for size in sizes(args.sizes):
                 for method in METHODS:
                     for layers in LAYERS:
                         st = settings(size, method, layers)
-                        got = {}
                         for side, r in sides.items():
                             o = hybrid.wrong_object_hits(r, scene, st, against_bvh=False)
-                            got[side] = o
                             wrong_total[side] += o["wrong"]
                             params = dict(scene=name, width=size[0], height=size[1], method=method, layers=layers,
                                           side=side, baseline=args.baseline)
-                            bench.recorder.add(params, "wrong_kept_hits", "rays", [o["wrong"]], better="lower")
-                            bench.recorder.add(params, "bvh_share", "share", [o["bvh"]], better="lower")
+                            counts.append(bench.record(params, "wrong_kept_hits", "rays", [o["wrong"]], better="lower"))
+                            counts.append(bench.record(params, "kept_share", "share", [o["screen"]]))
+                            counts.append(bench.record(params, "bvh_share", "share", [o["bvh"]], better="lower"))
                             del o["frame"], o["truth"]
-
-                        def cell(key, fmt):
-                            return " -> ".join(format(got[s][key], fmt) for s in sides)
-                        print(f"{name:11s} {size[0]:>4d}x{size[1]:<4d} {method:6s} {layers:>6d} {cell('wrong', 'd'):>13s} "
-                              f"{cell('screen', '.3f'):>15s} {cell('bvh', '.3f'):>15s}", flush=True)
+                print(f"  counts of {name} at {size[0]}x{size[1]}: done", flush=True)
+        print("\nkept screen hits on another object than the per-ray reference's (wrong_kept_hits), the share of rays "
+              "kept on screen and the share the BVH traced and hit")
+        bench.print_table(counts, rows=("scene", "width", "height", "method", "layers", "side"), digits=3, note=False)
         for side in sides:
             print(f"{side}: {wrong_total[side]} kept screen hits on another object in all")
 
-        print("\ncrosscheck floor pixels' reflection PSNR against the converged physical reference (goal >= 40 dB)")
         scene = scenes["crosscheck"]
+        psnrs = []
         for size in sizes(args.timing_sizes):
             for method in METHODS:
-                cells = []
                 for side, r in sides.items():
                     f = r.render(scene, settings=settings(size, method))
                     floor = f.gbuffer.object_id[0] == 0
                     truth = f.reference("converged", rays=1).reflection
                     db = psnr(f.reflection, truth, mask=floor)
-                    bench.recorder.add(dict(scene="crosscheck", width=size[0], height=size[1], method=method, side=side,
-                                            baseline=args.baseline), "psnr_physical", "dB", [db], better="higher")
-                    cells.append(f"{db:.2f} dB")
-                print(f"  {size[0]}x{size[1]} {method:6s} {' -> '.join(cells)}", flush=True)
+                    psnrs.append(bench.record(dict(scene="crosscheck", width=size[0], height=size[1], method=method,
+                                                   side=side, baseline=args.baseline), "psnr_physical", "dB", [db],
+                                              better="higher"))
+        print("\ncrosscheck floor pixels' reflection PSNR against the converged physical reference (goal >= 40 dB)")
+        bench.print_table(psnrs, rows=("width", "height", "method"), columns="side", note=False)
+        low = min(x["samples"][0] for x in psnrs if x["params"]["side"] == "current")
+        print(f"lowest PSNR of the current shaders {low:.2f} dB: goal >= 40 dB {'met' if low >= 40 else 'not met'}")
 
-        print(f"\nGPU ms, median [min, max] of {args.repeats} renders after 2 warm-ups, one layer" +
-              (", baseline and current alternately; frame ratio: current / baseline per round" if len(sides) > 1 else ""))
+        timing = []
         for name, scene in scenes.items():
             for size in sizes(args.timing_sizes):
                 for method in METHODS:
                     st = settings(size, method)
                     parts = ("hiz_build", f"trace_{method}", "fallback_bvh", "total")
-                    times = {side: {p: [] for p in parts} for side in sides}
-                    for rnd in range(2 + args.repeats):
-                        order = list(sides.items()) if rnd % 2 == 0 else list(reversed(sides.items()))
-                        for side, r in order:
-                            t = r.render(scene, settings=st).timings
-                            if rnd >= 2:
-                                for p in parts:
-                                    if p in t:
-                                        times[side][p].append(float(t[p]))
-                    print(f"  {name} {size[0]}x{size[1]} {method}")
+                    times = bench.rounds({side: (lambda r=r: r.render(scene, settings=st).timings)
+                                          for side, r in sides.items()})
                     for side in sides:
-                        cells = []
                         for p in parts:
-                            if times[side][p]:
-                                m, lo, hi = median_range(times[side][p])
-                                cells.append(f"{p} {m:.1f} [{lo:.1f}, {hi:.1f}]")
-                                bench.recorder.add(dict(scene=name, width=size[0], height=size[1], method=method,
-                                                        side=side, baseline=args.baseline, part=p),
-                                                   "gpu_ms", "ms", times[side][p], better="lower")
-                        print(f"    {side:8s} " + "; ".join(cells))
-                    if len(sides) > 1:
-                        b, c = times["baseline"]["total"], times["current"]["total"]
-                        ratio = statistics.median(paired(c, b))
-                        print(f"    frame current / baseline {ratio:.2f}x "
-                              f"({verdict(median_range(b), median_range(c))})", flush=True)
+                            if p in times[side]:
+                                timing.append(bench.record(dict(scene=name, width=size[0], height=size[1],
+                                                                method=method, side=side, baseline=args.baseline,
+                                                                part=p), "gpu_ms", "ms", times[side][p], better="lower"))
+        print(f"\nGPU ms of {bench.repeats} rounds after {bench.warmup} warm-up rounds, one layer"
+              + (", baseline and current alternately" if len(sides) > 1 else ""))
+        if len(sides) > 1:
+            bench.print_ab("side", "baseline", "current", records=timing, rows=("scene", "width", "height", "method",
+                                                                                "part"))
+        else:
+            bench.print_table(timing, rows=("scene", "width", "height", "method"), columns="part")
     return 1 if wrong_total["current"] else 0
 
 

@@ -29,13 +29,14 @@ SIZES = ((64, 48), (96, 54), (320, 180), (640, 360))
 
 def main() -> None:
     ap = benchmark_arguments(__doc__, repeats=7)
+    ap.add_argument("--sizes", nargs="+", default=[f"{w}x{h}" for w, h in SIZES], help="WIDTHxHEIGHT of the images")
     args = ap.parse_args()
     # The device fields of the records name the machine's renderer; the metrics run in numpy.
     bench = Bench("metric_cost", args, open_renderer(args), warmup=1)
     load = round(os.getloadavg()[0], 1)
     print(f"load average {load} on {os.cpu_count()} core(s); CPU wall ms of {args.repeats} rounds after a warm-up")
     rng = np.random.default_rng(0)
-    for w, h in SIZES:
+    for w, h in (tuple(int(v) for v in size.lower().split("x")) for size in args.sizes):
         ref = rng.uniform(0, 2, (h, w, 3)).astype(np.float32)
         img = np.clip(ref + rng.normal(0, 0.05, ref.shape), 0, None).astype(np.float32)
         mask = rng.random((h, w)) > 0.5

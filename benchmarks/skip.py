@@ -41,6 +41,7 @@ import ssrlab
 from ssrlab.scene import Camera, Environment, Material, Scene, directional_light
 from ssrlab.scenes import GALLERY_ROUGHNESS, gallery
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
 from ssrlab.lab.protocol import Bench
 
 STRIPS = 100
@@ -87,7 +88,7 @@ BENCH = None  # the run's Bench (ssrlab.lab.protocol), made by main()
 
 
 def timed(renderer, scene, settings, keys, repeats, params=None):
-    """(median, min, max, last frame) of the summed GPU ms of `keys` over the protocol's rounds
+    """(median, min, max, last frame, samples) of the summed GPU ms of `keys` over the protocol's rounds
     after 2 warm-ups; recorded as a figure of `params` (the scene, settings and keys)."""
     last = {}
     t = BENCH.frames(renderer, scene, {"x": settings}, repeats=repeats, keep=lambda _, f: last.update(f=f))["x"]
@@ -95,16 +96,12 @@ def timed(renderer, scene, settings, keys, repeats, params=None):
     BENCH.record({**(params or {"scene": scene.name}), "method": settings.method, "skip": settings.skip,
                   "layers": settings.layers, "rays_per_pixel": settings.rays_per_pixel, "width": settings.width,
                   "height": settings.height}, "+".join(keys), "ms", totals)
-    return statistics.median(totals), min(totals), max(totals), last["f"]
+    return statistics.median(totals), min(totals), max(totals), last["f"], totals
 
 
 # Trace keys: the first trace, classify before it, and the variance-guided second pass.
 def trace_keys(method):
     return ("classify", f"trace_{method}", "variance_rays", f"trace_{method}_extra")
-
-
-def fmt(m, lo, hi):
-    return f"{m:>8.3f} ({lo:.3f}-{hi:.3f})"
 
 
 def screen_share_strips(r, args, share: float) -> list[int]:
@@ -133,9 +130,7 @@ def shares_section(r, args):
                                  ("glossy 0.3, 4 rays", 0.3, dict(sampling="vndf", rays_per_pixel=4))):
         for method in ("linear", "hiz"):
             print(f"{label}, method={method}")
-            print(f"  {'share':>6} {'screen':>9} | {'classify+trace on':>22} {'trace off':>22} | "
-                  f"{'+resolve on':>22} {'+resolve off':>22}")
-            medians = {}
+            medians, table = {}, []
             for share in args.shares:
                 scene = strip_floor(share / 100, roughness, reflective=screen_share_strips(r, args, share / 100))
                 trace = trace_keys(method)
@@ -148,8 +143,9 @@ def shares_section(r, args):
                 medians[share] = [c[0] for c in cols]
                 f = cols[0][3]
                 px = float((f.gbuffer.reflectivity[0] > 0).mean())  # the measured reflective share of the screen
-                print(f"  {share:>5g}% {100 * px:>8.1f}% | " + " ".join(
-                    fmt(m, lo, hi) + (" |" if i == 1 else "") for i, (m, lo, hi, _) in enumerate(cols)))
+                table.append([f"{share:g} %", f"{100 * px:.1f} %", *(records.cell(c[4], 3) for c in cols)])
+            print(records.markdown(["share", "screen", "classify+trace, skip on", "trace, skip off",
+                                    "+resolve, skip on", "+resolve, skip off"], table))
             if 100 in medians:
                 full = medians[100]
                 for share, target in ((10, 20), (0, 5)):
@@ -165,14 +161,14 @@ def peel_section(r, args):
     print("peeling a view of depth complexity 2 (the floor and one plane over it, seen from above), method=hiz")
     scene = strip_floor(0.5, 0.0, boxes=False)
     keys = ("depth_peel", "lighting", "hiz_build", "trace_hiz", "total")
-    print(f"  {'layers allowed':>14} {'skip':>5} {'layers_used':>11} " + " ".join(f"{k:>22}" for k in keys))
+    table = []
     for layers, skip in ((2, True), (16, True), (16, False)):
         s = ssrlab.Settings(width=args.width, height=args.height, layers=layers, method="hiz", sampling="mirror",
                             rays_per_pixel=1, skip=skip)
         cols = [timed(r, scene, s, (k,), args.repeats, dict(section="peel", layers_allowed=layers)) for k in keys]
         f = cols[0][3]
-        print(f"  {layers:>14} {str(skip):>5} {f.stats['layers_used']:>11} " +
-              " ".join(fmt(m, lo, hi) for m, lo, hi, _ in cols))
+        table.append([layers, skip, f.stats["layers_used"], *(records.cell(c[4], 3) for c in cols)])
+    print(records.markdown(["layers allowed", "skip", "layers_used", *keys], table))
     print()
 
 
@@ -251,16 +247,20 @@ def adaptive_scene(r, args, wall, roughness):
         errors = {label: [] for label, _, _ in rows}
         images = {label: [] for label, _, _ in rows}
         rays = {}
-        classes = None  # per roughness of the floor: its pixels among the reflective ones
+        # classes: per roughness of the floor, its pixels among the reflective ones
         class_rays = {}  # per row, the rays drawn in each class
         # Two rounds over the rows, each a block of frames of one row after one warm-up frame
         # (a block reuses its textures; a row switch reallocates them), so that the machine's
         # load drifts over every row alike.
         blocks = [range(1, n // 2 + 1), range(n // 2 + 1, n + 1)]
-        for block in blocks:
-            for (label, _, _), s in zip(rows, settings):
-                r.render(scene, settings=s)
-                for seed in block:
+        block_of = {"round": -1}
+
+        def run_block(label, s, first):
+            def run():
+                if first:
+                    block_of["round"] += 1
+                r.render(scene, settings=s)  # the block's warm-up frame
+                for seed in blocks[block_of["round"]]:
                     f = r.render(scene, settings=s.replace(seed=seed))
                     times[label][0].append(sum(f.timings.get(k, 0.0) for k in trace))
                     times[label][1].append(sum(f.timings.get(k, 0.0) for k in trace + ("resolve",)))
@@ -270,18 +270,23 @@ def adaptive_scene(r, args, wall, roughness):
                     if seed == 1:  # the rays drawn (weight > 0): method "bvh" has no trace counter
                         drawn = (f.read("rays.sample")[..., 0] > 0).sum(axis=0)
                         rays[label] = int(drawn.sum())
-                        if classes is None:
+                        if not classes:
                             rough = f.gbuffer.roughness[0]
-                            classes = [np.abs(rough[mask] - v) < 0.02 for v in values]
+                            classes.extend(np.abs(rough[mask] - v) < 0.02 for v in values)
                         class_rays[label] = [int(drawn[mask][c].sum()) for c in classes]
+                return {}
+            return run
+
+        classes = []
+        # the protocol's rounds, one block each (every frame of a block recorded)
+        BENCH.rounds({label: run_block(label, s, i == 0) for i, ((label, _, _), s) in enumerate(zip(rows, settings))},
+                     repeats=len(blocks), warmup=0)
         print(f"method={method}, reuse_radius={reuse}, {args.width}x{args.height}, 1 layer; "
-              f"GPU ms median (min-max) of {n} frames; "
+              f"GPU ms median [25th-75th percentile] of {n} frames; "
               "RMSE of the reflection over the reflective pixels, mean (min-max) of the frames; "
               "MSE x ms: (MSE - the reference's) x trace+resolve ms, the inverse of Monte Carlo efficiency, "
               "constant over ray counts for an unbiased estimator whose time follows its rays")
-        print(f"  {'rays':>26} {'rays traced':>11} {'RMSE':>26} {'trace ms':>22} {'trace+resolve ms':>22} "
-              f"{'MSE x ms':>9} {'ns/ray':>6} | RMSE at roughness " + " ".join(f"{v:>6}" for v in values))
-        summary = {}
+        summary, table = {}, []
         for label, _, count in rows:
             e = errors[label]
             mt, mtr = statistics.median(times[label][0]), statistics.median(times[label][1])
@@ -292,12 +297,13 @@ def adaptive_scene(r, args, wall, roughness):
             BENCH.record(params, "+".join(trace), "ms", times[label][0])
             BENCH.record(params, "+".join(trace + ("resolve",)), "ms", times[label][1])
             BENCH.record(params, "rmse", "", e)
-            print(f"  {label:>26} {rays[label]:>11} {statistics.mean(e):>8.5f} ({min(e):.5f}-{max(e):.5f}) "
-                  f"{fmt(mt, min(times[label][0]), max(times[label][0])):>22} "
-                  f"{fmt(mtr, min(times[label][1]), max(times[label][1])):>22} {1e3 * mse * mtr:>9.4f} "
-                  f"{1e6 * mt / max(rays[label], 1):>6.0f} | {'':>17} " +
-                  " ".join(f"{np.sqrt(np.mean([np.mean((im[c] - truth[mask][c]) ** 2) for im in images[label]])):>6.4f}"
-                           for c in classes))
+            table.append([label, rays[label], f"{statistics.mean(e):.5f} ({min(e):.5f}-{max(e):.5f})",
+                          records.cell(times[label][0], 3), records.cell(times[label][1], 3), f"{1e3 * mse * mtr:.4f}",
+                          f"{1e6 * mt / max(rays[label], 1):.0f}"]
+                         + [f"{np.sqrt(np.mean([np.mean((im[c] - truth[mask][c]) ** 2) for im in images[label]])):.4f}"
+                            for c in classes])
+        print(records.markdown(["rays", "rays traced", "RMSE mean (min-max)", "trace ms", "trace+resolve ms",
+                                "MSE x ms", "ns/ray", *(f"RMSE at roughness {v}" for v in values)], table))
         adaptive_verdicts(summary, n)
         best_allocation(rows, images, truth[mask], classes, values, rays, class_rays)
         # Unbiased? The n-frame means of adaptive and fixed rays differ by their noise alone if
