@@ -71,6 +71,54 @@ BENCHMARKS = {
     "render_estimate": ([], ["--width", "96", "--height", "54", "--instances", "100", "--stacked", "25"]),
 }
 
+# name: the arguments of its smoke run (tests/test_bench_records.py): the smallest size at which the
+# script still measures and records every figure it prints, a few seconds on llvmpipe. Every
+# benchmark registered above has one, save those in NO_RECORDS.
+SMOKE = {
+    "first_render": ["--width", "32", "--height", "18", "--repeats", "1", "--rounds", "1", "--scenes", "hall"],
+    "peel_layers": ["--width", "32", "--height", "18", "--repeats", "1", "--layers", "1", "2", "--scenes", "hall"],
+    "trace_methods": ["--width", "32", "--height", "18", "--repeats", "1", "--scenes", "hall"],
+    "reference_speed": ["--width", "32", "--height", "18", "--rays", "2", "--repeats", "1", "--scenes",
+                        "spheres_and_boxes", "--no-mitsuba", "--tracers", "cpu", "glsl"],
+    "accuracy": ["--scenes", "hall"],
+    "mitsuba_crosscheck": ["--width", "32", "--height", "18", "--spp", "4", "--roughness", "0.5", "--frame-sizes",
+                           "32x18", "--repeats", "1"],
+    "glossy_methods": ["--width", "32", "--height", "18", "--repeats", "1", "--reference-rays", "4", "--scenes", "hall"],
+    "temporal": ["--width", "32", "--height", "18", "--frames", "2"],
+    "skip": ["--width", "32", "--height", "18", "--repeats", "1", "--reference-rays", "4", "--error-seeds", "1",
+             "--shares", "0", "10", "--adaptive-mixes", "mirrors", "--adaptive-methods", "hiz", "--adaptive-reuse", "1"],
+    "hybrid": ["--scenes", "hall", "--width", "32", "--height", "18", "--repeats", "1", "--reference-rays", "4"],
+    "hybrid_confidence": ["--sizes", "160x90", "--timing-sizes", "32x18", "--repeats", "1"],
+    "svgf": ["--width", "32", "--height", "18", "--frames", "2", "--repeats", "1"],
+    "depth_precision": ["--width", "32", "--height", "18"],
+    "memory": ["--renders", "3", "--warmup", "1"],
+    "roofline": ["--quick"],
+    "frame_breakdown": ["--width", "32", "--height", "18", "--repeats", "1", "--scenes", "hall"],
+    "readback": ["--sizes", "32x18", "--repeats", "1"],
+    "trace_parts": ["--width", "32", "--height", "18", "--repeats", "1", "--scenes", "hall"],
+    "occlusion": ["--width", "32", "--height", "18", "--repeats", "1", "--reference-rays", "2", "--scenes", "hall",
+                  "--roughness", "0.2", "--methods", "cone"],
+    "metric_cost": ["--repeats", "1", "--sizes", "64x48"],
+    "raster_floor": ["--width", "32", "--height", "18", "--repeats", "1", "--scenes", "hall"],
+    "deep_gbuffer": ["--width", "32", "--height", "18", "--repeats", "1", "--layers", "1", "2", "--scenes", "hall"],
+    "construction_switch": ["--width", "32", "--height", "18", "--repeats", "1"],
+    "min_separation": ["--width", "32", "--height", "18", "--frames", "2", "--reference-rays", "2", "--separations",
+                       "0.2", "--scenes", "hall"],
+    "input_fetch": ["--width", "32", "--height", "18", "--repeats", "1", "--scenes", "hall"],
+    "layers_vs_rays": ["--width", "32", "--height", "18", "--repeats", "3", "--reference-rays", "2", "--scenes", "hall",
+                       "--deep-gbuffer", "peel"],
+    "shadows": ["--width", "32", "--height", "18", "--repeats", "1", "--map-size", "64"],
+    "emissive_texture": ["--width", "32", "--height", "18", "--repeats", "1"],
+    "specular_texture": ["--width", "32", "--height", "18", "--repeats", "1"],
+    "scene_updates": ["--width", "32", "--height", "18", "--repeats", "1", "--suzannes", "4", "--moved", "1"],
+    "temporal_motion": ["--width", "32", "--height", "18", "--frames", "3", "--moving", "2", "--reference-rays", "2",
+                        "--repeats", "1", "--suzannes", "4", "--sequences", "sphere over mirror"],
+    "render_estimate": ["--width", "32", "--height", "18", "--instances", "2", "--stacked", "2", "--rounds", "1"],
+}
+# Registered benchmarks that write no records yet: thesis_findings runs the paper-reproduction
+# notebooks, whose sweep rows keep each time's median and spread but not its samples.
+NO_RECORDS = {"thesis_findings"}
+
 
 def git_commit() -> str:
     """The checkout's commit, "+dirty" when it has uncommitted changes (what the figures come from)."""

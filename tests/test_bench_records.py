@@ -163,3 +163,40 @@ def test_the_standard_evaluation_gives_an_entry_its_row_beside_every_builtin_tec
         row = [line for line in board.splitlines() if line.startswith(f"| {technique} |")]
         assert len(row) == 1 + len(scenes), technique  # the overall table and each scene's
         assert all("-" not in line.split(" | ")[1] for line in row)  # an error in every row
+
+
+def _registry():
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    try:
+        import run_all
+    finally:
+        sys.path.remove(str(REPO / "benchmarks"))
+    return run_all
+
+
+RUN_ALL = _registry()
+
+
+def test_every_registered_benchmark_has_a_smoke_run_or_says_why_not():
+    assert set(RUN_ALL.SMOKE) | RUN_ALL.NO_RECORDS == set(RUN_ALL.BENCHMARKS)
+    assert not set(RUN_ALL.SMOKE) & RUN_ALL.NO_RECORDS
+
+
+@pytest.mark.parametrize("name", sorted(RUN_ALL.SMOKE))
+def test_a_registered_benchmark_writes_valid_records(tmp_path, name):
+    """Each benchmark of run_all's registry, at its smoke size, appends records to
+    <folder>/<name>.jsonl with every field filled, marked quick, and prints a table rendered from
+    them (Markdown, not laid out by hand)."""
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *RUN_ALL.SMOKE[name],
+                        "--records", str(tmp_path), "--records-quick"], capture_output=True, text=True, timeout=300,
+                       cwd=REPO, env={**os.environ, "SSRLAB_PERCEPTUAL": "0"})
+    assert r.returncode == 0, r.stderr[-3000:]
+    assert [p.name for p in tmp_path.glob("*.jsonl")] == [f"{name}.jsonl"]
+    recs = records.read_records(tmp_path)
+    assert recs
+    for x in recs:
+        assert set(records.FIELDS) <= set(x), x
+        assert x["benchmark"] == name and x["params"]["quick"] is True
+        assert x["samples"] and all(isinstance(v, float) for v in x["samples"])
+        assert x["device"] != "unknown" and x["commit"] and x["date"] and f"benchmarks/{name}.py" in x["command"]
+    assert "|---|" in r.stdout
