@@ -118,6 +118,8 @@ SMOKE = {
 # Registered benchmarks that write no records yet: thesis_findings runs the paper-reproduction
 # notebooks, whose sweep rows keep each time's median and spread but not its samples.
 NO_RECORDS = {"thesis_findings"}
+# Registered benchmarks without the --device option every other one takes (protocol.arguments).
+NO_DEVICE = {"thesis_findings"}
 
 
 def git_commit() -> str:
@@ -169,8 +171,7 @@ def main() -> int:
         full, quick = BENCHMARKS[name]
         extra = quick if args.quick else full
         cmd = [sys.executable, str(script), *extra]
-        if "--device" in subprocess.run([sys.executable, str(script), "--help"], capture_output=True,
-                                        text=True).stdout:
+        if name not in NO_DEVICE:
             cmd += ["--device", args.device]
         print(f"[run_all] {' '.join(cmd[1:])}", flush=True)
         t0 = time.perf_counter()

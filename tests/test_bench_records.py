@@ -187,7 +187,8 @@ def test_a_registered_benchmark_writes_valid_records(tmp_path, name):
     """Each benchmark of run_all's registry, at its smoke size, appends records to
     <folder>/<name>.jsonl with every field filled, marked quick, and prints a table rendered from
     them (Markdown, not laid out by hand)."""
-    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *RUN_ALL.SMOKE[name],
+    device = [] if name in RUN_ALL.NO_DEVICE else ["--device", "auto"]  # the option run_all passes
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *RUN_ALL.SMOKE[name], *device,
                         "--records", str(tmp_path), "--records-quick"], capture_output=True, text=True, timeout=300,
                        cwd=REPO, env={**os.environ, "SSRLAB_PERCEPTUAL": "0"})
     assert r.returncode == 0, r.stderr[-3000:]
