@@ -26,7 +26,8 @@ Per configuration, from ssrlab.lab.temporal.motion_study, against each frame's c
              the region and the frames), and excess: its part above the single frame's (the trail
              the history adds);
   lag        frames after the motion stops until the error over the motion's footprint is within
-             10 % of the level the same configuration converges to when the scene stands still.
+             10 % of the level the same configuration converges to when the scene stands still
+             (lag_beyond where it never was: the lag is beyond the frames the sequence had left).
 The bound (ssrlab.lab.temporal.accumulation_bound): the per-pixel mean of K renders of frame K's
 pose and camera, each alone with its own rays, against the same reference: what the best
 accumulation of K frames reaches (no motion, no rejection, equal weights), so how much of the
@@ -97,10 +98,11 @@ def record_study(bench, params, result, moving) -> list[dict]:
             out.append(bench.record(p, region, "", list(v[np.isfinite(v)])))
         out.append(bench.record(p, "ghost", "", [float(r["ghost"].sum())]))
         out.append(bench.record(p, "excess", "", [excess(result, name) if name != "single frame" else 0.0]))
-        if name != "single frame":
-            # frames after the stop; where never within reach, the frames the sequence had left
-            lag = result["frames"] - result["still_from"] if r["lag"] is None else r["lag"]
-            out.append(bench.record(p, "lag", "frames", [lag], reached=r["lag"] is not None))
+        if name != "single frame" and r["lag"] is not None:
+            out.append(bench.record(p, "lag", "frames", [r["lag"]]))
+        elif name != "single frame":
+            # never within reach before the sequence ended: the lag is beyond the frames it had left
+            out.append(bench.record(p, "lag_beyond", "frames", [result["frames"] - result["still_from"] - 1]))
         out.append(bench.record(p, "still", "x", [r["still at stop"] / single]))
     return out
 
