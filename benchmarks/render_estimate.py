@@ -89,7 +89,7 @@ def main() -> None:
                     params = dict(scene=layout, copies=n, triangles=est.triangles, settings=label,
                                   width=args.width, height=args.height)
                     bench.record(params, "passes", "passes", [est.passes])
-                    bench.record(params, "estimate", "s", [est.seconds])
+                    bench.record(params, "estimate", "estimated s", [est.seconds])  # a prediction, not a timing
                     bench.record(params, "first", "s", t["first"])
                     bench.record(params, "repeat", "s", t["repeat"])
                     rate = ""
