@@ -12,18 +12,16 @@ A texture reaches numpy by one of two paths (Renderer.readback_path):
             memory (a persistently mapped buffer), then into the array by several threads.
 For one frame of `hall` per size, the script times the native read of each texture below (the
 Python-side cache is bypassed: every read goes to the device), the two paths interleaved read by
-read, medians and IQR of --repeats after 2 warm-up reads. The verdict says "faster" or "slower"
-only where the IQRs do not overlap. Each path's reads are a record (ssrlab.lab.records) of their
-samples; the table is rendered from them.
+read (the protocol's Bench.calls: --repeats rounds after 2 warm-up rounds). Each path's reads are
+a record (ssrlab.lab.records) of their samples; the A/B table is rendered from them, with the
+per-read ratio staged / download and the verdict of staged against download
+(records.figure_verdict: faster, slower, same, or undecided at this noise).
 """
 
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
-
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import benchmark_arguments, open_renderer  # noqa: E402
@@ -34,18 +32,19 @@ TEXTURES = {"color": "direct", "lit": "direct", "gbuffer.albedo": "copy pass", "
 PATHS = ("download", "staged")
 
 
-def time_reads(renderer, frame, name: str, repeats: int) -> dict[str, np.ndarray]:
+def time_reads(bench, renderer, frame, name: str) -> tuple[dict[str, list[float]], int]:
     """ms per native read of `name` by each readback path, the paths interleaved read by read."""
-    ms = {path: [] for path in PATHS}
-    for i in range(repeats + 2):
-        for path in PATHS:
+    out = {}
+
+    def read(path):
+        def run():
             renderer.readback_path = path
-            t0 = time.perf_counter()
-            data = frame.read(name, cache=False)
-            if i >= 2:  # 2 warm-up reads per path
-                ms[path].append((time.perf_counter() - t0) * 1e3)
+            out["nbytes"] = frame.read(name, cache=False).nbytes
+        return run
+
+    ms = bench.calls({path: read(path) for path in PATHS})
     renderer.readback_path = "auto"
-    return {p: np.asarray(v) for p, v in ms.items()}, data.nbytes
+    return ms, out["nbytes"]
 
 
 def main(argv=None) -> int:
@@ -53,32 +52,22 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", nargs="+", default=["640x360", "1920x1080"], help="WIDTHxHEIGHT")
     args = ap.parse_args(argv)
     import ssrlab
-    from ssrlab.lab import records, timing
 
     renderer = open_renderer(args)
     bench = Bench("readback", args, renderer)
     scene = ssrlab.scenes.hall()
-    print(f"medians (IQR) of {args.repeats} native reads per path after 2 warm-ups, the paths interleaved; "
-          f"the float32 RGBA array delivered; 'auto' is {renderer.info['readback_path']} on this device")
-    rows = []
+    print(f"{args.repeats} native reads per path after {bench.warmup} warm-up reads, the paths interleaved; the "
+          f"float32 RGBA array delivered; 'auto' is {renderer.info['readback_path']} on this device; ms")
     for size in args.sizes:
         w, h = (int(v) for v in size.lower().split("x"))
         frame = renderer.render(scene, settings=ssrlab.Settings(width=w, height=h, method="hiz", sampling="mirror"))
         for name, path in TEXTURES.items():
-            ms, nbytes = time_reads(renderer, frame, name, args.repeats)
+            ms, nbytes = time_reads(bench, renderer, frame, name)
             params = dict(size=f"{w}x{h}", texture=name, download_path=path, bytes=nbytes)
-            recs = {p: bench.record({**params, "path": p}, "read", "ms", ms[p]) for p in PATHS}
-            q = {p: records.summary(r["samples"]) for p, r in recs.items()}
-            d, st = q["download"], q["staged"]
-            # (median, q1, q3): the interquartile ranges apart, or no verdict
-            apart = timing.verdict((d["median"], d["p25"], d["p75"]), (st["median"], st["p25"], st["p75"]))
-            verdict = f"staged {apart}" if apart != "undecided" else "no verdict (IQRs overlap)"
-            rows.append([f"{w}x{h}", name, path, f"{nbytes / 1e6:.1f}"]
-                        + [f"{x['median']:.3f} ({x['p25']:.3f}-{x['p75']:.3f})" for x in (d, st)]
-                        + [f"{st['median'] / d['median']:.2f}", verdict])
+            for p in PATHS:
+                bench.record({**params, "path": p}, "read", "ms", ms[p])
         frame.release()
-    print(records.markdown(["size", "texture", "download path", "MB", "download ms (IQR)", "staged ms (IQR)",
-                            "staged / download", "verdict"], rows))
+    bench.print_ab("path", *PATHS, rows=("size", "texture", "download_path", "bytes"), digits=3)
     return 0
 
 
