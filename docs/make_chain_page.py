@@ -1,13 +1,13 @@
 """Writes docs/architecture/chain.md: the chain of passes of a few representative settings, as
-Renderer.chain reports them from the passes' own declarations (what each reads and writes).
+ssrlab.chain.derive orders them from the passes' own declarations (what each reads and writes).
 
     python docs/make_chain_page.py          # rewrite the page
     python docs/make_chain_page.py --check  # exit 1 if the page differs from what the code says
 
 tests/test_docs.py runs the check, so the page cannot drift from the code. The chains are those of
 `ssrlab.scenes.stand_in()`, the scene Renderer.chain uses without one (a sun that casts a shadow and a
-mirror floor: every pass that depends on a scene fact runs, the shadow map's included), with the passes
-reading their float inputs by imageLoad, as on the CPU device.
+mirror floor: every pass that depends on a scene fact runs, the shadow map's included), on the CPU
+device (the passes read their float inputs by imageLoad). No GL context is made.
 """
 
 from __future__ import annotations
@@ -29,27 +29,28 @@ CONFIGURATIONS = [
 ]
 
 
-def page(renderer) -> str:
+def page() -> str:
     import ssrlab
 
     lines = ["# The chain, from the code", "",
-             "Made by `python docs/make_chain_page.py` from `Renderer.chain(settings)`, which asks each pass "
-             "whether it runs and what it reads and writes (GPU buffers in italics: the work lists a pass "
-             "hands to a later one); `tests/test_docs.py` fails when this page and the "
-             "code disagree. Scene: `ssrlab.scenes.stand_in()` (what `Renderer.chain(settings)` uses without a scene); float inputs read by imageLoad (the CPU device's path: on a "
-             "GPU the resolve reads its neighbours' rays from shared memory and `resolve_fetch` does not run).", ""]
+             "Made by `python docs/make_chain_page.py` from `ssrlab.chain.derive(settings)` (what "
+             "`Renderer.chain(settings)` lists, without a GL context), which asks each pass whether it runs and "
+             "what it reads and writes, and orders the passes by those declarations "
+             "([declarations and the chain's order](order.md)); GPU buffers in italics: the work lists a pass "
+             "hands to a later one. `tests/test_docs.py` fails when this page and the code disagree. Scene: "
+             "`ssrlab.scenes.stand_in()` (what `Renderer.chain(settings)` uses without a scene); float inputs "
+             "read by imageLoad (the CPU device's path: on a GPU the resolve reads its neighbours' rays from "
+             "shared memory and `resolve_fetch` does not run).", ""]
     for title, kw in CONFIGURATIONS:
         settings = ssrlab.Settings(width=64, height=48, **kw)
-        chain = renderer.chain(settings, ssrlab.scenes.stand_in())
+        chain = ssrlab.chain.derive(settings, ssrlab.scenes.stand_in(), device="cpu")
         changed = ", ".join(f"{k}={v!r}" for k, v in kw.items())
         lines += [f"## {title}", "", f"`Settings({changed})`", "", chain.markdown(), ""]
     return "\n".join(lines)
 
 
 def main() -> int:
-    import ssrlab
-
-    text = page(ssrlab.Renderer("auto", input_fetch="imageLoad"))
+    text = page()
     if "--check" in sys.argv[1:]:
         if not PAGE.is_file() or PAGE.read_text() != text:
             print(f"{PAGE} differs from what the code says: run python docs/make_chain_page.py")

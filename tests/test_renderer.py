@@ -45,7 +45,7 @@ def test_timings_cover_every_pass_and_layer(renderer):
     t = f.timings
     # With imageLoad (the CPU device) the resolve's tile fill is a pass of its own.
     fetch = ["resolve_fetch"] if renderer.info["input_fetch"] == "imageLoad" else []
-    assert f.passes == ["shadow_map", "depth_peel", "lighting", "classify", "trace_linear", "specular_occlusion",
+    assert f.passes == ["depth_peel", "shadow_map", "lighting", "classify", "trace_linear", "specular_occlusion",
                         *fetch, "resolve", "composite"]
     for name in f.passes + [f"depth_peel.layer{i}" for i in range(3)] + ["specular_occlusion.cells"]:
         assert t[name] > 0, name

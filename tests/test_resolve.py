@@ -216,7 +216,7 @@ def test_roughness_cutoff_skips_rough_pixels(renderer):
 def test_frames_without_reflective_surfaces_trace_nothing(renderer):
     scene = ssrlab.scenes.spheres_and_boxes()
     f = renderer.render(scene, settings=small(method="off"))
-    assert f.passes == ["shadow_map", "depth_peel", "lighting", "composite"]
+    assert f.passes == ["depth_peel", "shadow_map", "lighting", "composite"]
     matte = ssrlab.Scene()
     matte.add_sphere((0, 0, 0), 1)
     g = renderer.render(matte, ssrlab.Camera(), small(method="hiz"))
@@ -226,7 +226,7 @@ def test_frames_without_reflective_surfaces_trace_nothing(renderer):
     np.testing.assert_array_equal(g.reflection, 0)
     h = renderer.render(scene, settings=small(method="hiz", skip=True))
     fetch = ["resolve_fetch"] if renderer.info["input_fetch"] == "imageLoad" else []
-    assert h.passes == ["shadow_map", "depth_peel", "lighting", "hiz_build", "classify", "trace_hiz",
+    assert h.passes == ["depth_peel", "hiz_build", "shadow_map", "lighting", "classify", "trace_hiz",
                         "specular_occlusion", *fetch, "resolve", "composite"]
     # The shadow map is f's, kept by the renderer (the matte scene in between casts none): not drawn again.
     assert h.stats["shadow_maps_reused"] == 1 and h.timings["shadow_map"] == 0

@@ -232,7 +232,8 @@ def test_hit_reprojection_runs_its_pass_for_the_reflection_only(renderer):
     for s in (dict(temporal_reflections=True), dict(denoise="svgf")):
         f = renderer.render(scene, settings=small(width=48, height=32, reflection_reprojection="hit", **s))
         passes = f.passes
-        assert passes.index("resolve") < passes.index("reproject_reflection")
+        # After the trace whose hits it moves, before the accumulation that reads it.
+        assert passes.index("trace_linear") < passes.index("reproject_reflection")
         assert passes.index("reproject_reflection") < passes.index("temporal" if "temporal_reflections" in s else
                                                                    "svgf_temporal")
         assert f.reflection_reprojection.reason.max() == ssrlab.Reprojection.NO_HISTORY

@@ -98,7 +98,7 @@ def test_a_user_trace_on_the_linear_method_lacks_the_pyramid_and_says_so(rendere
 
 @pytest.mark.parametrize("kwargs, match", [
     (dict(stage="trace", reads=("reflection",)), r"reads 'reflection', which no pass before its stage 'trace' "
-                                                 r"writes \('cone_trace' writes it later\)"),
+                                                 r"writes \('resolve' writes it later\)"),
     (dict(stage="trace", reads=("no_such",)), "reads 'no_such', which no pass writes"),
     (dict(stage="reflection_filter", writes=("reflection", "gbuffer.normal")),
      "writes 'gbuffer.normal', which pass 'depth_peel' owns"),

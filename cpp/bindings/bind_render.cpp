@@ -118,6 +118,15 @@ std::string property_doc(const py::dict& e) {
            (range.empty() ? "" : "; " + range) + ")";
 }
 
+// A chain as Python's ssrlab.chain.Chain takes it: (pass, inputs, outputs, history inputs, scratch
+// outputs, buffer inputs, buffer outputs) per pass.
+py::list chain_tuples(const std::vector<Renderer::ChainEntry>& chain) {
+    py::list out;
+    for (const auto& e : chain)
+        out.append(py::make_tuple(e.pass, e.inputs, e.outputs, e.history, e.scratch, e.buffer_inputs, e.buffer_outputs));
+    return out;
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
@@ -175,6 +184,14 @@ void bind_render(py::module_& m) {
         "user_params", [](const RenderSettings& s) { return s.user.params; },
         [](RenderSettings& s, const std::map<std::string, double>& v) { s.user.params = v; },
         "the user passes' parameters, by '<pass>.<param>'");
+    m.def(
+        "builtin_chain",
+        [](const Scene& scene, const RenderSettings& s, bool fetch_by_image) {
+            return chain_tuples(Renderer::builtin_chain(scene, s, fetch_by_image));
+        },
+        py::arg("scene"), py::arg("settings"), py::arg("fetch_by_image"),
+        "The built-in passes a render of `scene` with `settings` runs, in order, as Renderer.chain lists them, "
+        "without a renderer: no GL context is made. fetch_by_image: the CPU device's input fetch.");
     m.def("settings_schema", &settings_schema,
           "Every setting as declared once in cpp/render/settings_fields.def, in order: a dict per field with "
           "name, type (as ssrlab.Settings annotates it), default (ssrlab.Settings' default; 'auto' where it "
@@ -268,14 +285,7 @@ void bind_render(py::module_& m) {
             "Registers a user pass (ssrlab.UserPass builds the arguments); raises ValueError naming the pass "
             "and the resource it may not read or write, or the place it cannot run at.")
         .def(
-            "chain",
-            [](Renderer& r, const Scene& scene, const RenderSettings& s) {
-                py::list out;
-                for (const auto& e : r.chain(scene, s))
-                    out.append(py::make_tuple(e.pass, e.inputs, e.outputs, e.history, e.scratch, e.buffer_inputs,
-                                              e.buffer_outputs));
-                return out;
-            },
+            "chain", [](Renderer& r, const Scene& scene, const RenderSettings& s) { return chain_tuples(r.chain(scene, s)); },
             py::arg("scene"), py::arg("settings"),
             "The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, "
             "scratch outputs, buffer inputs, buffer outputs).")

@@ -1,5 +1,10 @@
 #include "passes/classify.h"
 
+#include "render/pass_registry.h"
+
+#include "passes/resolve.h"
+#include "passes/trace_pass.h"
+
 #include <cstdint>
 
 #include "passes/compute.h"
@@ -51,6 +56,13 @@ void ClassifyPass::reset_resolve_list(int width, int height, bool pixels) {
                                   tiles * sizeof(uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     }
     resolve_pixels_ = pixels;
+}
+
+std::vector<ResourceDesc> ClassifyPass::outputs(const RenderSettings& s) const {
+    std::vector<ResourceDesc> out{TracePass::ray_texture("rays.hit", s), TracePass::ray_texture("rays.sample", s),
+                                  TracePass::ray_texture("rays.direction", s)};
+    if (resolves_over_lists(s)) out.push_back(ResolvePass::reflection_texture(s));
+    return out;
 }
 
 void ClassifyPass::execute(FrameContext& ctx) {
@@ -143,5 +155,7 @@ std::map<std::string, double> ClassifyPass::counters() const {
     }
     return c;
 }
+
+SSR_REGISTER_PASS(ClassifyPass());
 
 }  // namespace ssr

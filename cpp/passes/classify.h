@@ -11,9 +11,10 @@
 // rougher than the cutoff into a cleared reflection texture (shaders/passes/classify.comp).
 //   inputs : linear_depth, gbuffer.albedo, gbuffer.normal, gbuffer.material; the buffer
 //            covered_tiles (the peeling's)
-//   outputs: rays.* of the skipped pixels (declared by the trace pass that follows), the
-//            reflection of the non-receivers (declared by the resolve); the buffers ray_list
-//            and, when the resolve runs over lists, resolve_list (FrameBuffer)
+//   outputs: rays.* (rays.sample cleared, the rays adaptive_rays leaves out; the trace that
+//            follows rewrites them), the reflection of the non-receivers when the resolve runs
+//            over lists (the resolve rewrites it); the buffers ray_list and, when the resolve
+//            runs over lists, resolve_list (FrameBuffer)
 #pragma once
 
 #include <map>
@@ -33,7 +34,13 @@ public:
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
-    std::vector<ResourceDesc> outputs(const RenderSettings&) const override { return {}; }
+    // The ray textures (the trace that follows rewrites them), and where the resolve runs over
+    // its lists the reflection of the non-receivers (the resolve rewrites it).
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    // Whether this pass writes the ray textures before the screen-space trace (it runs then).
+    static bool writes_rays(const RenderSettings& s) {
+        return s.skip && s.method != TraceMethod::Bvh && s.method != TraceMethod::Off;
+    }
     // The peeling's list of the 32x32 regions where layer 0 holds a reflective surface: the
     // blocks of the other regions are skipped without a fetch.
     std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override {

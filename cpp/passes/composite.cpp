@@ -1,5 +1,7 @@
 #include "passes/composite.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 #include "passes/depth_peel.h"
 
@@ -47,5 +49,7 @@ void CompositePass::execute(FrameContext& ctx) {
     }
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
+
+SSR_REGISTER_PASS(CompositePass());
 
 }  // namespace ssr

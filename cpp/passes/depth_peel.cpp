@@ -1,5 +1,7 @@
 #include "passes/depth_peel.h"
 
+#include "render/pass_registry.h"
+
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
@@ -532,5 +534,7 @@ std::vector<uint64_t> DepthPeelPass::layer_samples() {
     }
     return out;
 }
+
+SSR_REGISTER_PASS(DepthPeelPass());
 
 }  // namespace ssr

@@ -86,6 +86,7 @@ StoreGrowth grow_fragment_store(FrameContext& ctx, const std::string& prefix, ui
 class DepthPeelPass : public RenderPass {
 public:
     std::string name() const override { return "depth_peel"; }
+    std::string part_of() const override { return "deep_gbuffer"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         return !visibility_construction(s.deep_gbuffer);
     }
@@ -102,8 +103,8 @@ public:
 
     // Pixels (samples passing the depth test) each layer of the last frame wrote (the lists:
     // the pixels each layer covers); read after the frame, when the GPU has finished.
-    std::vector<uint64_t> layer_samples();
-    void release();  // deletes the pass's GL objects (in the current context)
+    std::vector<uint64_t> layer_samples() override;
+    void release() override;  // deletes the pass's GL objects (in the current context)
 
     // How the last run built the layers (Frame.stats): lists 1 = fragment lists, 0 = peeling;
     // fell_back 1 where "lists" was asked for and the frame's fragments exceeded the budget;

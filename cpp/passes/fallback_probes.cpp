@@ -1,5 +1,7 @@
 #include "passes/fallback_probes.h"
 
+#include "render/pass_registry.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -155,5 +157,7 @@ void FallbackProbesPass::execute(FrameContext& ctx) {
     glUniform3fv(3, 1, &b.max.x);
     dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
 }
+
+SSR_REGISTER_PASS(FallbackProbesPass());
 
 }  // namespace ssr

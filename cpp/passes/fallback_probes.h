@@ -58,7 +58,7 @@ public:
     }
     double last_capture_ms() const { return capture_ms_; }
     int probe_count() const { return int(probes_.size()); }
-    void release();
+    void release() override;
 
 private:
     void capture(FrameContext& ctx, const std::vector<glm::vec3>& probes);

@@ -1,5 +1,7 @@
 #include "passes/gbuffer_attributes.h"
 
+#include "render/pass_registry.h"
+
 #include <algorithm>
 #include <limits>
 #include <optional>
@@ -396,5 +398,7 @@ void GBufferAttributesPass::release() {
     samples_.clear();
     samples_read_ = false;
 }
+
+SSR_REGISTER_PASS(GBufferAttributesPass());
 
 }  // namespace ssr

@@ -33,6 +33,7 @@ namespace ssr {
 class GBufferAttributesPass : public RenderPass {
 public:
     std::string name() const override { return "gbuffer_attributes"; }
+    std::string part_of() const override { return "deep_gbuffer"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         return visibility_construction(s.deep_gbuffer);
     }
@@ -52,8 +53,8 @@ public:
     // samples read their triangles themselves).
     void report(const RenderSettings& s, std::map<std::string, double>& stats) const override;
     // The pixels each layer of the last frame covers (Frame.layer_samples); read after the frame.
-    std::vector<uint64_t> layer_samples();
-    void release();
+    std::vector<uint64_t> layer_samples() override;
+    void release() override;
 
 private:
     Buffer tiles_, tile_list_, bins_, binned_, sorted_, records_;

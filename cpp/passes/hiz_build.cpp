@@ -1,5 +1,7 @@
 #include "passes/hiz_build.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 
 namespace ssr {
@@ -53,5 +55,7 @@ void HizBuildPass::execute(FrameContext& ctx) {
         dispatch_2d(std::max(hiz.width() >> level, 1), std::max(hiz.height() >> level, 1), layers, 8, 8);
     }
 }
+
+SSR_REGISTER_PASS(HizBuildPass());
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "passes/lighting.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 #include "passes/shadow_map.h"
 
@@ -90,5 +92,7 @@ int LightingPass::tiles_shaded() const {
     glGetNamedBufferSubData(tiles_->id(), 0, sizeof(header), header);
     return int(header[0]);
 }
+
+SSR_REGISTER_PASS(LightingPass());
 
 }  // namespace ssr

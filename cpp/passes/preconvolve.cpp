@@ -1,5 +1,7 @@
 #include "passes/preconvolve.h"
 
+#include "render/pass_registry.h"
+
 #include <algorithm>
 
 #include "passes/compute.h"
@@ -52,5 +54,7 @@ void PreconvolvePass::execute(FrameContext& ctx) {
         dispatch_2d(w_out, h_out, layers, 8, 8);
     }
 }
+
+SSR_REGISTER_PASS(PreconvolvePass());
 
 }  // namespace ssr

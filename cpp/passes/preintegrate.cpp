@@ -1,5 +1,7 @@
 #include "passes/preintegrate.h"
 
+#include "render/pass_registry.h"
+
 #include <algorithm>
 
 #include "passes/compute.h"
@@ -36,5 +38,7 @@ void PreintegratePass::execute(FrameContext& ctx) {
         dispatch_2d(std::max(vis.width() >> level, 1), std::max(vis.height() >> level, 1), layers, 8, 8);
     }
 }
+
+SSR_REGISTER_PASS(PreintegratePass());
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "passes/reproject.h"
 
+#include "render/pass_registry.h"
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "passes/compute.h"
@@ -47,5 +49,7 @@ void ReprojectPass::execute(FrameContext& ctx) {
     bind_image_layered(0, r.get("reprojection"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
+
+SSR_REGISTER_PASS(ReprojectPass());
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "passes/reproject_reflection.h"
 
+#include "render/pass_registry.h"
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "passes/compute.h"
@@ -45,5 +47,7 @@ void ReprojectReflectionPass::execute(FrameContext& ctx) {
     bind_image_layered(1, r.get("reflection.hits"), GL_WRITE_ONLY);
     dispatch_2d(s.width, s.height, 1, 8, 8);
 }
+
+SSR_REGISTER_PASS(ReprojectReflectionPass());
 
 }  // namespace ssr

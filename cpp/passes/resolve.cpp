@@ -1,5 +1,7 @@
 #include "passes/resolve.h"
 
+#include "render/pass_registry.h"
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/errors.h"
@@ -55,6 +57,34 @@ bool ResolvePass::shared_tile(const RenderSettings& s, bool fetch_by_image) {
 
 std::vector<std::string> ResolvePass::buffer_inputs(const RenderSettings& s, const FrameFacts&) const {
     if (ClassifyPass::resolves_over_lists(s)) return {"resolve_list"};
+    return {};
+}
+
+std::vector<std::string> ResolvePass::ray_inputs(const RenderSettings& s) {
+    std::vector<std::string> in{"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
+                                "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+    if (ray_radiance(s)) in.push_back("rays.radiance");
+    if (s.bounces == Bounces::History) in.push_back("reprojection");
+    return in;
+}
+
+std::vector<std::string> ResolvePass::inputs(const RenderSettings& s, const FrameFacts& f) const {
+    std::vector<std::string> in = ray_inputs(s);
+    if (!own_rays_only(s) && !shared_tile(s, f.fetch_by_image)) {
+        in.push_back("resolve.ray_color");
+        in.push_back("resolve.ray_target");
+    }
+    if (s.temporal_ray_reuse && s.bounces != Bounces::History) in.push_back("reprojection");
+    return in;
+}
+
+std::vector<ResourceDesc> ResolvePass::outputs(const RenderSettings& s) const {
+    if (ClassifyPass::resolves_over_lists(s)) return {};
+    return {reflection_texture(s)};
+}
+
+std::vector<std::string> ResolvePass::rewrites(const RenderSettings& s, const FrameFacts&) const {
+    if (ClassifyPass::resolves_over_lists(s)) return {"reflection"};
     return {};
 }
 
@@ -119,5 +149,7 @@ void ResolvePass::execute(FrameContext& ctx) {
     glGetProgramiv(prog, GL_COMPUTE_WORK_GROUP_SIZE, group);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, group[0], group[1]);
 }
+
+SSR_REGISTER_PASS(ResolvePass());
 
 }  // namespace ssr

@@ -33,22 +33,28 @@ public:
     static bool ray_radiance(const RenderSettings& s);
     static Defines ray_defines(const FrameContext& ctx);
     static void bind_ray_inputs(FrameContext& ctx, GLuint prog);
+    // What bind_ray_inputs binds with these settings (the resolve's and resolve_fetch's inputs).
+    static std::vector<std::string> ray_inputs(const RenderSettings& s);
     std::string name() const override { return "resolve"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::Stochastic; }
     std::vector<std::string> history_inputs(const RenderSettings& s) const override {
         return s.bounces == Bounces::History ? std::vector<std::string>{"color"} : std::vector<std::string>{};
     }
-    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
-        return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
-                "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+    // The rays and the G-buffer; the rays' radiance where a pass writes it (ray_radiance),
+    // resolve_fetch's textures where it runs, the reprojection where the rays or the bounces come
+    // from the previous frame.
+    std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
+    // The reflection is classify's where the resolve runs over its lists (it wrote the
+    // non-receivers'); this pass rewrites it then.
+    std::vector<std::string> rewrites(const RenderSettings& s, const FrameFacts&) const override;
+    static ResourceDesc reflection_texture(const RenderSettings& s) {
+        return {"reflection", GL_RGBA16F, s.width, s.height, 0, 1};
     }
     // The stage a user pass of stage "reflection_filter" follows (passes/user_pass.h).
     std::string stage() const override { return "resolve"; }
     // With Settings.skip and the stochastic resolve: classify's list of the receivers.
     std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts& f) const override;
-    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"reflection", GL_RGBA16F, s.width, s.height, 0, 1}};
-    }
+    std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
 
 private:

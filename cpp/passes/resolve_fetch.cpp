@@ -1,5 +1,7 @@
 #include "passes/resolve_fetch.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 #include "passes/resolve.h"
 
@@ -14,5 +16,7 @@ void ResolveFetchPass::execute(FrameContext& ctx) {
     const RenderSettings& s = ctx.settings;
     dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
 }
+
+SSR_REGISTER_PASS(ResolveFetchPass());
 
 }  // namespace ssr

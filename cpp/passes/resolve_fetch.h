@@ -23,8 +23,7 @@ public:
                !ResolvePass::shared_tile(s, f.fetch_by_image);
     }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override {
-        return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
-                "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
+        return ResolvePass::ray_inputs(s);
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();

@@ -1,5 +1,7 @@
 #include "passes/shadow_map.h"
 
+#include "render/pass_registry.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -306,5 +308,7 @@ void ShadowMapPass::execute(FrameContext& ctx) {
     glDisable(GL_POLYGON_OFFSET_FILL);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
+
+SSR_REGISTER_PASS(ShadowMapPass());
 
 }  // namespace ssr

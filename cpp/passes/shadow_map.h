@@ -67,7 +67,7 @@ public:
     // Which lights cast shadows and their frusta fitted to the scene.
     static ShadowSetup fit(const Scene& scene, const Bounds& bounds, const RenderSettings& s);
     void set_setup(const ShadowSetup& setup) { setup_ = setup; }
-    void release() {
+    void release() override {
         fbo_.reset();
         maps_ = Held{};
         cubes_ = Held{};

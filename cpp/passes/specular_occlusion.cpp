@@ -1,5 +1,7 @@
 #include "passes/specular_occlusion.h"
 
+#include "render/pass_registry.h"
+
 #include "core/gpu_timer.h"
 #include "passes/compute.h"
 
@@ -73,5 +75,7 @@ std::map<std::string, double> SpecularOcclusionPass::counters() const {
     glGetNamedBufferSubData(counters_.id(), 0, sizeof(c), c);
     return {{"unresolved_rays", double(c[0])}, {"occluded_misses", double(c[1])}};
 }
+
+SSR_REGISTER_PASS(SpecularOcclusionPass());
 
 }  // namespace ssr

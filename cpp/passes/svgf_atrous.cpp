@@ -1,5 +1,7 @@
 #include "passes/svgf_atrous.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 
 namespace ssr {
@@ -33,5 +35,7 @@ void SvgfAtrousPass::execute(FrameContext& ctx) {
         src = &dst;
     }
 }
+
+SSR_REGISTER_PASS(SvgfAtrousPass());
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "passes/svgf_temporal.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 
 namespace ssr {
@@ -20,5 +22,7 @@ void SvgfTemporalPass::execute(FrameContext& ctx) {
     bind_image_layered(1, r.get("svgf.moments"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
+
+SSR_REGISTER_PASS(SvgfTemporalPass());
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "passes/svgf_variance.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 
 namespace ssr {
@@ -16,5 +18,7 @@ void SvgfVariancePass::execute(FrameContext& ctx) {
     bind_image_layered(1, r.get("svgf.guide"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
+
+SSR_REGISTER_PASS(SvgfVariancePass());
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "passes/taa.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 
 namespace ssr {
@@ -22,5 +24,7 @@ void TaaPass::execute(FrameContext& ctx) {
     bind_image_layered(0, r.get("color.taa"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
+
+SSR_REGISTER_PASS(TaaPass());
 
 }  // namespace ssr

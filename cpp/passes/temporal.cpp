@@ -1,5 +1,7 @@
 #include "passes/temporal.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 
 namespace ssr {
@@ -19,5 +21,7 @@ void TemporalPass::execute(FrameContext& ctx) {
     bind_image_layered(0, r.get("reflection.temporal"), GL_WRITE_ONLY);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
+
+SSR_REGISTER_PASS(TemporalPass());
 
 }  // namespace ssr

@@ -1,5 +1,7 @@
 #include "passes/trace_bvh.h"
 
+#include "render/pass_registry.h"
+
 #include "passes/compute.h"
 #include "passes/depth_peel.h"
 #include "passes/shadow_map.h"
@@ -10,7 +12,6 @@ namespace ssr {
 std::vector<std::string> TraceBvhPass::inputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<std::string> in = {"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     if (fallback_) {
-        in.push_back("rays.hit");
         in.push_back("rays.sample");
         in.push_back("rays.direction");
     }
@@ -111,5 +112,8 @@ void TraceBvhPass::execute(FrameContext& ctx) {
         }
     }
 }
+
+SSR_REGISTER_PASS(TraceBvhPass(false));
+SSR_REGISTER_PASS(TraceBvhPass(true));
 
 }  // namespace ssr

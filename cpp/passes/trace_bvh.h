@@ -38,6 +38,11 @@ public:
     }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
+    // The fallback writes the hits it finds into the screen-space trace's rays.hit.
+    std::vector<std::string> rewrites(const RenderSettings& s, const FrameFacts&) const override {
+        if (fallback_) return {"rays.hit"};
+        return {};
+    }
     // It compacts its own list of rays (below), not classify's.
     std::vector<std::string> buffer_inputs(const RenderSettings&, const FrameFacts&) const override { return {}; }
     void execute(FrameContext& ctx) override;

@@ -27,12 +27,20 @@ public:
         return {};
     }
     std::string stage() const override { return extra_ ? "trace_extra" : "trace"; }
+    // One of the ray textures: at the trace resolution, a layer per ray of a pixel.
+    static ResourceDesc ray_texture(const std::string& name, const RenderSettings& s) {
+        return {name, GL_RGBA32F, s.trace_width(), s.trace_height(), s.traced_rays(), 1};
+    }
+    // The ray textures, which this pass rewrites where classify runs before it (classify writes
+    // the skipped pixels' "no ray" and the rays adaptive_rays leaves out) and the second trace
+    // rewrites after the first.
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        if (extra_) return {};
-        const int w = s.trace_width(), h = s.trace_height(), r = s.traced_rays();
-        return {{"rays.hit", GL_RGBA32F, w, h, r, 1},
-                {"rays.sample", GL_RGBA32F, w, h, r, 1},
-                {"rays.direction", GL_RGBA32F, w, h, r, 1}};
+        if (extra_ || ClassifyPass::writes_rays(s)) return {};
+        return {ray_texture("rays.hit", s), ray_texture("rays.sample", s), ray_texture("rays.direction", s)};
+    }
+    std::vector<std::string> rewrites(const RenderSettings& s, const FrameFacts&) const override {
+        if (extra_ || ClassifyPass::writes_rays(s)) return {"rays.hit", "rays.sample", "rays.direction"};
+        return {};
     }
 
 protected:

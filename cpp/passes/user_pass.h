@@ -61,13 +61,18 @@ public:
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
     // A trace pass runs over classify's ray list with Settings.skip; a filter reads no buffer.
+    // A trace rewrites classify's rays.sample as the built-in traces do; a filter's or a placed
+    // pass's in-place writes are among its inputs (inputs()).
+    std::vector<std::string> rewrites(const RenderSettings& s, const FrameFacts& f) const override {
+        return desc_.stage == "trace" ? TracePass::rewrites(s, f) : std::vector<std::string>{};
+    }
     std::vector<std::string> buffer_inputs(const RenderSettings& s, const FrameFacts& f) const override {
         return desc_.stage == "trace" ? TracePass::buffer_inputs(s, f) : std::vector<std::string>{};
     }
     void check_device(const RenderSettings& s) const override;
     void execute(FrameContext& ctx) override;
     void report(const RenderSettings& s, std::map<std::string, double>& stats) const override;
-    void release() { copies_.clear(); }
+    void release() override { copies_.clear(); }
     bool placed() const { return desc_.stage == "placed"; }
 
     // The stage of the built-in pass a user pass of `stage` runs right after ("reflection_filter":

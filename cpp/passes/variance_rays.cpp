@@ -1,5 +1,7 @@
 #include "passes/variance_rays.h"
 
+#include "render/pass_registry.h"
+
 #include <cstdint>
 
 #include "passes/compute.h"
@@ -35,5 +37,7 @@ std::map<std::string, double> VarianceRaysPass::extra_counters() const {
             {"extra_rays", double(header[4])},
             {"extra_depth_fetches", double(header[5])}};
 }
+
+SSR_REGISTER_PASS(VarianceRaysPass());
 
 }  // namespace ssr

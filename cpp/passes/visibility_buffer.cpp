@@ -1,5 +1,7 @@
 #include "passes/visibility_buffer.h"
 
+#include "render/pass_registry.h"
+
 #include <algorithm>
 #include <limits>
 #include <optional>
@@ -380,5 +382,7 @@ void VisibilityBufferPass::release() {
     queries_.clear();
     fbo_.reset();
 }
+
+SSR_REGISTER_PASS(VisibilityBufferPass());
 
 }  // namespace ssr

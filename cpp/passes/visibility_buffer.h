@@ -41,6 +41,7 @@ namespace ssr {
 class VisibilityBufferPass : public RenderPass {
 public:
     std::string name() const override { return "visibility_buffer"; }
+    std::string part_of() const override { return "deep_gbuffer"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
         return visibility_construction(s.deep_gbuffer);
     }
@@ -62,7 +63,7 @@ public:
     }
     void execute(FrameContext& ctx) override;
     void report(const RenderSettings& s, std::map<std::string, double>& stats) const override;
-    void release();
+    void release() override;
 
     static constexpr size_t kFragmentBytes = 12;  // lib/visibility_lists.glsl: depth, id, link
     static constexpr GLuint kTilesBinding = 29;    // lib/visibility_tiles.glsl

@@ -4,6 +4,8 @@
 // of the GGX directional albedo (shaders/tools/specular_albedo.comp).
 #include "render/renderer.h"
 
+#include "passes/visibility_buffer.h"
+
 #include <algorithm>
 #include <cctype>
 #include <numeric>

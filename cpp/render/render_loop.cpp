@@ -4,9 +4,11 @@
 #include "render/renderer.h"
 
 #include <chrono>
+#include <set>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/errors.h"
+#include "passes/composite.h"
 #include "render/ssr_uniforms.h"
 
 namespace ssr {
@@ -27,7 +29,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     check_gl(*ctx_, "scene upload");
     const DepthConvention depth{s.depth_mode};
     const ShadowSetup shadow = ShadowMapPass::fit(scene, gs.bounds(), s);
-    shadow_map_.set_setup(shadow);
+    shadow_map_->set_setup(shadow);
 
     // Frame constants.
     FrameUniforms u{};
@@ -153,6 +155,17 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
         fc.layers_filled = -1;
         fc.buffers.clear();
         for (RenderPass* p : chain) {
+            // The pass gets the textures it declares and no others (FrameResources::restrict_to).
+            std::set<std::string> declared;
+            for (const auto& x : p->inputs(s, frame_facts)) declared.insert(x);
+            for (const auto& x : p->rewrites(s, frame_facts)) declared.insert(x);
+            for (const auto& d : p->outputs(s, frame_facts)) declared.insert(d.name);
+            const std::string name = p->name();
+            struct Unrestrict {
+                FrameResources& r;
+                ~Unrestrict() { r.restrict_to(nullptr, nullptr); }
+            } unrestrict{*resources};
+            resources->restrict_to(&declared, &name);
             try {
                 GpuScope t(timer_, p->name());
                 p->execute(fc);
@@ -180,16 +193,13 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     // A pass whose outputs still held what this frame needs did nothing (a reused shadow map).
     for (const RenderPass* p : chain)
         if (p->reused()) frame->timings[p->name()] = 0.0;
-    // The deep G-buffer's construction, whatever built it (Settings.deep_gbuffer): the depth_peel
-    // pass's time (its parts: depth_peel.layer<i> peeling, deep_gbuffer.<part> lists), or the
-    // visibility buffer's and its attribute pass's together.
-    if (visibility_construction(s.deep_gbuffer)) {
-        frame->timings["deep_gbuffer"] = frame->timings["visibility_buffer"] + frame->timings["gbuffer_attributes"];
-        frame->layer_samples = gbuffer_attributes_.layer_samples();
-    } else {
-        frame->timings["deep_gbuffer"] = frame->timings["depth_peel"];
-        frame->layer_samples = depth_peel_.layer_samples();
-    }
+    // A construction's time, whatever passes built it (RenderPass::part_of: the deep G-buffer by
+    // peeling, or by the visibility buffer and its attribute pass), and the layers' samples from the
+    // pass that counted them.
+    for (const RenderPass* p : chain)
+        if (!p->part_of().empty()) frame->timings[p->part_of()] += frame->timings[p->name()];
+    for (RenderPass* p : chain)
+        if (frame->layer_samples.empty()) frame->layer_samples = p->layer_samples();
     for (const RenderPass* p : chain) p->report(s, frame->stats);
     frame->stats["passes_run"] = double(chain.size());
     // The layers that hold a surface somewhere (the samples each peel wrote, counted by the GPU):
@@ -278,18 +288,18 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
         // The shared shadow maps may hold a later frame's (another scene, settings or state of
         // this one): the pass draws again every map that does not hold this frame's (its keys,
         // passes/shadow_map.h), and none when they all do.
-        scratch_.add(shadow_map_.outputs(s, shadow_facts));
-        shadow_map_.set_setup(setup);
+        scratch_.add(shadow_map_->outputs(s, shadow_facts));
+        shadow_map_->set_setup(setup);
         const DepthConvention dc{s.depth_mode};
         Defines d;
         dc.add_defines(d);
         FrameContext sfc{*ctx_, *shaders_, timer_, s, scene, gs, frame.camera, dc, frame.uniforms, scratch_, d};
         sfc.clear_by_compute = clear_by_compute();
         sfc.facts = shadow_facts;
-        shadow_map_.begin_frame();
-        shadow_map_.execute(sfc);
+        shadow_map_->begin_frame();
+        shadow_map_->execute(sfc);
         check_gl(*ctx_, "shadow_map (again, for the reference)");
-        for (const auto& d : shadow_map_.outputs(s, shadow_facts)) scratch_owner_[d.name] = frame.serial;
+        for (const auto& d : shadow_map_->outputs(s, shadow_facts)) scratch_owner_[d.name] = frame.serial;
     }
     frame.resources().attach_scratch(&scratch_);
     struct Detach {

@@ -28,7 +28,14 @@ size_t FrameResources::bytes() const {
     return total;
 }
 
+void FrameResources::check_declared(const std::string& name) const {
+    if (declared_ && !declared_->count(name))
+        throw GLError("pass " + *pass_ + " uses the texture '" + name +
+                      "', which it does not declare (RenderPass::inputs, rewrites or outputs)");
+}
+
 Texture& FrameResources::get(const std::string& name) {
+    check_declared(name);
     auto it = textures_.find(name);
     if (it != textures_.end()) return it->second;
     if (scratch_ && scratch_->has(name)) return scratch_->get(name);
@@ -36,6 +43,7 @@ Texture& FrameResources::get(const std::string& name) {
 }
 
 const Texture& FrameResources::get(const std::string& name) const {
+    check_declared(name);
     auto it = textures_.find(name);
     if (it != textures_.end()) return it->second;
     if (scratch_ && scratch_->has(name)) return static_cast<const FrameResources*>(scratch_)->get(name);

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,13 @@ public:
     // Adds (or replaces) textures after allocation, e.g. a reference computed for a frame.
     void add(const std::vector<ResourceDesc>& descs);
     const std::vector<ResourceDesc>& descs() const { return descs_; }
+    // While a pass executes, get() hands out only the textures it declares (its inputs, rewrites
+    // and outputs) and throws GLError naming the pass and the texture otherwise: an undeclared read
+    // would order the chain wrongly without a word (render_loop.cpp). Null: no restriction.
+    void restrict_to(const std::set<std::string>* declared, const std::string* pass) {
+        declared_ = declared;
+        pass_ = pass;
+    }
     // A number unique to the allocation that holds texture `name` now (0: none): a pass that
     // keeps what it wrote across frames (the shadow maps) knows that its texture was replaced.
     uint64_t generation(const std::string& name) const;
@@ -74,6 +82,9 @@ private:
     std::map<std::string, uint64_t> generations_;
     std::vector<ResourceDesc> descs_;
     FrameResources* scratch_ = nullptr;
+    const std::set<std::string>* declared_ = nullptr;
+    const std::string* pass_ = nullptr;
+    void check_declared(const std::string& name) const;
 };
 
 // A GPU buffer one pass writes for later passes of its frame: a work list and the indirect
@@ -196,6 +207,10 @@ public:
     virtual bool runs(const RenderSettings& s, const FrameFacts& f) const = 0;
     // What it reads in a frame with these settings and facts (a variant's inputs).
     virtual std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const = 0;
+    // Textures an earlier pass declares that this one reads and writes in place (the second trace
+    // adds its rays to the first trace's textures). The chain runs it after their writer and before
+    // every other reader it does not itself depend on (render/pass_registry.h).
+    virtual std::vector<std::string> rewrites(const RenderSettings& s, const FrameFacts& f) const { return {}; }
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s) const = 0;
     // What it writes in a frame with these settings and facts: for most passes the settings'.
     virtual std::vector<ResourceDesc> outputs(const RenderSettings& s, const FrameFacts& f) const { return outputs(s); }
@@ -227,6 +242,14 @@ public:
     // Whether the timed run did no work because everything it writes still held what this
     // frame needs (a shadow map reused): its timing is then 0.
     virtual bool reused() const { return false; }
+    // The construction this pass is part of, whose time is the sum of its passes' (frame.timings
+    // ["deep_gbuffer"]: the peeling, or the visibility buffer and its attribute pass); "": none.
+    virtual std::string part_of() const { return ""; }
+    // The samples each G-buffer layer received in the last frame (Frame.layer_samples), from the
+    // pass that counts them; empty from every other pass.
+    virtual std::vector<uint64_t> layer_samples() { return {}; }
+    // Deletes the GL objects the pass keeps across frames, in the current context.
+    virtual void release() {}
 };
 
 }  // namespace ssr

@@ -103,6 +103,10 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
         std::string pass;
         size_t at;      // registry index of the first pass that declares it
         GLenum format;  // its format (0: a user pass's texture, declared with an image format)
+        // The last pass that writes or rewrites it (classify clears what the trace and the
+        // resolve then write): a reader sees it whole only after that one.
+        std::string last_pass;
+        size_t last_at;
     };
     std::map<std::string, Owner> owner;
     // The registry index a user pass of `stage` runs at: the place of the built-in pass of its
@@ -129,8 +133,18 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
         every.shadow_maps = every.shadow_cubes = 1;
         every.specular_texture = true;
         for (const auto& s : variants)
-            for (const auto& o : p->outputs(s, every)) owner.emplace(o.name, Owner{p->name(), i, o.format});
+            for (const auto& o : p->outputs(s, every)) {
+                const auto [it, fresh] = owner.emplace(o.name, Owner{p->name(), i, o.format, p->name(), i});
+                if (!fresh && i > it->second.last_at) it->second.last_pass = p->name(), it->second.last_at = i;
+            }
     }
+    for (size_t i = 0; i < passes_.size(); ++i)
+        for (const auto& s : variants)
+            for (const auto& x : passes_[i]->rewrites(s, FrameFacts{})) {
+                auto it = owner.find(x);
+                if (it != owner.end() && i > it->second.last_at)
+                    it->second.last_pass = passes_[i]->name(), it->second.last_at = i;
+            }
     // Earlier user passes' own textures: written at their stage's place (a placed pass's: at its
     // anchor's, or anywhere: the chain check decides).
     for (const auto& u : user_passes_) {
@@ -140,7 +154,7 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
             const long a = registry_index(ud.after.empty() ? ud.before : ud.after);
             at = a < 0 ? 0 : size_t(a) + (ud.after.empty() ? 0 : 1);
         }
-        for (const auto& c : ud.creates) owner.emplace(c.name, Owner{u->name(), at, 0});
+        for (const auto& c : ud.creates) owner.emplace(c.name, Owner{u->name(), at, 0, u->name(), at});
     }
     const std::vector<std::string> allowed = UserPass::stage_writes(d.stage);
     if (d.stage == "placed") {
@@ -201,9 +215,9 @@ void Renderer::register_user_pass(const UserPassDesc& d) {
             if (it == owner.end()) fail("reads '" + r + "', which no pass writes");
             const bool own = std::find(allowed.begin(), allowed.end(), r) != allowed.end() &&
                              d.stage == "reflection_filter";
-            if (it->second.at >= at && !own)
+            if (it->second.last_at >= at && !own)
                 fail("reads '" + r + "', which no pass before its stage '" + d.stage + "' writes ('" +
-                     it->second.pass + "' writes it later)");
+                     it->second.last_pass + "' writes it later)");
         }
         if (d.stage == "trace" && d.writes != allowed)
             fail("a trace pass writes exactly " + join(allowed) + " (the ray textures the resolve, the stats and "
@@ -289,7 +303,36 @@ std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std:
 
 Renderer::Renderer(const std::string& device, const std::string& shader_dir, const std::string& input_fetch)
     : ctx_(std::make_shared<EglContext>(parse_device_kind(device), parse_device_index(device))),
-      shaders_(std::make_unique<ShaderLibrary>(shader_dir)) {
+      shaders_(std::make_unique<ShaderLibrary>(shader_dir)),
+      owned_passes_(make_registered_passes()) {
+    for (const auto& p : owned_passes_) {
+        passes_.push_back(p.get());
+        if (p->name() == "shadow_map") shadow_map_ = dynamic_cast<ShadowMapPass*>(p.get());
+    }
+    if (!shadow_map_) throw std::logic_error("no registered pass 'shadow_map' (passes/shadow_map.cpp)");
+    // The registry in the order of the union of every technique's declarations: the order a user
+    // pass's stage and reads are checked against when it registers.
+    {
+        FrameFacts every;
+        every.reflections = every.shadows = every.emission_texture = every.specular_texture = true;
+        every.shadow_maps = every.shadow_cubes = 1;
+        const std::vector<RenderSettings> variants = placement_variants();
+        const std::vector<RenderPass*> all = passes_;
+        passes_ = order_chain(all, [&](size_t i) {
+            PassDeclaration u;
+            auto add = [](std::vector<std::string>& to, const std::vector<std::string>& from) {
+                for (const auto& x : from)
+                    if (std::find(to.begin(), to.end(), x) == to.end()) to.push_back(x);
+            };
+            for (const RenderSettings& v : variants) {
+                if (!all[i]->runs(v, every)) continue;
+                const PassDeclaration d = declaration(*all[i], v, every);
+                add(u.reads, d.reads), add(u.writes, d.writes), add(u.rewrites, d.rewrites);
+                add(u.buffer_reads, d.buffer_reads), add(u.buffer_writes, d.buffer_writes);
+            }
+            return u;
+        }, false, true);
+    }
     // The reflection settings' block, declared once in settings_fields.def (lib/ssr_settings.glsl).
     shaders_->add_generated(kSsrSettingsGlslName, ssr_settings_glsl());
     CurrentContext current(*ctx_);
@@ -350,11 +393,7 @@ void Renderer::destroy_gl_objects() {
     specular_albedo_.reset();
     timer_.reset();
     shaders_->release();
-    shadow_map_.release();
-    depth_peel_.release();
-    visibility_buffer_.release();
-    gbuffer_attributes_.release();
-    fallback_probes_.release();
+    for (auto& p : owned_passes_) p->release();
     for (auto& u : user_passes_) u->release();
 }
 
@@ -389,24 +428,36 @@ const GpuScene& Renderer::gpu_scene(const Scene& scene) {
 // pre-integrated visibility for stochastic glossy reflections.
 std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, const FrameFacts& facts) const {
     const std::vector<UserPass*> chosen = check_user_settings(s);
-    std::vector<RenderPass*> chain;
-    for (RenderPass* p : passes_) {
-        if (!p->runs(s, facts)) continue;
-        // A chosen user pass of this pass's stage takes its place.
-        auto user = std::find_if(chosen.begin(), chosen.end(),
-                                 [&](const UserPass* u) { return !p->stage().empty() && u->stage() == p->stage(); });
-        if (user != chosen.end()) {
-            if (std::find(chain.begin(), chain.end(), *user) == chain.end()) chain.push_back(*user);
-            continue;
-        }
-        chain.push_back(p);
-        // A user pass whose stage follows this pass's (a filter of the reflection after the resolve).
-        for (UserPass* u : chosen)
-            if (!p->stage().empty() && UserPass::after_stage(u->stage()) == p->stage()) chain.push_back(u);
-    }
+    std::vector<RenderPass*> chain = ordered_chain(passes_, chosen, s, facts);
     // Placed user passes, in Settings.user_passes order, each where its resources are.
     for (UserPass* u : chosen)
         if (u->placed()) place_user_pass(chain, *u, s, facts);
+    return chain;
+}
+
+std::vector<RenderPass*> Renderer::ordered_chain(const std::vector<RenderPass*>& passes,
+                                                 const std::vector<UserPass*>& chosen, const RenderSettings& s,
+                                                 const FrameFacts& facts) {
+    std::vector<RenderPass*> running;
+    for (RenderPass* p : passes) {
+        if (!p->runs(s, facts)) continue;
+        // A chosen user pass of this pass's stage takes its place.
+        auto user = std::find_if(chosen.begin(), chosen.end(), [&](const UserPass* u) {
+            return !u->placed() && !p->stage().empty() && u->stage() == p->stage();
+        });
+        running.push_back(user != chosen.end() ? *user : p);
+    }
+    std::vector<RenderPass*> chain =
+        order_chain(running, [&](size_t i) { return declaration(*running[i], s, facts); }, reverse_chain_ties());
+    // A user pass whose stage follows a pass's (a filter of the reflection after the resolve) runs
+    // right after it: it rewrites what that pass wrote, before anyone reads it.
+    for (UserPass* u : chosen) {
+        if (u->placed()) continue;
+        const auto at = std::find_if(chain.begin(), chain.end(), [&](const RenderPass* p) {
+            return !p->stage().empty() && UserPass::after_stage(u->stage()) == p->stage();
+        });
+        if (at != chain.end()) chain.insert(at + 1, u);
+    }
     return chain;
 }
 
@@ -419,11 +470,16 @@ std::vector<RenderPass*> Renderer::build_chain(const RenderSettings& s, const Fr
 std::string Renderer::placement(const std::vector<RenderPass*>& chain, const UserPass& u, const RenderSettings& s,
                                 const FrameFacts& facts, size_t& at) const {
     const UserPassDesc& d = u.desc();
+    // The last pass that writes or rewrites `r`: what it reads is whole only after that one.
     auto writer = [&](const std::string& r) -> long {
-        for (size_t i = 0; i < chain.size(); ++i)
+        long last = -1;
+        for (size_t i = 0; i < chain.size(); ++i) {
             for (const auto& o : chain[i]->outputs(s, facts))
-                if (o.name == r) return long(i);
-        return -1;
+                if (o.name == r) last = long(i);
+            for (const auto& x : chain[i]->rewrites(s, facts))
+                if (x == r) last = long(i);
+        }
+        return last;
     };
     auto names = [&] {
         std::string out;
@@ -487,16 +543,8 @@ void Renderer::place_user_pass(std::vector<RenderPass*>& chain, UserPass& u, con
 }
 
 FrameFacts Renderer::facts(const Scene& scene, const GpuScene& gs, const RenderSettings& s) const {
-    FrameFacts f;
-    const ShadowSetup shadow = ShadowMapPass::fit(scene, gs.bounds(), s);
-    f.shadows = shadow.enabled;
-    f.shadow_maps = shadow.maps;
-    f.shadow_cubes = shadow.cubes;
-    f.reflections = s.method != TraceMethod::Off && gs.has_reflective_surfaces();
-    f.fetch_by_image = fetch_by_image_;
-    f.emission_texture = gs.has_emissive_texture();
-    f.specular_texture = gs.has_specular_texture();
-    return f;
+    return frame_facts(scene, gs.bounds(), gs.has_reflective_surfaces(), gs.has_emissive_texture(),
+                       gs.has_specular_texture(), s, fetch_by_image_);
 }
 
 // What makes two frames share their first-use costs: the passes, their textures' formats and
@@ -570,19 +618,40 @@ glm::vec2 Renderer::taa_jitter(TaaMode mode, int index) {
     return glm::vec2(float(radical_inverse(i, 2) - 0.5), float(radical_inverse(i, 3) - 0.5));
 }
 
-std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const RenderSettings& s) {
+// Without the GL context and without uploading the scene: the chain is a function of the
+// settings, the scene's facts and the device's input fetch.
+std::vector<Renderer::ChainEntry> Renderer::chain(const Scene& scene, const RenderSettings& s) const {
     s.validate();
-    CurrentContext current(*ctx_);
-    const GpuScene& gs = gpu_scene(scene);
+    const FrameFacts f = scene_facts(scene, s, fetch_by_image_);
+    return describe_chain(build_chain(s, f), s, f);
+}
+
+std::vector<Renderer::ChainEntry> Renderer::builtin_chain(const Scene& scene, const RenderSettings& s,
+                                                          bool fetch_by_image) {
+    s.validate();
+    if (!s.user.passes.empty())
+        throw std::invalid_argument("Settings.user_passes: a chain listed without a renderer has the built-in "
+                                    "passes only (Renderer.chain lists the user passes registered on it)");
+    // One instance of each registered pass, made once: runs(), inputs() and outputs() read no state.
+    static const std::vector<std::unique_ptr<RenderPass>> owned = make_registered_passes();
+    std::vector<RenderPass*> passes;
+    for (const auto& p : owned) passes.push_back(p.get());
+    const FrameFacts f = scene_facts(scene, s, fetch_by_image);
+    return describe_chain(ordered_chain(passes, {}, s, f), s, f);
+}
+
+std::vector<Renderer::ChainEntry> Renderer::describe_chain(const std::vector<RenderPass*>& chain,
+                                                           const RenderSettings& s, const FrameFacts& f) {
     std::vector<ChainEntry> out;
-    const FrameFacts f = facts(scene, gs, s);
-    for (RenderPass* p : build_chain(s, f)) {
+    for (RenderPass* p : chain) {
         ChainEntry e{p->name(), p->inputs(s, f), {}, p->history_inputs(s), {}, p->buffer_inputs(s, f),
                      p->buffer_outputs(s, f)};
         for (const auto& d : p->outputs(s, f)) {
             e.outputs.push_back(d.name);
             if (d.lifetime == Lifetime::Scratch) e.scratch.push_back(d.name);
         }
+        // A rewritten texture is read and written.
+        for (const auto& r : p->rewrites(s, f)) e.inputs.push_back(r), e.outputs.push_back(r);
         out.push_back(std::move(e));
     }
     return out;

@@ -14,36 +14,11 @@
 #include "core/egl_context.h"
 #include "core/gpu_timer.h"
 #include "core/shader_library.h"
-#include "passes/blur_mips.h"
-#include "passes/specular_occlusion.h"
-#include "passes/composite.h"
-#include "passes/cone_trace.h"
-#include "passes/depth_peel.h"
-#include "passes/fallback_probes.h"
-#include "passes/gbuffer_attributes.h"
-#include "passes/classify.h"
-#include "passes/hiz_build.h"
-#include "passes/lighting.h"
-#include "passes/preconvolve.h"
-#include "passes/preintegrate.h"
 #include "passes/reference.h"
-#include "passes/reproject.h"
-#include "passes/reproject_reflection.h"
-#include "passes/resolve.h"
-#include "passes/resolve_fetch.h"
 #include "passes/shadow_map.h"
-#include "passes/svgf_atrous.h"
-#include "passes/svgf_temporal.h"
-#include "passes/svgf_variance.h"
-#include "passes/taa.h"
-#include "passes/temporal.h"
-#include "passes/trace_bvh.h"
-#include "passes/trace_hiz.h"
-#include "passes/trace_linear.h"
 #include "passes/user_pass.h"
-#include "passes/variance_rays.h"
-#include "passes/visibility_buffer.h"
 #include "render/frame.h"
+#include "render/pass_registry.h"
 #include "render/gpu_scene.h"
 #include "render/sequence.h"
 
@@ -70,7 +45,15 @@ public:
         std::vector<std::string> scratch;  // the outputs that are per-renderer scratch (Lifetime::Scratch)
         std::vector<std::string> buffer_inputs, buffer_outputs;  // FrameBuffer names
     };
-    std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings);
+    // The passes a frame of `scene` with `settings` runs, in order, with what each reads and
+    // writes: no GL call, no scene upload (the facts come from the scene itself).
+    std::vector<ChainEntry> chain(const Scene& scene, const RenderSettings& settings) const;
+    // The same for the built-in passes alone, without a renderer (no GL context is made):
+    // `fetch_by_image` as a renderer on the CPU device decides it (Renderer::fetch_by_image).
+    static std::vector<ChainEntry> builtin_chain(const Scene& scene, const RenderSettings& settings,
+                                                 bool fetch_by_image);
+    static std::vector<ChainEntry> describe_chain(const std::vector<RenderPass*>& chain, const RenderSettings& s,
+                                                  const FrameFacts& f);
     // Registers a user pass (passes/user_pass.h) after checking its declaration against the passes
     // this renderer has: a name no other pass has; reads that an earlier pass (or an earlier user
     // pass) writes; writes only its stage's resources (a placed pass: any declared texture an
@@ -202,6 +185,11 @@ private:
     std::shared_ptr<FrameResources> acquire(const std::vector<ResourceDesc>& descs);
     // The passes of a frame with these settings and facts: those of passes_ that say they run.
     std::vector<RenderPass*> build_chain(const RenderSettings& s, const FrameFacts& facts) const;
+    // Those of `passes` that run, a chosen user pass of a stage in its pass's place (or right after
+    // the pass its stage follows), in the order of their declarations (order_chain).
+    static std::vector<RenderPass*> ordered_chain(const std::vector<RenderPass*>& passes,
+                                                  const std::vector<UserPass*>& chosen, const RenderSettings& s,
+                                                  const FrameFacts& facts);
     // Puts a placed user pass into `chain` where its resources are (invalid_argument naming the
     // texture it would read before a pass writes it).
     void place_user_pass(std::vector<RenderPass*>& chain, UserPass& u, const RenderSettings& s,
@@ -261,50 +249,13 @@ private:
     uint64_t scene_uploads_ = 0, scene_updates_ = 0, readbacks_ = 0, readback_bytes_ = 0;  // stats()
     SceneWork scene_work_;  // stats(): what the scene copies did
 
-    ShadowMapPass shadow_map_;
-    DepthPeelPass depth_peel_;
-    // The visibility constructions of the same layers (Settings.deep_gbuffer "visibility*").
-    VisibilityBufferPass visibility_buffer_;
-    GBufferAttributesPass gbuffer_attributes_;
-    LightingPass lighting_;  // with or without the shadow map: FrameFacts.shadows
-    HizBuildPass hiz_build_;
-    ClassifyPass classify_;
-    TraceLinearPass trace_linear_;
-    TraceHizPass trace_hiz_;
-    // Settings.variance_rays: the extra-ray list and the second trace over it.
-    VarianceRaysPass variance_rays_;
-    TraceLinearPass trace_linear_extra_{true};
-    TraceHizPass trace_hiz_extra_{true};
-    // Ray-traced reflections and the BVH fallback (with or without the shadow map: FrameFacts.shadows).
-    TraceBvhPass trace_bvh_{false}, fallback_bvh_{true};
-    // Reflection probes (seed 004): captured once per scene and probe set, with or without the
-    // shadow map (FrameFacts.shadows).
-    FallbackProbesPass fallback_probes_;
-    ResolveFetchPass resolve_fetch_;  // The resolve's tile fill where shared memory is slow
-    ResolvePass resolve_;
-    ReprojectPass reproject_;
-    ReprojectReflectionPass reproject_reflection_;  // Settings.reflection_reprojection "hit"
-    TemporalPass temporal_;
-    TaaPass taa_;  // the thesis's or the clamped TAA: Settings.taa
-    PreconvolvePass preconvolve_;
-    PreintegratePass preintegrate_;
-    ConeTracePass cone_trace_;
-    BlurMipsPass blur_mips_;
-    SpecularOcclusionPass specular_occlusion_;
-
-    // The SVGF denoiser of the reflection (seed 003).
-    SvgfTemporalPass svgf_temporal_;
-    SvgfVariancePass svgf_variance_;
-    SvgfAtrousPass svgf_atrous_;
-    // Of the last reflection the chain made (denoised, accumulated, resolved) or of none.
-    CompositePass composite_;
-    // Every pass, in the order the papers run them (declared inputs after the outputs they read):
-    // a frame's chain is the ones that run. Adding a pass: its member above and its place here.
-    const std::vector<RenderPass*> passes_{
-        &shadow_map_, &depth_peel_, &visibility_buffer_, &gbuffer_attributes_, &lighting_, &reproject_, &hiz_build_, &preconvolve_, &preintegrate_, &trace_bvh_,
-        &classify_, &trace_hiz_, &trace_linear_, &variance_rays_, &trace_hiz_extra_, &trace_linear_extra_,
-        &fallback_bvh_, &fallback_probes_, &specular_occlusion_, &cone_trace_, &blur_mips_, &resolve_fetch_,
-        &resolve_, &reproject_reflection_, &temporal_, &svgf_temporal_, &svgf_variance_, &svgf_atrous_, &composite_, &taa_};
+    // One instance of every registered pass (render/pass_registry.h), and the same in the order
+    // their declarations give over every technique's settings (the order a user pass's
+    // registration is checked against; a frame's chain is ordered anew from its own declarations).
+    std::vector<std::unique_ptr<RenderPass>> owned_passes_;
+    std::vector<RenderPass*> passes_;
+    // The shadow maps, which a reference draws again for its own lights (reference()).
+    ShadowMapPass* shadow_map_ = nullptr;
     // User passes (register_user_pass), in registration order: build_chain puts those
     // Settings.user_passes names in their stage's place.
     std::vector<std::unique_ptr<UserPass>> user_passes_;

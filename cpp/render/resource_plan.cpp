@@ -55,6 +55,9 @@ Renderer::ResourcePlan Renderer::plan_resources(const std::vector<RenderPass*>& 
         for (const auto& in : p->inputs(s, f))
             if (!written.count(in))
                 throw GLError("pass " + p->name() + " reads '" + in + "', which no earlier pass writes");
+        for (const auto& in : p->rewrites(s, f))
+            if (!written.count(in))
+                throw GLError("pass " + p->name() + " rewrites '" + in + "', which no earlier pass writes");
         for (const auto& in : p->buffer_inputs(s, f))
             if (!buffers.count(in))
                 throw GLError("pass " + p->name() + " reads the buffer '" + in + "', which no earlier pass writes");

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_schema', 'ssr_settings_glsl', 'write_image']
+__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'builtin_chain', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_schema', 'ssr_settings_glsl', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -904,7 +904,7 @@ class Renderer:
     @property
     def stats(self) -> dict[str, float]:
         """
-        Work outside the frame chain: scene_uploads, bvh_builds, readbacks, readback_bytes.
+        Work outside the frame chain: scene_uploads, scene_updates, object_updates, material_updates, bvh_builds, bvh_updates, bvh_updated_triangles, bvh_update_ms, bvh_update_last_triangles, readbacks, readback_bytes.
         """
     @property
     def visibility_tiles(self) -> str:
@@ -917,6 +917,10 @@ class Renderer:
 def _set_image_codec(codec: typing.Any) -> None:
     """
     Registers the Python image codec of an extension built without OpenImageIO (ssrlab.io does).
+    """
+def builtin_chain(scene: Scene, settings: RenderSettings, fetch_by_image: bool) -> list:
+    """
+    The built-in passes a render of `scene` with `settings` runs, in order, as Renderer.chain lists them, without a renderer: no GL context is made. fetch_by_image: the CPU device's input fetch.
     """
 def devices(probe: bool = True) -> list:
     """

@@ -1,5 +1,5 @@
-"""A chain of passes as Renderer.chain lists it, and the raster floors under the deep G-buffer
-(Renderer.raster_floor)."""
+"""A chain of passes as Renderer.chain lists it (or derive(), without a renderer), and the raster
+floors under the deep G-buffer (Renderer.raster_floor)."""
 
 from __future__ import annotations
 
@@ -46,6 +46,11 @@ class RasterFloor:
 class Chain(list):
     """Renderer.chain's result: the ordered passes (ChainPass), printable as a table."""
 
+    @classmethod
+    def from_native(cls, rows) -> "Chain":
+        """From the native chain's rows (pass, inputs, outputs, history, scratch, buffer inputs and outputs)."""
+        return cls([ChainPass(name, *(tuple(x) for x in rest)) for name, *rest in rows])
+
     @property
     def names(self) -> list[str]:
         return [p.name for p in self]
@@ -75,3 +80,28 @@ class Chain(list):
         rows += [f"| {i + 1} | `{p.name}` | {names(p.inputs, p.buffer_inputs)} | "
                  f"{names(p.outputs, p.buffer_outputs)} |" for i, p in enumerate(self)]
         return "\n".join(rows)
+
+
+def derive(settings=None, scene=None, *, device: str = "cpu", **overrides) -> Chain:
+    """The built-in passes a render with `settings` runs on `device` ('cpu': llvmpipe, 'gpu'), in
+    order, each with what it reads and writes: what ``Renderer.chain`` lists, computed from the
+    settings and the scene's facts alone, without a renderer. No GL context is made and the scene is
+    not uploaded. The order is the passes' declarations' (docs/architecture/passes.md): each pass
+    after the writers of what it reads. `scene` defaults to ``ssrlab.scenes.stand_in()``, as in
+    ``Renderer.chain``; user passes are listed by the renderer they are registered on."""
+    from . import _core
+    from .settings import Settings
+
+    if device not in ("cpu", "gpu"):
+        raise ValueError(f"ssrlab.chain.derive: device must be 'cpu' or 'gpu', got {device!r}")
+    settings = settings if settings is not None else Settings()
+    if overrides:
+        settings = settings.replace(**overrides)
+    if scene is None:
+        from .scenes import stand_in
+
+        scene = stand_in()
+    # The CPU device reads float inputs by imageLoad (Renderer.input_fetch 'auto'), which adds
+    # resolve_fetch before the resolve; a GPU reads them by texelFetch.
+    native = settings.to_native(device)
+    return Chain.from_native(_core.builtin_chain(scene, native, device == "cpu"))

@@ -323,7 +323,9 @@ class Renderer:
         writes: what ``render(scene, settings=settings).passes`` lists, without rendering. Which
         passes run depends on the scene too (a shadow-casting light, surfaces that reflect); without
         one, ``ssrlab.scenes.stand_in()`` stands in: a mirror floor and a wall lit by a sun that casts
-        a shadow, so that the chain is the one a render of that scene runs (``shadow_map`` first)."""
+        a shadow, so that the chain is the one a render of that scene runs (``shadow_map`` in it).
+        Nothing is uploaded and no GL call is made: the chain is a function of the settings, the
+        scene's facts and the renderer's device (``ssrlab.chain.derive`` lists it without one)."""
         settings = settings if settings is not None else Settings()
         if overrides:
             settings = settings.replace(**overrides)
@@ -333,8 +335,7 @@ class Renderer:
             scene = stand_in()
         self._register_modules(settings)
         settings = settings.resolved(self.info["device"])
-        return Chain([ChainPass(name, tuple(ins), tuple(outs), tuple(hist), tuple(scratch), tuple(bins), tuple(bouts))
-                      for name, ins, outs, hist, scratch, bins, bouts in self._native.chain(scene, settings.to_native())])
+        return Chain.from_native(self._native.chain(scene, settings.to_native()))
 
     def render_sequence(self, scene: _core.Scene, cameras, settings: Settings | None = None, *, times=None,
                         **overrides):
