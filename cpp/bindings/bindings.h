@@ -8,6 +8,12 @@
 
 namespace ssr {
 
+// One per type or group of functions (bind_<name>.cpp); module.cpp registers them in this order, each
+// type before the signatures that name it.
+void bind_material(pybind11::module_& m);
+void bind_light(pybind11::module_& m);
+void bind_environment(pybind11::module_& m);
+void bind_camera(pybind11::module_& m);
 void bind_scene(pybind11::module_& m);
 void bind_animation(pybind11::module_& m);
 void bind_render(pybind11::module_& m);

@@ -61,6 +61,10 @@ PYBIND11_MODULE(_core, m) {
         }
     });
 
+    ssr::bind_material(m);
+    ssr::bind_light(m);
+    ssr::bind_environment(m);
+    ssr::bind_camera(m);
     ssr::bind_scene(m);
     ssr::bind_animation(m);
     ssr::bind_render(m);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace ssr {
 
@@ -111,6 +112,7 @@ int Scene::add_mesh(Mesh m) {
 }
 
 int Scene::add_material(const Material& m) {
+    validate_material(m, this);
     materials.push_back(m);
     touch_material(int(materials.size()) - 1);  // a new entry of the materials buffer only
     return int(materials.size()) - 1;
@@ -167,6 +169,73 @@ int Scene::add_light(const Light& l) {
     lights.push_back(l);
     touch_lights();
     return int(lights.size()) - 1;
+}
+
+int Scene::add_mesh_object(Mesh mesh, const Material& material, const glm::mat4& transform,
+                           const std::string& name) {
+    validate_material(material, this);
+    const int mi = add_mesh(std::move(mesh));
+    const int mat = add_material(material);
+    return add_object(mi, mat, transform, name);
+}
+
+void Scene::check_object(int i) const {
+    if (i < 0 || i >= int(objects.size()))
+        throw std::out_of_range("object index " + std::to_string(i) + " out of range (scene has " +
+                                std::to_string(objects.size()) + " objects)");
+}
+
+const Image& Scene::image(int i) const {
+    if (i < 0 || i >= int(images.size()))
+        throw std::out_of_range("Scene.image: index " + std::to_string(i) + " is out of range (the scene has " +
+                                std::to_string(images.size()) + " images)");
+    return images[size_t(i)];
+}
+
+void Scene::set_material(int i, const Material& m) {
+    check_object(i);
+    validate_material(m, this);
+    int& idx = objects[size_t(i)].material;
+    int users = 0;
+    for (const auto& o : objects) users += o.material == idx;
+    if (users == 1) {  // only this object uses it
+        materials[size_t(idx)] = m;
+        touch_material(idx);
+    } else {  // shared: give this object its own
+        idx = add_material(m);
+        touch_object(i);
+    }
+}
+
+void Scene::set_ambient(const glm::vec3& a) {
+    if (const std::string p = radiance_problem(a, 1.0f); !p.empty()) throw std::invalid_argument("Scene.ambient " + p);
+    ambient = a;
+    touch_frame();
+}
+
+void Scene::set_probes(const std::vector<glm::vec3>& p) {
+    for (size_t i = 0; i < p.size(); ++i)
+        if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z))
+            throw std::invalid_argument("Scene.probes: probe " + std::to_string(i) + " must have finite coordinates");
+    if (p.size() > 64) throw std::invalid_argument("Scene.probes: at most 64 probes, got " + std::to_string(p.size()));
+    probes = p;
+    touch_frame();
+}
+
+void Scene::set_environment(const Environment& e) {
+    // What each kind reads, scaled by its intensity (a map's texels are checked on load).
+    std::vector<std::pair<const char*, glm::vec3>> terms = {{"intensity", glm::vec3(1.0f)}};
+    if (e.type == Environment::Type::Constant) terms = {{"color", e.color}};
+    if (e.type == Environment::Type::Sky) terms = {{"zenith", e.sky_zenith}, {"horizon", e.sky_horizon}, {"ground", e.ground}};
+    for (const auto& [field, rgb] : terms)
+        if (const std::string p = radiance_problem(rgb, e.intensity); !p.empty())
+            throw std::invalid_argument(std::string("Scene.environment: ") + field + " " + p);
+    // Only a map is a texture of the scene's GPU copy; the rest is read per frame.
+    const bool map = e.type == Environment::Type::Map || environment.type == Environment::Type::Map;
+    const bool same_map = e.type == environment.type && e.map_path == environment.map_path;
+    environment = e;
+    if (map && !same_map) touch();
+    else touch_frame();
 }
 
 size_t Scene::triangle_count() const {

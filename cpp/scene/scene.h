@@ -92,6 +92,17 @@ struct Material {
     }
 };
 
+class Scene;
+
+// A material's values checked against their domains (glTF's ranges; the G-buffer keeps albedo as
+// sRGB8, so a base colour above 1 would be clamped without a word): std::invalid_argument naming
+// the field. With `scene`, also that each texture names one of its images. Defined with the
+// other checked values in scene_values.cpp.
+void validate_material(const Material& m, const Scene* scene = nullptr);
+// The same checks one field at a time, for a change of that field alone.
+void check_alpha_cutoff(float cutoff);
+void check_emissive(const glm::vec3& emissive);
+
 struct Mesh {
     std::string name;
     std::vector<glm::vec3> positions;
@@ -134,6 +145,14 @@ struct Light {
     bool cast_shadow = false;  // casts a shadow: a directional or spot light a 2D map, a point light a cube map
 };
 
+// Lights made with their values checked (std::invalid_argument naming the value); a spot
+// light's direction is normalised after light_problem has seen it.
+Light directional_light(const glm::vec3& direction, const glm::vec3& color, float intensity, bool cast_shadow,
+                        const std::string& name);
+Light point_light(const glm::vec3& position, const glm::vec3& color, float intensity, const std::string& name);
+Light spot_light(const glm::vec3& position, const glm::vec3& direction, float inner_cone, float outer_cone,
+                 const glm::vec3& color, float intensity, float range, const std::string& name);
+
 // What a reflection ray that leaves the screen (or is faded) sees.
 struct Environment {
     enum class Type { Constant, Sky, Map };
@@ -143,6 +162,10 @@ struct Environment {
     std::string map_path;             // Map: an equirectangular image (EXR/HDR/PNG)
     float intensity = 1.0f;
 };
+
+// A map environment of an image file that exists and is a regular file (FileNotFound,
+// SceneError otherwise: a device or FIFO would hang the reader), its path made absolute.
+Environment environment_map(const std::string& path, float intensity);
 
 struct CameraDesc {
     glm::vec3 position{0.0f, 0.0f, 5.0f};
@@ -212,9 +235,23 @@ public:
     uint64_t id() const { return id_; }
 
     int add_mesh(Mesh mesh);             // validates indices/sizes, fills normals if empty
-    int add_material(const Material& m);
+    int add_material(const Material& m);  // validate_material against this scene's images
+    // A mesh, a material and an object instancing them; the material is checked before anything
+    // is added, so a refused one leaves the scene as it was.
+    int add_mesh_object(Mesh mesh, const Material& material, const glm::mat4& transform, const std::string& name);
     int add_object(int mesh, int material, const glm::mat4& transform, const std::string& name);
     int add_light(const Light& l);
+
+    // Edits checked as for every caller (std::invalid_argument naming the field, or
+    // std::out_of_range for an index), each telling the GPU copies what changed.
+    void check_object(int i) const;
+    const Image& image(int i) const;
+    // Gives object `i` material `m`: edited in place where no other object shares its material,
+    // else a new material of its own (the others keep theirs).
+    void set_material(int i, const Material& m);
+    void set_ambient(const glm::vec3& ambient);
+    void set_probes(const std::vector<glm::vec3>& probes);  // finite, at most 64
+    void set_environment(const Environment& e);
 
     size_t triangle_count() const;       // summed over objects (instanced)
     // A 64-bit hash of everything that changes an image (geometry, materials, images,
