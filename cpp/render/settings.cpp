@@ -1,7 +1,10 @@
 #include "render/settings.h"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <vector>
 
@@ -124,8 +127,8 @@ const std::vector<std::pair<SpecularOcclusion, std::string>>& names() {
 }  // namespace
 
 template <typename E>
-E parse_enum(const std::string& field, const std::string& name) {
-    std::string known;
+E parse_enum(const std::string& field, const std::string& name, bool takes_auto) {
+    std::string known = takes_auto ? "'auto'" : "";
     for (const auto& [v, n] : names<E>()) {
         if (n == name) return v;
         known += (known.empty() ? "'" : ", '") + n + "'";
@@ -146,7 +149,7 @@ const std::vector<std::pair<E, std::string>>& enum_names() {
 }
 
 #define SSR_INSTANTIATE(E) \
-    template E parse_enum<E>(const std::string&, const std::string&); \
+    template E parse_enum<E>(const std::string&, const std::string&, bool); \
     template std::string enum_name<E>(E); \
     template const std::vector<std::pair<E, std::string>>& enum_names<E>();
 SSR_INSTANTIATE(DepthMode)
@@ -208,28 +211,112 @@ void RenderSettings::validate() const {
 #undef SSR_CHECK_BOOL
 #undef SSR_CHECK_ENUM
 
-    // Rules between fields, and values a range cannot say.
+    // A value a range cannot say.
     check(downscale == 1 || downscale == 2 || downscale == 4,
           "Settings.downscale must be 1, 2 or 4, got " + std::to_string(downscale));
-    check(hiz_stop_level <= hiz_max_level,
-          "Settings.hiz_stop_level (" + std::to_string(hiz_stop_level) + ") must be <= Settings.hiz_max_level (" +
-              std::to_string(hiz_max_level) + ")");
-    check(!variance_rays || (adaptive_rays && glossy == Glossy::Stochastic &&
-                             (method == TraceMethod::Linear || method == TraceMethod::Hiz)),
-          "Settings.variance_rays adds the rays adaptive_rays left out, for the screen-space tracers' stochastic "
-          "rays: it needs adaptive_rays=True, glossy='stochastic' and method 'linear' or 'hiz'");
-    // SVGF accumulates its own history; a second accumulation after it would only add lag.
-    check(denoise != Denoise::Svgf || !temporal_reflections,
-          "Settings.denoise 'svgf' accumulates its own history: it needs Settings.temporal_reflections off");
-    // The BVH tracer and the BVH fallback hand their radiance to the resolve.
-    check(method != TraceMethod::Bvh || glossy == Glossy::Stochastic,
-          "Settings.method 'bvh' needs Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
-    check(!temporal_ray_reuse ||
-              (method != TraceMethod::Bvh && fallback != Fallback::Bvh && fallback != Fallback::Probes),
-          "Settings.temporal_ray_reuse does not reuse BVH-traced rays yet: it needs Settings.method other than "
-          "'bvh' and Settings.fallback other than 'bvh' and 'probes'");
-    check((fallback != Fallback::Bvh && fallback != Fallback::Probes) || glossy == Glossy::Stochastic,
-          "Settings.fallback 'bvh' and 'probes' need Settings.glossy 'stochastic' (cone and blur_mips read screen-space hits)");
+    check_rules();
+}
+
+namespace {
+// A float as Python's repr writes it: the shortest digits that read back as the same float32, fixed
+// from 1e-4 up to 1e16 (always with a point), with an exponent outside: 5.0, 0.002, 1e-05, 1e+16.
+std::string python_float(float v) {
+    if (std::isnan(v)) return "nan";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific);  // d.ddde+XX
+    const std::string sci(buf, r.ptr);
+    const size_t e = sci.find('e');
+    const int exp = std::stoi(sci.substr(e + 1));
+    const bool negative = sci[0] == '-';
+    std::string digits;
+    for (char c : sci.substr(0, e))
+        if (std::isdigit(static_cast<unsigned char>(c))) digits += c;
+    std::string out;
+    if (exp >= 16 || exp < -4) {
+        out = digits.substr(0, 1) + (digits.size() > 1 ? "." + digits.substr(1) : "") + "e" + (exp < 0 ? "-" : "+") +
+              (std::abs(exp) < 10 ? "0" : "") + std::to_string(std::abs(exp));
+    } else if (exp < 0) {
+        out = "0." + std::string(size_t(-exp - 1), '0') + digits;
+    } else if (digits.size() <= size_t(exp) + 1) {
+        out = digits + std::string(size_t(exp) + 1 - digits.size(), '0') + ".0";
+    } else {
+        out = digits.substr(0, size_t(exp) + 1) + "." + digits.substr(size_t(exp) + 1);
+    }
+    return (negative ? "-" : "") + out;
+}
+
+std::string repr(int v) { return std::to_string(v); }
+std::string repr(uint32_t v) { return std::to_string(v); }
+std::string repr(float v) { return python_float(v); }
+std::string repr(bool v) { return v ? "True" : "False"; }
+template <typename E>
+std::string repr(E v) {
+    return "'" + enum_name(v) + "'";
+}
+
+std::vector<std::string> split_fields(const char* fields) {
+    std::vector<std::string> out;
+    std::string f = fields;
+    for (size_t at = 0; at <= f.size();) {
+        const size_t comma = std::min(f.find(", ", at), f.size());
+        out.push_back(f.substr(at, comma - at));
+        at = comma + 2;
+    }
+    return out;
+}
+}  // namespace
+
+void check_setting_choice(const std::string& field, const std::string& value) {
+#define SSR_CHOICE_INT(name, ctype, flags)
+#define SSR_CHOICE_UINT SSR_CHOICE_INT
+#define SSR_CHOICE_FLOAT SSR_CHOICE_INT
+#define SSR_CHOICE_BOOL SSR_CHOICE_INT
+#define SSR_CHOICE_ENUM(name, ctype, flags)                                     \
+    if (field == #name) {                                                       \
+        if (!((flags) & kAuto) || value != "auto") parse_enum<ctype>(#name, value, (flags) & kAuto); \
+        return;                                                                 \
+    }
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) SSR_CHOICE_##kind(name, ctype, flags)
+#include "render/settings_fields.def"
+#undef SSR_CHOICE_INT
+#undef SSR_CHOICE_UINT
+#undef SSR_CHOICE_FLOAT
+#undef SSR_CHOICE_BOOL
+#undef SSR_CHOICE_ENUM
+    throw std::invalid_argument("Settings." + field + " is not an enumerated setting");
+}
+
+std::string setting_repr(const RenderSettings& s, const std::string& field) {
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) \
+    if (field == #name) return repr(s.name);
+#include "render/settings_fields.def"
+    throw std::invalid_argument("Settings has no field '" + field + "'");
+}
+
+const std::vector<SettingsRule>& settings_rules() {
+    static const std::vector<SettingsRule> rules = [] {
+        std::vector<SettingsRule> out;
+#define SSR_RULE(fields, rule, ok, why) out.push_back({split_fields(fields), rule, why});
+#include "render/settings_rules.def"
+        return out;
+    }();
+    return rules;
+}
+
+void RenderSettings::check_rules() const {
+    const RenderSettings& s = *this;
+    size_t row = 0;
+    // "Settings: <rule> is violated (<field>=<value>, ...); <why>": the message ssrlab.Settings raises.
+    auto violated = [&s](const SettingsRule& r) {
+        std::string got;
+        for (const std::string& f : r.fields) got += (got.empty() ? "" : ", ") + f + "=" + setting_repr(s, f);
+        throw std::invalid_argument("Settings: " + r.rule + " is violated (" + got + "); " + r.why);
+    };
+#define SSR_RULE(fields, rule, ok, why) \
+    if (!(ok)) violated(settings_rules()[row]);  \
+    ++row;
+#include "render/settings_rules.def"
 }
 
 }  // namespace ssr
