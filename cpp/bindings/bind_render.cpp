@@ -204,6 +204,9 @@ void bind_render(py::module_& m) {
         "Every rule between settings as declared once in cpp/render/settings_rules.def, in order: a dict per "
         "rule with fields (the settings it ties), rule (as users read it) and why (what breaks otherwise). "
         "RenderSettings.check_rules() tests them.");
+    m.def("check_setting_value", &check_setting_value, py::arg("field"), py::arg("value"),
+          "Raises ValueError unless `value` (compared with the bounds as declared) is in the numeric setting "
+          "`field`'s range, or its 'off' value (downscale: 1, 2 or 4): the message ssrlab.Settings raises.");
     m.def("check_setting_choice", &check_setting_choice, py::arg("field"), py::arg("value"),
           "Raises ValueError unless `value` names a choice of the enumerated setting `field` ('auto' where it "
           "takes one): the message ssrlab.Settings raises.");

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <vector>
@@ -172,55 +173,11 @@ SSR_INSTANTIATE(SpecularOcclusion)
 #undef SSR_INSTANTIATE
 
 namespace {
-// A bound or value in a message: a whole number as an integer, others in their shortest round-trip form.
-std::string number(double v, bool is_float) {
-    if (!is_float && std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e18)
-        return std::to_string((long long)v);
-    char buf[64];
-    const auto r = is_float ? std::to_chars(buf, buf + sizeof buf, float(v)) : std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
-
-// The range of a numeric field, as settings_fields.def declares it. The fields are float32 while
-// the declared bounds are decimal doubles: 1e-6 as a float is 9.99999997e-7 < 1e-6, so comparing
-// in double would reject the declared lower bounds themselves. Bounds are rounded to the field's
-// precision first.
-void check_range(double v, double lo, double hi, bool is_float, const char* unit, unsigned flags, const char* name) {
-    if ((flags & kOffAtZero) && v == 0.0) return;
-    const double lo_f = is_float ? double(float(lo)) : lo, hi_f = is_float ? double(float(hi)) : hi;
-    if (std::isfinite(v) && v >= lo_f && v <= hi_f) return;
-    std::string msg = std::string("Settings.") + name + " must be in [" + number(lo, false) + ", " + number(hi, false) + "]";
-    if (*unit) msg += std::string(" ") + unit;
-    if (flags & kOffAtZero) msg += " (or 0: off)";
-    throw std::invalid_argument(msg + ", got " + number(v, is_float));
-}
-}  // namespace
-
-void RenderSettings::validate() const {
-    // Every numeric field's range (settings_fields.def).
-#define SSR_CHECK_INT(name, lo, hi, unit, flags) check_range(double(name), lo, hi, false, unit, flags, #name);
-#define SSR_CHECK_UINT SSR_CHECK_INT
-#define SSR_CHECK_FLOAT(name, lo, hi, unit, flags) check_range(double(name), lo, hi, true, unit, flags, #name);
-#define SSR_CHECK_BOOL(name, lo, hi, unit, flags)
-#define SSR_CHECK_ENUM(name, lo, hi, unit, flags)
-#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) SSR_CHECK_##kind(name, lo, hi, unit, flags)
-#include "render/settings_fields.def"
-#undef SSR_CHECK_INT
-#undef SSR_CHECK_UINT
-#undef SSR_CHECK_FLOAT
-#undef SSR_CHECK_BOOL
-#undef SSR_CHECK_ENUM
-
-    // A value a range cannot say.
-    check(downscale == 1 || downscale == 2 || downscale == 4,
-          "Settings.downscale must be 1, 2 or 4, got " + std::to_string(downscale));
-    check_rules();
-}
-
-namespace {
-// A float as Python's repr writes it: the shortest digits that read back as the same float32, fixed
-// from 1e-4 up to 1e16 (always with a point), with an exponent outside: 5.0, 0.002, 1e-05, 1e+16.
-std::string python_float(float v) {
+// A float or double as Python's repr writes it: the shortest digits that read back as the same
+// value, fixed from 1e-4 up to 1e16 (always with a point), with an exponent outside: 5.0, 0.002,
+// 1e-05, 1e+16. A float32 field shows its own digits (0.1f as 0.1, not 0.10000000149011612).
+template <typename T>
+std::string python_float(T v) {
     if (std::isnan(v)) return "nan";
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
     char buf[64];
@@ -246,6 +203,77 @@ std::string python_float(float v) {
     return (negative ? "-" : "") + out;
 }
 
+// A bound or value in a message, as Python writes the field's type: an int field's as an integer,
+// a float field's with its point (0.0, 1e-06).
+std::string number(double v, bool is_float) {
+    if (is_float) return python_float(v);
+    if (std::isfinite(v) && v == std::floor(v)) {
+        char buf[400];  // a double's integer digits, up to 1.8e308
+        std::snprintf(buf, sizeof buf, "%.0f", v);
+        return buf;
+    }
+    return python_float(v);
+}
+
+// A numeric field's value against its range, as settings_fields.def declares it, and downscale's
+// values, which a range cannot say. A float32 field (`as_declared` false) compares with the bounds
+// rounded to float: the declared bounds are decimal doubles, 1e-6 as a float is 9.99999997e-7 <
+// 1e-6, and comparing in double would reject the declared lower bounds themselves. ssrlab.Settings'
+// values are Python floats, compared with the bounds as written (`as_declared`) before they become
+// float32.
+void check_value(double v, bool as_declared, double lo, double hi, bool is_float, const char* unit, unsigned flags,
+                 const char* name) {
+    if (std::string(name) == "downscale")
+        check(v == 1 || v == 2 || v == 4, "Settings.downscale must be 1, 2 or 4, got " + number(v, false));
+    if ((flags & kOffAtZero) && v == 0.0) return;
+    const bool rounded = is_float && !as_declared;
+    const double lo_f = rounded ? double(float(lo)) : lo, hi_f = rounded ? double(float(hi)) : hi;
+    if (std::isfinite(v) && v >= lo_f && v <= hi_f) return;
+    std::string msg = std::string("Settings.") + name + " must be in [" + number(lo, is_float) + ", " +
+                      number(hi, is_float) + "]";
+    if (*unit) msg += std::string(" ") + unit;
+    if (flags & kOffAtZero) msg += " (or 0: off)";
+    throw std::invalid_argument(msg + ", got " + (rounded ? python_float(float(v)) : number(v, is_float)));
+}
+}  // namespace
+
+void check_setting_value(const std::string& field, double value) {
+#define SSR_VALUE_INT(name, lo, hi, unit, flags) return check_value(value, true, lo, hi, false, unit, flags, #name);
+#define SSR_VALUE_UINT SSR_VALUE_INT
+#define SSR_VALUE_FLOAT(name, lo, hi, unit, flags) return check_value(value, true, lo, hi, true, unit, flags, #name);
+#define SSR_VALUE_BOOL(name, lo, hi, unit, flags) break;
+#define SSR_VALUE_ENUM SSR_VALUE_BOOL
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) \
+    if (field == #name) do {                                                    \
+            SSR_VALUE_##kind(name, lo, hi, unit, flags)                         \
+        } while (false);
+#include "render/settings_fields.def"
+#undef SSR_VALUE_INT
+#undef SSR_VALUE_UINT
+#undef SSR_VALUE_FLOAT
+#undef SSR_VALUE_BOOL
+#undef SSR_VALUE_ENUM
+    throw std::invalid_argument("Settings." + field + " is not a numeric setting");
+}
+
+void RenderSettings::validate() const {
+    // Every numeric field's range (settings_fields.def), downscale's values.
+#define SSR_CHECK_INT(name, lo, hi, unit, flags) check_value(double(name), false, lo, hi, false, unit, flags, #name);
+#define SSR_CHECK_UINT SSR_CHECK_INT
+#define SSR_CHECK_FLOAT(name, lo, hi, unit, flags) check_value(double(name), false, lo, hi, true, unit, flags, #name);
+#define SSR_CHECK_BOOL(name, lo, hi, unit, flags)
+#define SSR_CHECK_ENUM(name, lo, hi, unit, flags)
+#define SSR_FIELD(kind, ctype, name, def, lo, hi, unit, place, flags, group, doc) SSR_CHECK_##kind(name, lo, hi, unit, flags)
+#include "render/settings_fields.def"
+#undef SSR_CHECK_INT
+#undef SSR_CHECK_UINT
+#undef SSR_CHECK_FLOAT
+#undef SSR_CHECK_BOOL
+#undef SSR_CHECK_ENUM
+    check_rules();
+}
+
+namespace {
 std::string repr(int v) { return std::to_string(v); }
 std::string repr(uint32_t v) { return std::to_string(v); }
 std::string repr(float v) { return python_float(v); }

@@ -96,6 +96,12 @@ struct SettingsRule {
 };
 const std::vector<SettingsRule>& settings_rules();
 
+// Throws std::invalid_argument "Settings.<field> must be in [lo, hi] unit, got v" (or downscale's
+// "must be 1, 2 or 4") unless `value`, a Python float or int compared with the bounds as declared,
+// is allowed for the numeric setting `field`: the check validate() makes, which ssrlab.Settings
+// forwards.
+void check_setting_value(const std::string& field, double value);
+
 // Throws parse_enum's message unless `value` names a choice of the enumerated setting `field`
 // ('auto' where the field is flagged kAuto): the one check of a setting's choice, which
 // ssrlab.Settings forwards.

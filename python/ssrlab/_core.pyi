@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'check_setting_choice', 'choose_deep_gbuffer', 'decide_auto', 'deep_gbuffer_candidates', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_rules', 'settings_schema', 'ssr_settings_glsl', 'write_image']
+__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'check_setting_choice', 'check_setting_value', 'choose_deep_gbuffer', 'decide_auto', 'deep_gbuffer_candidates', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_rules', 'settings_schema', 'ssr_settings_glsl', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -925,6 +925,10 @@ def _set_image_codec(codec: typing.Any) -> None:
 def check_setting_choice(field: str, value: str) -> None:
     """
     Raises ValueError unless `value` names a choice of the enumerated setting `field` ('auto' where it takes one): the message ssrlab.Settings raises.
+    """
+def check_setting_value(field: str, value: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    """
+    Raises ValueError unless `value` (compared with the bounds as declared) is in the numeric setting `field`'s range, or its 'off' value (downscale: 1, 2 or 4): the message ssrlab.Settings raises.
     """
 def choose_deep_gbuffer(measured: dict) -> str:
     """

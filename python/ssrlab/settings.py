@@ -276,15 +276,7 @@ def _check(f: dataclasses.Field, value: Any) -> Any:
         if m["choices"]:
             _core.check_setting_choice(f.name, value)  # the native enum's names, 'auto' where it takes one
         return value
-    if f.name == "downscale" and value not in (1, 2, 4):
-        raise ValueError(f"{name} must be 1, 2 or 4, got {value!r}")
-    lo, hi = m["lo"], m["hi"]
-    if m["off"] is not None and value == m["off"]:
-        return value
-    if (lo is not None and value < lo) or (hi is not None and value > hi):
-        unit = f" {m['unit']}" if m["unit"] else ""
-        off = f" (or {m['off']}: off)" if m["off"] is not None else ""
-        raise ValueError(f"{name} must be in [{lo}, {hi}]{unit}{off}, got {value!r}")
+    _core.check_setting_value(f.name, value)  # the declared range (and downscale's 1, 2, 4), natively
     return value
 
 
