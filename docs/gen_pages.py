@@ -79,7 +79,7 @@ def settings_fields() -> None:
                   "`cpp/render/settings_fields.def` declares it (this page is made from it when the docs are "
                   "built). *read by*: `shaders` for the members of the reflection passes' uniform block, "
                   "`passes` for the settings the C++ passes read. Rules between fields: "
-                  "`ssrlab.settings.CONSTRAINTS`, printed by `ssrlab settings`.\n\n")
+                  "`cpp/render/settings_rules.def` (`ssrlab.settings.CONSTRAINTS`), printed by `ssrlab settings`.\n\n")
         out.write(fields_markdown())
 
 

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import ssrlab
+from ssrlab import _core
 
 TRI = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
 
@@ -145,6 +146,49 @@ def test_cross_field_constraints_name_both_fields(kw, fields):
         with pytest.raises(ValueError) as e:
             make()
         assert all(f in str(e.value) for f in fields), str(e.value)
+
+
+# Settings that break one rule between fields each, by the rule's words (settings_rules.def).
+BREAKS = {
+    "glossy == 'stochastic' when method == 'bvh'": dict(method="bvh", glossy="cone"),
+    "method != 'bvh' and fallback not in ('bvh', 'probes') when temporal_ray_reuse":
+        dict(temporal_ray_reuse=True, fallback="probes"),
+    "temporal_reflections is off when denoise == 'svgf'": dict(denoise="svgf", temporal_reflections=True),
+    "glossy == 'stochastic' when fallback in ('bvh', 'probes')": dict(fallback="bvh", glossy="blur_mips"),
+    "adaptive_rays, method in ('linear', 'hiz') and glossy == 'stochastic' when variance_rays":
+        dict(variance_rays=True, adaptive_rays=True, method="off"),
+    "hiz_stop_level <= hiz_max_level": dict(hiz_stop_level=5, hiz_max_level=3, hiz_start_level=0),
+    "hiz_start_level <= hiz_max_level": dict(hiz_start_level=4, hiz_max_level=3),
+    "fade_distance_end > fade_distance_start when fade_distance_start > 0":
+        dict(fade_distance_start=2.5, fade_distance_end=0.125),
+    "fade_distance_end == 0 when fade_distance_start == 0": dict(fade_distance_end=3.0),
+}
+
+
+def test_every_rule_between_fields_has_a_case_here():
+    assert sorted(BREAKS) == sorted(c.rule for c in ssrlab.settings.CONSTRAINTS)
+
+
+@pytest.mark.parametrize("rule", [c.rule for c in ssrlab.settings.CONSTRAINTS])
+def test_a_rule_between_fields_reads_the_same_from_python_and_from_cpp_callers(rule, renderer):
+    """One validation path: ssrlab.Settings raises the native rule's message word for word, as a
+    C++ caller meets it in RenderSettings::validate() and at render."""
+    kw = BREAKS[rule]
+    with pytest.raises(ValueError) as python:
+        ssrlab.Settings(**kw)
+    native = _core.RenderSettings()
+    for name, value in kw.items():
+        setattr(native, name, value)
+    with pytest.raises(ValueError) as validate:
+        native.validate()
+    scene = ssrlab.scenes.mirror_test()
+    with pytest.raises(ValueError) as render:
+        renderer._native.render(scene, scene.camera, native)
+    assert str(python.value) == str(validate.value) == str(render.value)
+    c = next(c for c in ssrlab.settings.CONSTRAINTS if c.rule == rule)
+    got = ", ".join(f"{n}={ssrlab.Settings.__dataclass_fields__[n].default!r}" if n not in kw else f"{n}={kw[n]!r}"
+                    for n in c.fields)
+    assert str(python.value) == f"Settings: {rule} is violated ({got}); {c.why}"
 
 
 def test_constraints_are_checked_at_render_after_single_assignments(renderer):

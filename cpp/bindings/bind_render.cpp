@@ -1,5 +1,6 @@
 #include "bindings/bindings.h"
 #include "core/egl_context.h"
+#include "render/auto_choice.h"
 #include "render/renderer.h"
 #include "render/ssr_uniforms.h"
 
@@ -154,8 +155,13 @@ void bind_render(py::module_& m) {
         "Every EGL device: hardware ones numbered in enumeration order (device='gpu:N'), then software ones; "
         "with probe, each one's OpenGL vendor and renderer from a context made and destroyed at once.");
     py::class_<RenderSettings> settings(m, "RenderSettings", "Native settings; build them with ssrlab.Settings.");
-    settings.def(py::init<>()).def("validate", &RenderSettings::validate,
-                                   "Raises ValueError naming the first field out of its range or rule.");
+    settings.def(py::init<>())
+        .def("validate", &RenderSettings::validate,
+             "Raises ValueError naming the first field out of its range, then the first rule between fields "
+             "that fails (check_rules).")
+        .def("check_rules", &RenderSettings::check_rules,
+             "Raises ValueError naming the first rule between fields (settings_rules()) that fails, with the "
+             "fields' values and why: the message ssrlab.Settings raises.");
     // One property per settings_fields.def row, documented from the same row.
     static std::deque<std::string> docs;  // pybind11 keeps the pointers
     const py::list schema = settings_schema();
@@ -199,6 +205,64 @@ void bind_render(py::module_& m) {
           "switches the feature off, or None), unit, choices (a tuple of names, or None), group, doc, place "
           "('uniform': in the shaders' SsrSettings block; 'pass': read by the C++ passes) and reference "
           "(True: it changes a converged reference). ssrlab.Settings is made from it.");
+    m.def(
+        "settings_rules",
+        [] {
+            py::list out;
+            for (const SettingsRule& r : settings_rules()) {
+                py::dict e;
+                e["fields"] = py::tuple(py::cast(r.fields));
+                e["rule"] = r.rule;
+                e["why"] = r.why;
+                out.append(e);
+            }
+            return out;
+        },
+        "Every rule between settings as declared once in cpp/render/settings_rules.def, in order: a dict per "
+        "rule with fields (the settings it ties), rule (as users read it) and why (what breaks otherwise). "
+        "RenderSettings.check_rules() tests them.");
+    m.def("check_setting_value", &check_setting_value, py::arg("field"), py::arg("value"),
+          "Raises ValueError unless `value` (compared with the bounds as declared) is in the numeric setting "
+          "`field`'s range, or its 'off' value (downscale: 1, 2 or 4): the message ssrlab.Settings raises.");
+    m.def("check_setting_choice", &check_setting_choice, py::arg("field"), py::arg("value"),
+          "Raises ValueError unless `value` names a choice of the enumerated setting `field` ('auto' where it "
+          "takes one): the message ssrlab.Settings raises.");
+    m.def(
+        "decide_auto",
+        [](const std::string& field, const std::string& device) {
+            RenderSettings s;
+            decide_auto(s, field, device);
+            const py::object native = py::cast(s);
+            return py::object(native.attr(field.c_str()));
+        },
+        py::arg("field"), py::arg("device"),
+        "What the setting `field`'s 'auto' is on `device` ('cpu' or 'gpu'): skip True on the CPU device, "
+        "False on a GPU; deep_gbuffer 'peel' where no renderer has measured the constructions.");
+    m.def(
+        "deep_gbuffer_candidates",
+        [](bool cpu_device, int layers) {
+            std::vector<std::string> out;
+            for (DeepGBuffer d : deep_gbuffer_candidates(cpu_device, layers)) out.push_back(enum_name(d));
+            return out;
+        },
+        py::arg("cpu_device"), py::arg("layers"),
+        "The constructions deep_gbuffer 'auto' measures for `layers` layers on the CPU device or a GPU; a "
+        "single one is taken without measuring.");
+    m.def(
+        "choose_deep_gbuffer",
+        [](const py::dict& measured) {
+            std::vector<std::pair<DeepGBuffer, Spread>> m;  // in the dict's order: the first of equal medians wins
+            for (const auto& [name, spread] : measured) {
+                const auto at = [&spread](const char* key) { return spread[py::str(key)].cast<double>(); };
+                m.push_back({parse_enum<DeepGBuffer>("deep_gbuffer", name.cast<std::string>()),
+                             {at("median"), at("min"), at("max")}});
+            }
+            return enum_name(choose_deep_gbuffer(m));
+        },
+        py::arg("measured"),
+        "The construction deep_gbuffer 'auto' takes from its measurements {method: {median, min, max}} in "
+        "GPU ms: the smallest median, unless its [min, max] overlaps peeling's (a difference within the "
+        "spread decides nothing); 'peel' where nothing was measured.");
     m.def("ssr_settings_glsl", &ssr_settings_glsl,
           "The GLSL the shaders include as lib/ssr_settings.glsl: the SsrSettings uniform block (the settings "
           "whose place is 'uniform', derived members first) and an int constant per enum value.");

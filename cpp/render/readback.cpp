@@ -2,6 +2,7 @@
 // F16C where the CPU has it), other formats through shaders/passes/readback.comp; and the
 // Frame's reads, which go through it.
 #include "render/renderer.h"
+#include "render/auto_choice.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -51,35 +52,32 @@ bool cpu_has_f16c() { return false; }
 }  // namespace
 
 void Renderer::set_readback_path(const std::string& path) {
-    if (path != "auto" && path != "download" && path != "staged")
-        throw std::invalid_argument("Renderer.readback_path must be 'auto', 'download' or 'staged', got '" + path + "'");
+    check_choice("Renderer.readback_path", path, kReadbackPaths);
     readback_path_ = path;
 }
 
 void Renderer::set_clear_path(const std::string& path) {
-    if (path != "auto" && path != "gl" && path != "compute")
-        throw std::invalid_argument("Renderer.clear_path must be 'auto', 'gl' or 'compute', got '" + path + "'");
+    check_choice("Renderer.clear_path", path, kClearPaths);
     clear_path_ = path;
 }
 
 void Renderer::set_visibility_tiles(const std::string& mode) {
-    if (mode != "auto" && mode != "on" && mode != "off")
-        throw std::invalid_argument("Renderer.visibility_tiles must be 'auto', 'on' or 'off', got '" + mode + "'");
+    check_choice("Renderer.visibility_tiles", mode, kVisibilityTiles);
     visibility_tiles_ = mode;
 }
 
 bool Renderer::marks_visibility_tiles() const {
-    if (visibility_tiles_ == "auto") return ctx_->info().chosen == "cpu";
+    if (visibility_tiles_ == "auto") return auto_visibility_tiles(ctx_->info().chosen == "cpu");
     return visibility_tiles_ == "on";
 }
 
 bool Renderer::clear_by_compute() const {
-    if (clear_path_ == "auto") return ctx_->info().chosen != "cpu";
+    if (clear_path_ == "auto") return auto_clear_by_compute(ctx_->info().chosen == "cpu");
     return clear_path_ == "compute";
 }
 
 bool Renderer::readback_staged() const {
-    if (readback_path_ == "auto") return ctx_->info().chosen != "cpu";
+    if (readback_path_ == "auto") return auto_readback_staged(ctx_->info().chosen == "cpu");
     return readback_path_ == "staged";
 }
 

@@ -2,6 +2,7 @@
 // and jitter. The render loop is render_loop.cpp, resource planning resource_plan.cpp, read-back
 // readback.cpp, the device tools device_tools.cpp.
 #include "render/renderer.h"
+#include "render/auto_choice.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -295,9 +296,7 @@ Defines Renderer::common_defines(const Scene& scene, const GpuScene& gs, const D
 
 std::shared_ptr<Renderer> Renderer::create(const std::string& device, const std::string& shader_dir,
                                            const std::string& input_fetch) {
-    if (input_fetch != "auto" && input_fetch != "imageLoad" && input_fetch != "texelFetch")
-        throw std::invalid_argument("Renderer.input_fetch must be 'auto', 'imageLoad' or 'texelFetch', got '" +
-                                    input_fetch + "'");
+    check_choice("Renderer.input_fetch", input_fetch, kInputFetches);  // before a context is made
     return std::shared_ptr<Renderer>(new Renderer(device, shader_dir, input_fetch));
 }
 
@@ -350,10 +349,9 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir, con
         const char* name = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
         if (name && std::strcmp(name, "GL_MESA_pack_invert") == 0) pack_invert_ = true;
     }
-    // On the CPU device the passes read float textures by imageLoad (lib/input_fetch.glsl:
-    // llvmpipe's texelFetch of a float format is a call to a generic sampling function; a chain of
-    // dependent RG32F fetches ran 1.9x faster by imageLoad). GPUs keep texelFetch, the path measured
-    // there. A pass binds up to kImageUnitsPerPass images, outputs and inputs together.
+    // On the CPU device the passes read float textures by imageLoad ('auto': render/auto_choice.h),
+    // where the device offers the image units: a pass binds up to kImageUnitsPerPass images, outputs
+    // and inputs together.
     GLint compute_images = 0, image_units = 0;
     glGetIntegerv(GL_MAX_COMPUTE_IMAGE_UNIFORMS, &compute_images);
     glGetIntegerv(GL_MAX_IMAGE_UNITS, &image_units);
@@ -362,7 +360,8 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir, con
         throw std::invalid_argument("Renderer.input_fetch 'imageLoad' needs " + std::to_string(kImageUnitsPerPass) +
                                     " image units in a compute shader; this device offers " +
                                     std::to_string(std::min(compute_images, image_units)));
-    fetch_by_image_ = input_fetch == "imageLoad" || (input_fetch == "auto" && ctx_->info().chosen == "cpu" && images_enough);
+    fetch_by_image_ = input_fetch == "imageLoad" ||
+                      (input_fetch == "auto" && auto_fetch_by_image(ctx_->info().chosen == "cpu", images_enough));
     check_gl(*ctx_, "renderer start-up");
 }
 

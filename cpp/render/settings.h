@@ -38,22 +38,24 @@ enum class Denoise { None, Svgf };
 // How the layered G-buffer is built: depth peeling (one geometry pass per layer), per-pixel
 // fragment lists (one geometry pass, then a selection; Yang et al. 2010), or either of the two
 // rasterising visibility only (depth and a triangle id; Burns and Hunt 2013) with every attribute
-// rebuilt by a compute pass (passes/visibility_buffer.h, gbuffer_attributes.h). Python resolves "auto".
+// rebuilt by a compute pass (passes/visibility_buffer.h, gbuffer_attributes.h). 'auto':
+// render/auto_choice.h.
 enum class DeepGBuffer { Peel, Lists, Visibility, VisibilityLists };
 // Whether `d` rasterises visibility only (the visibility_buffer and gbuffer_attributes passes).
 inline bool visibility_construction(DeepGBuffer d) {
     return d == DeepGBuffer::Visibility || d == DeepGBuffer::VisibilityLists;
 }
 
-// Names <-> values, for Python and for error messages.
-template <typename E> E parse_enum(const std::string& field, const std::string& name);
+// Names <-> values, for Python and for error messages. parse_enum throws std::invalid_argument
+// "Settings.<field> must be one of 'a', 'b', got 'x'", listing 'auto' first where `takes_auto`.
+template <typename E> E parse_enum(const std::string& field, const std::string& name, bool takes_auto = false);
 template <typename E> std::string enum_name(E value);
 // Every (value, name) of an enum, in the order Python lists its choices.
 template <typename E> const std::vector<std::pair<E, std::string>>& enum_names();
 
 // Flags of a setting in settings_fields.def.
 enum SettingFlag : unsigned {
-    kAuto = 1u,        // Python also takes 'auto' (its default there), decided per device
+    kAuto = 1u,        // Python also takes 'auto' (its default there), decided per device (auto_choice.h)
     kOffAtZero = 2u,   // 0 is allowed outside [lo, hi] and switches the feature off
     kReference = 4u,   // the setting changes a converged reference image
 };
@@ -77,7 +79,35 @@ struct RenderSettings {
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }
 
-    void validate() const;  // throws std::invalid_argument naming the field
+    // Every range (settings_fields.def), downscale's values, then check_rules(); throws
+    // std::invalid_argument naming the field.
+    void validate() const;
+    // The rules between fields (settings_rules.def): throws std::invalid_argument naming the
+    // fields, their values, the rule and why, in the words ssrlab.Settings raises.
+    void check_rules() const;
 };
+
+// A rule between fields, as settings_rules.def declares it: the settings it ties, the rule as
+// users read it and what breaks otherwise (the test itself: RenderSettings::check_rules()).
+struct SettingsRule {
+    std::vector<std::string> fields;
+    std::string rule;
+    std::string why;
+};
+const std::vector<SettingsRule>& settings_rules();
+
+// Throws std::invalid_argument "Settings.<field> must be in [lo, hi] unit, got v" (or downscale's
+// "must be 1, 2 or 4") unless `value`, a Python float or int compared with the bounds as declared,
+// is allowed for the numeric setting `field`: the check validate() makes, which ssrlab.Settings
+// forwards.
+void check_setting_value(const std::string& field, double value);
+
+// Throws parse_enum's message unless `value` names a choice of the enumerated setting `field`
+// ('auto' where the field is flagged kAuto): the one check of a setting's choice, which
+// ssrlab.Settings forwards.
+void check_setting_choice(const std::string& field, const std::string& value);
+
+// A field's value as Python writes it (repr): 5, 0.5, True, 'bvh'; for messages.
+std::string setting_repr(const RenderSettings& s, const std::string& field);
 
 }  // namespace ssr

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'builtin_chain', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_schema', 'ssr_settings_glsl', 'write_image']
+__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'builtin_chain', 'check_setting_choice', 'check_setting_value', 'choose_deep_gbuffer', 'decide_auto', 'deep_gbuffer_candidates', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_rules', 'settings_schema', 'ssr_settings_glsl', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -692,9 +692,13 @@ class RenderSettings:
         ...
     def __init__(self) -> None:
         ...
+    def check_rules(self) -> None:
+        """
+        Raises ValueError naming the first rule between fields (settings_rules()) that fails, with the fields' values and why: the message ssrlab.Settings raises.
+        """
     def validate(self) -> None:
         """
-        Raises ValueError naming the first field out of its range or rule.
+        Raises ValueError naming the first field out of its range, then the first rule between fields that fails (check_rules).
         """
     @property
     def user_params(self) -> dict[str, float]:
@@ -922,6 +926,26 @@ def builtin_chain(scene: Scene, settings: RenderSettings, fetch_by_image: bool) 
     """
     The built-in passes a render of `scene` with `settings` runs, in order, as Renderer.chain lists them, without a renderer: no GL context is made. fetch_by_image: the CPU device's input fetch.
     """
+def check_setting_choice(field: str, value: str) -> None:
+    """
+    Raises ValueError unless `value` names a choice of the enumerated setting `field` ('auto' where it takes one): the message ssrlab.Settings raises.
+    """
+def check_setting_value(field: str, value: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    """
+    Raises ValueError unless `value` (compared with the bounds as declared) is in the numeric setting `field`'s range, or its 'off' value (downscale: 1, 2 or 4): the message ssrlab.Settings raises.
+    """
+def choose_deep_gbuffer(measured: dict) -> str:
+    """
+    The construction deep_gbuffer 'auto' takes from its measurements {method: {median, min, max}} in GPU ms: the smallest median, unless its [min, max] overlaps peeling's (a difference within the spread decides nothing); 'peel' where nothing was measured.
+    """
+def decide_auto(field: str, device: str) -> typing.Any:
+    """
+    What the setting `field`'s 'auto' is on `device` ('cpu' or 'gpu'): skip True on the CPU device, False on a GPU; deep_gbuffer 'peel' where no renderer has measured the constructions.
+    """
+def deep_gbuffer_candidates(cpu_device: bool, layers: typing.SupportsInt | typing.SupportsIndex) -> list[str]:
+    """
+    The constructions deep_gbuffer 'auto' measures for `layers` layers on the CPU device or a GPU; a single one is taken without measuring.
+    """
 def devices(probe: bool = True) -> list:
     """
     Every EGL device: hardware ones numbered in enumeration order (device='gpu:N'), then software ones; with probe, each one's OpenGL vendor and renderer from a context made and destroyed at once.
@@ -937,6 +961,10 @@ def image_io_backend() -> str:
 def read_image(path: str) -> tuple[numpy.typing.NDArray[numpy.float32], list[str]]:
     """
     Reads an image as float32 (h, w, c) and its channel names.
+    """
+def settings_rules() -> list:
+    """
+    Every rule between settings as declared once in cpp/render/settings_rules.def, in order: a dict per rule with fields (the settings it ties), rule (as users read it) and why (what breaks otherwise). RenderSettings.check_rules() tests them.
     """
 def settings_schema() -> list:
     """

@@ -33,19 +33,9 @@ from ._package import shader_dir  # noqa: E402  (re-exported: ssrlab.shader_dir)
 
 
 DEVICE_ENV = "SSRLAB_DEVICE"
-# The exact constructions of the deep G-buffer (Settings.deep_gbuffer) that 'auto' measures.
-DEEP_GBUFFER_CONSTRUCTIONS = ("peel", "lists", "visibility", "visibility_lists")
-
-
-def choose_deep_gbuffer(measured: dict[str, dict[str, float]]) -> str:
-    """The construction 'auto' takes from its measurements ({method: {median, min, max}}): the
-    smallest median, unless its [min, max] overlaps peeling's, the reference's (a difference within
-    the spread decides nothing)."""
-    best = min(measured, key=lambda m: measured[m]["median"])
-    peel = measured.get("peel")
-    if best != "peel" and peel is not None and measured[best]["max"] >= peel["min"]:
-        return "peel"
-    return best
+# The construction deep_gbuffer 'auto' takes from its measurements ({method: {median, min, max}}),
+# decided natively with every other 'auto' (cpp/render/auto_choice.h).
+choose_deep_gbuffer = _core.choose_deep_gbuffer
 
 
 def check_device(device, name: str = "Renderer.device") -> str:
@@ -108,8 +98,6 @@ class Renderer:
     def __init__(self, device: str = "auto", *, shader_dir: str | Path | None = None, input_fetch: str = "auto",
                  max_triangles: int | None = None):
         device = resolve_device(device)
-        if input_fetch not in ("auto", "imageLoad", "texelFetch"):
-            raise ValueError(f"Renderer.input_fetch must be 'auto', 'imageLoad' or 'texelFetch', got {input_fetch!r}")
         folder = Path(shader_dir) if shader_dir is not None else globals()["shader_dir"]()
         self._native = _core.Renderer(device=device, shader_dir=str(folder), input_fetch=input_fetch)
         self.device = device
@@ -208,9 +196,7 @@ class Renderer:
 
     @readback_path.setter
     def readback_path(self, path: str) -> None:
-        if path not in ("auto", "download", "staged"):
-            raise ValueError(f"Renderer.readback_path must be 'auto', 'download' or 'staged', got {path!r}")
-        self._native.readback_path = path
+        self._native.readback_path = path  # the native side checks the name
         self.__dict__.pop("info", None)  # info["readback_path"] follows
 
     @property
@@ -226,9 +212,7 @@ class Renderer:
 
     @clear_path.setter
     def clear_path(self, path: str) -> None:
-        if path not in ("auto", "gl", "compute"):
-            raise ValueError(f"Renderer.clear_path must be 'auto', 'gl' or 'compute', got {path!r}")
-        self._native.clear_path = path
+        self._native.clear_path = path  # the native side checks the name
         self.__dict__.pop("info", None)
 
     @property
@@ -243,9 +227,7 @@ class Renderer:
 
     @visibility_tiles.setter
     def visibility_tiles(self, mode: str) -> None:
-        if mode not in ("auto", "on", "off"):
-            raise ValueError(f"Renderer.visibility_tiles must be 'auto', 'on' or 'off', got {mode!r}")
-        self._native.visibility_tiles = mode
+        self._native.visibility_tiles = mode  # the native side checks the name
         self.__dict__.pop("info", None)
 
     @functools.cached_property
@@ -405,23 +387,19 @@ class Renderer:
         Scene.geometry_revision; moving an object or editing a material measures nothing again),
         image size, layer count, culling, depth mode and minimum separation: the G-buffer alone
         (no shadow map, no reflections) is built 3 times with each after a warm-up render
-        (recorded in deep_gbuffer_measurements: median, min and max GPU ms). The smallest median
-        wins, unless its range overlaps peeling's: a difference within the measurement's own spread
-        decides nothing, and peeling, the reference construction, is kept. The constructions keep
-        the same layers, depths and object ids bit for bit; the visibility ones' attributes differ
-        from peeling's within the tolerance docs/deep_gbuffer.md states, so a script that needs
-        bit-identical reruns names its construction. One layer compares 'peel' and 'visibility'
-        only (the lists' one geometry pass is what one layer is already, plus a selection). On the
-        CPU device 'auto' measures peeling and its lists only, and peels one layer without
-        measuring: there the visibility constructions' compute pass costs what peeling's shading
-        pass does or more (benchmarks/deep_gbuffer.py), so measuring them would let noise choose
-        between images that differ in their last bits; a GPU, where the visibility buffer is
-        several times faster, measures all four."""
+        (recorded in deep_gbuffer_measurements: median, min and max GPU ms). Which constructions
+        are measured on this device for this layer count, and which measurement wins (peeling, the
+        reference construction, unless another is faster beyond the spread), is decided natively
+        with every other 'auto' (_core.deep_gbuffer_candidates and _core.choose_deep_gbuffer,
+        cpp/render/auto_choice.cpp). The constructions keep the same layers, depths and object ids
+        bit for bit; the visibility ones' attributes differ from peeling's within the tolerance
+        docs/deep_gbuffer.md states, so a script that needs bit-identical reruns names its
+        construction."""
         if settings.deep_gbuffer != "auto":
             return settings
-        cpu = self.info["device"] == "cpu"
-        if settings.layers == 1 and cpu:
-            return settings.replace(deep_gbuffer="peel")
+        candidates = _core.deep_gbuffer_candidates(self.info["device"] == "cpu", settings.layers)
+        if len(candidates) == 1:
+            return settings.replace(deep_gbuffer=candidates[0])
         key = self._deep_gbuffer_key(scene, settings)
         if key not in self._deep_gbuffer_auto:
             # With a minimum separation the lists' selection walks each list once per layer.
@@ -429,7 +407,7 @@ class Renderer:
                             backface_culling=settings.backface_culling, depth_mode=settings.depth_mode,
                             min_separation=settings.min_separation, method="off", shadow_map_size=0)
             try:
-                measured = self._measure_deep_gbuffer(scene, camera, base)
+                measured = self._measure_deep_gbuffer(scene, camera, base, candidates)
             except ValueError:
                 # Settings this device refuses (a frame beyond its memory, ...): the render
                 # itself raises its own error, naming the settings as given.
@@ -445,13 +423,9 @@ class Renderer:
         return (id(scene), scene.geometry_revision, settings.width, settings.height, settings.layers,
                 settings.backface_culling, settings.depth_mode, settings.min_separation)
 
-    def _measure_deep_gbuffer(self, scene, camera, base: Settings) -> dict[str, dict[str, float]]:
+    def _measure_deep_gbuffer(self, scene, camera, base: Settings, methods) -> dict[str, dict[str, float]]:
         """GPU milliseconds of the G-buffer's construction with each exact method: median, min, max."""
         measured = {}
-        if self.info["device"] == "cpu":
-            methods = ("peel", "lists")
-        else:
-            methods = DEEP_GBUFFER_CONSTRUCTIONS if base.layers > 1 else ("peel", "visibility")
         for method in methods:
             s = base.replace(deep_gbuffer=method).resolved(self.info["device"])
             times = []

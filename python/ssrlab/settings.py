@@ -5,7 +5,9 @@ cpp/render/settings_fields.def; this module reads that table from the native mod
 (``_core.settings_schema()``), so the validation here, the generated documentation
 (``help(ssrlab.Settings)``, ``Settings.describe()``), the native validation and the shaders'
 uniform block all come from the one declaration. An invalid value raises ``ValueError`` naming the
-field, at construction and on assignment.
+field, at construction and on assignment. The rules between fields (cpp/render/settings_rules.def),
+the names of each choice and what every 'auto' becomes (cpp/render/auto_choice.h) are the native
+module's: this module asks it and raises its words.
 """
 
 from __future__ import annotations
@@ -55,11 +57,22 @@ class Settings:
         self.check_constraints()
 
     def check_constraints(self) -> None:
-        """Raises ValueError naming both fields when a constraint between fields (CONSTRAINTS)
-        fails. Checked when Settings is built or replaced and again before every render (single
-        assignments are checked per field only, so that related fields can be set in turn)."""
-        for c in CONSTRAINTS:
-            c.check(self)
+        """Raises ValueError naming the fields, their values, the rule and why when a constraint
+        between fields (CONSTRAINTS) fails: the native RenderSettings.check_rules()'s message, the
+        one check there is. Checked when Settings is built or replaced and again before every
+        render (single assignments are checked per field only, so that related fields can be set
+        in turn)."""
+        self._native_fields().check_rules()
+
+    def _native_fields(self) -> "_core.RenderSettings":
+        """The native settings holding every field the native side has, but those still 'auto'
+        (which no rule names), at their native defaults."""
+        native = _core.RenderSettings()
+        for name in _NATIVE_FIELDS:
+            value = getattr(self, name)
+            if not (isinstance(value, str) and value == "auto" and name in _AUTO_FIELDS):
+                setattr(native, name, value)
+        return native
 
     def __setattr__(self, name: str, value: Any) -> None:
         # Every assignment, the dataclass __init__'s included, goes through the field's check.
@@ -99,26 +112,22 @@ class Settings:
         """A copy with every 'auto' value decided for `device` ('cpu': llvmpipe, 'gpu'), and what a
         technique overrides written as it runs (glossy 'cone' and 'blur_mips' trace one mirror ray per
         pixel: rays_per_pixel 1, sampling 'mirror'): what a Renderer on that device renders with
-        (Frame.settings, a sweep's rows)."""
-        if device not in ("cpu", "gpu"):
-            raise ValueError(f"device must be 'cpu' or 'gpu', got {device!r}")
-        s = self.replace(skip=device == "cpu") if self.skip == "auto" else self
+        (Frame.settings, a sweep's rows). 'auto' is decided natively (_core.decide_auto,
+        cpp/render/auto_choice.h); deep_gbuffer 'auto' peels here, where no renderer has measured
+        the constructions on a scene (Renderer.render does: docs/deep_gbuffer.md)."""
+        decided = {name: _core.decide_auto(name, device) for name in _AUTO_FIELDS}  # refuses another device
+        s = self.replace(**{name: v for name, v in decided.items() if getattr(self, name) == "auto"})
         if s.glossy != "stochastic" and (s.rays_per_pixel != 1 or s.sampling != "mirror"):
             # Cone tracing and the blurred mips trace one mirror ray per pixel and blur its hit
             # (seed 002 4.4, seed 004): what ran says so, not the rays the fields asked for.
             s = s.replace(rays_per_pixel=1, sampling="mirror")
-        # deep_gbuffer 'auto': a Renderer measures both methods per scene (Renderer.render);
-        # settings resolved without a renderer and scene peel (docs/deep_gbuffer.md).
-        return s.replace(deep_gbuffer=_auto_deep_gbuffer(device, s.layers)) if s.deep_gbuffer == "auto" else s
+        return s
 
     def to_native(self, device: str = "cpu") -> "_core.RenderSettings":
         """The native renderer's settings; 'auto' values decided for `device` (see resolved())."""
         self.check_constraints()
-        s = self.resolved(device)
-        native = _core.RenderSettings()
-        for name in _NATIVE_FIELDS:
-            setattr(native, name, getattr(s, name))
-        native.user_params = {k: float(v) for k, v in s.user_params.items()}
+        native = self.resolved(device)._native_fields()
+        native.user_params = {k: float(v) for k, v in self.user_params.items()}
         native.validate()
         return native
 
@@ -172,11 +181,6 @@ def fields_markdown() -> str:
         where = "shaders (`ssr.{}`)".format(f.name) if m["place"] == "uniform" else "passes"
         lines.append(f"| `{f.name}` | `{f.default!r}` | {cell(m['unit'])} | {cell(rng)} | {where} | {cell(m['doc'])} |")
     return "\n".join(lines).lstrip("\n") + "\n"
-
-
-def _auto_deep_gbuffer(device: str, layers: int) -> str:
-    """deep_gbuffer 'auto' on `device`: the exact method that builds `layers` layers faster."""
-    return "peel"
 
 
 def _user_param_keys(changes: dict, current: dict) -> dict:
@@ -269,74 +273,25 @@ def _check(f: dataclasses.Field, value: Any) -> Any:
     elif typ in ("str", str):
         if not isinstance(value, str):
             raise ValueError(f"{name} must be a string, got {value!r}")
-        if m["choices"] and value not in m["choices"]:
-            raise ValueError(f"{name} must be one of {', '.join(map(repr, m['choices']))}, got {value!r}")
+        if m["choices"]:
+            _core.check_setting_choice(f.name, value)  # the native enum's names, 'auto' where it takes one
         return value
-    if f.name == "downscale" and value not in (1, 2, 4):
-        raise ValueError(f"{name} must be 1, 2 or 4, got {value!r}")
-    lo, hi = m["lo"], m["hi"]
-    if m["off"] is not None and value == m["off"]:
-        return value
-    if (lo is not None and value < lo) or (hi is not None and value > hi):
-        unit = f" {m['unit']}" if m["unit"] else ""
-        off = f" (or {m['off']}: off)" if m["off"] is not None else ""
-        raise ValueError(f"{name} must be in [{lo}, {hi}]{unit}{off}, got {value!r}")
+    _core.check_setting_value(f.name, value)  # the declared range (and downscale's 1, 2, 4), natively
     return value
 
 
 @dataclass(frozen=True)
 class Constraint:
-    """A rule between fields: `rule` as users read it, `ok(settings)` the test, `why` what
-    breaks otherwise."""
+    """A rule between fields as cpp/render/settings_rules.def declares it: the `fields` it ties,
+    the `rule` as users read it and `why` what breaks otherwise (tested natively:
+    Settings.check_constraints)."""
     fields: tuple
     rule: str
-    ok: Any
     why: str
 
-    def check(self, s: "Settings") -> None:
-        if not self.ok(s):
-            got = ", ".join(f"{n}={getattr(s, n)!r}" for n in self.fields)
-            raise ValueError(f"Settings: {self.rule} is violated ({got}); {self.why}")
 
-
-# Every cross-field rule, also enforced (where a pass depends on it) by the native
-# RenderSettings::validate(). Rules whose violation the renderer would silently ignore (a
-# clamped level, a fade that never happens) are errors too, so that a setting always acts.
-CONSTRAINTS = (
-    Constraint(("method", "glossy"), "glossy == 'stochastic' when method == 'bvh'",
-               lambda s: s.method != "bvh" or s.glossy == "stochastic",
-               "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),
-    Constraint(("method", "fallback", "temporal_ray_reuse"),
-               "method != 'bvh' and fallback not in ('bvh', 'probes') when temporal_ray_reuse",
-               lambda s: not s.temporal_ray_reuse or (s.method != "bvh" and s.fallback not in ("bvh", "probes")),
-               "the previous frame's rays would bring their screen-space hits only, not the BVH's radiance"),
-    Constraint(("denoise", "temporal_reflections"), "temporal_reflections is off when denoise == 'svgf'",
-               lambda s: s.denoise != "svgf" or not s.temporal_reflections,
-               "SVGF accumulates its own history; a second accumulation after it would only add lag"),
-    Constraint(("fallback", "glossy"), "glossy == 'stochastic' when fallback in ('bvh', 'probes')",
-               lambda s: s.fallback not in ("bvh", "probes") or s.glossy == "stochastic",
-               "the BVH's radiance reaches the image through the resolve; cone and blur_mips read screen-space hits"),
-    Constraint(("variance_rays", "adaptive_rays", "method", "glossy"),
-               "adaptive_rays, method in ('linear', 'hiz') and glossy == 'stochastic' when variance_rays",
-               lambda s: not s.variance_rays or (s.adaptive_rays and s.method in ("linear", "hiz")
-                                                 and s.glossy == "stochastic"),
-               "the second pass adds the rays adaptive_rays left out, for the screen-space tracers' stochastic rays"),
-    Constraint(("hiz_stop_level", "hiz_max_level"), "hiz_stop_level <= hiz_max_level",
-               lambda s: s.hiz_stop_level <= s.hiz_max_level,
-               "the traversal never descends below the stop level, so it cannot stop above the coarsest level"),
-    Constraint(("hiz_start_level", "hiz_max_level"), "hiz_start_level <= hiz_max_level",
-               lambda s: s.hiz_start_level <= s.hiz_max_level,
-               "a start level above the coarsest level would be clamped to it without a word"),
-    Constraint(("fade_distance_start", "fade_distance_end"),
-               "fade_distance_end > fade_distance_start when fade_distance_start > 0",
-               lambda s: s.fade_distance_start == 0.0 or s.fade_distance_end > s.fade_distance_start,
-               "the distance fade runs from start to end; with end <= start it would never happen"),
-    Constraint(("fade_distance_start", "fade_distance_end"),
-               "fade_distance_end == 0 when fade_distance_start == 0",
-               lambda s: s.fade_distance_start > 0.0 or s.fade_distance_end == 0.0,
-               "fade_distance_start = 0 switches the distance fade off, so an end distance would be ignored; "
-               "set fade_distance_start > 0 to fade"),
-)
+# Every cross-field rule, read from the native table that RenderSettings::check_rules() tests.
+CONSTRAINTS = tuple(Constraint(tuple(r["fields"]), r["rule"], r["why"]) for r in _core.settings_rules())
 # Documented, not an error: fade_camera_end <= fade_camera_start switches the camera fade off.
 
 def _declare_fields(cls):
@@ -386,6 +341,8 @@ def _init(self, *args, **kwargs):
 
 Settings.__init__ = _init
 _NATIVE_FIELDS = [n for n in _FIELDS if hasattr(_core.RenderSettings(), n)]
+# The fields that take 'auto' (decided by resolved()).
+_AUTO_FIELDS = tuple(e["name"] for e in SCHEMA if e["choices"] and "auto" in e["choices"])
 
 
 Settings.__doc__ = "Render settings (every field validated; units in brackets).\n\n" + Settings.describe()

@@ -160,13 +160,9 @@ def auto_measurement_passes(settings, device: str) -> int:
     each, G-buffer only), as Renderer._measure_deep_gbuffer does; 0 where it measures nothing."""
     if settings.deep_gbuffer != "auto":
         return 0
-    cpu = device == "cpu"
-    if cpu and settings.layers == 1:
+    methods = _core.deep_gbuffer_candidates(device == "cpu", settings.layers)
+    if len(methods) == 1:
         return 0
-    if cpu:
-        methods = ("peel", "lists")
-    else:
-        methods = ("peel", "lists", "visibility", "visibility_lists") if settings.layers > 1 else ("peel", "visibility")
     return 4 * sum(_construction_passes(m, settings.layers) for m in methods)
 
 
