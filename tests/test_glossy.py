@@ -62,6 +62,23 @@ def test_the_chain_holds_the_glossy_passes_only_when_asked(renderer):
     assert f.read("rays.hit").shape[0] == 1
 
 
+# What a technique overrides shows where the settings are read back: cone tracing and the blurred
+# mips trace one mirror ray per pixel (seed 002 4.4, seed 004), so a frame or a sweep row that said
+# 4 GGX rays would claim work that was not done.
+@pytest.mark.parametrize("technique", ["cone", "blur_mips"])
+def test_the_frame_and_the_sweep_row_say_what_the_technique_ran(renderer, technique, tmp_path):
+    asked = small(method="hiz", glossy=technique, rays_per_pixel=4, sampling="vndf")
+    f = renderer.render(ssrlab.scenes.load("box_stack"), settings=asked)
+    assert (f.settings.rays_per_pixel, f.settings.sampling) == (1, "mirror")
+    assert f.read("rays.hit").shape[0] == 1
+    # One rule, the native one: Python's copy is what RenderSettings::as_run runs.
+    native = asked._native_fields().as_run()
+    assert (native.rays_per_pixel, native.sampling) == (f.settings.rays_per_pixel, f.settings.sampling)
+    rows = ssrlab.bench.sweep({"rays_per_pixel": [1, 4]}, ["box_stack"], base=asked.replace(rays_per_pixel=1),
+                              repeats=1, warmup=0, reference="thesis", progress=False, cache_folder=tmp_path)
+    assert [(r["s_rays_per_pixel"], r["s_sampling"]) for r in rows] == [(1, "mirror"), (1, "mirror")]
+
+
 # Odd sizes on purpose: 75 x 45 -> 37 x 22 -> 18 x 11 -> 9 x 5 -> 4 x 2 -> 2 x 1 -> 1 x 1.
 @pytest.mark.parametrize("scene_name,layers", [("hall", 1), ("box_stack", 4)])
 def test_preconvolution_keeps_the_covered_mean_at_every_level(renderer, scene_name, layers):

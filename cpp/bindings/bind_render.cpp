@@ -159,6 +159,9 @@ void bind_render(py::module_& m) {
         .def("validate", &RenderSettings::validate,
              "Raises ValueError naming the first field out of its range, then the first rule between fields "
              "that fails (check_rules).")
+        .def("as_run", &RenderSettings::as_run,
+             "These settings as the chain runs them: what a technique overrides written in (glossy 'cone' and "
+             "'blur_mips' trace one mirror ray per pixel: rays_per_pixel 1, sampling 'mirror').")
         .def("check_rules", &RenderSettings::check_rules,
              "Raises ValueError naming the first rule between fields (settings_rules()) that fails, with the "
              "fields' values and why: the message ssrlab.Settings raises.");

@@ -73,8 +73,22 @@ struct RenderSettings {
         std::map<std::string, double> params;
     } user;
 
-    // Rays traced per pixel: the cone and blur_mips methods trace one mirror ray.
-    int traced_rays() const { return glossy == Glossy::Stochastic ? rays_per_pixel : 1; }
+    // The cone and blur_mips methods trace one mirror ray per pixel and blur its hit (seed 002 4.4,
+    // seed 004), whatever rays_per_pixel and sampling say.
+    bool one_mirror_ray() const { return glossy != Glossy::Stochastic; }
+    // Rays traced per pixel.
+    int traced_rays() const { return one_mirror_ray() ? 1 : rays_per_pixel; }
+    // These settings as the chain runs them: what a technique overrides written in (one_mirror_ray:
+    // rays_per_pixel 1, sampling "mirror"). The shaders see these (ssr_uniforms), and Frame.settings
+    // and a sweep's rows report them, so no figure claims work that was not done.
+    RenderSettings as_run() const {
+        RenderSettings s = *this;
+        if (one_mirror_ray()) {
+            s.rays_per_pixel = 1;
+            s.sampling = Sampling::Mirror;
+        }
+        return s;
+    }
 
     int trace_width() const { return (width + downscale - 1) / downscale; }
     int trace_height() const { return (height + downscale - 1) / downscale; }

@@ -8,11 +8,7 @@
 namespace ssr {
 
 SsrUniforms ssr_uniforms(const RenderSettings& settings) {
-    RenderSettings s = settings;
-    if (s.glossy != Glossy::Stochastic) {  // one mirror ray per pixel; the cone or the mip blurs it
-        s.rays_per_pixel = 1;
-        s.sampling = Sampling::Mirror;
-    }
+    const RenderSettings s = settings.as_run();
     SsrUniforms su{};
 #define SSR_UNIFORM_COPY_UNIFORM(kind, name) su.name = SSR_GPU_TYPE_##kind(s.name);
 #define SSR_UNIFORM_COPY_PASS(kind, name)

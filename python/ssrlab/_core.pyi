@@ -692,6 +692,10 @@ class RenderSettings:
         ...
     def __init__(self) -> None:
         ...
+    def as_run(self) -> RenderSettings:
+        """
+        These settings as the chain runs them: what a technique overrides written in (glossy 'cone' and 'blur_mips' trace one mirror ray per pixel: rays_per_pixel 1, sampling 'mirror').
+        """
     def check_rules(self) -> None:
         """
         Raises ValueError naming the first rule between fields (settings_rules()) that fails, with the fields' values and why: the message ssrlab.Settings raises.

@@ -117,11 +117,16 @@ class Settings:
         the constructions on a scene (Renderer.render does: docs/deep_gbuffer.md)."""
         decided = {name: _core.decide_auto(name, device) for name in _AUTO_FIELDS}  # refuses another device
         s = self.replace(**{name: v for name, v in decided.items() if getattr(self, name) == "auto"})
-        if s.glossy != "stochastic" and (s.rays_per_pixel != 1 or s.sampling != "mirror"):
-            # Cone tracing and the blurred mips trace one mirror ray per pixel and blur its hit
-            # (seed 002 4.4, seed 004): what ran says so, not the rays the fields asked for.
-            s = s.replace(rays_per_pixel=1, sampling="mirror")
-        return s
+        return s.as_run()
+
+    def as_run(self) -> "Settings":
+        """A copy with what a technique overrides written as the chain runs it (glossy 'cone' and
+        'blur_mips' trace one mirror ray per pixel: rays_per_pixel 1, sampling 'mirror'), decided
+        natively (RenderSettings::as_run); 'auto' values stay 'auto'. A sweep's rows report these."""
+        native = self._native_fields()
+        ran = native.as_run()
+        overridden = {n: getattr(ran, n) for n in _NATIVE_FIELDS if getattr(ran, n) != getattr(native, n)}
+        return self.replace(**overridden) if overridden else self
 
     def to_native(self, device: str = "cpu") -> "_core.RenderSettings":
         """The native renderer's settings; 'auto' values decided for `device` (see resolved())."""

@@ -327,8 +327,11 @@ def run_configuration(scene_spec, view, view_label: str, settings: dict, repeats
     row["mean_fetches"] = frame.rays.mean_fetches() if "rays.hit" in frame.texture_names else None
     for k in timing_keys:
         with_spread(row, _timing_column(k), [t[k] for t in frames_timings if k in t])
-    # Tuples (user_passes) as lists: a row reads back from rows.json as it was written.
-    row.update({SETTINGS_PREFIX + k: list(v) if isinstance(v, tuple) else v for k, v in s.to_dict().items()})
+    # The settings as they ran (a technique's overrides written in: cone tracing's one mirror ray),
+    # never a figure of work that was not done. Tuples (user_passes) as lists: a row reads back
+    # from rows.json as it was written.
+    ran = s.as_run().to_dict()
+    row.update({SETTINGS_PREFIX + k: list(v) if isinstance(v, tuple) else v for k, v in ran.items()})
     row.update({SETTINGS_PREFIX + k: v for k, v in s.user_params.items()})  # one column per user parameter
     info = renderer.info
     row.update(device=info.get("device", "unknown"), device_index=info.get("device_index") or None,
