@@ -80,6 +80,8 @@ class Frame:
         self._scene = scene
         self._cache: dict[str, np.ndarray] = {}
         self._trace_sum_cache: dict[str, int] | None = None
+        # Whether a tracer ran: every tracer declares the ray textures (kept past release()).
+        self.traced = "rays.hit" in native.texture_names
         # Results computed into textures a later call overwrites (ssrlab.reference._FrameResult).
         self._results: "weakref.WeakSet" = weakref.WeakSet()
 
@@ -176,11 +178,7 @@ class Frame:
                 counts["deep_gbuffer_method"] = "visibility_lists" if lists else "visibility"
             else:
                 counts["deep_gbuffer_method"] = "lists" if lists else "peel"
-        from .user_pass import declared
-
-        user_traces = {n for n, p in declared().items() if p.stage == "trace"}
-        traced = any(p.startswith("trace_") or p in user_traces for p in self.passes)
-        return FrameStats(counts, self if traced else None)
+        return FrameStats(counts, self if self.traced else None)
 
     def _trace_sums(self, counts: dict[str, int]) -> dict[str, int]:
         """rays_traced and depth_fetches of the frame's (first) trace, from rays.sample: rays of

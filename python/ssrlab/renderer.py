@@ -258,8 +258,7 @@ class Renderer:
         native = self._native.render(scene, camera, settings.to_native())
         self._drew(scene, settings)
         frame = Frame(native, settings, renderer=self, scene=scene)
-        if settings.method != "off" and not any(p.startswith("trace") or p in settings.user_passes
-                                                for p in native.passes):
+        if settings.method != "off" and not frame.traced:
             warnings.warn(f"render traced no reflection rays: no surface of scene {scene.name!r} reflects "
                           "(every material has reflectivity 0; glTF materials reflect by default with "
                           "reflectivity='auto')", NoReflectionWarning, stacklevel=2)
