@@ -1,5 +1,6 @@
 """Helpers shared by the benchmark scripts: options, device header and the protocol are
-ssrlab.lab.protocol's (re-exported here), the timing statistics ssrlab.lab.timing's."""
+ssrlab.lab.protocol's (re-exported here); the hybrid's frames and the A/B of two scenes measured
+through the protocol's rounds."""
 
 from __future__ import annotations
 
