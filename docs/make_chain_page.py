@@ -45,7 +45,8 @@ def page() -> str:
         settings = ssrlab.Settings(width=64, height=48, **kw)
         chain = ssrlab.chain.derive(settings, ssrlab.scenes.stand_in(), device="cpu")
         changed = ", ".join(f"{k}={v!r}" for k, v in kw.items())
-        lines += [f"## {title}", "", f"`Settings({changed})`", "", chain.markdown(), ""]
+        lines += [f"## {title}", "", f"`Settings({changed})`", "", chain.markdown(), "",
+                  "Its textures: who creates each, rewrites it in place and reads it.", "", chain.resources(), ""]
     return "\n".join(lines)
 
 

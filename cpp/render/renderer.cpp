@@ -647,6 +647,7 @@ std::vector<Renderer::ChainEntry> Renderer::describe_chain(const std::vector<Ren
                      p->buffer_outputs(s, f)};
         for (const auto& d : p->outputs(s, f)) {
             e.outputs.push_back(d.name);
+            e.formats.push_back(format_name(d.format));
             if (d.lifetime == Lifetime::Scratch) e.scratch.push_back(d.name);
         }
         // A rewritten texture is read and written.

@@ -24,6 +24,7 @@ class ChainPass:
     scratch: tuple[str, ...] = ()
     buffer_inputs: tuple[str, ...] = ()
     buffer_outputs: tuple[str, ...] = ()
+    formats: tuple[str, ...] = ()  # of the textures it creates, in `outputs` order (its rewrites come last)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -70,6 +71,25 @@ class Chain(list):
             if p.buffer_outputs:
                 lines.append(f"      writes buffers: {', '.join(p.buffer_outputs)}")
         return "\n".join(lines)
+
+    def resources(self) -> str:
+        """A Markdown table of every texture of the chain: its format, the pass that creates it, those
+        that rewrite it in place and those that read it, in chain order."""
+        created, rewritten, read = {}, {}, {}
+        for p in self:
+            fresh = p.outputs[:len(p.formats)]
+            for name, fmt in zip(fresh, p.formats):
+                created[name] = (fmt, p.name)
+            for name in p.outputs[len(p.formats):]:
+                rewritten.setdefault(name, []).append(p.name)
+            for name in p.inputs:
+                if name not in p.outputs:
+                    read.setdefault(name, []).append(p.name)
+        rows = ["| texture | format | created by | rewritten by | read by |", "|---|---|---|---|---|"]
+        for name, (fmt, by) in created.items():
+            rows.append(f"| `{name}` | {fmt} | `{by}` | {', '.join(f'`{x}`' for x in rewritten.get(name, [])) or '–'} | "
+                        f"{', '.join(f'`{x}`' for x in read.get(name, [])) or '–'} |")
+        return "\n".join(rows)
 
     def markdown(self) -> str:
         """A Markdown table: pass, reads, writes (buffers in italics)."""
