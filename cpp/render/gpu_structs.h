@@ -16,9 +16,9 @@ namespace ssr {
 
 constexpr int kPreviousModelsBinding = 31;  // SSBO: each object's model matrix in the previous frame
 
-// The GLSL layout rules (GLSL 4.50, 7.6.2.2) for the member types the table allows: each type's
-// base alignment and size under std430; std140 rounds an array element's alignment and stride
-// and a struct's alignment up to a vec4's.
+// The block layout rules (OpenGL 4.5 core profile, 7.6.2.2) for the member types the table
+// allows: each type's base alignment and size under std430; std140 rounds an array element's
+// alignment and stride and a struct's alignment up to a vec4's.
 enum class GpuLayout { Std140, Std430 };
 struct GpuType {
     size_t align, size;
