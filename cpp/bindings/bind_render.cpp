@@ -270,6 +270,34 @@ void bind_render(py::module_& m) {
     m.def("ssr_settings_glsl", &ssr_settings_glsl,
           "The GLSL the shaders include as lib/ssr_settings.glsl: the SsrSettings uniform block (the settings "
           "whose place is 'uniform', derived members first) and an int constant per enum value.");
+    m.def(
+        "gpu_struct_glsl",
+        [] {
+            py::dict out;
+            for (const GpuStructGlsl& g : gpu_struct_glsl()) out[py::str(g.file)] = g.text;
+            return out;
+        },
+        "The GLSL of every record shared with the host, declared once in cpp/render/gpu_structs.def, by the "
+        "generated file the shaders include it as ('generated/FrameUniforms.glsl', ...).");
+    m.def(
+        "gpu_struct_layouts",
+        [] {
+            py::list out;
+            for (const GpuStructLayout& s : gpu_struct_layouts()) {
+                py::list members;
+                for (const auto& mb : s.members)
+                    members.append(py::dict(py::arg("name") = mb.name, py::arg("type") = mb.type,
+                                            py::arg("count") = mb.count, py::arg("offset") = mb.offset));
+                out.append(py::dict(py::arg("cpp") = s.cpp, py::arg("block") = s.block,
+                                    py::arg("glsl_struct") = s.glsl_struct, py::arg("layout") = s.layout,
+                                    py::arg("binding") = s.binding, py::arg("size") = s.size,
+                                    py::arg("members") = members));
+            }
+            return out;
+        },
+        "The C++ layout of every record in cpp/render/gpu_structs.def: a dict per struct with cpp (its C++ "
+        "name), block, glsl_struct (the record's GLSL struct; '' for a uniform block), layout ('std140' or "
+        "'std430'), binding, size (sizeof) and members (name, type, count: 0 when not an array, offset).");
 
     py::class_<Sequence, std::shared_ptr<Sequence>>(m, "Sequence", "The history of a sequence of frames.")
         .def_readonly("frames", &Sequence::frames, "frames rendered in this sequence so far")
@@ -475,7 +503,22 @@ void bind_render(py::module_& m) {
                 return r.compile(stages, defines);
             },
             py::arg("stages"), py::arg("defines") = std::map<std::string, std::string>{},
-            "Compiles and links shader stages (paths under the shader folder); raises ShaderError.");
+            "Compiles and links shader stages (paths under the shader folder); raises ShaderError.")
+        .def(
+            "block_layout",
+            [](Renderer& r, unsigned program, const std::string& block) {
+                const BlockLayout b = r.block_layout(program, block);
+                py::dict members;
+                for (const auto& mb : b.members)
+                    members[py::str(mb.name)] = py::dict(py::arg("offset") = mb.offset,
+                                                         py::arg("top_level_stride") = mb.top_level_stride);
+                return py::dict(py::arg("storage") = b.storage, py::arg("data_size") = b.data_size,
+                                py::arg("members") = members);
+            },
+            py::arg("program"), py::arg("block"),
+            "A compiled program's uniform or storage block as the driver laid it out: storage (a storage "
+            "block), data_size and members, {driver's name: {offset, top_level_stride}}; ValueError when the "
+            "program has no active block of that name.");
 }
 
 }  // namespace ssr

@@ -7,6 +7,7 @@
 #include <map>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/errors.h"
 
@@ -127,6 +128,40 @@ ShaderLibrary::Preprocessed ShaderLibrary::preprocess(const std::string& stage, 
     for (const auto& [name, value] : defines) out.text += "#define " + name + " " + value + "\n";
     std::vector<std::string> stack;
     append_file(file, fs::path(stage), out, stack);
+    return out;
+}
+
+BlockLayout block_layout(GLuint program, const std::string& block) {
+    BlockLayout out;
+    GLenum interface = GL_UNIFORM_BLOCK, variables = GL_UNIFORM;
+    GLuint index = glGetProgramResourceIndex(program, interface, block.c_str());
+    if (index == GL_INVALID_INDEX) {
+        interface = GL_SHADER_STORAGE_BLOCK;
+        variables = GL_BUFFER_VARIABLE;
+        index = glGetProgramResourceIndex(program, interface, block.c_str());
+        out.storage = true;
+    }
+    if (index == GL_INVALID_INDEX) throw std::invalid_argument("the program has no active block '" + block + "'");
+    const GLenum block_props[] = {GL_BUFFER_DATA_SIZE, GL_NUM_ACTIVE_VARIABLES};
+    GLint values[2] = {0, 0};
+    glGetProgramResourceiv(program, interface, index, 2, block_props, 2, nullptr, values);
+    out.data_size = values[0];
+    std::vector<GLint> members(size_t(std::max(values[1], 0)));
+    const GLenum active = GL_ACTIVE_VARIABLES;
+    glGetProgramResourceiv(program, interface, index, 1, &active, GLsizei(members.size()), nullptr, members.data());
+    for (GLint m : members) {
+        char name[256] = {0};
+        glGetProgramResourceName(program, variables, GLuint(m), sizeof(name), nullptr, name);
+        BlockLayout::Member member;
+        member.name = name;
+        const GLenum offset_prop = GL_OFFSET;
+        glGetProgramResourceiv(program, variables, GLuint(m), 1, &offset_prop, 1, nullptr, &member.offset);
+        if (out.storage) {
+            const GLenum stride_prop = GL_TOP_LEVEL_ARRAY_STRIDE;
+            glGetProgramResourceiv(program, variables, GLuint(m), 1, &stride_prop, 1, nullptr, &member.top_level_stride);
+        }
+        out.members.push_back(std::move(member));
+    }
     return out;
 }
 

@@ -57,6 +57,22 @@ private:
     std::map<std::string, std::string> generated_;
 };
 
+// What a linked program's driver made of a uniform or storage block (ARB_program_interface_query):
+// its data size and each active member's byte offset, as the driver names them ("Block.member"
+// for a uniform block's, "array[0].member" for a storage buffer's records, whose stride is
+// top_level_stride). Lets a test hold a generated declaration against the C++ struct it mirrors.
+struct BlockLayout {
+    bool storage = false;  // a shader storage block (else a uniform block)
+    int data_size = 0;
+    struct Member {
+        std::string name;
+        int offset = 0, top_level_stride = 0;
+    };
+    std::vector<Member> members;
+};
+// Throws std::invalid_argument when the program has no active block of that name.
+BlockLayout block_layout(GLuint program, const std::string& block);
+
 // Turns a driver's info log into "file:line: message" lines (Mesa and NVIDIA formats).
 // Returns the translated log; *first_file / *first_line receive the first error's place.
 std::string translate_shader_log(const std::string& log, const std::vector<std::string>& files,

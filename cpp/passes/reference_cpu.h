@@ -22,7 +22,7 @@
 
 #include <glm/glm.hpp>
 
-#include "render/frame_uniforms.h"
+#include "render/gpu_structs.h"
 #include "render/gpu_scene.h"
 #include "render/ssr_uniforms.h"
 #include "scene/bvh.h"

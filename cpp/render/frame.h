@@ -14,7 +14,7 @@
 
 #include "core/egl_context.h"
 #include "render/camera.h"
-#include "render/frame_uniforms.h"
+#include "render/gpu_structs.h"
 #include "render/ssr_uniforms.h"
 #include "render/render_pass.h"
 #include "render/settings.h"

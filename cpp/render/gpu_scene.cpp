@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "render/frame_uniforms.h"
+#include "render/gpu_structs.h"
 #include "scene/bvh.h"
 #include "scene/image_io.h"
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/gl_resources.h"
+#include "render/gpu_structs.h"
 #include "scene/embree_scene.h"
 #include "scene/scene.h"
 
@@ -30,35 +31,6 @@ struct GpuVertex {
 // Floats per vertex in the vertex storage buffer (lib/scene_geometry.glsl, passes/reference_cpu.cpp).
 constexpr size_t kVertexFloats = 18;
 static_assert(sizeof(GpuVertex) == kVertexFloats * sizeof(float), "GpuVertex must be tightly packed floats");
-
-// std430 elements (see shaders/lib/scene_data.glsl)
-struct GpuObject {
-    glm::mat4 model;          // object -> world
-    glm::mat4 normal_matrix;  // inverse-transpose of model (upper 3x3 used)
-    // x: material index, y: first index of its mesh, z: base vertex, w: its first triangle in the
-    // scene's triangles in draw order (first_triangle())
-    glm::ivec4 material;
-};
-
-struct GpuMaterial {
-    glm::vec4 base_color;
-    glm::vec4 params;    // (metallic, roughness, reflectivity, normal_scale)
-    glm::vec4 emissive;  // rgb; w: alpha cutoff (Material::visibility_cutoff, -1 opaque)
-    glm::ivec4 flags;    // (has base colour tex, has metal-rough tex, has normal tex, double sided)
-    // image index of each texture (base, metal-rough, normal, emissive; -1: none), for
-    // shaders/lib/scene_textures.glsl; w >= 0 also says the material has an emissive texture
-    glm::ivec4 images;
-    glm::ivec4 wraps;    // wrap_s | wrap_t << 16 of each texture
-    glm::vec4 dielectric_f0;  // rgb: Material::dielectric_f0 (KHR_materials_ior / _specular)
-    // per texture (base, metal-rough, normal, emissive, specular, specular colour):
-    // TextureRef::transform_u, _v; w of row 2k: the texture's coordinate set (TextureRef::texcoord, 0 or 1)
-    glm::vec4 uv_transform[12];
-    // KHR_materials_specular's textures: image index (x specular, y specular colour; -1: none)
-    // and wraps; the F0 before them: rgb ((ior-1)/(ior+1))^2 x specular_color, a specular.
-    glm::ivec4 specular_images;
-    glm::ivec4 specular_wraps;
-    glm::vec4 specular_f0;
-};
 
 struct DrawItem {
     int object;

@@ -19,7 +19,7 @@
 #include "core/shader_library.h"
 #include "render/camera.h"
 #include "render/depth_convention.h"
-#include "render/frame_uniforms.h"
+#include "render/gpu_structs.h"
 #include "render/gpu_scene.h"
 #include "render/settings.h"
 

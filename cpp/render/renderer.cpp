@@ -334,6 +334,9 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir, con
     }
     // The reflection settings' block, declared once in settings_fields.def (lib/ssr_settings.glsl).
     shaders_->add_generated(kSsrSettingsGlslName, ssr_settings_glsl());
+    // The records shared with the host, declared once in gpu_structs.def (lib/frame_uniforms.glsl,
+    // lib/lights.glsl, lib/scene_data.glsl).
+    for (const GpuStructGlsl& g : gpu_struct_glsl()) shaders_->add_generated(g.file, g.text);
     CurrentContext current(*ctx_);
     frame_ubo_ = Buffer::create(sizeof(FrameUniforms));
     glCreateSamplers(1, &readback_sampler_);
@@ -667,6 +670,13 @@ unsigned Renderer::compile(const std::vector<std::string>& stages, const Defines
     const unsigned prog = shaders_->program(stages, defines);
     check_gl(*ctx_, "shader compile");
     return prog;
+}
+
+BlockLayout Renderer::block_layout(unsigned program, const std::string& block) {
+    CurrentContext current(*ctx_);
+    BlockLayout layout = ssr::block_layout(program, block);
+    check_gl(*ctx_, "block layout query");
+    return layout;
 }
 
 }  // namespace ssr

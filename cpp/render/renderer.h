@@ -113,6 +113,8 @@ public:
     ShaderLibrary& shaders() { return *shaders_; }
     // Compiles a program in this renderer's context (tests and tooling); raises ShaderError.
     unsigned compile(const std::vector<std::string>& stages, const Defines& defines);
+    // A compiled program's block as the driver laid it out (block_layout, core/shader_library.h).
+    BlockLayout block_layout(unsigned program, const std::string& block);
 
     // Reflection directions drawn by the trace passes' GLSL (shaders/tools/brdf_samples.comp):
     // `count` rows of (l.x, l.y, l.z, weight, pdf, u1, u2, 0) for a local view direction.

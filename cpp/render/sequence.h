@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/egl_context.h"
-#include "render/frame_uniforms.h"
+#include "render/gpu_structs.h"
 #include "render/render_pass.h"
 #include "render/settings.h"
 

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'builtin_chain', 'check_setting_choice', 'check_setting_value', 'choose_deep_gbuffer', 'decide_auto', 'deep_gbuffer_candidates', 'devices', 'embree_intersect', 'image_io_backend', 'read_image', 'settings_rules', 'settings_schema', 'ssr_settings_glsl', 'write_image']
+__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'builtin_chain', 'check_setting_choice', 'check_setting_value', 'choose_deep_gbuffer', 'decide_auto', 'deep_gbuffer_candidates', 'devices', 'embree_intersect', 'gpu_struct_glsl', 'gpu_struct_layouts', 'image_io_backend', 'read_image', 'settings_rules', 'settings_schema', 'ssr_settings_glsl', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -825,6 +825,10 @@ class Renderer:
         """
         A new sequence: frames rendered with it read the previous frame's textures (temporal passes); its history is dropped with it.
         """
+    def block_layout(self, program: typing.SupportsInt | typing.SupportsIndex, block: str) -> dict:
+        """
+        A compiled program's uniform or storage block as the driver laid it out: storage (a storage block), data_size and members, {driver's name: {offset, top_level_stride}}; ValueError when the program has no active block of that name.
+        """
     def chain(self, scene: Scene, settings: RenderSettings) -> list:
         """
         The passes a render of `scene` runs with `settings`, in order: (pass, inputs, outputs, history inputs, scratch outputs, buffer inputs, buffer outputs).
@@ -957,6 +961,14 @@ def devices(probe: bool = True) -> list:
 def embree_intersect(scene: Scene, origins: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], t_min: typing.SupportsFloat | typing.SupportsIndex = 0.0, t_max: typing.SupportsFloat | typing.SupportsIndex = 1.0000000150474662e+30) -> dict:
     """
     Closest hits of world-space rays with Intel Embree (robust mode), on the CPU: t (inf for a miss), object (-1 for a miss), primitive and Embree's barycentric uv. A production kernel to check the GPU reference tracer against.
+    """
+def gpu_struct_glsl() -> dict:
+    """
+    The GLSL of every record shared with the host, declared once in cpp/render/gpu_structs.def, by the generated file the shaders include it as ('generated/FrameUniforms.glsl', ...).
+    """
+def gpu_struct_layouts() -> list:
+    """
+    The C++ layout of every record in cpp/render/gpu_structs.def: a dict per struct with cpp (its C++ name), block, glsl_struct (the record's GLSL struct; '' for a uniform block), layout ('std140' or 'std430'), binding, size (sizeof) and members (name, type, count: 0 when not an array, offset).
     """
 def image_io_backend() -> str:
     """

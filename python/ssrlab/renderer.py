@@ -547,6 +547,11 @@ class Renderer:
         """Compiles shader stages (paths under the shader folder); raises ShaderError."""
         return self._native.compile(list(stages), {k: str(v) for k, v in (defines or {}).items()})
 
+    def block_layout(self, program: int, block: str) -> dict:
+        """A compiled program's uniform or storage block as the driver laid it out: storage (True for a
+        storage block), data_size and members, {driver's member name: {offset, top_level_stride}}."""
+        return self._native.block_layout(program, block)
+
     def __repr__(self) -> str:
         i = self.info
         return f"Renderer(device={i['device']!r}, renderer={i['renderer']!r}, gl={i['gl_version']!r})"

@@ -1,16 +1,7 @@
-// Punctual lights in view space (storage buffer 3). Mirrors GpuLight in
-// cpp/render/frame_uniforms.h.
-
-struct LightData {
-    vec4 position_type;     // xyz position (point, spot); w = 0 directional, 1 point, 2 spot
-    vec4 direction_shadow;  // xyz direction light travels (directional); w = 1 casts a shadow
-    vec4 radiance;          // rgb colour * intensity
-    vec4 cone;              // x, y: spot angle scale, offset (0, 1: no cone); z: 1 / range^2 (0: none)
-    vec4 shadow;            // x layer of the 2D maps or -1; y cube or -1; z texel size (layer) or near, w far (cube)
-    mat4 view_to_shadow;    // layer: view -> its texture space; cube: view -> world axes about the light
-};
-
-layout(std430, binding = 3) readonly buffer Lights { LightData lights[]; };
+// Punctual lights in view space: the LightData records of storage buffer 3, read as lights[i].
+// Generated when the Renderer starts from cpp/render/gpu_structs.def, with the C++ struct the
+// host uploads (GpuLight); ssrlab._core.gpu_struct_glsl() prints it.
+#include "generated/Lights.glsl"
 
 // The renderer compiles the scene's light count into every pass (LIGHT_COUNT, for up to 8
 // lights), and every pass that shades calls lights_load() first in main, before any control flow,

@@ -1,30 +1,9 @@
-// Per-object and per-material data (storage buffers 1 and 2). Mirrors GpuObject and
-// GpuMaterial in cpp/render/gpu_scene.h.
-
-struct ObjectData {
-    mat4 model;          // object -> world
-    mat4 normal_matrix;  // inverse-transpose of model
-    ivec4 material;      // x: material index, y: first index of its mesh, z: base vertex
-};
-
-struct MaterialData {
-    vec4 base_color;  // linear RGB, alpha
-    vec4 params;      // (metallic, roughness, reflectivity, normal scale)
-    vec4 emissive;    // rgb; w: alpha below which a texel is a hole (glTF MASK/BLEND), -1 opaque
-    ivec4 flags;      // (base colour texture, metallic-roughness texture, normal texture, double sided)
-    ivec4 images;     // image index of each texture, -1 for none (for scene_textures.glsl); w: emissive
-    ivec4 wraps;      // wrap_s | wrap_t << 16 of each texture
-    vec4 dielectric_f0;  // rgb: a dielectric's F0 from KHR_materials_ior / _specular (0.04 by default)
-    vec4 uv_transform[12];  // KHR_texture_transform of texture k (0 base colour, 1 metal-rough, 2 normal, 3 emissive,
-                            // 4 specular, 5 specular colour): rows 2k, 2k+1; row 2k's w: the texture's
-                            // coordinate set (glTF texCoord, 0 or 1)
-    ivec4 specular_images;  // KHR_materials_specular: x specularTexture, y specularColorTexture image (-1: none)
-    ivec4 specular_wraps;   // their wrap_s | wrap_t << 16
-    vec4 specular_f0;       // rgb ((ior - 1) / (ior + 1))^2 x specularColorFactor, a specularFactor
-};
-
-layout(std430, binding = 1) readonly buffer Objects { ObjectData objects[]; };
-layout(std430, binding = 2) readonly buffer Materials { MaterialData materials[]; };
+// Per-object and per-material data: the ObjectData and MaterialData records of storage buffers
+// 1 and 2, read as objects[i] and materials[m]. Generated when the Renderer starts from
+// cpp/render/gpu_structs.def, with the C++ structs GpuScene uploads (GpuObject, GpuMaterial);
+// ssrlab._core.gpu_struct_glsl() prints them.
+#include "generated/Objects.glsl"
+#include "generated/Materials.glsl"
 
 // Where texture k (0 base colour, 1 metallic-roughness, 2 normal, 3 emissive, 4 specular, 5 specular
 // colour) of material m is sampled for
