@@ -44,7 +44,7 @@ def main(argv=None) -> int:
         print(f"imageLoad cannot run on this device, nothing to compare: {e}")
         return 0
     print(f"{args.width}x{args.height}; GPU ms of {args.repeats} rounds after {bench.warmup} warm-up rounds, the "
-          f"sides alternating")
+          f"sides alternating; pass: the pass's GPU ms")
     for scene_name in args.scenes:
         scene = ssrlab.scenes.load(scene_name)
         for case, kw in CASES.items():
@@ -53,7 +53,9 @@ def main(argv=None) -> int:
             for f in FETCHES:
                 bench.record_all(dict(scene=scene_name, case=case, fetch=f, width=args.width, height=args.height),
                                  runs[f], "ms", PASSES)
-    bench.print_ab("fetch", *FETCHES, rows=("scene", "case"))
+    # Fewer than 5 frames a side give no spread worth a verdict, whatever the samples say.
+    few = {v: "too few frames to judge (--repeats < 5)" for v in ("faster", "slower", "same", "undecided")}
+    bench.print_ab("fetch", *FETCHES, rows=("scene", "case"), units=False, words=few if args.repeats < 5 else None)
     return 0
 
 

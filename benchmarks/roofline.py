@@ -74,7 +74,8 @@ PEAKS = {
 
 def measure_peaks(bench, renderer, width, height, frame_width, frame_height, repeats):
     """Records the ms (the kernel's own `repeats` timed dispatches) and the operations and bytes per
-    second of each micro-kernel, the copy passes at the frame's size; returns {name: median rate}."""
+    second of each micro-kernel, the copy passes at the frame's size; returns {name: {ms, rate}},
+    the medians (rate in operations a second)."""
     out = {}
     px = frame_width * frame_height
     kernels = {name: (kernel, its, rd + wr, width, height) for name, (kernel, its, rd, wr) in PEAKS.items()}
@@ -86,7 +87,7 @@ def measure_peaks(bench, renderer, width, height, frame_width, frame_height, rep
         bench.record(params, "ms", "ms", ms)
         rate = bench.record(params, "rate", "Gop/s", [ops / (m * 1e-3) / 1e9 for m in ms], better="higher")
         bench.record(params, "bytes_rate", "GB/s", [ops * nbytes / (m * 1e-3) / 1e9 for m in ms], better="higher")
-        out[name] = float(np.median(rate["samples"])) * 1e9
+        out[name] = dict(ms=float(np.median(ms)), rate=float(np.median(rate["samples"])) * 1e9)
     return out
 
 
@@ -253,7 +254,7 @@ def main(argv=None) -> int:
     print()
     bench.print_table(rows=("peak", "grid"), order=["ms", "rate", "bytes_rate"], digits=3)
 
-    result = {"device": renderer.info["renderer"], "configs": {}, "ratios": {}, "ratio_repeats": {}}
+    result = {"device": renderer.info["renderer"], "peaks": peaks, "configs": {}, "ratios": {}, "ratio_repeats": {}}
     configs = {"thesis": THESIS, "hiz_mirror": HIZ_MIRROR}
     each = {}
     for scene_name in args.scenes:
@@ -268,6 +269,7 @@ def main(argv=None) -> int:
             for name in passes:
                 p = {**base, "pass": name}
                 recs.append(bench.record(p, "ms", "ms", runs[name]))
+                rows[name] = dict(ms=float(np.median(runs[name])))
                 w = work_of(name, s, stats, tuple(passes))
                 if w is None or name == "total" or np.median(runs[name]) <= 0:
                     continue
@@ -276,12 +278,14 @@ def main(argv=None) -> int:
                          bench.record(p, "bytes_written", "B", [wr])]
                 rate = [f / (m * 1e-3) for m in runs[name]]
                 recs.append(bench.record(p, "rate", "Gfetch/s", [v / 1e9 for v in rate], better="higher"))
-                recs.append(bench.record(p, "share_of_peak", "share", [v / peaks[bound] for v in rate],
-                                         better="higher", bound=bound))
+                share = bench.record(p, "share_of_peak", "share", [v / peaks[bound]["rate"] for v in rate],
+                                     better="higher", bound=bound)
+                recs.append(share)
                 if bound == "dependent":
                     recs.append(bench.record(p, "share_of_dependent_image", "share",
-                                             [v / peaks["dependent_image"] for v in rate], better="higher"))
-                rows[name] = dict(fetches=f)
+                                             [v / peaks["dependent_image"]["rate"] for v in rate], better="higher"))
+                rows[name].update(fetches=f, rate=float(np.median(rate)), share=float(np.median(share["samples"])),
+                                  bound=bound)
             cpu = {k: bench.record({**base, "side": "cpu"}, k.split(":")[1], "ms", runs[k])
                    for k in ("cpu:wall", "cpu:readback")}
             overhead = [a - b for a, b in zip(runs["cpu:wall"], runs["total"])]
@@ -308,7 +312,7 @@ def main(argv=None) -> int:
             # The same against a copy that reads by imageLoad, as the composite does on the CPU
             # device (input_fetch): no target (the issue's copy pass reads by texelFetch).
             ratios[f"{key}: composite / copy by imageLoad"] = paired(e["composite"], e["peak:copy_image"])
-        if "trace_hiz" in p:
+        if "fetches" in p.get("trace_hiz", {}):
             # (fetches / trace time) / (the dependent kernel's fetches / its time), round by round
             ratios[f"{key}: trace_hiz share of dependent-fetch rate"] = [
                 p["trace_hiz"]["fetches"] / (px * 64) * dep / t for t, dep in zip(e["trace_hiz"], e["peak:dependent"])]

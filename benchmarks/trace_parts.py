@@ -28,6 +28,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ab_pass import HIZ_MIRROR  # noqa: E402
+from ssrlab.lab import records  # noqa: E402
 from ssrlab.lab.protocol import Bench  # noqa: E402
 from common import benchmark_arguments, open_renderer  # noqa: E402
 
@@ -122,7 +123,15 @@ def main(argv=None) -> int:
             for label in PARTS:
                 bench.record(dict(scene=scene_name, part=label, width=args.width, height=args.height,
                                   settings=bench.settings), "trace_hiz", "ms", ms[label]["trace_hiz"])
-    bench.print_table(rows=("scene",), columns="part", order=list(PARTS))
+    rows = []
+    for scene_name in args.scenes:
+        cells = []
+        for label in PARTS:
+            s = records.summary(bench.find("trace_hiz", scene=scene_name, part=label)[0]["samples"])
+            cells.append(f"{s['median']:.2f} ({s['min']:.2f}-{s['max']:.2f})")
+        rows.append([scene_name, *cells])
+    print("trace_hiz GPU ms, median (min-max) of the rounds")
+    print(records.markdown(["scene", *PARTS], rows))
     return 0
 
 

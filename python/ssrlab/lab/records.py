@@ -296,7 +296,8 @@ def spread_note(records, spread: str = "iqr") -> str:
 
 
 
-def ab_table(records, side: str, a, b, rows=(), *, digits: int = 2, spread: str = "iqr") -> str:
+def ab_table(records, side: str, a, b, rows=(), *, digits: int = 2, spread: str = "iqr", units: bool = True,
+             words: dict | None = None) -> str:
     """A Markdown table of an A/B measurement rendered from records: every figure measured on
     both sides (two records of one metric whose params differ only by `side`, one `a`, one `b`),
     as the `rows` params, the metric, each side's cell, B/A and the verdict of B against A
@@ -321,9 +322,10 @@ def ab_table(records, side: str, a, b, rows=(), *, digits: int = 2, spread: str 
             over = cell(sb / sa, 3, spread)
         else:
             over = _num(ratio, 3)
-        unit = f" ({ra['unit']})" if ra.get("unit") else ""
+        unit = f" ({ra['unit']})" if ra.get("unit") and units else ""
+        said = (words or {}).get(verdict, f"{b} {verdict}")
         body.append([("-" if ra["params"].get(k) is None else str(ra["params"].get(k))) for k in rows]
-                    + [metric + unit, cell(sa, digits, spread), cell(sb, digits, spread), over, f"{b} {verdict}"])
+                    + [metric + unit, cell(sa, digits, spread), cell(sb, digits, spread), over, said])
     return markdown([*rows, "metric", str(a), str(b), f"{b} / {a}", "verdict"], body)
 
 # -- comparing ------------------------------------------------------------------------------------------
