@@ -15,12 +15,8 @@ class BlurMipsPass : public RenderPass {
 public:
     std::string name() const override { return "blur_mips"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::BlurMips; }  // replaces the resolve
-    // Bound to texture units 0, 1, ... in this order (the order its shader declares them).
-    static std::vector<std::string> in_order() {
-        return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.albedo",
-                "gbuffer.normal", "gbuffer.material", "lit_preconvolved"};
-    }
-    // With specular occlusion, also the unresolved rays' estimate (rays.radiance).
+    // The textures its shader samples, bound by name (NamedUnits, passes/compute.h); with specular
+    // occlusion also the unresolved rays' estimate (rays.radiance).
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"reflection", GL_RGBA16F, s.width, s.height, 0, 1}};

@@ -1,6 +1,8 @@
 // Small helpers shared by the compute passes.
 #pragma once
 
+#include <cctype>
+
 #include <algorithm>
 
 #include "core/gl_resources.h"
@@ -135,6 +137,33 @@ inline void clear_uints(FrameContext& ctx, const Buffer& buffer, size_t first, s
 inline void bind_inputs_in_order(const FrameResources& r, const std::vector<std::string>& names) {
     for (GLuint unit = 0; unit < GLuint(names.size()); ++unit) glBindTextureUnit(unit, r.get(names[unit]).id());
 }
+
+// Textures and images bound by name, their units written once. A pass lists the textures its
+// shader samples and the images it stores to; bind_by_name binds texture i to texture unit i and
+// image i to image unit i, and add_unit_defines gives the shader the same units as defines,
+// TEXTURE_<NAME> and IMAGE_<NAME> (the name upper-cased, '.' as '_': gbuffer.normal is
+// TEXTURE_GBUFFER_NORMAL), which it declares its samplers and images at:
+//     layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+// No unit is written in the shader, and a name the shader asks for that the pass does not bind
+// fails to compile, naming it.
+struct NamedUnits {
+    std::vector<std::string> textures;
+    std::vector<std::pair<std::string, GLenum>> images;  // name, access (GL_WRITE_ONLY, ...)
+
+    static std::string define(const char* prefix, const std::string& name) {
+        std::string d = prefix;
+        for (char c : name) d += c == '.' ? '_' : char(std::toupper(static_cast<unsigned char>(c)));
+        return d;
+    }
+    void add_unit_defines(Defines& d) const {
+        for (size_t i = 0; i < textures.size(); ++i) d[define("TEXTURE_", textures[i])] = std::to_string(i);
+        for (size_t i = 0; i < images.size(); ++i) d[define("IMAGE_", images[i].first)] = std::to_string(i);
+    }
+    void bind_by_name(FrameResources& r) const {
+        for (size_t i = 0; i < textures.size(); ++i) glBindTextureUnit(GLuint(i), r.get(textures[i]).id());
+        for (size_t i = 0; i < images.size(); ++i) bind_image_layered(GLuint(i), r.get(images[i].first), images[i].second);
+    }
+};
 
 // What every pass that generates or traces reflection rays binds: the layer-0 G-buffer a ray
 // is generated from (texture units 0-3, lib/ray_generation.glsl) and the per-ray outputs

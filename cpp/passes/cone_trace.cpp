@@ -8,7 +8,8 @@
 namespace ssr {
 
 std::vector<std::string> ConeTracePass::inputs(const RenderSettings& s, const FrameFacts&) const {
-    std::vector<std::string> in = in_order();
+    std::vector<std::string> in{"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.albedo",
+                "gbuffer.normal", "gbuffer.material", "lit_preconvolved", "visibility", "hiz"};
     if (SpecularOcclusionPass::enabled(s)) in.push_back("rays.radiance");
     return in;
 }
@@ -19,10 +20,10 @@ void ConeTracePass::execute(FrameContext& ctx) {
     const bool occlusion = SpecularOcclusionPass::enabled(ctx.settings);
     Defines d = ctx.defines;
     d["SPECULAR_OCCLUSION"] = occlusion ? "1" : "0";
+    const NamedUnits units{inputs(ctx.settings, ctx.facts), {{"reflection", GL_WRITE_ONLY}}};
+    units.add_unit_defines(d);
     glUseProgram(ctx.shaders.program({"passes/cone_trace.comp"}, d));
-    bind_inputs_in_order(r, in_order());
-    if (occlusion) glBindTextureUnit(12, r.get("rays.radiance").id());
-    bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
+    units.bind_by_name(r);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
 

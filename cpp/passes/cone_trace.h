@@ -16,12 +16,8 @@ class ConeTracePass : public RenderPass {
 public:
     std::string name() const override { return "cone_trace"; }
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections && s.glossy == Glossy::Cone; }  // replaces the resolve (seed 002, 4.4.5)
-    // Bound to texture units 0, 1, ... in this order (the order its shader declares them).
-    static std::vector<std::string> in_order() {
-        return {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.albedo",
-                "gbuffer.normal", "gbuffer.material", "lit_preconvolved", "visibility", "hiz"};
-    }
-    // With specular occlusion, also the unresolved rays' estimate (rays.radiance).
+    // The textures its shader samples, bound by name (NamedUnits, passes/compute.h); with specular
+    // occlusion also the unresolved rays' estimate (rays.radiance).
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
         return {{"reflection", GL_RGBA16F, s.width, s.height, 0, 1}};

@@ -8,14 +8,15 @@ namespace ssr {
 
 void SvgfVariancePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
-    const GLuint prog = ctx.shaders.program({"passes/svgf_variance.comp"}, ctx.defines);
+    const NamedUnits units{inputs(ctx.settings, ctx.facts), {{"svgf.variance", GL_WRITE_ONLY}, {"svgf.guide", GL_WRITE_ONLY}}};
+    Defines d = ctx.defines;
+    units.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program({"passes/svgf_variance.comp"}, d);
     glUseProgram(prog);
     glUniform1f(glGetUniformLocation(prog, "u_sigma_depth"), ctx.settings.svgf_sigma_depth);
     glUniform1f(glGetUniformLocation(prog, "u_sigma_normal"), ctx.settings.svgf_sigma_normal);
     glUniform1i(glGetUniformLocation(prog, "u_mirror_sampling"), ctx.settings.sampling == Sampling::Mirror ? 1 : 0);
-    bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
-    bind_image_layered(0, r.get("svgf.variance"), GL_WRITE_ONLY);
-    bind_image_layered(1, r.get("svgf.guide"), GL_WRITE_ONLY);
+    units.bind_by_name(r);
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
 

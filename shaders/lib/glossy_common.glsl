@@ -48,7 +48,7 @@ vec3 glossy_environment_lobe(vec3 n, vec3 v, float roughness, vec3 mirror_dir) {
 // specular_occlusion pass's estimate (rays.radiance at texture unit 12, a = -1; the environment
 // weighted by the share of the lobe the scene leaves open), else the lobe's environment.
 #if defined(SPECULAR_OCCLUSION) && SPECULAR_OCCLUSION
-layout(binding = 12) uniform sampler2DArray u_ray_radiance;
+layout(binding = TEXTURE_RAYS_RADIANCE) uniform sampler2DArray u_ray_radiance;
 #endif
 
 vec3 glossy_unresolved(ivec2 q, vec3 n, vec3 v, float roughness, vec3 mirror_dir) {

@@ -17,14 +17,14 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2D u_accumulated;
-layout(binding = 1) uniform sampler2D u_moments;
-layout(binding = 2) uniform sampler2DArray u_linear_depth;
-layout(binding = 3) uniform sampler2DArray u_normal;
-layout(binding = 4) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_SVGF_ACCUMULATED) uniform sampler2D u_accumulated;
+layout(binding = TEXTURE_SVGF_MOMENTS) uniform sampler2D u_moments;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_variance;
-layout(binding = 1, rgba32f) writeonly uniform image2D o_guide;
+layout(binding = IMAGE_SVGF_VARIANCE, rgba32f) writeonly uniform image2D o_variance;
+layout(binding = IMAGE_SVGF_GUIDE, rgba32f) writeonly uniform image2D o_guide;
 
 uniform float u_sigma_depth;
 uniform float u_sigma_normal;
