@@ -14,12 +14,13 @@ void VarianceRaysPass::execute(FrameContext& ctx) {
     reset_list(w, h, s.traced_rays());
     Defines d = ctx.defines;
     d["ADAPTIVE_RAYS"] = "1";
+    const NamedUnits units{inputs(ctx.settings, ctx.facts), {{"variance", GL_WRITE_ONLY}}};
+    units.add_unit_defines(d);
     const GLuint prog = ctx.shaders.program({"passes/variance_rays.comp"}, d);
     glUseProgram(prog);
     glUniform1f(glGetUniformLocation(prog, "u_threshold"), s.variance_threshold);
     auto& r = ctx.resources;
-    bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
-    bind_image_layered(0, r.get("variance"), GL_WRITE_ONLY);
+    units.bind_by_name(r);
     bind_list();
     dispatch_2d(w, h, 1, 8, 8);
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT);  // the second trace's indirect arguments

@@ -19,15 +19,15 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_hit;
-layout(binding = 1) uniform sampler2DArray u_sample;
-layout(binding = 2) uniform sampler2DArray u_direction;
-layout(binding = 3) uniform sampler2DArray u_lit;
-layout(binding = 4) uniform sampler2DArray u_linear_depth;
-layout(binding = 5) uniform sampler2DArray u_albedo;
-layout(binding = 6) uniform sampler2DArray u_normal;
-layout(binding = 7) uniform sampler2DArray u_material;
-layout(binding = 0, r32f) writeonly uniform image2D o_variance;
+layout(binding = TEXTURE_RAYS_HIT) uniform sampler2DArray u_hit;
+layout(binding = TEXTURE_RAYS_SAMPLE) uniform sampler2DArray u_sample;
+layout(binding = TEXTURE_RAYS_DIRECTION) uniform sampler2DArray u_direction;
+layout(binding = TEXTURE_LIT) uniform sampler2DArray u_lit;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
+layout(binding = IMAGE_VARIANCE, r32f) writeonly uniform image2D o_variance;
 
 uniform float u_threshold;  // Settings.variance_threshold
 
