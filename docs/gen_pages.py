@@ -58,9 +58,18 @@ def results() -> None:
                                   + (", a --quick run (reduced sizes: a smoke run, not figures to quote)"
                                      if b.get("quick") else ""))
                 lines += ["", "```text", str(b.get("output", "")).rstrip(), "```", ""]
+            lines += records_section(run.parent)
             with mkdocs_gen_files.open(f"results/{slug}.md", "w") as out:
                 out.write("\n".join(lines))
             pages.append((device.get("renderer", slug), slug, data.get("started", "?")[:10]))
+            board = run.parent / "standard" / "leaderboard.md"
+            if board.is_file():
+                with mkdocs_gen_files.open(f"results/{slug}-standard.md", "w") as out:
+                    out.write(f"# The standard evaluation on {device.get('renderer', slug)}\n\n"
+                              f"From `{board.relative_to(ROOT)}`, written by `ssrlab bench --suite standard` with "
+                              f"its records beside it (`standard.jsonl`).\n\n" + board.read_text())
+                pages.append((f"{device.get('renderer', slug)}: the standard evaluation", f"{slug}-standard",
+                              data.get("started", "?")[:10]))
     with mkdocs_gen_files.open("results/index.md", "w") as out:
         out.write("# Results\n\nEvery page here is made from the files `python benchmarks/run_all.py` wrote on one "
                   "device (device, date, commit and command at its head). Run it to add a device; nothing on these "
@@ -69,6 +78,28 @@ def results() -> None:
             out.write(f"- [{name}]({slug}.md), {date}\n")
         if not pages:
             out.write("No benchmark run has been committed yet.\n")
+
+
+def records_section(folder: Path) -> list[str]:
+    """Where each benchmark's records on this device came from: their machine, commits, dates and
+    command, read from the records themselves (ssrlab.lab.records)."""
+    rows = []
+    for path in sorted(folder.glob("*.jsonl")):
+        recs = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+        if not recs:
+            continue
+        devices = sorted({f"{r.get('device', '?')}; {r.get('driver', '?')}" for r in recs})
+        commits = sorted({str(r.get("commit", "?")) for r in recs})
+        dates = sorted(str(r.get("date", "?"))[:10] for r in recs)
+        quick = " (quick)" if any(r.get("quick") for r in recs) else ""
+        rows.append(f"| `{path.name}` | {len(recs)}{quick} | {' / '.join(devices)} | {', '.join(commits)} | "
+                    f"{dates[0]} to {dates[-1]} | `{recs[-1].get('command', '?')}` |")
+    if not rows:
+        return []
+    return ["## Records", "", "Each file of records (`benchmarks/results/<device>/*.jsonl`, one JSON line per figure "
+            "with its samples), the machine and driver its records name, their commits and dates, and the command of "
+            "the last.", "", "| records | figures | machine | commits | dates | command |", "|---|---|---|---|---|---|",
+            *rows, ""]
 
 
 def settings_fields() -> None:
