@@ -47,13 +47,15 @@ Configurations and floors are interleaved round by round, so that a slow spell o
 falls on every configuration alike. The frames render the G-buffer and the lighting only (method
 'off', no shadow map): the other passes do not depend on how the layers were built.
 
-Goals (on llvmpipe at 640x360): 8 layers in at most 3x one peeled layer on hall, at most 2x on
-the geometry-bound scenes (spheres_and_boxes, 2CylinderEngine); at 1 layer each visibility
-construction within 1.2x of peeling. Each is judged on the rounds' ratios (each ratio from two
-renders of the same round): "met" where the middle half of them (25th-75th percentile) meets the
-goal, "not met" where it misses it, else "undecided at this noise". Every figure is a record
-(ssrlab.lab.records) with one sample per round: the construction's ms, its floor's, x floor and
-x one peeled layer (the goals' ratios) and the CPU ms.
+Goals (on llvmpipe at 640x360), each against the device's own floor measured in the same round:
+8 layers in at most 2x the construction's floor on hall, spheres_and_boxes and 2CylinderEngine,
+and each visibility construction's single layer within 2x its floor. A ratio to the floor travels
+between machines of a kind; a ratio to another configuration (one peeled layer) does not always,
+so those are printed beside the goals and not judged. Each goal is judged on the rounds' ratios
+(each from two measurements of the same round): "met" where the middle half of them (25th-75th
+percentile) meets the goal, "not met" where it misses it, else "undecided at this noise". Every
+figure is a record (ssrlab.lab.records) with one sample per round: the construction's ms, its
+floor's, x floor (the goals' ratio), x one peeled layer and the CPU ms.
 """
 
 from __future__ import annotations
@@ -83,9 +85,11 @@ PARTS = {
                          ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade"),
                          ("regions", "gbuffer_attributes.regions")),
 }
-# 8 layers against one peeled layer, per scene (the scenes not named here have no goal).
-EIGHT_LAYER_GOALS = {"hall": 3.0, "spheres_and_boxes": 2.0, "2CylinderEngine": 2.0}
-ONE_LAYER_GOAL = 1.2  # a visibility construction's single layer against peeling's
+# The construction's time over its own floor (raster_floor.construction_floor) at 8 layers, on the
+# scenes with a goal, and a visibility construction's at 1 layer.
+GOAL_SCENES = ("hall", "spheres_and_boxes", "2CylinderEngine")
+EIGHT_LAYER_GOAL = 2.0
+ONE_LAYER_GOAL = 2.0
 GOAL_DEVICE, GOAL_SIZE = "cpu", (640, 360)
 
 
@@ -150,6 +154,7 @@ def main() -> None:
     methods = list(dict.fromkeys(["peel", *args.methods]))  # one peeled layer is every ratio's base
     summary = {}   # (scene, method, layers) -> rounds' ratios to one peeled layer
     distance = {}  # (scene, method, layers) -> (median x floor, floor ms)
+    x_floor_rounds = {}  # (scene, method, layers) -> each round's time over that round's floor (the goals' ratio)
     built_as = {}  # (scene, method, layers) -> the method, and what it built where that differs
     shading_floors = []
     names = []
@@ -210,14 +215,15 @@ def main() -> None:
             floor_ms = construction_floor(floor_of, used, floor_medians)
             x_floor = statistics.median(t / construction_floor(floor_of, used, r) for t, r in zip(ts, floors))
             distance[(name, method, layers)] = (x_floor, floor_ms)
+            x_floor_rounds[(name, method, layers)] = [t / construction_floor(floor_of, used, r)
+                                                      for t, r in zip(ts, floors)]
             summary[(name, method, layers)] = [t / b for t, b in zip(ts, times[base_key])]
             params = dict(scene=name, method=method, built=built, layers=layers, used=used, width=args.width,
                           height=args.height)
             bench.record(params, "deep_gbuffer", "ms", ts)
             bench.record(params, "floor", "ms", [construction_floor(floor_of, used, r) for r in floors])
             # the goals' ratios, one per round: to the construction's floor, and to one peeled layer
-            bench.record(params, "x_floor", "ratio", [t / construction_floor(floor_of, used, r)
-                                                      for t, r in zip(ts, floors)])
+            bench.record(params, "x_floor", "ratio", x_floor_rounds[(name, method, layers)])
             bench.record(params, "x_one_peeled_layer", "ratio", summary[(name, method, layers)])
             bench.record(params, "cpu", "ms", cpu[c])
             parts = " ".join(f"{short} {statistics.median(measured[c][key]):.2f}"
@@ -257,24 +263,27 @@ def main() -> None:
     here = (device, (args.width, args.height))
     print(f"\ngoals (set for llvmpipe at {GOAL_SIZE[0]}x{GOAL_SIZE[1]}"
           + ("" if here == (GOAL_DEVICE, GOAL_SIZE) else f"; this run: {device} at {args.width}x{args.height}, "
-             "so the verdicts below are this run's, not the goals'") + "): the ratio of each round's two renders, "
-          "median [25th-75th percentile] of the rounds; met / not met where the middle half is on one side")
+             "so the verdicts below are this run's, not the goals'") + "): the construction's time over its floor "
+          "in each round, median [25th-75th percentile] of the rounds; met / not met where the middle half is on "
+          "one side; beside it, not judged, the same rounds against one peeled layer")
     for name in names:
-        goal = EIGHT_LAYER_GOALS.get(name)
-        if goal is None:
+        if name not in GOAL_SCENES:
             continue
-        print(f"  {name}: 8 layers <= {goal:g}x one peeled layer")
+        print(f"  {name}: 8 layers <= {EIGHT_LAYER_GOAL:g}x the construction's floor")
         for m in args.methods:
-            if (name, m, 8) in summary:
-                r = summary[(name, m, 8)]
-                print(f"    {m:<17} {quartiles(r):>22}: {verdict(r, goal)}")
+            if (name, m, 8) in x_floor_rounds:
+                r = x_floor_rounds[(name, m, 8)]
+                print(f"    {m:<17} {quartiles(r):>22}: {verdict(r, EIGHT_LAYER_GOAL)}"
+                      f"   (x one peeled layer {quartiles(summary[(name, m, 8)])})")
     for name in names:
-        rows = [(m, [t / b for t, b in zip(summary[(name, m, 1)], summary[(name, "peel", 1)])])
-                for m in args.methods if m.startswith("visibility") and (name, m, 1) in summary]
-        if rows:
-            print(f"  {name}: 1 layer by visibility <= {ONE_LAYER_GOAL:g}x peeling's")
-            for m, r in rows:
-                print(f"    {built_as[(name, m, 1)]:<17} {quartiles(r):>22}: {verdict(r, ONE_LAYER_GOAL)}")
+        rows = [m for m in args.methods if m.startswith("visibility") and (name, m, 1) in x_floor_rounds]
+        if rows and name in GOAL_SCENES:
+            print(f"  {name}: 1 layer by visibility <= {ONE_LAYER_GOAL:g}x its floor")
+            for m in rows:
+                r = x_floor_rounds[(name, m, 1)]
+                beside = [t / b for t, b in zip(summary[(name, m, 1)], summary[(name, "peel", 1)])]
+                print(f"    {built_as[(name, m, 1)]:<17} {quartiles(r):>22}: {verdict(r, ONE_LAYER_GOAL)}"
+                      f"   (x peeling's layer {quartiles(beside)})")
 
     if shading_floors:
         print("\nthe shading floor of an exact construction: 8 layers keep `kept` times layer 0's fragments, and each is")
@@ -284,15 +293,8 @@ def main() -> None:
         print("hundred of layer 0's fragments, its vertex work counts too and the estimate is no bound)")
         print(f"  {'scene':<18} {'kept':>6} {'shade':>6} {'floor':>6} {'tri/frag':>8}  verdict")
         for name, kept, share, floor, tri_per_fragment in shading_floors:
-            goal = EIGHT_LAYER_GOALS.get(name)
-            if tri_per_fragment > 0.01:
-                why = "geometry-bound: no bound"
-            elif goal is None:
-                why = "no goal for this scene"
-            else:
-                why = (f"the {goal:g}x goal is below the floor" if floor > goal else
-                       f"the floor leaves room under {goal:g}x" if floor < 0.8 * goal else
-                       f"the floor is near {goal:g}x: undecided at this noise")
+            why = ("geometry-bound: no bound" if tri_per_fragment > 0.01 else
+                   f"no exact construction of 8 layers comes under {floor:.2f}x one peeled layer here")
             print(f"  {name:<18} {kept:>6.2f} {share:>6.2f} {floor:>6.2f} {tri_per_fragment:>8.3f}  {why}")
 
 

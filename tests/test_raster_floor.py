@@ -117,11 +117,12 @@ def test_deep_gbuffer_script_sets_each_construction_beside_its_floor_and_judges_
                                              for l in ("1", "8")}
     for _, _, ms, _, floor_ms, x_floor in rows:
         assert float(ms) > 0 and float(floor_ms) > 0 and float(x_floor) > 0
-    # hall's goals: 8 layers against one peeled layer, one visibility layer against peeling's, each
-    # with a verdict (the size is not the goals', so the script says the verdicts are this run's).
+    # hall's goals, against each construction's own floor: 8 layers, and one visibility layer, each
+    # with a verdict (the size is not the goals', so the script says the verdicts are this run's) and
+    # the ratio to one peeled layer beside it, not judged.
     assert "this run: " in text
-    verdicts = re.findall(r"^    (peel|lists|visibility|visibility_lists)(?:->\w+)? +[0-9.]+x \[[0-9.]+-[0-9.]+\]: (.+)$",
-                          text, re.M)
+    verdicts = re.findall(r"^    (peel|lists|visibility|visibility_lists)(?:->\w+)? +[0-9.]+x \[[0-9.]+-[0-9.]+\]: (.+)"
+                          r"   \(x (?:one peeled layer|peeling's layer) [0-9.]+x \[[0-9.]+-[0-9.]+\]\)$", text, re.M)
     assert len(verdicts) == 4 + 2
     assert all(v in ("met", "not met") or v.startswith("undecided") for _, v in verdicts), verdicts
 
