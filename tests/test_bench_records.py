@@ -133,6 +133,28 @@ def test_compare_reads_a_commits_records(tmp_path):
     assert rows and not any(r["verdict"] in ("faster", "slower") for r in rows)
 
 
+def test_a_figure_over_commits_is_read_from_the_committed_records_and_drawn(tmp_path):
+    """ssrlab bench history: a figure at each commit that changed it, from the commits' own records
+    (the llvmpipe deep G-buffer records were committed at two commits at least), and its plot."""
+    folder = "benchmarks/results/llvmpipe-llvm-15-0-6-256-bits"
+    if len(records.commits_of(folder)) < 2:
+        pytest.skip("this checkout's history holds fewer than two commits of the llvmpipe records")
+    rows = records.history(folder, "deep_gbuffer", "x_floor", {"scene": "hall", "layers": 8, "method": "peel"})
+    assert len({r["commit"] for r in rows}) >= 2
+    assert all(r["n"] >= 3 and r["p25"] <= r["median"] <= r["p75"] for r in rows)
+    # A commit appears only where the figure's record changed.
+    assert len({(r["date"], r["recorded_at"]) for r in rows}) == len(rows)
+    png = tmp_path / "history.png"
+    run = subprocess.run([sys.executable, "-m", "ssrlab", "bench", "history", folder, "deep_gbuffer", "x_floor",
+                          "--param", "scene=hall", "--param", "layers=8", "--plot", str(png)],
+                         capture_output=True, text=True, timeout=120, cwd=REPO)
+    assert run.returncode == 0, run.stderr
+    assert "| commit |" in run.stdout and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    bad = subprocess.run([sys.executable, "-m", "ssrlab", "bench", "history", folder, "deep_gbuffer", "no_such"],
+                         capture_output=True, text=True, timeout=120, cwd=REPO)
+    assert bad.returncode == 1 and "no record of deep_gbuffer / no_such" in bad.stderr
+
+
 def test_a_converted_benchmark_writes_records_and_prints_their_table(tmp_path):
     r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "frame_breakdown.py"), "--width", "48", "--height",
                         "32", "--repeats", "3", "--scenes", "mirror_test", "--records", str(tmp_path)],

@@ -9,6 +9,7 @@
                                         reference.exr and error.png
     ssrlab bench SWEEP_FILE             sweep settings, measure run time against error (ssrlab.bench)
     ssrlab bench compare OLD NEW        two folders of benchmark records: NEW/OLD and a verdict per figure
+    ssrlab bench history FOLDER B M     a figure of the committed records over commits (--plot PNG)
     ssrlab bench --suite standard       every technique on fixed scenes and budgets: DIR/leaderboard.md
     ssrlab view [SCENE]                 a live view in the browser: camera, settings, views, numbers
 """
@@ -350,6 +351,42 @@ def _bench_config(args):
     return config, out
 
 
+def cmd_bench_history(argv) -> int:
+    """ssrlab bench history FOLDER BENCHMARK METRIC: one figure at each commit that changed the
+    committed records (ssrlab.lab.records.history), as a table and, with --plot, a PNG."""
+    from .lab import records
+    from .lab.protocol import parse_set
+
+    ap = argparse.ArgumentParser(
+        prog="ssrlab bench history",
+        description="A figure of the committed benchmark records over commits: for each commit that changed "
+                    "FOLDER (a results folder relative to the repository, e.g. "
+                    "benchmarks/results/llvmpipe-llvm-15-0-6-256-bits), the latest record of BENCHMARK's METRIC "
+                    "whose params hold every --param, with its median [25th-75th percentile].")
+    ap.add_argument("folder", metavar="FOLDER")
+    ap.add_argument("benchmark", metavar="BENCHMARK")
+    ap.add_argument("metric", metavar="METRIC")
+    ap.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                    help="only the figures whose params have this value (repeatable)")
+    ap.add_argument("--commits", nargs="+", help="these commits instead of those that changed FOLDER")
+    ap.add_argument("--last", type=int, default=20, help="how many of the commits that changed FOLDER (default 20)")
+    ap.add_argument("--plot", metavar="PNG", help="also draw the figure over the commits into this file")
+    args = ap.parse_args(argv)
+    try:
+        commits = args.commits or records.commits_of(args.folder, args.last)
+        rows = records.history(args.folder, args.benchmark, args.metric, parse_set(args.param), commits)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"ssrlab: {e}", file=sys.stderr)
+        return 1
+    print(f"{args.benchmark} / {args.metric} under {args.folder}: {len(rows)} record(s) at "
+          f"{len({r['commit'] for r in rows})} of {len(commits)} commit(s)")
+    print(records.history_table(rows))
+    if args.plot:
+        records.plot_history(rows, args.plot, title=f"{args.benchmark}: {args.metric}")
+        print(f"wrote {args.plot}")
+    return 0
+
+
 def cmd_bench_compare(argv) -> int:
     """ssrlab bench compare OLD NEW: every figure of both result folders side by side (see
     ssrlab.lab.records.figure_verdict for the verdict's rule)."""
@@ -663,6 +700,8 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if "bench" in argv and argv[argv.index("bench") + 1:argv.index("bench") + 2] == ["compare"]:
         return cmd_bench_compare(argv[argv.index("bench") + 2:])
+    if "bench" in argv and argv[argv.index("bench") + 1:argv.index("bench") + 2] == ["history"]:
+        return cmd_bench_history(argv[argv.index("bench") + 2:])
     args = parser.parse_args(argv)
     try:
         return args.func(args)

@@ -17,6 +17,7 @@ Samples are the raw values, never a median: whoever reads the records computes t
     table(records, rows, columns)           a Markdown table: median [25th-75th percentile] per cell
     ab_table(records, side, a, b, rows)     an A/B table: both sides, B/A and the verdict of each figure
     compare(old, new)                       each figure present in both: NEW/OLD and a verdict
+    history(folder, benchmark, metric, params)   a figure at each commit that changed the records
 """
 
 from __future__ import annotations
@@ -427,7 +428,88 @@ def compare_table(rows: list[dict]) -> str:
                      "NEW/OLD [95 % interval]", "verdict"], body)
 
 
+# -- a figure over commits ----------------------------------------------------------------------------
+def commits_of(folder: str, last: int = 20) -> list[str]:
+    """The commits that changed the committed records under `folder` (relative to the repository's
+    root), oldest first, the last `last` of them."""
+    log = subprocess.run(["git", "-C", str(REPO), "log", "--format=%h", f"-{last}", "--", str(folder)],
+                         capture_output=True, text=True, timeout=60)
+    if log.returncode:
+        raise ValueError(f"history: git log -- {folder}: {log.stderr.strip()}")
+    return list(reversed(log.stdout.split()))
+
+
+def history(folder: str, benchmark: str, metric: str, params: dict | None = None,
+            commits: list[str] | None = None) -> list[dict]:
+    """A figure over commits: for each commit (default: commits_of(folder)), the latest record of
+    every figure of `benchmark` and `metric` whose params hold `params`, read from that commit's
+    committed records. One row per (commit, figure): commit, the record's own commit and date, its
+    params, and summary() of its samples. A commit without such a record, or whose record is the one
+    an earlier commit already had (its records changed elsewhere), has no row."""
+    params = params or {}
+    folder = str(folder).strip("/")
+    rows, seen = [], {}
+    for c in commits if commits is not None else commits_of(folder):
+        try:
+            recs = read_records(f"git:{c}:{folder}")
+        except (ValueError, FileNotFoundError):
+            continue
+        chosen = [r for r in recs if r["benchmark"] == benchmark and r["metric"] == metric
+                  and all(r["params"].get(k) == v for k, v in params.items())]
+        for key, r in latest(chosen).items():
+            same = (r.get("date"), r.get("commit"), json.dumps(r["samples"]))
+            if seen.get(key) == same:
+                continue
+            seen[key] = same
+            rows.append({"commit": c, "recorded_at": r.get("commit"), "date": r.get("date"), "params": r["params"],
+                         "unit": r.get("unit"), **summary(r["samples"])})
+    if not rows:
+        raise ValueError(f"history: no record of {benchmark} / {metric} with {params or 'any params'} under "
+                         f"{folder} at the commits looked at")
+    return rows
+
+
+def history_table(rows: list[dict]) -> str:
+    """history()'s rows as a Markdown table: a figure's median [25th-75th percentile] at each commit."""
+    varying = sorted({k for r in rows for k in r["params"] if len({json.dumps(x["params"].get(k)) for x in rows}) > 1})
+    body = [[r["commit"], f"{str(r['date'])[:16].replace('T', ' ')} at {r['recorded_at']}",
+             ", ".join(f"{k}={r['params'].get(k)}" for k in varying) or "–",
+             f"{_num(r['median'], 3)} [{_num(r['p25'], 3)}-{_num(r['p75'], 3)}]", str(r["n"])] for r in rows]
+    return markdown(["commit", "recorded", "figure", f"median [p25-p75] ({rows[0]['unit']})", "samples"], body)
+
+
+def plot_history(rows: list[dict], path, title: str = "") -> None:
+    """history()'s rows drawn: each figure's median over the commits, its 25th-75th percentile as
+    error bars; written to `path` (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    commits = list(dict.fromkeys(r["commit"] for r in rows))
+    varying = sorted({k for r in rows for k in r["params"] if len({json.dumps(x["params"].get(k)) for x in rows}) > 1})
+    figures = {}
+    for r in rows:
+        label = ", ".join(f"{k}={r['params'].get(k)}" for k in varying) or "figure"
+        figures.setdefault(label, []).append(r)
+    fig, ax = plt.subplots(figsize=(max(4.0, 0.6 * len(commits) + 2.0), 3.2))
+    for label, rs in figures.items():
+        x = [commits.index(r["commit"]) for r in rs]
+        y = [r["median"] for r in rs]
+        err = [[r["median"] - r["p25"] for r in rs], [r["p75"] - r["median"] for r in rs]]
+        ax.errorbar(x, y, yerr=err, marker="o", capsize=3, label=label)
+    ax.set_xticks(range(len(commits)), commits, rotation=45, ha="right")
+    ax.set_ylabel(rows[0]["unit"] or "")
+    ax.set_title(title, fontsize=9)
+    if len(figures) > 1:
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 __all__ = ["FIELDS", "TIME_UNITS", "RECORDS_ENV", "QUICK_ENV", "slug", "git_commit", "command_line", "Recorder",
            "select", "read_records", "figure_key", "latest", "summary", "cell", "markdown", "table", "spread_note",
            "ab_table",
-           "SAME_BAND", "ratio_interval", "figure_verdict", "compare", "compare_table", "is_timing", "better"]
+           "SAME_BAND", "ratio_interval", "figure_verdict", "compare", "compare_table", "is_timing", "better",
+           "commits_of", "history", "history_table", "plot_history"]
