@@ -17,7 +17,6 @@ the records.
 
 from __future__ import annotations
 
-import statistics
 import sys
 from pathlib import Path
 
@@ -55,7 +54,7 @@ def main(argv=None) -> int:
     base = ssrlab.Settings(width=args.width, height=args.height, layers=1, method="off", shadow_map_size=0)
     one = {m: base.replace(deep_gbuffer=m) for m in PARTS}
     eight = base.replace(layers=8, deep_gbuffer="peel")
-    print(f"{args.width}x{args.height}, one layer; GPU ms, medians of {args.repeats} rounds after one untimed round")
+    print(f"{args.width}x{args.height}, one layer; GPU ms of {args.repeats} rounds after one untimed round")
     for name in args.scenes:
         scene = ssrlab.scenes.load(name)
         for m, other in (("peel", "visibility"), ("visibility", "peel")):
@@ -67,12 +66,10 @@ def main(argv=None) -> int:
                     kept.clear()
                     params = dict(scene=name, construction=m, renders=label,
                                   frames="kept" if keep else "released", width=args.width, height=args.height)
-                    whole = bench.record(params, "deep_gbuffer", "ms", t["deep_gbuffer"])
-                    first = bench.record({**params}, "first_part", "ms", t["part"], part=PARTS[m])
-                    # One line per case, the medians of the records (tests/test_raster_floor.py reads these lines)
-                    print(f"  {name:18s} {label:34s} frames {'kept    ' if keep else 'released'}  deep_gbuffer "
-                          f"{statistics.median(whole['samples']):8.3f}  {PARTS[m]} "
-                          f"{statistics.median(first['samples']):8.3f}", flush=True)
+                    bench.record(params, "deep_gbuffer", "ms", t["deep_gbuffer"])
+                    bench.record({**params}, "first_part", "ms", t["part"], part=PARTS[m])
+    bench.print_table(rows=("scene", "renders", "frames"), order=["deep_gbuffer", "first_part"])
+    print("first_part: " + ", ".join(f"{k}: {v}" for k, v in PARTS.items()))
     return 0
 
 

@@ -68,6 +68,7 @@ import numpy as np
 import ssrlab
 from common import benchmark_arguments, open_renderer
 from raster_floor import construction_floor, describe_floor
+from ssrlab.lab import records
 from ssrlab.lab.protocol import Bench, goal_verdict
 
 METHODS = ("peel", "lists", "visibility", "visibility_lists")
@@ -145,7 +146,8 @@ def main() -> None:
     renderer = open_renderer(args)
     bench = Bench("deep_gbuffer", args, renderer)
     device = renderer.info["device"]
-    print(f"{args.width}x{args.height}, median [min-max] of {args.repeats} rounds after {bench.warmup} warm-up rounds, "
+    print(f"{args.width}x{args.height}, median [25th-75th percentile] of {args.repeats} rounds after {bench.warmup} "
+          f"warm-up rounds, "
           f"configurations and floors interleaved round by round; GPU milliseconds of the construction "
           f"(timings['deep_gbuffer']); x floor: the median of the rounds' construction / its floor "
           f"(benchmarks/raster_floor.py) in the same round")
@@ -199,8 +201,7 @@ def main() -> None:
         floor_medians = {k: statistics.median(r[k] for r in floors) for k in floors[0]}
         print(f"{name} ({scene.triangle_count} triangles, {counts['fragments']} fragments, "
               f"{counts['max_fragments_per_pixel']} at the deepest pixel): 1 peeled layer = {base:.2f} ms")
-        print(f"  {'method':<16} {'layers':>6} {'used':>4} {'ms':>8} {'[min - max]':>19} {'x 1 peel':>8} "
-              f"{'floor ms':>8} {'x floor':>7} {'fragments':>10} {'extra MiB':>9} {'cpu ms':>7} {'x 1 peel':>8}  parts (ms)")
+        table = []
         for c in configs:
             method, layers = c
             ts = times[c]
@@ -228,14 +229,16 @@ def main() -> None:
             bench.record(params, "cpu", "ms", cpu[c])
             parts = " ".join(f"{short} {statistics.median(measured[c][key]):.2f}"
                              for short, key in PARTS[floor_of] if key in measured[c])
-            frags = f"{int(st['deep_gbuffer_fragments']):>10}" if "deep_gbuffer_fragments" in st else f"{'':>10}"
+            frags = str(int(st["deep_gbuffer_fragments"])) if "deep_gbuffer_fragments" in st else ""
             # The attribute pass bins every sample on the CPU device once a deeper layer holds one, and a
             # textured material's samples everywhere (passes/gbuffer_attributes.cpp).
             binned = has_textures or (device == "cpu" and used > 1)
             extra = extra_bytes(method, st, args.width, args.height, layers, binned)
-            print(f"  {how:<16} {layers:>6} {used:>4} {med[c]:>8.2f} [{min(ts):>7.2f} - {max(ts):>7.2f}] "
-                  f"{med[c] / base:>8.2f} {floor_ms:>8.2f} {x_floor:>7.2f} {frags} {extra / 2**20:>9.1f} "
-                  f"{statistics.median(cpu[c]):>7.1f} {statistics.median(cpu[c]) / cpu_base:>8.2f}  {parts}")
+            table.append([how, layers, used, records.cell(ts), f"{med[c] / base:.2f}", f"{floor_ms:.2f}",
+                          f"{x_floor:.2f}", frags, f"{extra / 2**20:.1f}", records.cell(cpu[c], 1),
+                          f"{statistics.median(cpu[c]) / cpu_base:.2f}", parts])
+        print(records.markdown(["method", "layers", "used", "ms", "x 1 peel", "floor ms", "x floor", "fragments",
+                                "extra MiB", "cpu ms", "cpu x 1 peel", "parts (ms)"], table))
         # The shading floor: what any exact construction must do at least is shade and store every
         # fragment its layers keep once. Measured per fragment as layer 0's shading pass does it
         # (depth_peel.shade of the 1-layer peeled frame over layer 0's samples), that work alone
@@ -252,13 +255,14 @@ def main() -> None:
           "rounds), and the floor in ms")
     for layers in sorted({l for (_, _, l) in distance} & {1, 8}):
         print(f"  {layers} layer{'s' if layers > 1 else ''}")
-        print(f"    {'scene':<18} " + " ".join(f"{m:>22}" for m in args.methods))
+        rows = []
         for name in names:
             cells = []
             for m in args.methods:
                 x, ms = distance.get((name, m, layers), (float("nan"), float("nan")))
-                cells.append(f"{x:>7.2f}x of {ms:>7.2f} ms")
-            print(f"    {name:<18} " + " ".join(f"{c:>22}" for c in cells))
+                cells.append(f"{x:.2f}x of {ms:.2f} ms")
+            rows.append([name, *cells])
+        print(records.markdown(["scene", *args.methods], rows))
 
     here = (device, (args.width, args.height))
     print(f"\ngoals (set for llvmpipe at {GOAL_SIZE[0]}x{GOAL_SIZE[1]}"
@@ -291,11 +295,12 @@ def main() -> None:
         print("layer's time) that alone is `floor` x one peeled layer, before any geometry, selection or sorting")
         print("(a bound only where the shading pass's time is its fragments': with more than one triangle per")
         print("hundred of layer 0's fragments, its vertex work counts too and the estimate is no bound)")
-        print(f"  {'scene':<18} {'kept':>6} {'shade':>6} {'floor':>6} {'tri/frag':>8}  verdict")
+        rows = []
         for name, kept, share, floor, tri_per_fragment in shading_floors:
             why = ("geometry-bound: no bound" if tri_per_fragment > 0.01 else
                    f"no exact construction of 8 layers comes under {floor:.2f}x one peeled layer here")
-            print(f"  {name:<18} {kept:>6.2f} {share:>6.2f} {floor:>6.2f} {tri_per_fragment:>8.3f}  {why}")
+            rows.append([name, f"{kept:.2f}", f"{share:.2f}", f"{floor:.2f}", f"{tri_per_fragment:.3f}", why])
+        print(records.markdown(["scene", "kept", "shade", "floor", "tri/frag", "verdict"], rows))
 
 
 if __name__ == "__main__":

@@ -54,6 +54,7 @@ import numpy as np
 
 import ssrlab
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
 from ssrlab.lab.protocol import Bench
 from ssrlab.experiments import MIN_JUDGED_MS, THESIS_SETTINGS
 from ssrlab.metrics import image_metrics
@@ -213,21 +214,17 @@ def main() -> None:
                 best = min((c for c in configs if c[0].startswith("layers (") and c[1] == label_l),
                            key=lambda c: statistics.median(times[(clock, c)]))
                 fastest[(FASTEST, label_l)] = best
-            # Text rows, as tests/test_raster_floor.py reads them; every cell from the recorded samples.
-            width = max(len(FASTEST), *(len(c[0]) for c in configs))
             print(f"  by {clock} time")
-            print(f"  {'series':<{width}} {'configuration':<10} {'built by':>16} {'used':>4} {'ms':>8} {'[IQR]':>7} "
-                  f"{'error':>9} {'removed (± s.e.)':>21} {'+ms':>7} {'error/ms':>10}  measured?")
             results: dict[str, list] = {}
+            table = []
             for c in [*configs, *fastest]:
                 series, name = c
                 m = fastest.get(c, c)  # the measured configuration behind the row
                 ts = times[(clock, m)]
                 t, e = statistics.median(ts), statistics.fmean(errors[m])
-                row = (f"  {series:<{width}} {name:<10} {used[m][1]:>16} {used[m][0]:>4} {t:>8.1f} [{iqr(ts):>5.1f}] "
-                       f"{e:>9.5f}")
+                row = [series, name, used[m][1], used[m][0], records.cell(ts, 1), f"{e:.5f}"]
                 if c == start:
-                    print(row)
+                    table.append(row + ["", "", "", ""])
                     continue
                 gains = [a - b for a, b in zip(errors[start], errors[m])]  # paired by seed
                 gain = statistics.fmean(gains)
@@ -238,17 +235,19 @@ def main() -> None:
                 ratio = gain / added if added > 0 else float("nan")
                 why = [w for ok, w in ((gain_measured, "gain within noise"), (time_measured, "time within noise"))
                        if not ok]
-                print(f"{row} {gain:>+10.5f} ± {se:<8.5f} {added:>+7.1f} {ratio:>10.2e}  "
-                      f"{'yes' if not why else 'no: ' + ', '.join(why)}")
+                table.append(row + [f"{gain:+.5f} ± {se:.5f}", f"{added:+.1f}", f"{ratio:.2e}",
+                                    "yes" if not why else "no: " + ", ".join(why)])
                 results.setdefault(series, []).append((ratio, se / added if added > 0 else float("nan"), name,
                                                        gain_measured, time_measured))
+            print(records.markdown(["series", "configuration", "built by", "used", "ms [IQR]", "error",
+                                    "removed (± s.e.)", "+ms", "error/ms", "measured?"], table))
             # Rays and steps together: the time spent on the rays.
             rays = series_result(results["rays"] + results["steps"])
             verdicts[clock] = {series: judge(series_result(results[series]), rays, series, "rays/steps")
                                for series in [FASTEST, *(layer_series(x) for x in constructions)]}
             print(f"  more error removed per {clock} ms, layers vs rays:")
             for series, v in verdicts[clock].items():
-                print(f"    {series:<{width}} -> {v}")
+                print(f"    {series} -> {v}")
             print()
         summary.append((label, verdicts))
     print("seed 000, 4.2 (\"the time spent constructing the deep G-buffers is better spent on other parts of "

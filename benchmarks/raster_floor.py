@@ -28,10 +28,9 @@ what benchmarks/deep_gbuffer.py compares each construction with. Each floor's re
 
 from __future__ import annotations
 
-import statistics
-
 import ssrlab
 from common import benchmark_arguments, open_renderer
+from ssrlab.lab import records
 from ssrlab.lab.protocol import Bench
 
 # (floor, what it is, bytes it writes per pixel of the frame: None for the draws, whose work is
@@ -92,8 +91,8 @@ def main() -> None:
     args = ap.parse_args()
     renderer = open_renderer(args)
     bench = Bench("raster_floor", args, renderer, warmup=1)
-    print(f"{args.width}x{args.height}, median [min - max] of {args.repeats} repeats after one untimed run, floors "
-          f"interleaved within each repeat; GPU milliseconds (timer queries)\n")
+    print(f"{args.width}x{args.height}, {args.repeats} repeats after one untimed run, floors interleaved within each "
+          f"repeat; GPU milliseconds (timer queries)\n")
     pixels = args.width * args.height
     for name in args.scenes:
         scene = ssrlab.scenes.load(str(ssrlab.models.find(name))) if name == "2CylinderEngine" else \
@@ -109,24 +108,32 @@ def main() -> None:
               f"({c['fragments'] / pixels:.2f} a pixel, {c['max_fragments_per_pixel']} the deepest pixel), "
               f"{c['pixels_depth']} of {pixels} pixels covered, {c['samples_depth']} samples passed the depth "
               f"test (draws in the scene's order)")
-        print(f"  {'floor':<21} {'ms':>8} {'[min - max]':>19}  {'rate':>29}  what")
+        recs, missing = [], []
         for key, what, bytes_per_pixel in FLOORS:
             if key not in f.ms:
-                print(f"  {key:<21} {'-':>8} {'':>19}  {'':>29}  {what}: not measured (beyond the device's "
-                      f"largest storage block)")
+                missing.append(f"{key} ({what}): not measured (beyond the device's largest storage block)")
                 continue
+            p = {**params, "floor": key}
             ms = f.ms[key]
-            med = statistics.median(ms)
+            recs.append(bench.find("floor", **params, floor=key)[0])
             if bytes_per_pixel is None:
                 # every fragment the raster makes, every triangle the vertex stage takes
-                rate = f"{c['fragments'] / med / 1e3:>7.1f} Mfrag/s, {c['triangles'] / med / 1e3:>6.2f} Mtri/s"
-            else:
-                rate = f"{bytes_per_pixel * pixels / med / 1e6:>9.2f} GB/s"  # bytes / (ms / 1e3) / 1e9
-            print(f"  {key:<21} {med:>8.3f} [{min(ms):>7.3f} - {max(ms):>7.3f}]  {rate:>29}  {what}")
+                recs.append(bench.record(p, "fragment_rate", "Mfrag/s", [c["fragments"] / v / 1e3 for v in ms],
+                                         better="higher"))
+                recs.append(bench.record(p, "triangle_rate", "Mtri/s", [c["triangles"] / v / 1e3 for v in ms],
+                                         better="higher"))
+            else:  # bytes / (ms / 1e3) / 1e9
+                recs.append(bench.record(p, "bandwidth", "GB/s", [bytes_per_pixel * pixels / v / 1e6 for v in ms],
+                                         better="higher"))
+        bench.print_table(recs, rows=("floor",), digits=3)
+        print(records.markdown(["floor", "what"], [[k, w] for k, w, _ in FLOORS if k in f.ms]))
+        for line in missing:
+            print(f"  {line}")
         medians = {k: f.median(k) for k in f.ms}
-        print("  one layer at the floor, each construction's way (benchmarks/deep_gbuffer.py compares with these):")
-        for method in CONSTRUCTION_FLOORS:
-            print(f"    {method:<17} {construction_floor(method, 1, medians):>8.3f} ms = {describe_floor(method)}")
+        print("one layer at the floor, each construction's way (benchmarks/deep_gbuffer.py compares with these):")
+        rows = [[method, f"{construction_floor(method, 1, medians):.3f}", describe_floor(method)]
+                for method in CONSTRUCTION_FLOORS]
+        print(records.markdown(["construction", "floor ms (of the floors' medians)", "sum of"], rows))
         print()
 
 

@@ -98,25 +98,41 @@ def run_benchmark(name: str, *args: str) -> str:
     return r.stdout
 
 
+def table_rows(text: str, first: str) -> list[list[str]]:
+    """The cells of every row of the Markdown tables in `text` whose header starts with `first`."""
+    rows, inside = [], False
+    for line in text.splitlines():
+        if not line.startswith("|"):
+            inside = False
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if cells[0] == first:
+            inside = True
+        elif inside and not set(cells[0]) <= {"-"}:
+            rows.append(cells)
+    return rows
+
+
 def test_raster_floor_script_prints_every_floor_and_each_constructions_layer():
     text = run_benchmark("raster_floor", "--width", "64", "--height", "36", "--repeats", "3")
-    for floor in FLOORS:
-        assert re.search(rf"^  {re.escape(floor)} +[0-9.]+ \[", text, re.M), floor
-    for method in ("peel", "lists", "visibility", "visibility_lists"):
-        assert re.search(rf"^    {method} +[0-9.]+ ms = ", text, re.M), method
+    # The floors' table, rendered from the records: median [25th-75th percentile] ms of each floor.
+    timed = {row[0]: row[1] for row in table_rows(text, "floor") if re.fullmatch(r"[0-9.]+ \[[0-9.]+-[0-9.]+\]", row[1])}
+    assert set(timed) == FLOORS
+    built = {row[0]: float(row[1]) for row in table_rows(text, "construction")}
+    assert set(built) == {"peel", "lists", "visibility", "visibility_lists"} and all(v > 0 for v in built.values())
 
 
 def test_deep_gbuffer_script_sets_each_construction_beside_its_floor_and_judges_the_goals():
     text = run_benchmark("deep_gbuffer", "--width", "64", "--height", "36", "--repeats", "3", "--layers", "1", "8",
                          "--scenes", "hall")
     # A row names what was built after an arrow where it differs ('visibility_lists' at one layer:
-    # 'visibility').
-    rows = re.findall(r"^  (peel|lists|visibility|visibility_lists)(?:->\w+)? +(1|8) +\d+ +([0-9.]+) \[.*?\] +([0-9.]+) +"
-                      r"([0-9.]+) +([0-9.]+)", text, re.M)
-    assert {(m, l) for m, l, *_ in rows} == {(m, l) for m in ("peel", "lists", "visibility", "visibility_lists")
-                                             for l in ("1", "8")}
-    for _, _, ms, _, floor_ms, x_floor in rows:
-        assert float(ms) > 0 and float(floor_ms) > 0 and float(x_floor) > 0
+    # 'visibility'); its cells come from the records: ms as median [25th-75th percentile].
+    rows = table_rows(text, "method")
+    assert {(r[0].split("->")[0], r[1]) for r in rows} == {(m, l) for m in ("peel", "lists", "visibility",
+                                                                             "visibility_lists") for l in ("1", "8")}
+    for r in rows:
+        ms, floor_ms, x_floor = float(r[3].split()[0]), float(r[5]), float(r[6])
+        assert ms > 0 and floor_ms > 0 and x_floor > 0, r
     # hall's goals, against each construction's own floor: 8 layers, and one visibility layer, each
     # with a verdict (the size is not the goals', so the script says the verdicts are this run's) and
     # the ratio to one peeled layer beside it, not judged.
@@ -130,16 +146,18 @@ def test_deep_gbuffer_script_sets_each_construction_beside_its_floor_and_judges_
 def test_layers_vs_rays_script_judges_the_fastest_construction():
     text = run_benchmark("layers_vs_rays", "--width", "64", "--height", "36", "--repeats", "3", "--reference-rays",
                          "4", "--scenes", "box_stack", "--deep-gbuffer", "visibility", "--device", "auto")
-    assert re.search(r"^  layers \(visibility\) +2 layers +visibility ", text, re.M)
-    fastest = re.findall(r"^  layers \(fastest\) +(\d) layers +(peel|visibility) ", text, re.M)
-    assert [n for n, _ in fastest] == ["2", "3", "4"] * (2 if "by cpu time" in text else 1)
+    rows = table_rows(text, "series")
+    assert ["layers (visibility)", "2 layers", "visibility"] in [r[:3] for r in rows]
+    fastest = [r[1] for r in rows if r[0] == "layers (fastest)" and r[2] in ("peel", "visibility")]
+    assert fastest == ["2 layers", "3 layers", "4 layers"] * (2 if "by cpu time" in text else 1)
     assert "layers by the fastest construction: " in text and "layers by peeling: " in text
 
 
 def test_construction_switch_times_each_construction_alone_and_after_others():
     text = run_benchmark("construction_switch", "--width", "48", "--height", "32", "--repeats", "1")
-    rows = re.findall(r"^  hall +(\w+) (alone|after [\w ]+?) +frames (released|kept) +deep_gbuffer +([0-9.]+) +"
-                      r"(depth_peel.setup|visibility_buffer) +([0-9.]+)$", text, re.M)
-    assert len(rows) == 12, text
-    assert {(r[0], r[4]) for r in rows} == {("peel", "depth_peel.setup"), ("visibility", "visibility_buffer")}
-    assert all(0 < float(r[5]) <= float(r[3]) for r in rows), rows
+    rows = table_rows(text, "scene")
+    assert len(rows) == 12 and {r[0] for r in rows} == {"hall"}, text
+    assert {r[1].split()[0] for r in rows} == {"peel", "visibility"} and {r[2] for r in rows} == {"released", "kept"}
+    # Each construction's first part (named under the table) within its whole construction's time.
+    assert "first_part: peel: depth_peel.setup, visibility: visibility_buffer" in text
+    assert all(0 < float(r[4]) <= float(r[3]) for r in rows), rows
