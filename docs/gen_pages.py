@@ -64,10 +64,13 @@ def results() -> None:
             pages.append((device.get("renderer", slug), slug, data.get("started", "?")[:10]))
             board = run.parent / "standard" / "leaderboard.md"
             if board.is_file():
+                body = board.read_text()
+                if body.startswith("# "):  # the page's own title stands in for the leaderboard's
+                    body = body.split("\n", 1)[1].lstrip("\n")
                 with mkdocs_gen_files.open(f"results/{slug}-standard.md", "w") as out:
                     out.write(f"# The standard evaluation on {device.get('renderer', slug)}\n\n"
                               f"From `{board.relative_to(ROOT)}`, written by `ssrlab bench --suite standard` with "
-                              f"its records beside it (`standard.jsonl`).\n\n" + board.read_text())
+                              f"its records beside it (`standard.jsonl`).\n\n" + body)
                 pages.append((f"{device.get('renderer', slug)}: the standard evaluation", f"{slug}-standard",
                               data.get("started", "?")[:10]))
     with mkdocs_gen_files.open("results/index.md", "w") as out:
