@@ -223,7 +223,7 @@ def ab_shaders(bench, before, now, scene, settings, key, ratios):
             recs.append(bench.record({**params, "side": side, "pass": k}, "gpu", "ms", t[side][k]))
     print(f"\n{key}: before / now, this run")
     bench.print_ab("side", "before", "now", records=recs, rows=("config", "pass"))
-    # Not the speed-up target, which is against 069e706 (benchmarks/ab_frame.py).
+    # The ratio within this run; the speed-up against commit 069e706 is measured by benchmarks/ab_frame.py.
     ratios[f"{key}: frame before / now, same run"] = paired(t["before"]["total"], t["now"]["total"])
     if "resolve" in common:
         ratios[f"{key}: resolve before / now, same run"] = paired(t["before"]["resolve"], t["now"]["resolve"])
