@@ -35,7 +35,8 @@ public:
     bool runs(const RenderSettings& s, const FrameFacts& f) const override { return f.reflections; }
     std::vector<std::string> inputs(const RenderSettings&, const FrameFacts&) const override { return {"reflection"}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"reflection_luma", GL_R32F, s.width, s.height, 0, 1}};
+        return {ResourceDesc{"reflection_luma", GL_R32F, s.width, s.height, 0, 1}.with(
+            {{"luma", "luminance", 0, 1, ChannelDecode::Value, "Rec. 709 luminance of the reflection"}})};
     }
     void execute(FrameContext& ctx) override {
         const NamedUnits units{{"reflection"}, {{"reflection_luma", GL_WRITE_ONLY}}};
@@ -77,6 +78,7 @@ settings = ssrlab.Settings(width=64, height=36)
 frame = r.render(scene, settings=settings)
 chain = r.chain(settings, scene)
 luma = frame.read("reflection_luma")
+view = frame.view("luma")
 reflection = frame.read("reflection")
 want = reflection[..., :3].astype(np.float64) @ np.array([0.2126, 0.7152, 0.0722])
 print(json.dumps({
@@ -86,6 +88,8 @@ print(json.dumps({
     "max_error": float(np.abs(luma[..., 0] - want).max()),
     "mean_luma": float(luma[..., 0].mean()),
     "shape": list(luma.shape),
+    "view_equals_read": bool(np.array_equal(view.luminance, luma[0, ..., 0])),
+    "channels": [[c["texture"], c["name"], c["doc"]] for c in view.channels],
 }))
 """
 
@@ -169,3 +173,6 @@ def test_a_pass_added_in_one_file_and_one_shader_runs_in_its_place(tmp_path):
     assert ["reflection_luma", ["reflection"], ["reflection_luma"]] in got["chain"]
     # Bound by name and read back by Frame: the luminance of the reflection it read.
     assert got["max_error"] < 1e-5 and got["mean_luma"] > 0.0, got
+    # Its channel, as it declared it, is a view of the frame like the G-buffer's.
+    assert got["channels"] == [["reflection_luma", "luminance", "Rec. 709 luminance of the reflection"]]
+    assert got["view_equals_read"]

@@ -319,6 +319,26 @@ void bind_render(py::module_& m) {
             py::arg("name"), py::arg("level") = 0,
             "Reads every layer of a texture's mip level as float32 (layers, height, width, 4); row 0 = top.")
         .def_property_readonly("texture_names", &Frame::texture_names, "names of the textures read() can read")
+        .def_property_readonly(
+            "channels",
+            [](const Frame& f) {
+                py::list out;
+                for (const auto& [texture, c] : f.channels()) {
+                    py::dict e;
+                    e["texture"] = texture->name;
+                    e["layered"] = texture->layers > 0;
+                    e["view"] = c.view;
+                    e["name"] = c.name;
+                    e["first"] = c.first;
+                    e["count"] = c.count;
+                    e["decode"] = decode_name(c.decode);
+                    e["doc"] = c.doc;
+                    out.append(e);
+                }
+                return out;
+            },
+            "What the channels of the frame's textures mean, as the passes that wrote them declared: one dict "
+            "per channel (texture, layered, view, name, first, count, decode, doc; layered: the texture has layers)")
         .def("has", &Frame::has, "True if the frame holds a texture of this name.")
         .def("release", &Frame::release, "Frees the frame's own textures now; later reads raise.")
         .def_property_readonly("released", &Frame::released, "True once release() freed the frame's textures")

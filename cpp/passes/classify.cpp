@@ -59,8 +59,12 @@ void ClassifyPass::reset_resolve_list(int width, int height, bool pixels) {
 }
 
 std::vector<ResourceDesc> ClassifyPass::outputs(const RenderSettings& s) const {
+    // The skipped pixels' rays are cleared in rays.sample alone (its traced flag 0): their hit and
+    // direction are declared undefined there rather than cleared, which would cost a full-screen
+    // pass over two of the three ray textures.
     std::vector<ResourceDesc> out{TracePass::ray_texture("rays.hit", s), TracePass::ray_texture("rays.sample", s),
                                   TracePass::ray_texture("rays.direction", s)};
+    for (int i : {0, 2}) out[i].defined_by = "rays.sample", out[i].defined_component = 3;
     if (resolves_over_lists(s)) out.push_back(ResolvePass::reflection_texture(s));
     return out;
 }

@@ -9,30 +9,23 @@
 #include <vector>
 
 #include "passes/compute.h"
+#include "passes/gbuffer_layout.h"
 
 namespace ssr {
 
 std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s) const {
-    const int w = s.width, h = s.height, l = s.layers;
-    return {
-        {"gbuffer.depth", GL_DEPTH_COMPONENT32F, w, h, l, 1},
-        {"gbuffer.albedo", GL_SRGB8_ALPHA8, w, h, l, 1},
-        {"gbuffer.normal", GL_RGBA16F, w, h, l, 1},
-        {"gbuffer.material", GL_RGBA8, w, h, l, 1},
-        // Layer i samples layer i-1's depth from this copy: sampling the array that is being
-        // rendered into would be a feedback loop in GL's rules, even on another layer.
-        {"depth_peel.previous_depth", GL_DEPTH_COMPONENT32F, w, h, 0, 1},
-    };
+    std::vector<ResourceDesc> out{gbuffer_depth_texture(s, GL_DEPTH_COMPONENT32F)};
+    for (auto& d : gbuffer_base_textures(s)) out.push_back(std::move(d));
+    // Layer i samples layer i-1's depth from this copy: sampling the array that is being
+    // rendered into would be a feedback loop in GL's rules, even on another layer.
+    out.push_back({"depth_peel.previous_depth", GL_DEPTH_COMPONENT32F, s.width, s.height, 0, 1});
+    return out;
 }
 
 std::vector<ResourceDesc> DepthPeelPass::outputs(const RenderSettings& s, const FrameFacts& f) const {
     std::vector<ResourceDesc> out = outputs(s);
-    if (f.emission_texture) out.push_back({"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1});
-    // F0 in half floats: 2^-11 relative (an 8-bit unorm would round 0.04 to 10/255, 2 % off, and
-    // 0.01 by 18 %; sRGB8 still by 1-3 %), so a texel's F0 reaches the lighting as computed.
-    if (f.specular_texture) out.push_back({"gbuffer.specular", GL_RGBA16F, s.width, s.height, s.layers, 1});
-    // Motion in pixels (lib/motion.glsl): float32, as a half float holds 0.01 px only below 16 px.
-    if (writes_motion(s, f)) out.push_back({"gbuffer.motion", GL_RG32F, s.width, s.height, s.layers, 1});
+    const std::vector<ResourceDesc> attributes = gbuffer_attribute_textures(s, f);
+    out.insert(out.end(), attributes.begin() + 3, attributes.end());  // after the base three, in outputs(s)
     return out;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "passes/gbuffer_layout.h"
 #include "passes/compute.h"
 #include "passes/depth_peel.h"
 #include "passes/visibility_buffer.h"
@@ -48,22 +49,11 @@ constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
 }  // namespace
 
 std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s) const {
-    const int w = s.width, h = s.height, l = s.layers;
-    std::vector<ResourceDesc> out = {
-        {"gbuffer.albedo", GL_SRGB8_ALPHA8, w, h, l, 1},
-        {"gbuffer.normal", GL_RGBA16F, w, h, l, 1},
-        {"gbuffer.material", GL_RGBA8, w, h, l, 1},
-    };
-    return out;
+    return gbuffer_base_textures(s);
 }
 
 std::vector<ResourceDesc> GBufferAttributesPass::outputs(const RenderSettings& s, const FrameFacts& f) const {
-    std::vector<ResourceDesc> out = outputs(s);
-    // As peeling declares them (DepthPeelPass::outputs): the same textures for the same facts.
-    if (f.emission_texture) out.push_back({"gbuffer.emission", GL_RGBA16F, s.width, s.height, s.layers, 1});
-    if (f.specular_texture) out.push_back({"gbuffer.specular", GL_RGBA16F, s.width, s.height, s.layers, 1});
-    if (writes_motion(s, f)) out.push_back({"gbuffer.motion", GL_RG32F, s.width, s.height, s.layers, 1});
-    return out;
+    return gbuffer_attribute_textures(s, f);
 }
 
 void GBufferAttributesPass::execute(FrameContext& ctx) {

@@ -2,6 +2,7 @@
 
 #include "render/pass_registry.h"
 
+#include "passes/gbuffer_layout.h"
 #include "passes/compute.h"
 #include "passes/shadow_map.h"
 
@@ -19,8 +20,7 @@ std::vector<std::string> LightingPass::inputs(const RenderSettings& s, const Fra
 }
 
 std::vector<ResourceDesc> LightingPass::outputs(const RenderSettings& s) const {
-    return {{"lit", GL_RGBA16F, s.width, s.height, s.layers, 1},
-            {"linear_depth", GL_R32F, s.width, s.height, s.layers, 1}};
+    return {lit_texture(s), linear_depth_texture(s)};
 }
 
 void LightingPass::execute(FrameContext& ctx) {

@@ -24,6 +24,17 @@ void HistoryCamera::set(GLuint prog) const {
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_view_to_previous_view"), 1, GL_FALSE, glm::value_ptr(view_to_previous_view));
 }
 
+ResourceDesc ReprojectPass::texture(const std::string& name, const RenderSettings& s) {
+    using D = ChannelDecode;
+    return ResourceDesc{name, GL_RGBA32F, s.width, s.height, 0, 1}.with(
+        {{"reprojection", "pixel", 0, 2, D::WindowPoint,
+          "previous-frame position in pixels (column, row from the top; pixel centres at .5)"},
+         {"reprojection", "valid", 2, 1, D::Flag, "the history there is kept"},
+         {"reprojection", "reason", 3, 1, D::Integer,
+          "0 valid, 1 no history (first frame), 2 no surface, 3 off-screen, 4 another surface there, 5 normal "
+          "differs, 6 disoccluded, 7 the reflection there lay elsewhere"}});
+}
+
 void ReprojectPass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
     const GLuint prog = ctx.shaders.program({"passes/reproject.comp"}, ctx.defines);

@@ -38,9 +38,12 @@ public:
         return {"linear_depth", "gbuffer.normal", "gbuffer.material", "gbuffer.motion"};
     }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"reprojection", GL_RGBA32F, s.width, s.height, 0, 1}};
+        return {texture("reprojection", s)};
     }
     void execute(FrameContext& ctx) override;
+    // A reprojection texture (`name`: reprojection, or reprojection.reflection of the
+    // reflection's reprojection) with what its channels mean (frame.reprojection).
+    static ResourceDesc texture(const std::string& name, const RenderSettings& s);
 };
 
 }  // namespace ssr

@@ -17,6 +17,7 @@
 #pragma once
 
 #include "render/render_pass.h"
+#include "passes/reproject.h"
 
 namespace ssr {
 
@@ -36,7 +37,7 @@ public:
     }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override;
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override {
-        return {{"reprojection.reflection", GL_RGBA32F, s.width, s.height, 0, 1},
+        return {ReprojectPass::texture("reprojection.reflection", s),
                 {"reflection.hits", GL_RGBA32F, s.width, s.height, 0, 1}};
     }
     void execute(FrameContext& ctx) override;

@@ -6,6 +6,24 @@
 
 namespace ssr {
 
+ResourceDesc TracePass::ray_texture(const std::string& name, const RenderSettings& s) {
+    using D = ChannelDecode;
+    std::vector<ChannelDesc> c;
+    if (name == "rays.hit")
+        c = {{"rays", "hit_position", 0, 2, D::WindowPoint,
+              "where the ray hit, in pixels of the frame (column, row from the top); meaningless for misses"},
+             {"rays", "hit_layer", 2, 1, D::Integer, "G-buffer layer hit, 1-based; 0 = miss (as the thesis stores it)"},
+             {"rays", "fade", 3, 1, D::Value, "1 = hit kept, 0 = replaced by the environment"}};
+    else if (name == "rays.sample")
+        c = {{"rays", "weight", 0, 1, D::Value, "f_r cos / pdf without Fresnel; 0 for no ray or an invalid sample"},
+             {"rays", "pdf", 1, 1, D::Value, "solid-angle pdf of the direction; 0 for mirror (Dirac) directions"},
+             {"rays", "steps", 2, 1, D::Value, "depth fetches the ray spent"},
+             {"rays", "traced_ray", 3, 1, D::Flag, "the slot holds a traced ray"}};
+    else if (name == "rays.direction")
+        c = {{"rays", "direction", 0, 3, D::Value, "view-space unit direction (0 where the pixel traces no ray)"}};
+    return ResourceDesc{name, GL_RGBA32F, s.trace_width(), s.trace_height(), s.traced_rays(), 1}.with(std::move(c));
+}
+
 void TracePass::run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup) {
     auto& r = ctx.resources;
     const bool skip = ctx.settings.skip || extra_;

@@ -28,9 +28,9 @@ public:
     }
     std::string stage() const override { return extra_ ? "trace_extra" : "trace"; }
     // One of the ray textures: at the trace resolution, a layer per ray of a pixel.
-    static ResourceDesc ray_texture(const std::string& name, const RenderSettings& s) {
-        return {name, GL_RGBA32F, s.trace_width(), s.trace_height(), s.traced_rays(), 1};
-    }
+    // rays.hit, rays.sample or rays.direction: a layer per traced ray at the trace resolution,
+    // with what its channels mean (frame.rays).
+    static ResourceDesc ray_texture(const std::string& name, const RenderSettings& s);
     // The ray textures, which this pass rewrites where classify runs before it (classify writes
     // the skipped pixels' "no ray" and the rays adaptive_rays leaves out) and the second trace
     // rewrites after the first.

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "passes/gbuffer_layout.h"
 #include "passes/compute.h"
 #include "passes/depth_peel.h"
 
@@ -35,7 +36,7 @@ std::vector<ResourceDesc> VisibilityBufferPass::outputs(const RenderSettings& s)
     // target would take one full-screen depth-only draw per layer through the raster outputs.
     const bool stored = builds_lists(s);
     std::vector<ResourceDesc> out = {
-        {"gbuffer.depth", GLenum(stored ? GL_R32F : GL_DEPTH_COMPONENT32F), w, h, l, 1},
+        gbuffer_depth_texture(s, GLenum(stored ? GL_R32F : GL_DEPTH_COMPONENT32F)),
         // Read by the attribute pass of the same frame only.
         {"gbuffer.visibility", GL_R32UI, w, h, l, 1, Lifetime::Scratch},
     };

@@ -59,6 +59,9 @@ public:
     // All layers of a texture's mip `level`, as float RGBA (depth in channel 0).
     Readback read(const std::string& name, int level = 0);
     std::vector<std::string> texture_names() const;
+    // What the channels of the frame's own textures mean, as the passes that wrote them declared
+    // (ResourceDesc::channels), with the texture that holds each, in the chain's order.
+    std::vector<std::pair<const ResourceDesc*, ChannelDesc>> channels() const;
     bool has(const std::string& name) const;
     FrameResources& resources();
     // Frees the frame's own textures now (later reads raise); idempotent.

@@ -239,7 +239,20 @@ Readback Frame::read(const std::string& name, int level) {
                                     "what you need before releasing it");
     auto r = renderer_.lock();
     if (!r) throw GLError("the Renderer that made this frame has been closed; read what you need before closing it");
-    if (resources_->owns(name)) return r->read_texture(resources_->get(name), level);
+    if (resources_->owns(name)) {
+        Readback data = r->read_texture(resources_->get(name), level);
+        const auto& descs = resources_->descs();
+        auto d = std::find_if(descs.begin(), descs.end(), [&](const ResourceDesc& x) { return x.name == name; });
+        if (d != descs.end() && !d->defined_by.empty() && resources_->owns(d->defined_by)) {
+            // Texels the pass left unwritten read as 0 (ResourceDesc::defined_by).
+            const Readback mask = r->read_texture(resources_->get(d->defined_by), level);
+            if (mask.data.size() == data.data.size())
+                for (size_t t = 0; t < data.data.size(); t += 4)
+                    if (!(mask.data[t + size_t(d->defined_component)] > 0.5f))
+                        std::fill(data.data.begin() + t, data.data.begin() + t + 4, 0.0f);
+        }
+        return data;
+    }
     if (const Texture* t = r->scratch_of(name, serial)) return r->read_texture(*t, level);
     if (r->is_scratch(name))
         throw std::invalid_argument("'" + name + "' is per-renderer scratch shared by all frames, and a later render "
@@ -248,6 +261,14 @@ Readback Frame::read(const std::string& name, int level) {
     std::string known;
     for (const auto& n : texture_names()) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("frame has no texture '" + name + "' (it has: " + known + ")");
+}
+
+std::vector<std::pair<const ResourceDesc*, ChannelDesc>> Frame::channels() const {
+    std::vector<std::pair<const ResourceDesc*, ChannelDesc>> out;
+    if (!resources_) return out;
+    for (const auto& d : resources_->descs())
+        for (const auto& c : d.channels) out.emplace_back(&d, c);
+    return out;
 }
 
 std::vector<std::string> Frame::texture_names() const {

@@ -61,6 +61,18 @@ const FrameBuffer& FrameBuffers::get(const std::string& name) const {
     return it->second;
 }
 
+const char* decode_name(ChannelDecode d) {
+    switch (d) {
+        case ChannelDecode::Value: return "value";
+        case ChannelDecode::Flag: return "flag";
+        case ChannelDecode::Integer: return "integer";
+        case ChannelDecode::ByteIdMinusOne: return "byte_id_minus_one";
+        case ChannelDecode::WindowPoint: return "window_point";
+        case ChannelDecode::WindowVector: return "window_vector";
+    }
+    return "value";
+}
+
 namespace {
 std::atomic<uint64_t> texture_generations{1};
 

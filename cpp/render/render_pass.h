@@ -32,6 +32,29 @@ namespace ssr {
 // read it, and Python right after the render.
 enum class Lifetime { Frame, History, Scratch };
 
+// What components of a texel mean, declared with the texture that holds them: Frame's views
+// (python/ssrlab/frame_views.py: GBuffer, RayResults, Reprojection) are made from these, so a
+// channel's meaning and its decoding are written once, here, beside the format.
+enum class ChannelDecode {
+    Value,          // as stored (float)
+    Flag,           // a bool: the stored value > 0.5
+    Integer,        // an int32: the stored value rounded
+    ByteIdMinusOne, // two unorm8 components, low byte first, as one integer minus 1 (-1: none)
+    WindowPoint,    // (x, y) in GL window pixels (y up) as (column, row from the top): (x, height - y)
+    WindowVector,   // a difference of window positions as (columns, rows down): (x, -y)
+};
+struct ChannelDesc {
+    std::string view;  // the view that shows it: "gbuffer", "rays", "reprojection"
+    std::string name;  // its property there: frame.gbuffer.normal
+    int first = 0, count = 1;  // the texel's components [first, first + count)
+    ChannelDecode decode = ChannelDecode::Value;
+    std::string doc;   // what it is, with its unit and convention
+    bool operator==(const ChannelDesc& o) const {
+        return view == o.view && name == o.name && first == o.first && count == o.count && decode == o.decode;
+    }
+};
+const char* decode_name(ChannelDecode d);
+
 struct ResourceDesc {
     std::string name;
     GLenum format = GL_RGBA8;
@@ -40,9 +63,20 @@ struct ResourceDesc {
     int levels = 1;  // 0: a full mip chain
     Lifetime lifetime = Lifetime::Frame;
     bool cube = false;  // a cube-map array of layers / 6 cubes (width == height)
+    std::vector<ChannelDesc> channels;  // what its components mean, for Frame's views (none: raw)
+    // Where the pass that creates it leaves texels unwritten (no work spent on them): a texel is
+    // defined only where component `defined_component` of texture `defined_by`, same layer and
+    // texel, is > 0.5; Frame::read gives 0 elsewhere. Empty: every texel is written.
+    std::string defined_by;
+    int defined_component = 0;
     bool operator==(const ResourceDesc& o) const {
         return name == o.name && format == o.format && width == o.width && height == o.height &&
-               layers == o.layers && levels == o.levels && lifetime == o.lifetime && cube == o.cube;
+               layers == o.layers && levels == o.levels && lifetime == o.lifetime && cube == o.cube &&
+               channels == o.channels && defined_by == o.defined_by && defined_component == o.defined_component;
+    }
+    ResourceDesc with(std::vector<ChannelDesc> c) && {
+        channels = std::move(c);
+        return std::move(*this);
     }
 };
 

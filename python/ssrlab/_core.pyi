@@ -756,6 +756,11 @@ class Frame:
         the camera the frame was rendered from
         """
     @property
+    def channels(self) -> list:
+        """
+        What the channels of the frame's textures mean, as the passes that wrote them declared: one dict per channel (texture, layered, view, name, first, count, decode, doc; layered: the texture has layers)
+        """
+    @property
     def gpu_bytes(self) -> int:
         """
         Bytes of the frame's own textures.

@@ -12,7 +12,7 @@ import numpy as np
 
 from . import _core
 from .settings import Settings
-from .frame_views import GBuffer, RayResults, Reprojection
+from .frame_views import ChannelView, GBuffer, RayResults, Reprojection
 
 
 class FrameStats(Mapping):
@@ -213,6 +213,13 @@ class Frame:
     def texture_names(self) -> list[str]:
         return list(self._native.texture_names)
 
+    @functools.cached_property
+    def channels(self) -> list[dict]:
+        """What the channels of the frame's textures mean, as the passes that wrote them declared:
+        one dict per channel (texture, view, name, first, count, decode, doc). GBuffer, RayResults
+        and Reprojection are made from these."""
+        return list(self._native.channels)
+
     # -- images -------------------------------------------------------------------------------
     def read(self, name: str, level: int = 0, *, cache: bool = True) -> np.ndarray:
         """Every layer of a texture as float32 (layers, height, width, 4), cached and read-only
@@ -222,11 +229,6 @@ class Frame:
         key = f"{name}@{level}"
         if key not in self._cache or not cache:
             data = self._native.read(name, level)
-            if name in ("rays.hit", "rays.direction") and "classify" in self.passes:
-                # With skip, the GPU clears rays.sample only; a slot whose traced flag is 0 holds
-                # no ray, which reads as zeros here, as the full-screen trace writes it.
-                traced = self.read("rays.sample", level)[..., 3:4] > 0.5
-                data = np.where(traced, data, np.float32(0.0)).astype(np.float32, copy=False)
             if not cache:
                 return data
             # Read-only: every property and result shares this one copy, so an in-place change by
@@ -278,6 +280,15 @@ class Frame:
     @functools.cached_property
     def gbuffer(self) -> "GBuffer":
         return GBuffer(self)
+
+    def view(self, name: str) -> "ChannelView":
+        """The channels that the frame's passes declared under view `name` (a user pass's own, or
+        "gbuffer", "rays", "reprojection"), each an attribute: ``frame.view("luma").luminance``."""
+        views = sorted({c["view"] for c in self.channels})
+        if name not in views:
+            raise ValueError(f"Frame.view: this frame has no view {name!r} (its passes declare: {', '.join(views)})")
+        known = {"gbuffer": GBuffer, "rays": RayResults, "reprojection": Reprojection}
+        return known[name](self) if name in known else ChannelView(self, view=name)
 
     @functools.cached_property
     def rays(self) -> "RayResults":

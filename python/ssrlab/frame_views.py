@@ -6,161 +6,153 @@ from __future__ import annotations
 import numpy as np
 
 
-class GBuffer:
-    """The deep G-buffer of a frame: per-layer arrays (layers, height, width[, channels]).
+class MissingChannel(KeyError, AttributeError):
+    """A view's channel that this frame does not hold (no pass of its chain wrote the texture that
+    declares it)."""
 
-    depth        positive view-space depth (distance along the view axis); the far-plane
-                 distance where a layer covers nothing
-    window_depth the stored depth-buffer value, in the frame's depth convention
-    normal       view-space unit normal (x right, y up, z toward the camera)
-    albedo       linear base colour
-    roughness    perceptual roughness (GGX alpha = roughness**2)
-    metallic, reflectivity
-    coverage     True where the layer holds a surface
-    lit          direct lighting of every layer (the colour a reflection ray fetches)
-    motion       (layers, height, width, 2) with Settings.motion_vectors (or a temporal technique that
-                 reprojects, which reads it): where each sample was in
-                 the previous frame of the sequence minus where it is, in pixels of these arrays
-                 (x right, y down: previous (row, col) = (row + motion[..., 1], col + motion[..., 0]));
-                 0 outside a sequence and where nothing moved
-    """
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
 
-    def __init__(self, frame: "Frame"):
+
+# What a channel needs that a frame may not have, for the message when it is missing.
+_NEEDS = {
+    "motion": "Settings.motion_vectors=True (or a temporal technique that reprojects, which writes it too)",
+    "emission": "a scene with an emissive texture",
+    "specular_f0": "a scene with a KHR_materials_specular texture",
+}
+
+
+def _decode(raw: np.ndarray, decode: str, height: int) -> np.ndarray:
+    """A channel's stored components as its view gives them (render_pass.h, ChannelDecode)."""
+    if decode == "value":
+        out = raw
+    elif decode == "flag":
+        out = raw > 0.5
+    elif decode == "integer":
+        out = np.rint(raw).astype(np.int32)
+    elif decode == "byte_id_minus_one":
+        b = np.rint(raw * 255).astype(np.int32)
+        out = b[..., 0] + 256 * b[..., 1] - 1
+    elif decode == "window_point":
+        out = np.stack([raw[..., 0], height - raw[..., 1]], axis=-1)
+    elif decode == "window_vector":
+        out = np.stack([raw[..., 0], -raw[..., 1]], axis=-1)
+    else:
+        raise ValueError(f"unknown channel decoding {decode!r}")
+    if out.dtype == np.float64:
+        out = out.astype(np.float32)
+    if out.ndim == raw.ndim and out.shape[-1] == 1:
+        out = out[..., 0]
+    return out
+
+
+class ChannelView:
+    """A view of a frame's textures made from what their channels mean, as the passes that wrote
+    them declared (ResourceDesc::channels in cpp/render/render_pass.h; Frame.channels): every
+    declared channel of this view is an attribute, decoded as declared, cached and read-only.
+    `channels` lists them with their texture, components and meaning."""
+
+    view = ""
+
+    def __init__(self, frame: "Frame", texture: str | None = None, view: str | None = None):
         self._frame = frame
+        self._texture = texture
+        self._values: dict[str, np.ndarray] = {}
+        if view is not None:
+            self.view = view
+
+    @property
+    def channels(self) -> list[dict]:
+        """The channels this view has in this frame: dicts of name, texture, layered, first, count,
+        decode, doc (Frame.channels)."""
+        return [c for c in self._frame.channels
+                if c["view"] == self.view and (self._texture is None or c["texture"] == self._texture)]
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        values = self.__dict__.get("_values")
+        if values is not None and name in values:
+            return values[name]
+        self._frame._check_live(f"the {self.view} channel {name!r}")
+        for c in self.channels:
+            if c["name"] == name:
+                raw = self._frame.read(c["texture"])[..., c["first"]:c["first"] + c["count"]]
+                out = _decode(raw, c["decode"], self._frame.settings.height)
+                if not c["layered"]:  # a 2D texture: (height, width, ...)
+                    out = out[0]
+                out = np.ascontiguousarray(out)
+                out.setflags(write=False)
+                self._values[name] = out
+                return out
+        have = ", ".join(c["name"] for c in self.channels) or "none"
+        needs = f"; it comes with {_NEEDS[name]}" if name in _NEEDS else ""
+        raise MissingChannel(f"{type(self).__name__}.{name}: this frame holds no {self.view} channel {name!r} "
+                             f"(it has: {have}){needs}")
+
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | {c["name"] for c in self.channels})
+
+    def describe(self) -> str:
+        """A Markdown table of this view's channels in this frame: name, texture, components, meaning."""
+        rows = ["| channel | texture | components | meaning |", "|---|---|---|---|"]
+        for c in self.channels:
+            comps = "rgba"[c["first"]:c["first"] + c["count"]]
+            rows.append(f"| {c['name']} | {c['texture']} | {comps} | {c['doc']} |")
+        return "\n".join(rows)
+
+
+class GBuffer(ChannelView):
+    """The deep G-buffer of a frame: per-layer arrays (layers, height, width[, channels]), one
+    attribute per channel the G-buffer's passes declare (cpp/passes/gbuffer_layout.cpp): depth,
+    window_depth, normal, albedo, roughness, metallic, reflectivity, coverage, object_id, lit, and
+    where the frame has them motion, emission, specular_f0. ``describe()`` gives each one's meaning."""
+
+    view = "gbuffer"
 
     @property
     def layers(self) -> int:
         return self._frame.settings.layers
-
-    @property
-    def depth(self) -> np.ndarray:
-        return self._frame.read("linear_depth")[..., 0]
-
-    @property
-    def window_depth(self) -> np.ndarray:
-        return self._frame.read("gbuffer.depth")[..., 0]
-
-    @property
-    def normal(self) -> np.ndarray:
-        return self._frame.read("gbuffer.normal")[..., :3]
-
-    @property
-    def motion(self) -> np.ndarray:
-        if "gbuffer.motion" not in self._frame.texture_names:
-            raise KeyError("gbuffer.motion: this frame was rendered without Settings.motion_vectors=True (and "
-                           "without a temporal technique that reprojects, which writes it too)")
-        m = np.array(self._frame.read("gbuffer.motion")[..., :2])
-        m[..., 1] *= -1.0  # the texture's y runs up the image (GL window coordinates), the arrays' rows down
-        m.setflags(write=False)
-        return m
-
-    @property
-    def roughness(self) -> np.ndarray:
-        return self._frame.read("gbuffer.normal")[..., 3]
-
-    @property
-    def albedo(self) -> np.ndarray:
-        return self._frame.read("gbuffer.albedo")[..., :3]
-
-    @property
-    def metallic(self) -> np.ndarray:
-        return self._frame.read("gbuffer.albedo")[..., 3]
-
-    @property
-    def reflectivity(self) -> np.ndarray:
-        return self._frame.read("gbuffer.material")[..., 0]
-
-    @property
-    def coverage(self) -> np.ndarray:
-        return self._frame.read("gbuffer.material")[..., 1] > 0.5
-
-    @property
-    def object_id(self) -> np.ndarray:
-        """(layers, H, W) int32 index of the scene object each layer shows, -1 where none."""
-        m = self._frame.read("gbuffer.material")
-        return (np.rint(m[..., 2] * 255).astype(np.int32) + 256 * np.rint(m[..., 3] * 255).astype(np.int32)) - 1
-
-    @property
-    def lit(self) -> np.ndarray:
-        return self._frame.read("lit")[..., :3]
 
     def __repr__(self) -> str:
         s = self._frame.settings
         return f"<GBuffer {s.layers} layer(s) of {s.width}x{s.height}>"
 
 
-
-
-class RayResults:
+class RayResults(ChannelView):
     """Per-ray results, arrays of shape (rays_per_pixel, h, w, ...) at the trace resolution
-    (h, w) = ceil((height, width) / downscale), row 0 at the top.
+    (h, w) = ceil((height, width) / downscale), row 0 at the top: one attribute per channel the
+    trace passes declare (TracePass::ray_texture: hit_position, hit_layer, fade, weight, pdf,
+    steps, traced_ray, direction; ``describe()`` gives each one's meaning), and what follows from
+    them:
 
     hit_uv     (R, h, w, 2) hit position in [0, 1]^2, (0, 0) the image's top-left corner,
                pixel (row i, column j) centred at ((j + 0.5)/W, (i + 0.5)/H); 0 for misses
-    hit_layer  (R, h, w) int32 G-buffer layer hit, 1-based; 0 = miss (as the thesis stores it)
+    hit_pixel  (R, h, w, 2) the same in pixels (x = column, y = row from the top); 0 for misses
     hit        (R, h, w) bool, hit_layer > 0
-    weight     (R, h, w) f_r cos / pdf without Fresnel; 0 for no ray or an invalid sample
-    pdf        (R, h, w) solid-angle pdf of the direction; 0 for mirror (Dirac) directions
-    steps      (R, h, w) depth fetches the ray spent
-    fade       (R, h, w) 1 = hit kept, 0 = replaced by the environment
-    direction  (R, h, w, 3) view-space unit direction (0 where the pixel traces no ray)
     traced     (h, w) bool: the pixel is reflective, faces the camera and traced rays
     A pixel that traces no ray holds zeros in every field.
     """
 
-    def __init__(self, frame: "Frame"):
-        self._frame = frame
-
-    def _hit(self) -> np.ndarray:
-        return self._frame.read("rays.hit")
-
-    def _sample(self) -> np.ndarray:
-        return self._frame.read("rays.sample")
-
-    @property
-    def hit_uv(self) -> np.ndarray:
-        h = self._hit()
-        s = self._frame.settings
-        uv = np.stack([h[..., 0] / s.width, 1.0 - h[..., 1] / s.height], axis=-1).astype(np.float32)
-        uv[~self.hit] = 0.0
-        return uv
-
-    @property
-    def hit_pixel(self) -> np.ndarray:
-        """(R, h, w, 2) hit position in pixels (x = column, y = row from the top); 0 for misses."""
-        return self.hit_uv * np.array([self._frame.settings.width, self._frame.settings.height], np.float32)
-
-    @property
-    def hit_layer(self) -> np.ndarray:
-        return np.rint(self._hit()[..., 2]).astype(np.int32)
+    view = "rays"
 
     @property
     def hit(self) -> np.ndarray:
         return self.hit_layer > 0
 
     @property
-    def fade(self) -> np.ndarray:
-        return self._hit()[..., 3]
+    def hit_pixel(self) -> np.ndarray:
+        p = np.where(self.hit[..., None], self.hit_position, np.float32(0.0)).astype(np.float32)
+        return p
 
     @property
-    def weight(self) -> np.ndarray:
-        return self._sample()[..., 0]
-
-    @property
-    def pdf(self) -> np.ndarray:
-        return self._sample()[..., 1]
-
-    @property
-    def steps(self) -> np.ndarray:
-        return self._sample()[..., 2]
+    def hit_uv(self) -> np.ndarray:
+        s = self._frame.settings
+        return (self.hit_pixel / np.array([s.width, s.height], np.float32)).astype(np.float32)
 
     @property
     def traced(self) -> np.ndarray:
-        return self._sample()[0, ..., 3] > 0.5
-
-    @property
-    def direction(self) -> np.ndarray:
-        return self._frame.read("rays.direction")[..., :3]
+        return self.traced_ray[0]
 
     def mean_fetches(self) -> float:
         """Mean depth fetches per traced ray."""
@@ -172,42 +164,20 @@ class RayResults:
         return f"<RayResults {n} ray(s) per pixel at {w}x{h}, mean {self.mean_fetches():.1f} fetches per ray>"
 
 
-class Reprojection:
-    """The reproject pass's result (shaders/passes/reproject.comp), arrays (height, width, ...).
-
-    pixel   (H, W, 2) previous-frame position in pixels, x = column, y = row from the top (pixel
-            centres at .5, as RayResults.hit_pixel)
-    uv      (H, W, 2) the same in [0, 1]^2, (0, 0) the image's top-left corner
-    valid   (H, W) bool: the history there is kept
-    reason  (H, W) int: 0 valid, 1 no history (first frame), 2 no surface, 3 off-screen,
-            4 another surface there (depth, or with reject_layers the object, differs),
-            5 normal differs, 6 disoccluded (reject_layers: the surface was there, behind layer 0),
-            7 the reflection there lay elsewhere (Frame.reflection_reprojection only)
-    """
+class Reprojection(ChannelView):
+    """The reproject pass's result (shaders/passes/reproject.comp), arrays (height, width, ...):
+    one attribute per channel ReprojectPass::texture declares (pixel, valid, reason; ``describe()``
+    gives each one's meaning), and uv, the pixel in [0, 1]^2 ((0, 0) the image's top-left corner).
+    reason's codes are the constants below."""
 
     VALID, NO_HISTORY, NO_SURFACE, OFFSCREEN, DEPTH, NORMAL, DISOCCLUDED, REFLECTION = range(8)
 
+    view = "reprojection"
+
     def __init__(self, frame: "Frame", texture: str = "reprojection"):
-        self._frame = frame
-        self._texture = texture
-
-    def _raw(self) -> np.ndarray:
-        return self._frame.read(self._texture)[0]
-
-    @property
-    def pixel(self) -> np.ndarray:
-        r = self._raw()
-        return np.stack([r[..., 0], self._frame.settings.height - r[..., 1]], axis=-1).astype(np.float32)
+        super().__init__(frame, texture)
 
     @property
     def uv(self) -> np.ndarray:
         s = self._frame.settings
         return (self.pixel / np.array([s.width, s.height], np.float32)).astype(np.float32)
-
-    @property
-    def valid(self) -> np.ndarray:
-        return self._raw()[..., 2] > 0.5
-
-    @property
-    def reason(self) -> np.ndarray:
-        return np.rint(self._raw()[..., 3]).astype(np.int32)
