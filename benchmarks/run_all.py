@@ -82,7 +82,7 @@ BENCHMARKS = {
 
 # name: the arguments of its smoke run (tests/test_bench_records.py): the smallest size at which the
 # script still measures and records every figure it prints, a few seconds on llvmpipe. Every
-# benchmark registered above has one, save those in NO_RECORDS.
+# benchmark registered above has one: each writes records and takes --device (protocol.arguments).
 SMOKE = {
     "first_render": ["--width", "32", "--height", "18", "--repeats", "1", "--rounds", "1", "--scenes", "hall"],
     "peel_layers": ["--width", "32", "--height", "18", "--repeats", "1", "--layers", "1", "2", "--scenes", "hall"],
@@ -126,10 +126,6 @@ SMOKE = {
     # one notebook: the others record the same kinds of figure; no figures written into docs/images
     "thesis_findings": ["--scale", "small", "--only", "hiz_vs_linear", "--figures", ""],
 }
-# Registered benchmarks that write no records (none: every one does).
-NO_RECORDS: set[str] = set()
-# Registered benchmarks without the --device option every other one takes (protocol.arguments).
-NO_DEVICE: set[str] = set()
 
 
 def script_path(name: str) -> str:
@@ -157,12 +153,11 @@ def main() -> int:
     ap.add_argument("--only", nargs="+", choices=sorted(BENCHMARKS))
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--registry", action="store_true",
-                    help="print the registry (full, quick and smoke arguments, NO_RECORDS, NO_DEVICE, every script's path) "
+                    help="print the registry (full, quick and smoke arguments, every script's path) "
                          "as JSON and exit")
     args = ap.parse_args()
     if args.registry:  # what tests/test_bench_records.py runs: a test imports no script by path
-        print(json.dumps({"benchmarks": BENCHMARKS, "smoke": SMOKE, "no_records": sorted(NO_RECORDS),
-                          "no_device": sorted(NO_DEVICE),
+        print(json.dumps({"benchmarks": BENCHMARKS, "smoke": SMOKE,
                           "scripts": {name: script_path(name) for name in SCRIPTS}}))
         return 0
 
@@ -193,9 +188,7 @@ def main() -> int:
         script = SCRIPTS[name]
         full, quick = BENCHMARKS[name]
         extra = quick if args.quick else full
-        cmd = [sys.executable, str(script), *extra]
-        if name not in NO_DEVICE:
-            cmd += ["--device", args.device]
+        cmd = [sys.executable, str(script), *extra, "--device", args.device]
         print(f"[run_all] {' '.join(cmd[1:])}", flush=True)
         t0 = time.perf_counter()
         # Every benchmark converted to the protocol appends its records to <folder>/<name>.jsonl.

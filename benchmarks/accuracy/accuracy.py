@@ -1,6 +1,6 @@
 """Accuracy of the tracers and of the ground truth, against closed forms and each other.
 
-    python benchmarks/accuracy.py
+    python benchmarks/accuracy/accuracy.py
 
 Prints, on mirror_test, the share of floor pixels whose mirror ray hits within 0.5 px of the
 analytic mirror point (among pixels whose true hit is visible) and the median error, for the
@@ -9,7 +9,7 @@ on every procedural scene; the converged reference against the analytic mirror i
 Monte-Carlo weight integral of the GLSL samplers against the GGX directional albedo. Every figure is
 a record (one value: each is deterministic), and the tables are rendered from the records.
 
-    python benchmarks/accuracy.py [--device auto|gpu|cpu]
+    python benchmarks/accuracy/accuracy.py [--device auto|gpu|cpu]
 """
 
 from __future__ import annotations

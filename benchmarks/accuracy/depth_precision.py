@@ -5,8 +5,8 @@ far/near = 1e2 ... 1e8 (ssrlab.precision). Every figure is a record (one value: 
 is deterministic); prints the table rendered from them and, per mode, the largest ratio keeping
 the hit-position error under one pixel (the README's table).
 
-    python benchmarks/depth_precision.py                     # 320x180, linear tracer
-    python benchmarks/depth_precision.py --method hiz --width 160 --height 90
+    python benchmarks/accuracy/depth_precision.py                     # 320x180, linear tracer
+    python benchmarks/accuracy/depth_precision.py --method hiz --width 160 --height 90
 """
 
 from __future__ import annotations

@@ -29,9 +29,9 @@ Every figure is a record (ssrlab.lab.records): the PSNRs and noise statistics on
 renders are deterministic for their seeds), the frames' GPU times with their samples; the
 tables are rendered from the records and the verdicts printed from the same figures.
 
-    python benchmarks/mitsuba_crosscheck.py                 # 640x360, about 12 minutes on llvmpipe
-    python benchmarks/mitsuba_crosscheck.py --width 160 --height 90 --spp 64
-    python benchmarks/mitsuba_crosscheck.py --only-frames --frame-sizes 320x180,640x360
+    python benchmarks/accuracy/mitsuba_crosscheck.py                 # 640x360, about 12 minutes on llvmpipe
+    python benchmarks/accuracy/mitsuba_crosscheck.py --width 160 --height 90 --spp 64
+    python benchmarks/accuracy/mitsuba_crosscheck.py --only-frames --frame-sizes 320x180,640x360
 """
 
 from __future__ import annotations

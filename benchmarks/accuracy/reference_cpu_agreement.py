@@ -3,7 +3,7 @@
 reflection, the largest pixel difference and the share of pixels more than 1e-3 apart. The
 figures behind the test's stated bound (docs/reference_tracers.md).
 
-    python benchmarks/reference_cpu_agreement.py [--device auto|cpu|gpu]
+    python benchmarks/accuracy/reference_cpu_agreement.py [--device auto|cpu|gpu]
 """
 
 from __future__ import annotations

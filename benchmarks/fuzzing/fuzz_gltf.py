@@ -1,6 +1,6 @@
 """Structure-aware fuzzer for ssrlab's glTF loader.
 
-    python benchmarks/fuzz_gltf.py --minutes 10 --out fuzz-findings [--seed 1]
+    python benchmarks/fuzzing/fuzz_gltf.py --minutes 10 --out fuzz-findings [--seed 1]
 
 Mutants are made from a seed corpus (the sample models and the hostile reproducers of
 ssrlab.lab.hostile_gltf, the files of tests/data/hostile/) by changing the glTF's structure,

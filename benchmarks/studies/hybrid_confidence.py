@@ -2,7 +2,7 @@
 than the one the ray meets, the share of rays it sends to the BVH, the hybrid's PSNR against the
 physical reference and what the test costs, this checkout's shaders beside a baseline's.
 
-    python benchmarks/hybrid_confidence.py [--baseline COMMIT] [--sizes 160x90,320x180,640x360,1280x720]
+    python benchmarks/studies/hybrid_confidence.py [--baseline COMMIT] [--sizes 160x90,320x180,640x360,1280x720]
                                            [--timing-sizes 320x180,640x360] [--repeats 5] [--device auto]
 
 Every frame is fallback "bvh" with its confidence test (the default fallback_confidence), one mirror

@@ -1,6 +1,6 @@
 """Seed 000, 4.2 re-judged: is frame time better spent on deep G-buffer layers or on rays?
 
-    python benchmarks/layers_vs_rays.py [--width 320 --height 180 --repeats 5 --reference-rays 64
+    python benchmarks/studies/layers_vs_rays.py [--width 320 --height 180 --repeats 5 --reference-rays 64
                                          --scenes occluder box_stack hall
                                          --deep-gbuffer peel lists visibility visibility_lists]
 

@@ -1,7 +1,7 @@
 """A minimum separation between the deep G-buffer's layers (Mara, McGuire, Nowrouzezahrai and
 Luebke 2016) against plain two-layer depth peeling: what it does to the reflections' error.
 
-    python benchmarks/min_separation.py [--width 320 --height 180 --frames 6 --reference-rays 64
+    python benchmarks/studies/min_separation.py [--width 320 --height 180 --frames 6 --reference-rays 64
                                          --separations 0.05 0.2 0.5 --scenes occluder hall]
 
 Settings.min_separation makes layer 1 the nearest surface at least that far (view depth, world

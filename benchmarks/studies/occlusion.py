@@ -1,7 +1,7 @@
 """Specular occlusion of unresolved rays: floor error against the converged reference, with and
 without it, per glossy method and floor roughness, and the pass's time.
 
-    python benchmarks/occlusion.py [--width 320 --height 180 --repeats 5 --reference-rays 128]
+    python benchmarks/studies/occlusion.py [--width 320 --height 180 --repeats 5 --reference-rays 128]
 
 For `hall` and `spheres_and_boxes` with floor roughness 0, 0.2 and 0.5 (the scenes'
 `floor_roughness`), Hi-Z tracing, 1 G-buffer layer, fallback "environment": the stochastic

@@ -1,6 +1,6 @@
 """What skipping saves: trace + resolve time against the reflective share of the screen.
 
-    python benchmarks/skip.py [--width W --height H] [--repeats 7] [--sections shares peel adaptive]
+    python benchmarks/studies/skip.py [--width W --height H] [--repeats 7] [--sections shares peel adaptive]
 
 A floor of 100 strips seen from above (boxes stand on it to be reflected), some strips mirrors
 (roughness 0) or glossy (roughness 0.3), the rest matte without reflectivity. For each share of the
@@ -25,7 +25,7 @@ adaptive and fixed frames' means.
 The ratios the issue asks for (skip on: 10 % reflective <= 20 % of 100 %, 0 % <= 5 % of 100 %)
 are printed after each sweep, for the trace alone and for trace + resolve.
 
-    python benchmarks/skip.py --sections shares peel adaptive
+    python benchmarks/studies/skip.py --sections shares peel adaptive
 
 Every timed figure is a record (ssrlab.lab.records) with its samples.
 """

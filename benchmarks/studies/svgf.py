@@ -1,6 +1,6 @@
 """The SVGF denoiser of the reflection (seed 003): error and cost per pass.
 
-    python benchmarks/svgf.py [--width 320 --height 180 --frames 8 --repeats 3]
+    python benchmarks/studies/svgf.py [--width 320 --height 180 --frames 8 --repeats 3]
 
 spheres_and_boxes with floor roughness 0.2, static camera. For each tracer (linear SSR, pure BVH)
 and each resolve (reuse_radius 0: one ray per pixel as seed 003 traces it; 1: ssrlab's default

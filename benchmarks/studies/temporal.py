@@ -7,7 +7,7 @@ record: errors with one value (or one per frame where a mean over frames is repo
 with one sample per frame of the sequence after its first (which pays compilation and the empty
 history); the tables are rendered from the records.
 
-    python benchmarks/temporal.py --width 160 --height 96 --frames 16
+    python benchmarks/studies/temporal.py --width 160 --height 96 --frames 16
 """
 
 from __future__ import annotations

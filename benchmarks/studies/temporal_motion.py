@@ -1,7 +1,7 @@
 """Temporal reflections on scenes where things move: per-frame error, ghosting and lag of each way to
 reproject the history, and what moving one object costs.
 
-    python benchmarks/temporal_motion.py [--width 320 --height 180 --layers 4] [--frames 32 --moving 16]
+    python benchmarks/studies/temporal_motion.py [--width 320 --height 180 --layers 4] [--frames 32 --moving 16]
         [--reference-rays 64] [--orbit 10] [--sequences ...] [--repeats 5 --suzannes 100] [--no-costs]
 
 Sequences (ssrlab.lab.temporal.MOTION_SEQUENCES), each with a still camera and with a camera
@@ -38,7 +38,7 @@ beside it: where the bound itself is above 0.9 x, no accumulation of K frames of
 meet that claim (frames of a moving camera see the scene from elsewhere: the `still` column says
 what they reach).
 
-Moving costs what moved (benchmarks/scene_updates.py's measurement, its code): 100 Suzannes over
+Moving costs what moved (benchmarks/timing/scene_updates.py's measurement, its code): 100 Suzannes over
 hall, a still frame against the frame after moving one Suzanne, and the BVH update of the moved
 triangles (method "bvh", Renderer.stats bvh_update_ms), with the claim: moved frame <= 1.1 x the still
 frame + the BVH update of one Suzanne.

@@ -2,11 +2,11 @@
 renders around it: its own configuration rendered alone, or alternating with 8 peeled layers or
 with the other construction, each frame released at once or kept.
 
-    python benchmarks/construction_switch.py [--width 1920 --height 1080] [--device gpu] [--repeats 9]
+    python benchmarks/timing/construction_switch.py [--width 1920 --height 1080] [--device gpu] [--repeats 9]
 
 A renderer keeps a pool of released frames' texture sets and reuses them; a kept frame, or a render
 after another configuration, takes textures the GPU has not touched before, and their first use
-lands in the G-buffer's timers. benchmarks/deep_gbuffer.py interleaves its configurations round by
+lands in the G-buffer's timers. benchmarks/timing/deep_gbuffer.py interleaves its configurations round by
 round (fair against drift), so on a GPU its one-peeled-layer figure carries this cost; a script
 rendering one configuration and releasing its frames does not. Per line: the median GPU ms of
 `deep_gbuffer` (the whole construction) and of its first part (`depth_peel.setup` for peeling, the

@@ -1,6 +1,6 @@
 """The deep G-buffer's construction: time and memory against layers, per method, beside its floor.
 
-    python benchmarks/deep_gbuffer.py [--width 640 --height 360 --repeats 7 --layers 1 2 4 8 16
+    python benchmarks/timing/deep_gbuffer.py [--width 640 --height 360 --repeats 7 --layers 1 2 4 8 16
                                        --methods peel lists visibility visibility_lists]
 
 For hall, spheres_and_boxes, box_stack and the 2CylinderEngine sample model (skipped when not
@@ -25,7 +25,7 @@ process spent in the render call with its ratio to the 1-layer peeled frame's (o
 work its threads did: the GPU timer measures wall time, which other jobs on a shared machine
 inflate), and the construction's distance from its floor on this device.
 
-The floor (benchmarks/raster_floor.py, Renderer.raster_floor): what each construction must do at
+The floor (benchmarks/timing/raster_floor.py, Renderer.raster_floor): what each construction must do at
 least, at the device's floors on the scene's own triangles at the frame's size, for the layers
 it filled (CONSTRUCTION_FLOORS there):
   peel              per layer a framebuffer clear of the G-buffer's targets and one geometry pass
@@ -154,7 +154,7 @@ def main() -> None:
           f"warm-up rounds, "
           f"configurations and floors interleaved round by round; GPU milliseconds of the construction "
           f"(timings['deep_gbuffer']); x floor: the median of the rounds' construction / its floor "
-          f"(benchmarks/raster_floor.py) in the same round")
+          f"(benchmarks/timing/raster_floor.py) in the same round")
     print("floors: " + "; ".join(f"{m} = {describe_floor(m)}" for m in args.methods) + "\n")
     layer_counts = sorted(set(args.layers) | {1})
     methods = list(dict.fromkeys(["peel", *args.methods]))  # one peeled layer is every ratio's base

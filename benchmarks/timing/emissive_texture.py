@@ -5,8 +5,8 @@ rounds (ssrlab.lab.protocol). Records, and prints from them, the median and inte
 texture), lighting (which reads it) and the frame's total, the paired ratio factor / texture and
 the verdict of factor against texture (records.figure_verdict: 'undecided' where the noise cannot tell).
 
-    python benchmarks/emissive_texture.py                       # 640x360, 4 layers
-    python benchmarks/emissive_texture.py --deep-gbuffer lists
+    python benchmarks/timing/emissive_texture.py                       # 640x360, 4 layers
+    python benchmarks/timing/emissive_texture.py --deep-gbuffer lists
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Timings without compilation: the first render of a variant against the ones after it.
 
-    python benchmarks/first_render.py [--width 160 --height 90 --rounds 3 --repeats 9]
+    python benchmarks/timing/first_render.py [--width 160 --height 90 --rounds 3 --repeats 9]
 
 For each variant (linear and Hi-Z tracing, 1 and 4 layers, the thesis's and the pbr composite)
 each round opens a fresh Renderer and renders the same frame 1 + --repeats times (no warm-up

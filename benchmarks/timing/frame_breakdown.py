@@ -1,6 +1,6 @@
 """Where a frame's time goes: every timing of the chain, sub-passes included, and the CPU side.
 
-    python benchmarks/frame_breakdown.py [--width 1920 --height 1080] [--device gpu] [--repeats 7]
+    python benchmarks/timing/frame_breakdown.py [--width 1920 --height 1080] [--device gpu] [--repeats 7]
 
 One layer of Hi-Z mirror rays (1 ray, reuse radius 1: the trace + resolve pair) at the
 default settings, then one setting changed at a time: the deep G-buffer by peeling and by

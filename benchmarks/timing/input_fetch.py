@@ -1,7 +1,7 @@
 """How the passes read their float inputs: Renderer(input_fetch="texelFetch") against "imageLoad",
 A/B in one run.
 
-    python benchmarks/input_fetch.py [--width 1920 --height 1080] [--device gpu] [--repeats 9]
+    python benchmarks/timing/input_fetch.py [--width 1920 --height 1080] [--device gpu] [--repeats 9]
 
 Two renderers on the same device, one per input fetch (shaders/lib/input_fetch.glsl), render the
 same scene and settings alternately, frame by frame (the protocol's rounds, after its warm-up

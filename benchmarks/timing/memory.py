@@ -5,8 +5,8 @@ each a record (one value a run), with every render's wall milliseconds (the prot
 warm-up rounds: --warmup renders come first); the table is rendered from the records and the
 verdict (within 10 % of the start and under 1 MiB per kept frame) from the same figures.
 
-    python benchmarks/memory.py                  # 1000 renders at 64x48, spheres_and_boxes
-    python benchmarks/memory.py --renders 400 --width 320 --height 180
+    python benchmarks/timing/memory.py                  # 1000 renders at 64x48, spheres_and_boxes
+    python benchmarks/timing/memory.py --renders 400 --width 320 --height 180
 """
 
 from __future__ import annotations

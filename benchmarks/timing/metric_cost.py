@@ -1,6 +1,6 @@
 """What image_metrics costs with and without FLIP and SSIM (docs/metrics.md).
 
-    python benchmarks/metric_cost.py [--repeats 7]
+    python benchmarks/timing/metric_cost.py [--repeats 7]
 
 For each image size, a random linear-radiance pair (values up to 2, so that LDR and HDR FLIP
 differ) and a random half of the pixels as the reflective mask; prints the median CPU wall time

@@ -1,6 +1,6 @@
 """Geometry + depth-peeling GPU time against the number of G-buffer layers.
 
-    python benchmarks/peel_layers.py [--width 640 --height 360 --repeats 7]
+    python benchmarks/timing/peel_layers.py [--width 640 --height 360 --repeats 7]
 
 For `spheres_and_boxes` and `hall`, renders with 1, 2, 4 and 8 layers (peeled), the layer counts
 interleaved round by round after the protocol's warm-up rounds (ssrlab.lab.protocol), and records

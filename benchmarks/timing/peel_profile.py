@@ -1,6 +1,6 @@
 """Where the deep G-buffer's peeling and the lighting pass spend their GPU time, part by part.
 
-    python benchmarks/peel_profile.py [--width 1920 --height 1080] [--device gpu] [--repeats 15]
+    python benchmarks/timing/peel_profile.py [--width 1920 --height 1080] [--device gpu] [--repeats 15]
 
 Per scene and layer count: the median GPU ms (with min-max) of the peeling's parts, summed over
 the layers (`depth_peel.setup`: clears and the copy of the previous layer's depth; `.depth`: the

@@ -1,7 +1,7 @@
 """The device's floors under the deep G-buffer, on the scene's own triangles at the frame's size.
 
-    python benchmarks/raster_floor.py [--width 640 --height 360 --repeats 15 --scenes hall]
-    python benchmarks/raster_floor.py --device gpu --width 1920 --height 1080      (where a GPU is)
+    python benchmarks/timing/raster_floor.py [--width 640 --height 360 --repeats 15 --scenes hall]
+    python benchmarks/timing/raster_floor.py --device gpu --width 1920 --height 1080      (where a GPU is)
 
 Renderer.raster_floor draws the scene with its own vertex and index buffers through the G-buffer's
 vertex shader (passes/depth_peel.vert), by fragment stages that do nothing but write, and times
@@ -22,7 +22,7 @@ shared machine falls on all of them alike. The floors:
 
 Beside each: its rate (fragments and triangles a second for the draws, bytes a second for
 full-frame writes), and the floors of one layer built each way. construction_floor() below is
-what benchmarks/deep_gbuffer.py compares each construction with. Each floor's repeats are a record
+what benchmarks/timing/deep_gbuffer.py compares each construction with. Each floor's repeats are a record
 (ssrlab.lab.records).
 """
 
@@ -135,7 +135,7 @@ def main() -> None:
         for line in missing:
             print(f"  {line}")
         medians = {k: f.median(k) for k in f.ms}
-        print("one layer at the floor, each construction's way (benchmarks/deep_gbuffer.py compares with these):")
+        print("one layer at the floor, each construction's way (benchmarks/timing/deep_gbuffer.py compares with these):")
         rows = [[method, f"{construction_floor(method, 1, medians):.3f}", describe_floor(method)]
                 for method in CONSTRUCTION_FLOORS]
         print(records.markdown(["construction", "floor ms (of the floors' medians)", "sum of"], rows))

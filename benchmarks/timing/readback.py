@@ -1,6 +1,6 @@
 """The CPU side of reading a frame back: the two readback paths, A/B in one run.
 
-    python benchmarks/readback.py [--sizes 640x360 1920x1080] [--repeats 15] [--device auto|gpu|cpu]
+    python benchmarks/timing/readback.py [--sizes 640x360 1920x1080] [--repeats 15] [--device auto|gpu|cpu]
 
 A texture reaches numpy by one of two paths (Renderer.readback_path):
   download  a float texture (the final colour and the rays RGBA32F, lit and the normals RGBA16F,

@@ -1,7 +1,7 @@
 """Samples per second of the converged reference, beside Mitsuba 3's on the same rays (issue: the
 reference on the CPU device through Embree).
 
-    python benchmarks/reference_speed.py [--width 320 --height 180 --rays 256 --repeats 3]
+    python benchmarks/timing/reference_speed.py [--width 320 --height 180 --rays 256 --repeats 3]
 
 For each scene (the Mitsuba cross-check scene with a 0.3-rough floor, and spheres_and_boxes) and
 the frame's reflective pixels (one ray for mirror pixels, `--rays` for the rest), it times:

@@ -1,6 +1,6 @@
 """What a render of many triangles costs, beside what Renderer.estimate says before it starts.
 
-    python benchmarks/render_estimate.py [--device cpu] [--instances 2000] [--stacked 500]
+    python benchmarks/timing/render_estimate.py [--device cpu] [--instances 2000] [--stacked 500]
 
 The scenes: 2CylinderEngine's mesh 3 (2163 triangles) drawn by many glTF nodes
 (ssrlab.lab.hostile_gltf.instanced, the fuzzer's instancing mutant) under the model's camera, with

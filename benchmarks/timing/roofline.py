@@ -1,6 +1,6 @@
 """A roofline of the frame (Williams et al. 2009): every pass against what the device can do, in one run.
 
-    python benchmarks/roofline.py [--width 640 --height 360] [--scenes hall spheres_and_boxes]
+    python benchmarks/timing/roofline.py [--width 640 --height 360] [--scenes hall spheres_and_boxes]
                                   [--repeats 5] [--baseline base.json] [--device auto|gpu|cpu] [--quick]
 
 1. The device's peaks, through ssrlab's own EGL context and the frame's texture formats
@@ -223,7 +223,7 @@ def ab_shaders(bench, before, now, scene, settings, key, ratios):
             recs.append(bench.record({**params, "side": side, "pass": k}, "gpu", "ms", t[side][k]))
     print(f"\n{key}: before / now, this run")
     bench.print_ab("side", "before", "now", records=recs, rows=("config", "pass"))
-    # The ratio within this run; the speed-up against commit 069e706 is measured by benchmarks/ab_frame.py.
+    # The ratio within this run; the speed-up against commit 069e706 is measured by benchmarks/tools/ab_frame.py.
     ratios[f"{key}: frame before / now, same run"] = paired(t["before"]["total"], t["now"]["total"])
     if "resolve" in common:
         ratios[f"{key}: resolve before / now, same run"] = paired(t["before"]["resolve"], t["now"]["resolve"])

@@ -1,7 +1,7 @@
 """What a frame costs after the scene changed: a moved object or an edited material against a
 still frame, and the BVH's update against the triangles that moved.
 
-    python benchmarks/scene_updates.py [--width 320 --height 180 --layers 4] [--repeats 9] [--suzannes 100]
+    python benchmarks/timing/scene_updates.py [--width 320 --height 180 --layers 4] [--repeats 9] [--suzannes 100]
 
 The scene: `hall` with --suzannes copies of Blender's Suzanne (the sample model, 3,936 triangles
 each) in a grid over its floor: 394 k triangles with 100.

@@ -1,7 +1,7 @@
 """What each shadow-casting light costs: the shadow_map pass's GPU time (and the lighting pass's,
 which reads every map) against the casting lights.
 
-    python benchmarks/shadows.py [--width 320 --height 180] [--scenes hall] [--repeats 9]
+    python benchmarks/timing/shadows.py [--width 320 --height 180] [--scenes hall] [--repeats 9]
 
 Cases, on each scene's own sun (a directional caster): "1 directional"; "+ spot" adds a casting
 spot light (a second layer of the 2D array); "+ point" adds a casting point light too (a cube:

@@ -7,9 +7,9 @@ interleaved round by round, `--repeats` timed rounds after the protocol's warm-u
 lighting, composite and the frame's total, the paired ratio factor / texture and the verdict of
 factor against texture (records.figure_verdict: 'undecided' where the noise cannot tell).
 
-    python benchmarks/specular_texture.py                       # 640x360, 4 layers, PBR composite
-    python benchmarks/specular_texture.py --deep-gbuffer lists
-    python benchmarks/specular_texture.py --base-texture   # both walls textured already
+    python benchmarks/timing/specular_texture.py                       # 640x360, 4 layers, PBR composite
+    python benchmarks/timing/specular_texture.py --deep-gbuffer lists
+    python benchmarks/timing/specular_texture.py --base-texture   # both walls textured already
 
 Without textures the wall's material is an untextured kind, whose shading pass samples nothing
 (GpuScene::material_features); with --base-texture both scenes give it a base colour texture, so

@@ -1,6 +1,6 @@
 """Trace and resolve GPU time, and depth fetches per ray, for the linear and Hi-Z tracers.
 
-    python benchmarks/trace_methods.py [--width 640 --height 360 --repeats 5]
+    python benchmarks/timing/trace_methods.py [--width 640 --height 360 --repeats 5]
 
 For `spheres_and_boxes` and `hall`, with 1 and 4 G-buffer layers: linear tracing with stride
 1, 2, 4 and 8, and Hi-Z tracing. Times are the median GPU time of the trace and resolve

@@ -1,6 +1,6 @@
 """What a ray of the Hi-Z trace pays besides its walk: the pass built up part by part.
 
-    python benchmarks/trace_parts.py [--repeats 11] [--set max_steps=1] [--scenes ...] [--device ...]
+    python benchmarks/timing/trace_parts.py [--repeats 11] [--set max_steps=1] [--scenes ...] [--device ...]
 
 Writes copies of the installed shader tree into a temporary folder, each with a trace_hiz.comp whose
 main() stops after one more part of the per-ray work (every copy still stores something, so that

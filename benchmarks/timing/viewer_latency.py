@@ -8,7 +8,7 @@ background image is made of), its decode (the image's load event) and its displa
 animation frame after the decode: the frame in which the new texture was drawn). The viewer's own
 cost is everything but the render.
 
-    python benchmarks/viewer_latency.py [--scene hall] [--width 640 --height 360] [--seconds 4] [--device cpu] [--floor]
+    python benchmarks/timing/viewer_latency.py [--scene hall] [--width 640 --height 360] [--seconds 4] [--device cpu] [--floor]
 
 Goals on a 2-core llvmpipe machine (hall): at least 10 frames shown per second while the camera
 moves (progressive resolution), and the viewer's own cost at most 50 ms median at 640x360. On a GPU:

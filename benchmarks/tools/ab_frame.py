@@ -1,6 +1,6 @@
 """A/B of a whole frame between two builds, interleaved in one run.
 
-    python benchmarks/ab_frame.py --baseline-python /work/venvs/loader/bin/python
+    python benchmarks/tools/ab_frame.py --baseline-python /work/venvs/loader/bin/python
                                   [--current-python PY] [--scenes hall spheres_and_boxes]
                                   [--width 640 --height 360] [--frames 7] [--warmup 2]
                                   [--set key=value ...]

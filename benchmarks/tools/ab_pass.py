@@ -1,7 +1,7 @@
 """One pass of two shader trees, frames interleaved in one process, and how a SIMD vector's lanes
 use the walk steps it pays for.
 
-    python benchmarks/ab_pass.py BEFORE_DIR [AFTER_DIR] [--pass trace_hiz] [--repeats 9]
+    python benchmarks/tools/ab_pass.py BEFORE_DIR [AFTER_DIR] [--pass trace_hiz] [--repeats 9]
                                  [--set key=value ...] [--lane-use]
 
 BEFORE_DIR, AFTER_DIR: shader folders (AFTER_DIR defaults to the installed package's shaders), e.g.

@@ -1,7 +1,7 @@
 """Do two devices render the same images? Frames saved on one machine, compared on another.
 
-    python benchmarks/device_agreement.py save frames_gpu.npz [--device gpu] [--width 320 --height 180]
-    python benchmarks/device_agreement.py compare frames_gpu.npz frames_cpu.npz
+    python benchmarks/tools/device_agreement.py save frames_gpu.npz [--device gpu] [--width 320 --height 180]
+    python benchmarks/tools/device_agreement.py compare frames_gpu.npz frames_cpu.npz
 
 `save` renders every scene at three configurations (the thesis's, one layer of Hi-Z mirror rays,
 and 4 layers with 4 rays at the defaults) and writes each frame's colour and reflection. `compare`

@@ -1,9 +1,9 @@
 """Images of a fixed set of scenes, saved from one build and compared with another's, array by array:
 the check that a change meant to keep every value (a refactoring, a cheaper shader variant) does.
 
-    python benchmarks/image_snapshot.py save before.npz      # with the build before the change
-    python benchmarks/image_snapshot.py save after.npz       # with the build after it
-    python benchmarks/image_snapshot.py compare before.npz after.npz
+    python benchmarks/tools/image_snapshot.py save before.npz      # with the build before the change
+    python benchmarks/tools/image_snapshot.py save after.npz       # with the build after it
+    python benchmarks/tools/image_snapshot.py compare before.npz after.npz
 
 The scenes: spheres_and_boxes, Suzanne and 2CylinderEngine on a mirror stage (skipped, and said so,
 where the sample models are missing), and ssrlab.crosscheck's emissive-texture and masked scenes;
