@@ -7,7 +7,7 @@ Each notebook (notebooks/*.ipynb) runs its experiment from ssrlab.experiments at
 scale (full: 640x360, median of 5 runs after 2 warm-ups, 256-ray converged references; about
 ten minutes on llvmpipe), saves its figures into --figures (none with --figures ""), and ends
 with its table of the paper's findings and ours. Executed copies of the notebooks go to
---executed. --device pins the notebooks' kernels to a device ($SSRLAB_DEVICE) and is the
+--executed (none with --executed ""). --device pins the notebooks' kernels to a device ($SSRLAB_DEVICE) and is the
 device the records name.
 
 Every figure is a record (ssrlab.lab.protocol), benchmark "thesis_findings":
@@ -110,7 +110,8 @@ def main() -> None:
     ap.add_argument("--taa", default="thesis", choices=("thesis", "off"),
                     help="TAA of the thesis's experiments (default: the thesis's, as it measured them)")
     ap.add_argument("--figures", default=str(ROOT / "docs" / "images"), help='folder of the figures ("": none)')
-    ap.add_argument("--executed", default=str(ROOT / "results" / "notebooks"))
+    ap.add_argument("--executed", default=str(ROOT / "results" / "notebooks"), help='folder of the executed '
+                    'notebooks ("": none)')
     ap.add_argument("--only", nargs="+", choices=NOTEBOOKS, default=NOTEBOOKS, help="run only these notebooks")
     ap.add_argument("--device", default="auto", choices=("auto", "gpu", "cpu"))
     ap.add_argument("--records", metavar="FOLDER", help="append this run's records to FOLDER/thesis_findings.jsonl "
@@ -125,7 +126,8 @@ def main() -> None:
     if args.device != "auto":
         os.environ["SSRLAB_DEVICE"] = args.device  # the kernels' Renderer("auto") opens this one
     os.environ.setdefault("MPLBACKEND", "Agg")
-    Path(args.executed).mkdir(parents=True, exist_ok=True)
+    if args.executed:
+        Path(args.executed).mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
         for name in args.only:
             start = time.time()
@@ -135,7 +137,8 @@ def main() -> None:
             nbclient.NotebookClient(nb, timeout=3600, kernel_name="python3",
                                     resources={"metadata": {"path": str(ROOT)}}).execute()
             nb.cells.pop()
-            nbformat.write(nb, Path(args.executed) / f"{name}.ipynb")
+            if args.executed:
+                nbformat.write(nb, Path(args.executed) / f"{name}.ipynb")
             exp = json.loads((Path(tmp) / f"{name}.json").read_text())
             seconds = time.time() - start
             record_experiment(bench, exp, seconds)
