@@ -1,20 +1,18 @@
-"""Helpers shared by the benchmark scripts: options, device header and the protocol are
+"""Helpers shared by the benchmark scripts of every genre folder (each puts the repository's root on
+sys.path and imports benchmarks.common, so that it runs from any cwd): options, device header and the protocol are
 ssrlab.lab.protocol's (re-exported here); the hybrid's frames and the A/B of two scenes measured
 through the protocol's rounds."""
 
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from ssrlab.lab.protocol import arguments, device_header, open_renderer  # noqa: E402,F401  (one protocol)
+from ssrlab.lab.protocol import arguments, device_header, open_renderer  # noqa: F401  (one protocol)
 
 
 # SSR alone, the hybrid and pure BVH, each with the BVH passes' default traced shadows and with the
-# frame's shadow map (bvh_shadows="map"): the frames benchmarks/hybrid.py and mitsuba_crosscheck.py score.
+# frame's shadow map (bvh_shadows="map"): the frames benchmarks/studies/hybrid.py and
+# benchmarks/accuracy/mitsuba_crosscheck.py score.
 HYBRID_FRAMES = {
     "SSR only": dict(),
     "SSR + BVH fallback": dict(fallback="bvh"),

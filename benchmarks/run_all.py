@@ -3,6 +3,10 @@
     python benchmarks/run_all.py [--device auto|gpu|cpu] [--out benchmarks/results] [--only NAME ...] [--quick]
     python benchmarks/run_all.py --registry     # the registry as JSON
 
+A benchmark is named by its script's name, wherever its genre folder (benchmarks/README.md) puts
+it: benchmarks/<genre>/<name>.py writes its records under <name> (ssrlab.lab.protocol.Bench), so
+committed records and `ssrlab bench compare` / `history` do not depend on the folder.
+
 The docs' results pages (docs/gen_pages.py) are made from the run_all.json files under
 benchmarks/results/ and benchmarks/gpu-results/: commit a run's folder to publish it. With
 --only, the named benchmarks' entries replace theirs in the device's run_all.json and the others
@@ -31,6 +35,9 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+# Every script of a genre folder, by name (its records' benchmark name): run_all runs the
+# registered ones below, wherever they sit.
+SCRIPTS = {p.stem: p for p in sorted(HERE.glob("*/*.py")) if p.name != "__init__.py"}
 
 # name: (arguments at full size, arguments at --quick size)
 BENCHMARKS = {
@@ -50,7 +57,8 @@ BENCHMARKS = {
     "svgf": ([], ["--width", "96", "--height", "64", "--frames", "4", "--repeats", "1"]),
     "depth_precision": ([], ["--width", "96", "--height", "64"]),
     "memory": ([], ["--renders", "50"]),
-    "thesis_findings": (["--scale", "full"], ["--scale", "small"]),
+    # --quick leaves docs/images alone: the README's figures are the full scale's
+    "thesis_findings": (["--scale", "full"], ["--scale", "small", "--figures", ""]),
     "roofline": ([], ["--quick"]),
     "frame_breakdown": ([], ["--width", "96", "--height", "64", "--repeats", "2", "--scenes", "hall"]),
     "readback": ([], ["--sizes", "96x64", "--repeats", "3"]),
@@ -74,7 +82,7 @@ BENCHMARKS = {
 
 # name: the arguments of its smoke run (tests/test_bench_records.py): the smallest size at which the
 # script still measures and records every figure it prints, a few seconds on llvmpipe. Every
-# benchmark registered above has one, save those in NO_RECORDS.
+# benchmark registered above has one: each writes records and takes --device (protocol.arguments).
 SMOKE = {
     "first_render": ["--width", "32", "--height", "18", "--repeats", "1", "--rounds", "1", "--scenes", "hall"],
     "peel_layers": ["--width", "32", "--height", "18", "--repeats", "1", "--layers", "1", "2", "--scenes", "hall"],
@@ -115,12 +123,15 @@ SMOKE = {
     "temporal_motion": ["--width", "32", "--height", "18", "--frames", "3", "--moving", "2", "--reference-rays", "2",
                         "--repeats", "1", "--suzannes", "4", "--sequences", "sphere over mirror"],
     "render_estimate": ["--width", "32", "--height", "18", "--instances", "2", "--stacked", "2", "--rounds", "1"],
+    # one notebook: the others record the same kinds of figure; nothing written into the checkout
+    # (docs/images' figures, results/notebooks' executed copies)
+    "thesis_findings": ["--scale", "small", "--only", "hiz_vs_linear", "--figures", "", "--executed", ""],
 }
-# Registered benchmarks that write no records yet: thesis_findings runs the paper-reproduction
-# notebooks, whose sweep rows keep each time's median and spread but not its samples.
-NO_RECORDS = {"thesis_findings"}
-# Registered benchmarks without the --device option every other one takes (protocol.arguments).
-NO_DEVICE = {"thesis_findings"}
+
+
+def script_path(name: str) -> str:
+    """The benchmark's script as a person types it from the repository's root."""
+    return SCRIPTS[name].relative_to(HERE.parent).as_posix()
 
 
 def git_commit() -> str:
@@ -143,11 +154,12 @@ def main() -> int:
     ap.add_argument("--only", nargs="+", choices=sorted(BENCHMARKS))
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--registry", action="store_true",
-                    help="print the registry (full, quick and smoke arguments, NO_RECORDS, NO_DEVICE) as JSON and exit")
+                    help="print the registry (full, quick and smoke arguments, every script's path) "
+                         "as JSON and exit")
     args = ap.parse_args()
     if args.registry:  # what tests/test_bench_records.py runs: a test imports no script by path
-        print(json.dumps({"benchmarks": BENCHMARKS, "smoke": SMOKE, "no_records": sorted(NO_RECORDS),
-                          "no_device": sorted(NO_DEVICE)}))
+        print(json.dumps({"benchmarks": BENCHMARKS, "smoke": SMOKE,
+                          "scripts": {name: script_path(name) for name in SCRIPTS}}))
         return 0
 
     import ssrlab
@@ -171,15 +183,13 @@ def main() -> int:
             results["benchmarks"][name] = entry
     names = args.only or list(BENCHMARKS)
     for name in names:
-        script = HERE / f"{name}.py"
-        if not script.is_file():
-            print(f"[run_all] {name}: no {script.name} here, skipped")
+        if name not in SCRIPTS:
+            print(f"[run_all] {name}: no {name}.py in a genre folder here, skipped")
             continue
+        script = SCRIPTS[name]
         full, quick = BENCHMARKS[name]
         extra = quick if args.quick else full
-        cmd = [sys.executable, str(script), *extra]
-        if name not in NO_DEVICE:
-            cmd += ["--device", args.device]
+        cmd = [sys.executable, str(script), *extra, "--device", args.device]
         print(f"[run_all] {' '.join(cmd[1:])}", flush=True)
         t0 = time.perf_counter()
         # Every benchmark converted to the protocol appends its records to <folder>/<name>.jsonl.
@@ -192,7 +202,7 @@ def main() -> int:
         print(p.stdout, end="")
         if p.returncode:
             print(p.stderr[-4000:], file=sys.stderr)
-        results["benchmarks"][name] = {"command": " ".join(["python", f"benchmarks/{name}.py", *cmd[2:]]),
+        results["benchmarks"][name] = {"command": " ".join(["python", script_path(name), *cmd[2:]]),
                                        "exit": p.returncode, "seconds": round(seconds, 1), "output": p.stdout,
                                        "stderr_tail": p.stderr[-4000:], "started": started, "commit": commit,
                                        "quick": args.quick, "run_command": command,

@@ -17,6 +17,14 @@ import pytest
 import ssrlab
 
 REPO = Path(__file__).resolve().parents[1]
+
+
+def benchmark_script(name: str) -> Path:
+    """A benchmark's script by its name (its records' benchmark name), in whichever genre folder of
+    benchmarks/ holds it (benchmarks/README.md)."""
+    found = sorted((REPO / "benchmarks").glob(f"*/{name}.py"))
+    assert len(found) == 1, f"benchmarks/*/{name}.py: {found}"
+    return found[0]
 # The sample models are part of the repository and of the package (python/ssrlab/sample_models):
 # this checkout's copy, then the one the installed package found for itself (ssrlab.models, which
 # the scene builders use, needs no $SSRLAB_MODELS).

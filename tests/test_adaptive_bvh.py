@@ -1,5 +1,5 @@
 """Adaptive rays with the BVH tracer (method "bvh"), its compacted ray list (Settings.skip),
-and benchmarks/skip.py's adaptive section (its mixed-roughness scene, ssrlab.scenes.gallery())."""
+and benchmarks/studies/skip.py's adaptive section (its mixed-roughness scene, ssrlab.scenes.gallery())."""
 
 import math
 import subprocess
@@ -78,7 +78,7 @@ def test_gallery_rejects_an_unknown_wall():
 
 def test_skip_benchmark_adaptive_section_runs():
     r = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks" / "skip.py"), "--sections", "adaptive", "--width", "64",
+        [sys.executable, str(REPO / "benchmarks" / "studies" / "skip.py"), "--sections", "adaptive", "--width", "64",
          "--height", "36", "--repeats", "2", "--error-seeds", "2", "--reference-rays", "4",
          "--adaptive-walls", "smooth", "--adaptive-mixes", "graded", "--adaptive-methods", "bvh",
          "--adaptive-reuse", "0"],

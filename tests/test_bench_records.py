@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import REPO
+from conftest import REPO, benchmark_script
 from ssrlab.lab import protocol, records
 
 
@@ -156,7 +156,7 @@ def test_a_figure_over_commits_is_read_from_the_committed_records_and_drawn(tmp_
 
 
 def test_a_converted_benchmark_writes_records_and_prints_their_table(tmp_path):
-    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "frame_breakdown.py"), "--width", "48", "--height",
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "timing" / "frame_breakdown.py"), "--width", "48", "--height",
                         "32", "--repeats", "3", "--scenes", "mirror_test", "--records", str(tmp_path)],
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
@@ -197,9 +197,10 @@ def _registry() -> dict:
 
 RUN_ALL = _registry()
 
-def test_every_registered_benchmark_has_a_smoke_run_or_says_why_not():
-    assert set(RUN_ALL["smoke"]) | set(RUN_ALL["no_records"]) == set(RUN_ALL["benchmarks"])
-    assert not set(RUN_ALL["smoke"]) & set(RUN_ALL["no_records"])
+def test_every_registered_benchmark_has_a_smoke_run():
+    """Every benchmark run_all runs writes records (none is exempt), and its script is in a genre folder."""
+    assert set(RUN_ALL["smoke"]) == set(RUN_ALL["benchmarks"])
+    assert all(RUN_ALL["scripts"][name].count("/") == 2 for name in RUN_ALL["benchmarks"])
 
 
 @pytest.mark.parametrize("name", sorted(RUN_ALL["smoke"]))
@@ -207,8 +208,7 @@ def test_a_registered_benchmark_writes_valid_records(tmp_path, name):
     """Each benchmark of run_all's registry, at its smoke size, appends records to
     <folder>/<name>.jsonl with every field filled, marked quick, and prints a table rendered from
     them (Markdown, not laid out by hand)."""
-    device = [] if name in RUN_ALL["no_device"] else ["--device", "auto"]  # the option run_all passes
-    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *RUN_ALL["smoke"][name], *device,
+    r = subprocess.run([sys.executable, str(benchmark_script(name)), *RUN_ALL["smoke"][name], "--device", "auto",
                         "--records", str(tmp_path), "--records-quick"], capture_output=True, text=True, timeout=300,
                        cwd=REPO, env={**os.environ, "SSRLAB_PERCEPTUAL": "0"})
     assert r.returncode == 0, r.stderr[-3000:]
@@ -219,5 +219,5 @@ def test_a_registered_benchmark_writes_valid_records(tmp_path, name):
         assert set(records.FIELDS) <= set(x), x
         assert x["benchmark"] == name and x["params"]["quick"] is True
         assert x["samples"] and all(isinstance(v, float) for v in x["samples"])
-        assert x["device"] != "unknown" and x["commit"] and x["date"] and f"benchmarks/{name}.py" in x["command"]
+        assert x["device"] != "unknown" and x["commit"] and x["date"] and RUN_ALL["scripts"][name] in x["command"]
     assert "|---|" in r.stdout

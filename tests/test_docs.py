@@ -88,6 +88,48 @@ def test_docs_figures_link_a_recorded_benchmark_run():
         run = runs[slug]
         assert name in run["benchmarks"], f"results/{slug}.md has no {name} section"
         entry = run["benchmarks"][name]
-        assert entry["exit"] == 0 and entry["command"].startswith(f"python benchmarks/{name}.py"), entry["command"]
+        # the script's path as it was run: a genre folder's, or benchmarks/ itself for runs made before
+        # the scripts were sorted into genres (a committed run keeps the command it ran)
+        assert entry["exit"] == 0 and re.match(rf"python benchmarks/(\w+/)?{name}\.py\b", entry["command"]), \
+            entry["command"]
         assert run["device"]["renderer"] and (entry.get("started") or run["started"])
         assert entry.get("commit") or run.get("commit")
+
+
+# The genre folders of benchmarks/ (benchmarks/README.md): a newcomer finds the kind of
+# measurement first, then the script. Only the runner and the shared helpers stay at the top.
+BENCHMARK_GENRES = ("timing", "accuracy", "studies", "tools", "fuzzing", "packaging")
+BENCHMARK_TOP = {"__init__.py", "common.py", "run_all.py"}
+# Scripts the docs and tests name as examples, which are not meant to exist.
+EXAMPLE_SCRIPTS = {"my_bench.py", "fake.py"}
+
+
+def test_every_benchmark_script_sits_in_a_genre_folder():
+    bench = REPO / "benchmarks"
+    loose = sorted(p.name for p in bench.glob("*.py") if p.name not in BENCHMARK_TOP)
+    assert not loose, f"scripts outside a genre folder: {loose}"
+    scripts = [p for p in bench.glob("*/*.py") if p.name != "__init__.py"]
+    assert {p.parent.name for p in scripts} == set(BENCHMARK_GENRES)
+    assert not list(bench.glob("*/*/*.py")), "a genre folder holds scripts, not folders of them"
+    # a benchmark is named by its script (its records' benchmark name): one script of each name
+    names = [p.stem for p in scripts]
+    assert len(names) == len(set(names)), sorted(n for n in names if names.count(n) > 1)
+    readme = (bench / "README.md").read_text()
+    assert all(f"{genre}/" in readme for genre in BENCHMARK_GENRES)
+
+
+def test_every_cited_benchmark_script_exists():
+    """Each benchmarks/...py path the README, the docs, the notebooks, the sweep files, the tests,
+    the package and the scripts themselves cite is a file of this checkout."""
+    cited = re.compile(r"benchmarks/(?:\w+/)*\w+\.py\b")
+    sources = [REPO / "README.md", REPO / "benchmarks" / "README.md", *(REPO / "docs").rglob("*.md"),
+               *(REPO / "notebooks").glob("*.ipynb"), *(REPO / "benchmarks" / "sweeps").glob("*.toml"),
+               *(REPO / "tests").glob("*.py"), *(REPO / "benchmarks").rglob("*.py"),
+               *(REPO / "python" / "ssrlab").rglob("*.py")]
+    missing = []
+    for path in sources:
+        for i, line in enumerate(path.read_text().splitlines(), 1):
+            for m in cited.finditer(line):
+                if m.group(0).rsplit("/", 1)[1] not in EXAMPLE_SCRIPTS and not (REPO / m.group(0)).is_file():
+                    missing.append(f"{path.relative_to(REPO)}:{i}: {m.group(0)}")
+    assert not missing, "\n".join(missing)

@@ -1,6 +1,6 @@
 """The faster G-buffer, lighting and composite: what their shortcuts must keep exact
 (the covered-tile lighting leaves no covered texel unlit, the composite's r read from lit's
-alpha is the G-buffer's r), and benchmarks/ab_frame.py (two interpreters, interleaved)."""
+alpha is the G-buffer's r), and benchmarks/tools/ab_frame.py (two interpreters, interleaved)."""
 
 import subprocess
 import sys
@@ -55,7 +55,7 @@ def test_linear_composite_uses_the_gbuffer_r_exactly(renderer):
 
 def test_ab_frame_script_same_build_on_both_sides_gives_identical_images():
     out = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks" / "ab_frame.py"), "--baseline-python", sys.executable,
+        [sys.executable, str(REPO / "benchmarks" / "tools" / "ab_frame.py"), "--baseline-python", sys.executable,
          "--scenes", "hall", "--width", "64", "--height", "48", "--frames", "2", "--warmup", "1",
          "--set", "shadow_map_size=256"],
         capture_output=True, text=True, timeout=300)

@@ -1,4 +1,4 @@
-"""A short, fixed-seed run of the glTF fuzzer (benchmarks/fuzz_gltf.py): its mutants of the
+"""A short, fixed-seed run of the glTF fuzzer (benchmarks/fuzzing/fuzz_gltf.py): its mutants of the
 sample models and the hostile reproducers must give SceneErrors or finite 32x24 renders,
 never another exception, a crash, a hang or a non-finite image."""
 
@@ -13,7 +13,7 @@ REPO = Path(__file__).resolve().parents[1]
 def test_fuzzer_short_run_has_no_findings(tmp_path):
     out = tmp_path / "fuzz"
     proc = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks" / "fuzz_gltf.py"), "--seed", "3", "--max-mutants", "400",
+        [sys.executable, str(REPO / "benchmarks" / "fuzzing" / "fuzz_gltf.py"), "--seed", "3", "--max-mutants", "400",
          "--minutes", "0.75", "--timeout", "30", "--out", str(out)],
         capture_output=True, text=True, timeout=300)
     summary = json.loads((out / "summary.json").read_text())
@@ -28,7 +28,7 @@ def test_fuzzer_records_crashes_and_hangs(tmp_path):
     saved as a finding (with the exit status / stack), and fuzzing goes on after them."""
     out = tmp_path / "fuzz"
     proc = subprocess.run(
-        [sys.executable, str(REPO / "benchmarks" / "fuzz_gltf.py"), "--seed", "3", "--max-mutants", "5",
+        [sys.executable, str(REPO / "benchmarks" / "fuzzing" / "fuzz_gltf.py"), "--seed", "3", "--max-mutants", "5",
          "--timeout", "3", "--selftest", "crash", "none", "hang", "--out", str(out)],
         capture_output=True, text=True, timeout=300)
     summary = json.loads((out / "summary.json").read_text())

@@ -163,7 +163,7 @@ def test_kept_screen_hits_are_the_object_the_ray_meets(renderer, view):
 HYBRID_SCENES = dict(HYBRID_VIEWS, box_stack=lambda: ssrlab.scenes.box_stack())
 # Every scene x size x tracer x layer count up to 640x360; at 1280x720 the cross-check's scene with
 # Hi-Z and one layer, where the Hi-Z walk kept the most wrong hits before its sight map (the suite
-# runs on two cores); benchmarks/hybrid_confidence.py prints the counts of the whole grid, 1280x720
+# runs on two cores); benchmarks/studies/hybrid_confidence.py prints the counts of the whole grid, 1280x720
 # included.
 CONFIDENCE_GRID = [(v, size, method, layers) for v in sorted(HYBRID_SCENES)
                    for size in ((160, 90), (320, 180), (640, 360)) for method in ("hiz", "linear") for layers in (1, 3)]

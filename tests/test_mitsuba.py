@@ -8,7 +8,7 @@ material "none", whose Fresnel factor is 1 as ssrlab's Schlick F with F0 = 1 is)
 microfacet BRDF, Fresnel and sampling are Mitsuba's, not ssrlab's; the objects, which no Mitsuba
 BSDF models as ssrlab does, are a Dr.Jit copy of ssrlab's BRDF (crosscheck.SsrlabBSDF), as is
 the floor with bsdf="ssrlab". Full-size figures and the diagnosis:
-benchmarks/mitsuba_crosscheck.py."""
+benchmarks/accuracy/mitsuba_crosscheck.py."""
 
 from __future__ import annotations
 
@@ -95,7 +95,7 @@ def test_hybrid_and_bvh_frames_against_mitsuba(renderer, mirror):
     """The frames themselves at default settings, not the reference: SSR + the BVH fallback and
     pure BVH (traced shadows in the BVH passes) against Mitsuba on the floor pixels whose
     reflection lands on no silhouette (59.8 and 76.5 dB here; 320x180 and 640x360 in
-    benchmarks/mitsuba_crosscheck.py's frames table). SSR alone, which keeps every hit it finds,
+    benchmarks/accuracy/mitsuba_crosscheck.py's frames table). SSR alone, which keeps every hit it finds,
     stays far below (34.8 dB)."""
     scene, ms, mit = mirror
     values = {}

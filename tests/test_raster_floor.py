@@ -12,7 +12,7 @@ import sys
 import pytest
 
 import ssrlab
-from conftest import REPO
+from conftest import REPO, benchmark_script
 
 FLOORS = {"depth", "gbuffer", "id", "append", "append_list", "stores", "clear.depth", "clear.gbuffer",
           "clear.id_texture", "clear.id_compute", "clear.counters", "clear.heads", "clear.compute_colour"}
@@ -92,7 +92,7 @@ def test_bad_settings_are_refused(renderer, hall):
 
 def run_benchmark(name: str, *args: str) -> str:
     """A benchmark script's standard output, run as the script it is, on the device at hand."""
-    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *args], capture_output=True,
+    r = subprocess.run([sys.executable, str(benchmark_script(name)), *args], capture_output=True,
                        text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     return r.stdout

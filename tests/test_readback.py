@@ -64,7 +64,7 @@ def test_staged_readback_equals_download(name):
 
 
 def test_read_without_the_cache_downloads_again_and_keeps_nothing(renderer):
-    """What benchmarks/readback.py times: Frame.read(cache=False) copies the texture from the GPU
+    """What benchmarks/timing/readback.py times: Frame.read(cache=False) copies the texture from the GPU
     each time, into a new writable array equal to the cached one, and leaves the cache alone."""
     f = renderer.render(ssrlab.scenes.spheres_and_boxes(seed=1), settings=small(width=64, height=48, rays_per_pixel=2))
     before = renderer.stats["readbacks"]

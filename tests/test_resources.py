@@ -1,5 +1,5 @@
 """Frames share per-renderer scratch, release their textures, and memory of dropped
-frames goes back to the OS. (benchmarks/memory.py runs the 1000-render version.)"""
+frames goes back to the OS. (benchmarks/timing/memory.py runs the 1000-render version.)"""
 
 import gc
 import os

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import ssrlab
-from conftest import REPO, image_load_refusal, small
+from conftest import REPO, benchmark_script, image_load_refusal, small
 
 
 @pytest.mark.parametrize("kernel", ["coherent", "dependent", "dependent_image", "store", "bandwidth", "copy",
@@ -37,7 +37,7 @@ def test_microbenchmark_rejects_bad_arguments(renderer, args, match):
 def run_benchmark(name: str, *args: str) -> str:
     """A benchmark script's standard output, run as the script it is (never imported by path), on
     the device at hand (the scripts' default, --device auto)."""
-    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / f"{name}.py"), *args], capture_output=True,
+    r = subprocess.run([sys.executable, str(benchmark_script(name)), *args], capture_output=True,
                        text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     return r.stdout

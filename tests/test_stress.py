@@ -5,7 +5,7 @@ image size.
 
 CI size: few examples, images <= 64 px, derandomized. The full run:
     SSRLAB_STRESS_EXAMPLES=500 python -m pytest tests/test_stress.py
-(each property then draws that many examples) or python benchmarks/stress.py.
+(each property then draws that many examples) or python benchmarks/fuzzing/stress.py.
 """
 
 from __future__ import annotations

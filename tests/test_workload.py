@@ -139,7 +139,7 @@ def test_the_estimate_counts_passes_measurement_and_bvh(renderer):
     assert bvh.bvh and bvh.seconds > renderer.estimate(scene, deep_gbuffer="peel").seconds
     renderer.render(scene, settings=ssrlab.Settings(deep_gbuffer="peel", fallback="bvh", width=40, height=24))
     assert not renderer.estimate(scene, deep_gbuffer="peel", fallback="bvh").bvh
-    # the rates a renderer assumes can be set (a GPU's, measured by benchmarks/render_estimate.py)
+    # the rates a renderer assumes can be set (a GPU's, measured by benchmarks/timing/render_estimate.py)
     rates = renderer.triangle_rates
     try:
         renderer.triangle_rates = {"draw": 1.0, "bvh": 1.0}
@@ -187,10 +187,10 @@ def test_the_cli_shows_the_warning_as_a_line_of_its_own(mutant, tmp_path, capsys
 
 
 def test_the_benchmark_prints_the_estimate_beside_the_measured_seconds():
-    """benchmarks/render_estimate.py, where ssrlab.workload.RATES come from, at a smoke size."""
+    """benchmarks/timing/render_estimate.py, where ssrlab.workload.RATES come from, at a smoke size."""
     from pathlib import Path
 
-    script = Path(__file__).resolve().parents[1] / "benchmarks" / "render_estimate.py"
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "timing" / "render_estimate.py"
     r = subprocess.run([sys.executable, str(script), "--width", "32", "--height", "24", "--instances", "10",
                         "--stacked", "5"], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]

@@ -191,7 +191,7 @@ class Renderer:
         "download" (the driver's download of float formats; a copy pass decodes the others) or
         "staged" (every format through the copy pass into a buffer, copied by the GPU into pinned
         client memory and from there into the array by several threads). The values are the same
-        whichever path (tests/test_readback.py); benchmarks/readback.py times them."""
+        whichever path (tests/test_readback.py); benchmarks/timing/readback.py times them."""
         return self._native.readback_path
 
     @readback_path.setter
@@ -204,7 +204,7 @@ class Renderer:
         """How the passes clear textures: "auto" (image stores on a GPU, GL clears on the CPU
         device), "gl" (glClearTexSubImage and framebuffer clears) or "compute" (image stores of a
         compute shader; a GPU built for compute, such as NVIDIA's H100 and H200, has few raster
-        units, and its GL clears ran at a tenth of its memory bandwidth: benchmarks/peel_profile.py).
+        units, and its GL clears ran at a tenth of its memory bandwidth: benchmarks/timing/peel_profile.py).
         The G-buffer's layers, which are render targets, keep framebuffer clears on every path (the
         first image store into a new render target cost far more there). The images are the same
         either way (tests/test_clear_path.py)."""
@@ -480,7 +480,7 @@ class Renderer:
 
     def microbenchmark(self, kernel: str, width: int, height: int, iterations: int, repeats: int = 5) -> list[float]:
         """GPU milliseconds of each of `repeats` runs of a device-peak kernel (the roofline,
-        shaders/tools/microbench.comp, benchmarks/roofline.py), after one untimed run: 'coherent'
+        shaders/tools/microbench.comp, benchmarks/timing/roofline.py), after one untimed run: 'coherent'
         (RG32F texelFetch, neighbours fetching neighbours), 'dependent' (each fetch's address is
         the previous fetch's result), 'dependent_image' (the same chain by imageLoad, the path the
         passes read float inputs by on the CPU device: info["input_fetch"]), 'store' (RGBA16F
@@ -558,7 +558,7 @@ class Renderer:
 
 
 # The largest far/near ratio at which depth_mode="standard" keeps SSR hit positions within a
-# pixel of the per-ray reference for both tracers, as measured by benchmarks/depth_precision.py
+# pixel of the per-ray reference for both tracers, as measured by benchmarks/accuracy/depth_precision.py
 # on llvmpipe at 320x180 (README, "Depth precision": Hi-Z up to 1e6, linear up to 1e7 with
 # 0.87 px). Beyond it the float depth buffer's few distinct values near 1 (seed 000 2.3.4;
 # seed 002 4.6.3) show as acne and false hits; reversed-Z held to 1e8.

@@ -191,7 +191,7 @@ GALLERY_ROUGHNESS = (0.0, 0.1, 0.2, 0.4, 0.6)
 
 def gallery(roughness=GALLERY_ROUGHNESS, strips: int = 20, wall: str = "checker") -> Scene:
     """A mixed-roughness floor in front of a checkered wall that stands in view: the scene of
-    adaptive ray counts (benchmarks/skip.py). The floor's strips (1 unit wide, running away from the camera) cycle through
+    adaptive ray counts (benchmarks/studies/skip.py). The floor's strips (1 unit wide, running away from the camera) cycle through
     `roughness`; the wall (matte tiles, bright and dark, so that a glossy lobe averages contrast
     and the ray count shows in the noise) is narrower than the view and lower than its top edge,
     and nothing else is in the scene, so what a floor ray does not hit on the wall's visible face

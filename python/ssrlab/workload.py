@@ -16,7 +16,7 @@ With the device's rates that is an estimate in seconds (Renderer.estimate, an `E
 The estimate is rough by design: it counts triangles, not the pixels they cover. It leans long
 where the triangles are the work (copies spread over the view, most of them small or outside it)
 and may fall short where the fill is (copies stacked in one place, each covering what the others
-do). `python benchmarks/render_estimate.py --device cpu` prints it beside the first and a repeated
+do). `python benchmarks/timing/render_estimate.py --device cpu` prints it beside the first and a repeated
 render of both kinds of scene, and the rates below come from what it measures on llvmpipe.
 """
 
@@ -40,7 +40,7 @@ LONG_SECONDS = 10.0
 # face), and "bvh", triangles a second of the extra work of a first render that traces the scene's
 # BVH (method "bvh", fallbacks "bvh" and "probes"): its build, once per scene geometry, and the
 # first frame's tracing of it (the tracing of later frames is not counted). From the first renders
-# of `python benchmarks/render_estimate.py --device cpu` on llvmpipe (2 cores, shared): each at or
+# of `python benchmarks/timing/render_estimate.py --device cpu` on llvmpipe (2 cores, shared): each at or
 # below its column ("draw rate", "bvh rate") on every spread scene, where triangles are the work,
 # and within that column's range over the stacked ones, where the overlap is (the fill, and rays
 # that meet every copy), which a count of triangles cannot see: there the estimate may fall

@@ -34,7 +34,7 @@ least MIN_JUDGED_MS, and a difference larger than the spread of the repeats (the
 interquartile ranges). Otherwise the verdict is "too small to judge" and `ours` says why; at
 the "small" scale (one timed run) every timing finding is.
 
-Used by notebooks/*.ipynb and benchmarks/thesis_findings.py.
+Used by notebooks/*.ipynb and benchmarks/studies/thesis_findings.py.
 """
 
 from __future__ import annotations

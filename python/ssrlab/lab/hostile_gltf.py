@@ -1,6 +1,6 @@
 """Minimal glTF files that each hit one way a file used to crash, hang or poison the loader,
 with what loading each must give: the reproducers of tests/data/hostile/ and the fuzzer's seeds
-(benchmarks/fuzz_gltf.py).
+(benchmarks/fuzzing/fuzz_gltf.py).
 
     python -m ssrlab.lab.hostile_gltf tests/data/hostile     # rewrites the test data
 

@@ -35,7 +35,7 @@ SCENES = [
     {"name": "spheres_and_boxes", "with_suzanne": True, "floor_roughness": 0.2},  # the glTF model
 ]
 # Every configuration: one glossy GGX ray per pixel (seed 003's setting), origin bias as
-# benchmarks/hybrid.py uses it (rays leave the floor close enough to meet thin edges).
+# benchmarks/studies/hybrid.py uses it (rays leave the floor close enough to meet thin edges).
 BASE = dict(rays_per_pixel=1, origin_bias=0.0005, shadow_map_size=1024)
 FRAMES = {"small": 4, "full": 8}
 # Image size per scale: "full" is 320x180 here, not experiments.SCALES' 640x360: every

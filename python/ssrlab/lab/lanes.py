@@ -3,7 +3,7 @@
 A vector runs until the longest walk among its lanes ends: where neighbouring rays walk very
 different lengths, most lanes idle. The trace shaders lay their rays out over classify's list order
 (32x32 regions, 4x4 blocks) with two rays per lane of an 8-lane vector; lane_use gives the share
-of the paid steps that do work for the two layouts the trace could use (benchmarks/ab_pass.py
+of the paid steps that do work for the two layouts the trace could use (benchmarks/tools/ab_pass.py
 --lane-use).
 """
 

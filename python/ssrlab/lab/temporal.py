@@ -51,7 +51,7 @@ def moving_camera_errors(renderer, scene, cameras, configurations: dict, *, refe
 
 
 
-# -- things that move: the moving-object study (benchmarks/temporal_motion.py) -------------------
+# -- things that move: the moving-object study (benchmarks/studies/temporal_motion.py) -------------------
 
 # The ghost region of frame i: pixels whose reflection showed a moving object in any of the GHOST_FRAMES
 # frames before it but shows none now (the trail it left in the history).

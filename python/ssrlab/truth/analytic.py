@@ -1,5 +1,5 @@
 """Closed-form references: the geometry of camera rays and of mirror_test's mirror image, and
-the documented shading model in numpy. Used by the tests and benchmarks/accuracy.py to check
+the documented shading model in numpy. Used by the tests and benchmarks/accuracy/accuracy.py to check
 the tracers and the ground truth against something no renderer computed."""
 
 from __future__ import annotations

@@ -36,7 +36,7 @@ optional (``pip install 'ssrlab[metrics]'``): without them image_metrics reports
 their keys and warns once; flip() and ssim() raise ImportError naming the extra. FLIP's filters
 are large and fixed in size (67 pixels per degree), so it costs far more than the other metrics
 (tens of milliseconds for a small image, about 0.3 s at 320x180 and 3 s at 640x360 on one CPU
-core; benchmarks/metric_cost.py): SSRLAB_PERCEPTUAL=0 leaves
+core; benchmarks/timing/metric_cost.py): SSRLAB_PERCEPTUAL=0 leaves
 FLIP and SSIM out of image_metrics (and so of sweep rows) unless asked for.
 
 Inputs with NaN or Inf values raise ValueError: an error metric over them would be

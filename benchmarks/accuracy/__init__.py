@@ -1,0 +1,1 @@
+"""Benchmarks of the accuracy genre (benchmarks/README.md)."""

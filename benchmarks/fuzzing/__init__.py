@@ -1,0 +1,1 @@
+"""Benchmarks of the fuzzing genre (benchmarks/README.md)."""

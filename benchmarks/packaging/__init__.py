@@ -1,0 +1,1 @@
+"""Benchmarks of the packaging genre (benchmarks/README.md)."""

@@ -1,0 +1,1 @@
+"""Benchmarks of the studies genre (benchmarks/README.md)."""

@@ -1,0 +1,1 @@
+"""Benchmarks of the timing genre (benchmarks/README.md)."""

@@ -1,0 +1,1 @@
+"""Benchmarks of the tools genre (benchmarks/README.md)."""
