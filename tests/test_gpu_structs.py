@@ -54,9 +54,9 @@ layout(local_size_x = 1) in;
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/lights.glsl"
 #include "../lib/scene_data.glsl"
-layout(std430, binding = 0) writeonly buffer ProbeOut { vec4 probe_out[]; };
+layout(std430, binding = BUFFER_TEXELS) writeonly buffer Texels { vec4 texels[]; };  // the read-back's block
 void main() {
-    probe_out[0] = frame.viewport + lights[0].radiance + materials[0].base_color + vec4(objects[0].material);
+    texels[0] = frame.viewport + lights[0].radiance + materials[0].base_color + vec4(objects[0].material);
 }
 """
 

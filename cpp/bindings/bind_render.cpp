@@ -298,6 +298,21 @@ void bind_render(py::module_& m) {
         "The C++ layout of every record in cpp/render/gpu_structs.def: a dict per struct with cpp (its C++ "
         "name), block, glsl_struct (the record's GLSL struct; '' for a uniform block), layout ('std140' or "
         "'std430'), binding, size (sizeof) and members (name, type, count: 0 when not an array, offset).");
+    m.def(
+        "buffer_bindings",
+        [] {
+            py::list out;
+            for (const BufferBinding& b : buffer_bindings())
+                out.append(py::dict(py::arg("block") = b.block, py::arg("define") = b.define,
+                                    py::arg("interface") = b.storage ? "storage" : "uniform",
+                                    py::arg("binding") = b.binding, py::arg("doc") = b.doc));
+            return out;
+        },
+        "The binding point of every uniform and storage block of the shaders, declared once in "
+        "cpp/render/buffer_bindings.def: a dict per block with block (its GLSL name), define (BUFFER_<NAME>, "
+        "what its shaders write), interface ('uniform' or 'storage'), binding and doc.");
+    m.def("buffer_bindings_glsl", &buffer_bindings_glsl,
+          "The #defines BUFFER_<NAME> of cpp/render/buffer_bindings.def, put ahead of every program's source.");
 
     py::class_<Sequence, std::shared_ptr<Sequence>>(m, "Sequence", "The history of a sequence of frames.")
         .def_readonly("frames", &Sequence::frames, "frames rendered in this sequence so far")

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -126,6 +127,8 @@ ShaderLibrary::Preprocessed ShaderLibrary::preprocess(const std::string& stage, 
         out.text = first + "\n";
     }
     for (const auto& [name, value] : defines) out.text += "#define " + name + " " + value + "\n";
+    out.text += prelude_;
+    if (!prelude_.empty() && prelude_.back() != '\n') out.text += "\n";
     std::vector<std::string> stack;
     append_file(file, fs::path(stage), out, stack);
     return out;
@@ -296,6 +299,80 @@ void check_unit_collisions(GLuint prog, const std::string& program_name) {
     }
 }
 
+// Where `block` is declared in these stages' sources, as "shaders/<file>:<line>" (a file outside
+// the shader tree by its own path), following the #line directives preprocess() writes; the first
+// stage's name where no declaration is found. Only on the error path.
+std::pair<std::string, int> locate_block(const ShaderLibrary& lib, const std::vector<std::string>& stages,
+                                         const Defines& defines, const std::string& block) {
+    const std::regex decl("\\b(buffer|uniform)\\s+" + block + "\\b");
+    static const std::regex line_re(R"(^#line (\d+) (\d+)$)");
+    for (const auto& stage : stages) {
+        const ShaderLibrary::Preprocessed src = lib.preprocess(stage, defines);
+        std::istringstream in(src.text);
+        std::string line;
+        int file = -1, line_no = 0;
+        while (std::getline(in, line)) {
+            std::smatch m;
+            if (std::regex_match(line, m, line_re)) {
+                line_no = std::stoi(m[1].str());
+                file = std::stoi(m[2].str());
+                continue;
+            }
+            if (file >= 0 && std::regex_search(line, decl)) {
+                const std::string& name = src.files[size_t(file)];
+                return {fs::path(name).is_absolute() ? name : "shaders/" + name, line_no};
+            }
+            if (file >= 0) ++line_no;
+        }
+    }
+    const std::string& first = stages.front();
+    return {fs::path(first).is_absolute() ? first : "shaders/" + first, 0};
+}
+
+// A block at a binding the host does not bind it to reads another pass's buffer or nothing, with
+// no error from GL (a binding point is context state, OpenGL 4.5 core profile 7.8, whatever block
+// reads it): so each block of the shader tree is at the binding of its row of the table, and a
+// block with no row is refused too, since nothing then says what binds it. Checked once per linked
+// variant, right after linking, so the frame pays nothing for it.
+void check_block_bindings(GLuint prog, const std::string& program_name, bool user_program,
+                          const std::map<std::string, ShaderLibrary::BlockBinding>& table,
+                          const std::function<std::pair<std::string, int>(const std::string&)>& locate) {
+    if (table.empty()) return;
+    for (const GLenum interface : {GL_SHADER_STORAGE_BLOCK, GL_UNIFORM_BLOCK}) {
+        const bool storage = interface == GL_SHADER_STORAGE_BLOCK;
+        const std::string kind = storage ? "storage block " : "uniform block ";
+        GLint count = 0;
+        glGetProgramInterfaceiv(prog, interface, GL_ACTIVE_RESOURCES, &count);
+        for (GLint i = 0; i < count; ++i) {
+            char raw[256] = {0};
+            glGetProgramResourceName(prog, interface, GLuint(i), sizeof(raw), nullptr, raw);
+            std::string name = raw;
+            if (const size_t bracket = name.find('['); bracket != std::string::npos) name.resize(bracket);
+            const GLenum prop = GL_BUFFER_BINDING;
+            GLint binding = -1;
+            glGetProgramResourceiv(prog, interface, GLuint(i), 1, &prop, 1, nullptr, &binding);
+            const auto row = table.find(name);
+            if (row == table.end() && user_program) continue;
+            std::string problem;
+            if (row == table.end())
+                problem = kind + name + " (binding " + std::to_string(binding) +
+                          ") is not in cpp/render/buffer_bindings.def, the table of every block's binding "
+                          "point: add its row and declare it with binding = BUFFER_<NAME>";
+            else if (row->second.storage != storage)
+                problem = kind + name + " is a " + (row->second.storage ? "storage" : "uniform") +
+                          " block in cpp/render/buffer_bindings.def";
+            else if (row->second.binding != binding)
+                problem = kind + name + " is at binding " + std::to_string(binding) +
+                          ", where cpp/render/buffer_bindings.def puts it at " +
+                          std::to_string(row->second.binding) + ": declare it with binding = " + row->second.define;
+            if (problem.empty()) continue;
+            const auto [file, line] = locate(name);
+            throw ShaderError(file + ":" + std::to_string(line) + ": " + problem + " (program " + program_name + ")",
+                              file, line);
+        }
+    }
+}
+
 }  // namespace
 
 GLuint ShaderLibrary::program(const std::vector<std::string>& stages, const Defines& defines) {
@@ -335,6 +412,11 @@ GLuint ShaderLibrary::program(const std::vector<std::string>& stages, const Defi
         for (const auto& s : stages) joined += (joined.empty() ? "shaders/" : " + shaders/") + s;
         try {
             check_unit_collisions(prog, joined);
+            bool user_program = false;
+            for (const auto& s : stages) user_program = user_program || fs::path(s).is_absolute();
+            check_block_bindings(prog, joined, user_program, block_bindings_, [&](const std::string& block) {
+                return locate_block(*this, stages, defines, block);
+            });
         } catch (...) {
             glDeleteProgram(prog);
             throw;

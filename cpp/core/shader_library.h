@@ -7,6 +7,10 @@
 // is included by its name, as if it lay under the shader root. Every file gets its own GLSL
 // source-string number through `#line`, so compiler messages are translated back to
 // "shaders/<file>:<line>" and raised as ShaderError.
+//
+// Interface blocks take their binding points from one table (set_block_bindings; the Renderer
+// gives cpp/render/buffer_bindings.def): its defines BUFFER_<NAME> precede every program's source,
+// and every linked program's active uniform and storage blocks are checked against it once.
 #pragma once
 
 #include <GL/gl.h>
@@ -37,6 +41,21 @@ public:
     // A file made by the program rather than read from the shader folder: `#include "name"`
     // reads `text` (before any program is built; error messages show the file as `name`).
     void add_generated(const std::string& name, std::string text) { generated_[name] = std::move(text); }
+
+    // The binding point of an interface block, by its GLSL block name.
+    struct BlockBinding {
+        bool storage = true;  // a shader storage block (else a uniform block)
+        int binding = 0;
+        std::string define;   // what its shaders write for the binding, BUFFER_<NAME>
+    };
+    // `prelude` (the table's #defines) is put ahead of every program's source, after its own
+    // defines; every program linked afterwards must declare each active block listed in `table`
+    // at its binding and interface, and may declare no other unless one of its stages lies outside
+    // the shader tree (a user pass: its own blocks are its own business). Before any program.
+    void set_block_bindings(std::string prelude, std::map<std::string, BlockBinding> table) {
+        prelude_ = std::move(prelude);
+        block_bindings_ = std::move(table);
+    }
     void release();  // deletes every cached program (in the current context)
     size_t cached_programs() const { return cache_.size(); }
 
@@ -55,6 +74,8 @@ private:
     std::filesystem::path root_;
     std::map<std::string, GLuint> cache_;
     std::map<std::string, std::string> generated_;
+    std::string prelude_;
+    std::map<std::string, BlockBinding> block_bindings_;
 };
 
 // What a linked program's driver made of a uniform or storage block (ARB_program_interface_query):

@@ -53,7 +53,7 @@ public:
     void execute(FrameContext& ctx) override;
 
     // The SSBO binding of the ray list (shaders/lib/ray_list.glsl).
-    static constexpr GLuint kBinding = 12;
+    static constexpr GLuint kBinding = kRayListBinding;
     // The list's counters of the last run, read back from the GPU (Frame.stats).
     std::map<std::string, double> counters() const;
     void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
@@ -67,7 +67,7 @@ public:
         return s.skip && s.method != TraceMethod::Bvh && s.method != TraceMethod::Off && s.glossy == Glossy::Stochastic;
     }
     // The SSBO binding of the resolve list (shaders/lib/resolve_list.glsl).
-    static constexpr GLuint kResolveBinding = 13;
+    static constexpr GLuint kResolveBinding = kResolveListBinding;
 
 protected:
     // Also the variance_rays pass's list of pixels that get extra rays (same layout).

@@ -112,7 +112,7 @@ inline void clear_layers(FrameContext& ctx, Texture& tex, int from, const float*
 // (shaders/passes/clear_buffer.comp) where FrameContext::clear_by_compute says so, else by
 // glClearNamedBufferSubData. Storage binding kClearBufferBinding (which no other shader declares) is
 // left bound to `buffer`.
-constexpr GLuint kClearBufferBinding = 20;
+constexpr GLuint kClearBufferBinding = kClearTargetBinding;
 inline void clear_uints(FrameContext& ctx, const Buffer& buffer, size_t first, size_t count, GLuint value) {
     if (count == 0) return;
     if (!ctx.clear_by_compute) {

@@ -381,7 +381,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     {
         GpuScope timer(ctx.timer, "deep_gbuffer.select");
         glUseProgram(select);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 19, kept_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKeptFragmentsBinding, kept_.id());
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         glDispatchCompute(GLuint((s.width + 7) / 8), GLuint((s.height + 7) / 8), 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -468,9 +468,9 @@ void DepthPeelPass::append(FrameContext& ctx, uint64_t capacity) {
     clear_uints(ctx, heads_, 0, size_t(pixels), 0xffffffffu);  // every list empty
     GLuint counter[4 + 16] = {0, GLuint(capacity), 0, 0};
     counter_.upload(counter, sizeof(counter));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 16, store_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 17, counter_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 18, heads_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentStoreBinding, store_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentCounterBinding, counter_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFragmentHeadsBinding, heads_.id());
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
     Defines append = defines_;

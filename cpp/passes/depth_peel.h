@@ -141,7 +141,7 @@ public:
 
     // The covered-tile buffer ("covered_tiles", shaders/lib/covered_tiles.glsl), bound as SSBO
     // kCoveredTilesBinding: flags and a list of tiles per layer, then layer 0's regions.
-    static constexpr GLuint kCoveredTilesBinding = 14;
+    static constexpr GLuint kCoveredTilesBinding = ssr::kCoveredTilesBinding;
     // Sizes the covered-tile buffer `tiles` for the frame, clears its flags and lists, binds it as
     // kCoveredTilesBinding and publishes it as "covered_tiles" (every construction of the deep
     // G-buffer marks the same tiles in it).

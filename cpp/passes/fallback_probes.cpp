@@ -105,7 +105,7 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
     glUseProgram(prog);
     if (!traced) ShadowMapPass::bind(ctx.resources, ctx.facts);
     glBindImageTexture(0, cube_, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, probe_ssbo_);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kProbeCentresBinding, probe_ssbo_);
     glUniform1i(0, size);
     dispatch_2d(size, size, 6 * n, 8, 8);
     // The roughness pre-filter: each level the box average of the one below, per face (seed
@@ -150,7 +150,7 @@ void FallbackProbesPass::execute(FrameContext& ctx) {
     glBindTextureUnit(7, r.get("rays.direction").id());
     bind_image_layered(4, r.get("rays.hit"), GL_READ_ONLY);
     bind_image_layered(3, r.get("rays.radiance"), GL_WRITE_ONLY);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, probe_ssbo_);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kProbeCentresBinding, probe_ssbo_);
     glUniform1i(0, s.probe_size);
     glUniform1i(1, int(probes_.size()));
     glUniform3fv(2, 1, &b.min.x);

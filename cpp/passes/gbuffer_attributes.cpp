@@ -18,9 +18,9 @@
 namespace ssr {
 
 namespace {
-// Storage-buffer bindings of passes/gbuffer_attributes.comp.
-constexpr GLuint kBinsBinding = 26, kBinnedBinding = 27, kSortedBinding = 28, kTileListBinding = 30,
-                 kRecordsBinding = 4;
+// Storage-buffer bindings of passes/gbuffer_attributes.comp (cpp/render/buffer_bindings.def).
+constexpr GLuint kBinsBinding = kAttributeBinsBinding, kBinnedBinding = kBinnedSamplesBinding,
+                 kSortedBinding = kSortedSamplesBinding, kRecordsBinding = kVisibilityRecordsBinding;
 // A triangle's record (lib/visibility_surface.glsl): 5 vec4.
 constexpr size_t kRecordTexels = 5, kRecordBytes = kRecordTexels * 16;
 // Records a dispatch of stage 4 writes at most: 64 a group, the fewest groups GL guarantees in x.

@@ -144,8 +144,8 @@ void ReferencePass::execute_wavefront(FrameContext& ctx, GLuint prog) {
     Buffer queries = Buffer::create(cn * sizeof(TraceQuery));
     int slots = 3;
     Buffer answers = Buffer::create(cn * sizeof(TraceAnswer) * size_t(slots));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, queries.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, answers.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTraceQueriesBinding, queries.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTraceAnswersBinding, answers.id());
     const GLint loc_known = glGetUniformLocation(prog, "u_trace_known");
     const GLint loc_known0 = glGetUniformLocation(prog, "u_trace_known0");
     glUniform1i(glGetUniformLocation(prog, "u_trace_stride"), int(n));
@@ -207,7 +207,7 @@ void ReferencePass::execute_wavefront(FrameContext& ctx, GLuint prog) {
                 glCopyNamedBufferSubData(answers.id(), grown.id(), 0, 0, GLsizeiptr(answers.size()));
                 answers = std::move(grown);
                 slots *= 2;
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, answers.id());
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTraceAnswersBinding, answers.id());
             }
             // Slot `known` of chains 1.. (chain 0's answer in slot 0 stays).
             glNamedBufferSubData(answers.id(), GLintptr((size_t(known) * cn + n) * sizeof(TraceAnswer)),
@@ -259,7 +259,7 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
     const bool specular_texture = ctx.facts.specular_texture;
     const size_t extra = (emission_texture ? 1 : 0) + (specular_texture ? 1 : 0);
     Buffer decoded = Buffer::create(n * (sizeof(CpuGbufferTexel) + extra * sizeof(glm::vec4)));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 13, decoded.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDecodedBinding, decoded.id());
     dispatch_2d(s.width, s.height, 1, 8, 8);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<CpuGbufferTexel> gbuffer(n);
@@ -286,11 +286,11 @@ void ReferencePass::execute_cpu(FrameContext& ctx, GLuint prog) {
     scene.lights.resize(ctx.scene.lights.size());  // (the buffer keeps room for one when there are none)
     scene.objects = read_bound_buffer<GpuObject>(GL_SHADER_STORAGE_BUFFER, kObjectsBinding);
     scene.materials = read_bound_buffer<GpuMaterial>(GL_SHADER_STORAGE_BUFFER, kMaterialsBinding);
-    scene.triangles = read_bound_buffer<BvhTriangle>(GL_SHADER_STORAGE_BUFFER, 6);
-    scene.image_texels = read_bound_buffer<uint32_t>(GL_SHADER_STORAGE_BUFFER, 7);
-    scene.image_info = read_bound_buffer<glm::ivec4>(GL_SHADER_STORAGE_BUFFER, 8);
-    scene.vertex_data = read_bound_buffer<float>(GL_SHADER_STORAGE_BUFFER, 9);
-    scene.index_data = read_bound_buffer<uint32_t>(GL_SHADER_STORAGE_BUFFER, 10);
+    scene.triangles = read_bound_buffer<BvhTriangle>(GL_SHADER_STORAGE_BUFFER, kBvhTrianglesBinding);
+    scene.image_texels = read_bound_buffer<uint32_t>(GL_SHADER_STORAGE_BUFFER, kImageTexelsBinding);
+    scene.image_info = read_bound_buffer<glm::ivec4>(GL_SHADER_STORAGE_BUFFER, kImageInfoBinding);
+    scene.vertex_data = read_bound_buffer<float>(GL_SHADER_STORAGE_BUFFER, kVertexDataBinding);
+    scene.index_data = read_bound_buffer<uint32_t>(GL_SHADER_STORAGE_BUFFER, kIndexDataBinding);
     scene.environment_type = environment_type_;
     if (environment_map_) {
         GLint w = 0, h = 0;

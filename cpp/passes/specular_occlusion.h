@@ -54,7 +54,7 @@ public:
     std::map<std::string, double> counters() const;
     // The counters' storage buffer binding (shaders/passes/specular_occlusion.comp); its own, apart
     // from the covered tiles' (14), which the lighting and classify passes read.
-    static constexpr GLuint kCountersBinding = 15;
+    static constexpr GLuint kCountersBinding = kOcclusionCountersBinding;
     void report(const RenderSettings&, std::map<std::string, double>& stats) const override {
         for (const auto& [k, v] : counters()) stats[k] = v;
     }

@@ -92,8 +92,8 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     if (!count_) count_ = Buffer::create(16);
     const GLuint zero[4] = {0, 0, 0, 0};
     count_.upload(zero, sizeof(zero));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, list_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, count_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRetraceListBinding, list_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRetraceCountBinding, count_.id());
     // Compact method "bvh": stage 0 is one invocation per trace pixel for all its ray slots.
     dispatch_2d(s.trace_width(), s.trace_height(), compact ? 1 : s.traced_rays(), 8, 8);
     for (int stage = 1; stage <= 2; ++stage) {

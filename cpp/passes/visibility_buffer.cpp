@@ -16,8 +16,9 @@
 namespace ssr {
 
 namespace {
-// Storage-buffer bindings of lib/visibility_lists.glsl.
-constexpr GLuint kFragmentsBinding = 21, kLinksBinding = 22, kHeadsBinding = 23, kCounterBinding = 24;
+// Storage-buffer bindings of lib/visibility_lists.glsl (cpp/render/buffer_bindings.def).
+constexpr GLuint kFragmentsBinding = kVisibilityFragmentsBinding, kLinksBinding = kVisibilityLinksBinding,
+                 kHeadsBinding = kVisibilityHeadsBinding, kCounterBinding = kVisibilityCounterBinding;
 // Image unit of gbuffer.depth in the compute passes that store it (visibility_select.comp,
 // visibility_depth.comp), and the texture unit the raster's peel test reads the previous layer from.
 constexpr GLuint kDepthImage = 1, kPreviousDepthUnit = 3;
@@ -25,7 +26,7 @@ constexpr GLuint kDepthImage = 1, kPreviousDepthUnit = 3;
 constexpr GLuint kFragmentsImage = 2, kLinksImage = 3, kHeadsImage = 4;
 // The selection's listed samples (lib/visibility_samples.glsl): the counts' storage binding (dispatch
 // uvec4 and 16 layers' counts) and the list's image unit.
-constexpr GLuint kSampleCountsBinding = 25, kSamplesImage = 5;
+constexpr GLuint kSampleCountsBinding = kVisibilitySamplesBinding, kSamplesImage = 5;
 constexpr size_t kSampleCountsBytes = 16 + 16 * sizeof(GLuint);
 }  // namespace
 

@@ -66,7 +66,7 @@ public:
     void release() override;
 
     static constexpr size_t kFragmentBytes = 12;  // lib/visibility_lists.glsl: depth, id, link
-    static constexpr GLuint kTilesBinding = 29;    // lib/visibility_tiles.glsl
+    static constexpr GLuint kTilesBinding = kVisibilityTilesBinding;   // lib/visibility_tiles.glsl
     // Whether the tiles are marked (Renderer.visibility_tiles: on the CPU device by default, where
     // llvmpipe rasterises and shades whatever it is given; a GPU is not stalled to read them back).
     static bool marks_tiles(const FrameContext& ctx) { return ctx.visibility_tiles; }

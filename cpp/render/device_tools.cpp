@@ -77,7 +77,7 @@ std::vector<float> Renderer::sample_reflections(const std::string& sampling, flo
     glUniform1i(glGetUniformLocation(prog, "u_stratified"), stratified ? 1 : 0);
     const size_t bytes = size_t(count) * 8 * sizeof(float);
     Buffer out = Buffer::create(bytes);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSamplesBinding, out.id());
     glDispatchCompute(GLuint((count + 63) / 64), 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> data(size_t(count) * 8);
@@ -155,9 +155,6 @@ std::vector<double> Renderer::microbenchmark(const std::string& kernel, int widt
 }
 
 namespace {
-// Storage-buffer bindings of shaders/tools/raster_floor.frag.
-constexpr GLuint kFloorCountsBinding = 21, kFloorOffsetsBinding = 22, kFloorFragmentsBinding = 23,
-                 kFloorCounterBinding = 24;
 constexpr GLuint kFloorListEnd = 0xffffffffu;  // an empty list's head, "no sample" in an id target
 
 // Milliseconds of each named interval of one repeat, appended to `out`.
@@ -354,8 +351,8 @@ std::map<std::string, std::vector<double>> Renderer::raster_floor(const Scene& s
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFloorFragmentsBinding, stored.id());
     };
     auto bind_list = [&] {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFloorCountsBinding, heads.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFloorOffsetsBinding, links.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFloorHeadsBinding, heads.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFloorLinksBinding, links.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFloorFragmentsBinding, stored.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kFloorCounterBinding, counter.id());
     };

@@ -314,16 +314,16 @@ void GpuScene::bind_ray_tracing(const Scene& scene) {
     } else {
         update_ray_tracing(scene);
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, bvh_nodes_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, bvh_triangles_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, image_texels_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, image_info_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBvhNodesBinding, bvh_nodes_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBvhTrianglesBinding, bvh_triangles_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kImageTexelsBinding, image_texels_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kImageInfoBinding, image_info_.id());
     bind_vertex_data();
 }
 
 void GpuScene::bind_vertex_data() const {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, vertices_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, indices_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVertexDataBinding, vertices_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kIndexDataBinding, indices_.id());
 }
 
 void GpuScene::update_ray_tracing(const Scene& scene) {

@@ -33,11 +33,11 @@ std::vector<GpuStructGlsl> gpu_struct_glsl() {
                "// C++ struct of the same row (cpp/render/gpu_structs.h).\n";
         comment(out, "", doc);
     };
-#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, binding, instance, doc)                           \
+#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, instance, doc)                           \
     open(#Block, doc);                                                                      \
     out << "layout(std140, binding = " << k##Block##Binding << ") uniform " #Block " {\n"; \
     close = "} " #instance ";\n";
-#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, binding, array, doc)                          \
+#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, array, doc)                          \
     open(#Block, doc);                                                                          \
     out << "struct " #Struct " {\n";                                                            \
     close = std::string("};\n\nlayout(std430, binding = ") + std::to_string(k##Block##Binding) + \
@@ -57,11 +57,11 @@ std::vector<GpuStructGlsl> gpu_struct_glsl() {
 
 std::vector<GpuStructLayout> gpu_struct_layouts() {
     std::vector<GpuStructLayout> out;
-#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, binding, instance, doc)                      \
+#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, instance, doc)                      \
     {                                                                                  \
         using S = Cpp;                                                                 \
         out.push_back({#Cpp, #Block, "", "std140", k##Block##Binding, sizeof(S), {}});
-#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, binding, array, doc) \
+#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, array, doc) \
     {                                                                  \
         using S = Cpp;                                                 \
         out.push_back({#Cpp, #Block, #Struct, "std430", k##Block##Binding, sizeof(S), {}});

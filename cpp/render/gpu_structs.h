@@ -1,5 +1,6 @@
 // The records shared by the host and the shaders (frame constants, the scene's objects and
-// materials, lights) and their binding numbers, made from cpp/render/gpu_structs.def: each
+// materials, lights), made from cpp/render/gpu_structs.def (their binding points are rows of
+// cpp/render/buffer_bindings.def, whose k<Block>Binding this header includes): each
 // struct's members, the GLSL declaration the shaders include and the layout checks below come
 // from one row per member, so the two sides cannot drift apart.
 #pragma once
@@ -12,9 +13,9 @@
 #include <string_view>
 #include <vector>
 
-namespace ssr {
+#include "render/buffer_bindings.h"
 
-constexpr int kPreviousModelsBinding = 31;  // SSBO: each object's model matrix in the previous frame
+namespace ssr {
 
 // The block layout rules (OpenGL 4.5 core profile, 7.6.2.2) for the member types the table
 // allows: each type's base alignment and size under std430; std140 rounds an array element's
@@ -88,13 +89,11 @@ constexpr size_t gpu_struct_size(const GpuField (&fields)[N], GpuLayout l) {
 }
 
 // Each struct's fields and layout, in namespace gpu_layout::<Cpp>.
-#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, binding, instance, doc) \
-    constexpr int k##Block##Binding = binding;                     \
+#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, instance, doc) \
     namespace gpu_layout::Cpp {                                    \
     constexpr GpuLayout layout = GpuLayout::Std140;                \
     constexpr GpuField fields[] = {
-#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, binding, array, doc) \
-    constexpr int k##Block##Binding = binding;                          \
+#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, array, doc) \
     namespace gpu_layout::Cpp {                                         \
     constexpr GpuLayout layout = GpuLayout::Std430;                     \
     constexpr GpuField fields[] = {
@@ -107,9 +106,9 @@ constexpr size_t gpu_struct_size(const GpuField (&fields)[N], GpuLayout l) {
 #include "render/gpu_structs.def"
 
 // The structs, aligned as their GLSL counterparts.
-#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, binding, instance, doc) \
+#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, instance, doc) \
     struct alignas(gpu_struct_align(gpu_layout::Cpp::fields, gpu_layout::Cpp::layout)) Cpp {
-#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, binding, array, doc) SSR_GPU_UNIFORM_BLOCK(Cpp, , , , )
+#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, array, doc) SSR_GPU_UNIFORM_BLOCK(Cpp, , , )
 #define SSR_GPU_MEMBER(type, name, doc) SSR_GPU_CTYPE_##type name;
 #define SSR_GPU_ARRAY(type, name, count, doc) SSR_GPU_CTYPE_##type name[count];
 #define SSR_GPU_END() \
@@ -119,11 +118,11 @@ constexpr size_t gpu_struct_size(const GpuField (&fields)[N], GpuLayout l) {
 
 // Every member where the GLSL layout puts it, and every struct of the size it has there (an
 // array of records steps by it).
-#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, binding, instance, doc) \
+#define SSR_GPU_UNIFORM_BLOCK(Cpp, Block, instance, doc) \
     namespace gpu_layout::Cpp {                                    \
     using S = ::ssr::Cpp;                                          \
     static_assert(sizeof(S) == gpu_struct_size(fields, layout), "GLSL size of " #Cpp);
-#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, binding, array, doc) SSR_GPU_UNIFORM_BLOCK(Cpp, , , , )
+#define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, array, doc) SSR_GPU_UNIFORM_BLOCK(Cpp, , , )
 #define SSR_GPU_MEMBER(type, name, doc) \
     static_assert(offsetof(S, name) == gpu_offset(fields, layout, #name), "GLSL offset of " #name);
 #define SSR_GPU_ARRAY(type, name, count, doc) SSR_GPU_MEMBER(type, name, doc)

@@ -169,7 +169,7 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     glUniform2i(glGetUniformLocation(prog, "u_size"), out.width, out.height);
     glBindTextureUnit(0, tex.id());
     glBindSampler(0, readback_sampler_);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, readback_ssbo_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTexelsBinding, readback_ssbo_.id());
     glDispatchCompute(GLuint((out.width + 7) / 8), GLuint((out.height + 7) / 8), GLuint(out.layers));
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindSampler(0, 0);

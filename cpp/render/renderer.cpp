@@ -337,6 +337,13 @@ Renderer::Renderer(const std::string& device, const std::string& shader_dir, con
     // The records shared with the host, declared once in gpu_structs.def (lib/frame_uniforms.glsl,
     // lib/lights.glsl, lib/scene_data.glsl).
     for (const GpuStructGlsl& g : gpu_struct_glsl()) shaders_->add_generated(g.file, g.text);
+    // Every interface block's binding point, declared once in buffer_bindings.def: its defines
+    // ahead of every program, and the table each linked program is checked against.
+    {
+        std::map<std::string, ShaderLibrary::BlockBinding> table;
+        for (const BufferBinding& b : buffer_bindings()) table[b.block] = {b.storage, b.binding, b.define};
+        shaders_->set_block_bindings(buffer_bindings_glsl(), std::move(table));
+    }
     CurrentContext current(*ctx_);
     frame_ubo_ = Buffer::create(sizeof(FrameUniforms));
     glCreateSamplers(1, &readback_sampler_);

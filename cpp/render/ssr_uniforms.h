@@ -1,15 +1,15 @@
-// Screen-space reflection settings as the shaders see them (uniform buffer binding 4, std140
-// with scalars only). The members, their upload and the GLSL block the shaders include
-// (shaders/lib/ssr_settings.glsl) are all made from cpp/render/settings_fields.def: the
-// settings whose place is UNIFORM, after the derived members.
+// Screen-space reflection settings as the shaders see them (uniform buffer kSsrSettingsBinding of
+// cpp/render/buffer_bindings.def, std140 with scalars only). The members, their upload and the
+// GLSL block the shaders include (shaders/lib/ssr_settings.glsl) are all made from
+// cpp/render/settings_fields.def: the settings whose place is UNIFORM, after the derived members.
 #pragma once
 
 #include <cstdint>
 #include <string>
 
-namespace ssr {
+#include "render/buffer_bindings.h"
 
-constexpr int kSsrSettingsBinding = 4;
+namespace ssr {
 
 // The member type of each kind of setting (bool and enum travel as int).
 #define SSR_GPU_TYPE_INT int32_t

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'builtin_chain', 'check_setting_choice', 'check_setting_value', 'choose_deep_gbuffer', 'decide_auto', 'deep_gbuffer_candidates', 'devices', 'embree_intersect', 'gpu_struct_glsl', 'gpu_struct_layouts', 'image_io_backend', 'read_image', 'settings_rules', 'settings_schema', 'ssr_settings_glsl', 'write_image']
+__all__: list[str] = ['Animation', 'Camera', 'DeviceError', 'Environment', 'Frame', 'GLError', 'Light', 'Material', 'OutputError', 'RenderSettings', 'Renderer', 'Scene', 'SceneError', 'Sequence', 'ShaderError', 'buffer_bindings', 'buffer_bindings_glsl', 'builtin_chain', 'check_setting_choice', 'check_setting_value', 'choose_deep_gbuffer', 'decide_auto', 'deep_gbuffer_candidates', 'devices', 'embree_intersect', 'gpu_struct_glsl', 'gpu_struct_layouts', 'image_io_backend', 'read_image', 'settings_rules', 'settings_schema', 'ssr_settings_glsl', 'write_image']
 class GLError(RuntimeError):
     """
     OpenGL reported an error (the message names the call or pass).
@@ -934,6 +934,14 @@ class Renderer:
 def _set_image_codec(codec: typing.Any) -> None:
     """
     Registers the Python image codec of an extension built without OpenImageIO (ssrlab.io does).
+    """
+def buffer_bindings() -> list:
+    """
+    The binding point of every uniform and storage block of the shaders, declared once in cpp/render/buffer_bindings.def: a dict per block with block (its GLSL name), define (BUFFER_<NAME>, what its shaders write), interface ('uniform' or 'storage'), binding and doc.
+    """
+def buffer_bindings_glsl() -> str:
+    """
+    The #defines BUFFER_<NAME> of cpp/render/buffer_bindings.def, put ahead of every program's source.
     """
 def builtin_chain(scene: Scene, settings: RenderSettings, fetch_by_image: bool) -> list:
     """

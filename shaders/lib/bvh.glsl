@@ -16,8 +16,8 @@ struct BvhTriangle {
     vec4 v2;  // v2.w: 1 when its material is alpha-tested (int bits)
 };
 
-layout(std430, binding = 5) readonly buffer BvhNodes { BvhNode bvh_nodes[]; };
-layout(std430, binding = 6) readonly buffer BvhTriangles { BvhTriangle bvh_triangles[]; };
+layout(std430, binding = BUFFER_BVH_NODES) readonly buffer BvhNodes { BvhNode bvh_nodes[]; };
+layout(std430, binding = BUFFER_BVH_TRIANGLES) readonly buffer BvhTriangles { BvhTriangle bvh_triangles[]; };
 
 struct TraceHit {
     float t;       // ray parameter (unit direction: distance)

@@ -16,7 +16,7 @@
 #define COVERED_TILE_SIZE 8
 #define CLASSIFY_REGION_SIZE 32  // the classify pass's group footprint (8x8 invocations of 4x4 pixels)
 
-layout(std430, binding = 14) coherent buffer CoveredTiles {
+layout(std430, binding = BUFFER_COVERED_TILES) coherent buffer CoveredTiles {
     uvec4 covered_header;
     uint covered_tile[];
 };

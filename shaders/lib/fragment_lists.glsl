@@ -42,14 +42,14 @@ struct ListFragment {
 #endif
 };
 
-layout(std430, binding = 16) buffer FragmentStore { ListFragment fragments[]; };
+layout(std430, binding = BUFFER_FRAGMENT_STORE) buffer FragmentStore { ListFragment fragments[]; };
 // x: fragments appended (may exceed the capacity), y: the capacity, z: the most layers any pixel
 // holds (the selection pass's maximum), w: unused; then the pixels each layer covers.
-layout(std430, binding = 17) coherent buffer FragmentCounter {
+layout(std430, binding = BUFFER_FRAGMENT_COUNTER) coherent buffer FragmentCounter {
     uvec4 fragment_counter;
     uint layer_pixels[];
 };
-layout(std430, binding = 18) coherent buffer FragmentHeads { uint fragment_head[]; };
+layout(std430, binding = BUFFER_FRAGMENT_HEADS) coherent buffer FragmentHeads { uint fragment_head[]; };
 
 // emission, specular, motion: stored only with EMISSION_TEXTURE, SPECULAR_TEXTURE, MOTION_VECTORS.
 void fragment_list_append(ivec2 pixel, float depth, vec4 albedo_metallic, vec4 normal_roughness, vec4 material,

@@ -6,7 +6,7 @@
 // not move has exactly 0. The previous frame's object transforms are storage buffer
 // kPreviousModelsBinding (the renderer writes this frame's where the sequence has none).
 // Needs frame_uniforms, scene_data.
-layout(std430, binding = 31) readonly buffer PreviousModels { mat4 previous_model[]; };
+layout(std430, binding = BUFFER_PREVIOUS_MODELS) readonly buffer PreviousModels { mat4 previous_model[]; };
 
 vec2 clip_to_pixel(vec4 clip) {
     return (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy;

@@ -5,7 +5,7 @@
 // trace's own two (rays_traced, fetches) are kept by the variance-guided second trace only
 // (extra_rays, extra_depth_fetches): the first trace's are summed from rays.sample on demand.
 // Layout (std430): the header is 8 uints, then one packed pixel (x | y << 16) per entry.
-layout(std430, binding = 12) coherent buffer RayList {
+layout(std430, binding = BUFFER_RAY_LIST) coherent buffer RayList {
     uint groups_x;      // glDispatchComputeIndirect: groups of 8x8 invocations, 64 entries each, in
     uint groups_y;      // rows of RAY_LIST_ROW groups (the dispatch's x count has a limit, 65535)
     uint groups_z;      // the rays each pixel traces (Settings.traced_rays)

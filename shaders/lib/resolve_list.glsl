@@ -8,7 +8,7 @@
 //                          tile's flag (entries[capacity + tile]) lets only its first receiver
 //                          append it.
 // Layout (std430): the header is 8 uints, then `capacity` entries, then the tile flags.
-layout(std430, binding = 13) coherent buffer ResolveList {
+layout(std430, binding = BUFFER_RESOLVE_LIST) coherent buffer ResolveList {
     uint groups_x;           // glDispatchComputeIndirect, in rows of RESOLVE_LIST_ROW groups
     uint groups_y;           // (the dispatch's x count has a limit, 65535)
     uint groups_z;           // 1

@@ -2,8 +2,8 @@
 // buffers (GpuVertex in cpp/render/gpu_scene.h: 18 floats per vertex, position, normal, uv,
 // tangent, colour, uv1). Objects carry their mesh's first index and base vertex (scene_data.glsl).
 
-layout(std430, binding = 9) readonly buffer VertexData { float vertex_data[]; };
-layout(std430, binding = 10) readonly buffer IndexData { uint index_data[]; };
+layout(std430, binding = BUFFER_VERTEX_DATA) readonly buffer VertexData { float vertex_data[]; };
+layout(std430, binding = BUFFER_INDEX_DATA) readonly buffer IndexData { uint index_data[]; };
 
 struct SurfaceAttributes {
     vec3 normal;   // object space, interpolated

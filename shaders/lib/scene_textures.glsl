@@ -3,8 +3,8 @@
 // buffer, sampled at level 0 with bilinear filtering and the texture's wrap modes, sRGB
 // decoded before filtering as GL does.
 
-layout(std430, binding = 7) readonly buffer ImageTexels { uint image_texels[]; };  // RGBA8, rows top-first
-layout(std430, binding = 8) readonly buffer ImageInfo { ivec4 image_info[]; };     // (first texel, width, height, 0)
+layout(std430, binding = BUFFER_IMAGE_TEXELS) readonly buffer ImageTexels { uint image_texels[]; };  // RGBA8, rows top-first
+layout(std430, binding = BUFFER_IMAGE_INFO) readonly buffer ImageInfo { ivec4 image_info[]; };     // (first texel, width, height, 0)
 
 const int WRAP_REPEAT = 10497, WRAP_CLAMP = 33071, WRAP_MIRRORED = 33648;  // glTF / GL enums
 

@@ -26,8 +26,8 @@ struct TraceQuery {
 };
 
 // queries: [chain][invocation]; answers: [query][chain][invocation], (t, triangle bits, b1, b2)
-layout(std430, binding = 11) writeonly buffer TraceQueries { TraceQuery trace_queries[]; };
-layout(std430, binding = 12) readonly buffer TraceAnswers { vec4 trace_answers[]; };
+layout(std430, binding = BUFFER_TRACE_QUERIES) writeonly buffer TraceQueries { TraceQuery trace_queries[]; };
+layout(std430, binding = BUFFER_TRACE_ANSWERS) readonly buffer TraceAnswers { vec4 trace_answers[]; };
 
 uniform int u_trace_known;   // queries answered for every chain but chain 0 (the phase)
 uniform int u_trace_known0;  // queries answered for chain 0

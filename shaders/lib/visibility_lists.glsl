@@ -8,12 +8,12 @@
 // store that fits, or peels, so a list is never silently truncated.
 #define VISIBILITY_LIST_END 0xffffffffu
 
-layout(std430, binding = 21) buffer VisibilityFragments { uvec2 visibility_fragment[]; };  // (depth bits, triangle)
-layout(std430, binding = 22) buffer VisibilityLinks { uint visibility_next[]; };
-layout(std430, binding = 23) coherent buffer VisibilityHeads { uint visibility_head[]; };
+layout(std430, binding = BUFFER_VISIBILITY_FRAGMENTS) buffer VisibilityFragments { uvec2 visibility_fragment[]; };  // (depth bits, triangle)
+layout(std430, binding = BUFFER_VISIBILITY_LINKS) buffer VisibilityLinks { uint visibility_next[]; };
+layout(std430, binding = BUFFER_VISIBILITY_HEADS) coherent buffer VisibilityHeads { uint visibility_head[]; };
 // x: fragments appended (may exceed the capacity), y: the capacity, z: the most layers any pixel
 // holds (the selection's maximum), w: unused.
-layout(std430, binding = 24) coherent buffer VisibilityCounter { uvec4 visibility_counter; };
+layout(std430, binding = BUFFER_VISIBILITY_COUNTER) coherent buffer VisibilityCounter { uvec4 visibility_counter; };
 // The store's capacity in fragments (visibility_counter.y), a uniform for the appending draw: a
 // storage-buffer read per fragment costs the CPU device a loop over the lanes.
 uniform uint u_list_capacity;

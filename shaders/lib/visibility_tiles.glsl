@@ -7,7 +7,7 @@
 // Needs frame_uniforms.
 #define VISIBILITY_TILE_SIZE 8
 
-layout(std430, binding = 29) buffer VisibilityTiles { uint visibility_tile[]; };
+layout(std430, binding = BUFFER_VISIBILITY_TILES) buffer VisibilityTiles { uint visibility_tile[]; };
 
 ivec2 visibility_tile_grid() {
     return (ivec2(frame.viewport.xy) + VISIBILITY_TILE_SIZE - 1) / VISIBILITY_TILE_SIZE;

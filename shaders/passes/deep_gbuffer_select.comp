@@ -28,7 +28,7 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(std430, binding = 19) writeonly buffer KeptFragments { uint kept[]; };
+layout(std430, binding = BUFFER_KEPT_FRAGMENTS) writeonly buffer KeptFragments { uint kept[]; };
 
 shared uint group_reflective;  // 1: a pixel's layer 0 is reflective
 shared uint group_count[LAYERS];  // [c - 1]: the tile's pixels holding exactly c layers

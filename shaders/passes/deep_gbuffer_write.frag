@@ -9,7 +9,7 @@
 #include "../lib/depth_convention.glsl"
 #include "../lib/fragment_lists.glsl"
 
-layout(std430, binding = 19) readonly buffer KeptFragments { uint kept[]; };
+layout(std430, binding = BUFFER_KEPT_FRAGMENTS) readonly buffer KeptFragments { uint kept[]; };
 
 uniform int u_layer;
 

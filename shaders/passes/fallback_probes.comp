@@ -26,7 +26,7 @@ layout(binding = 0) uniform sampler2DArray u_linear_depth;
 layout(binding = 1) uniform sampler2DArray u_albedo;
 layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
-layout(std430, binding = 13) readonly buffer ProbeCentres { vec4 probe_centre[]; };  // world space
+layout(std430, binding = BUFFER_PROBE_CENTRES) readonly buffer ProbeCentres { vec4 probe_centre[]; };  // world space
 layout(location = 0) uniform int u_probe_size;  // face texels
 
 // The direction through texel (x, y) of cube face f (GL's face order +X, -X, +Y, -Y, +Z, -Z

@@ -128,7 +128,7 @@ ObjectData load_object(int i) { return objects[i]; }
 MaterialData load_material(int i) { return materials[i]; }
 uint sample_id(ivec3 t) { return texelFetch(u_visibility, t, 0).r; }
 ivec4 load_object_entry(int i) { return objects[i].material; }
-layout(std430, binding = 4) buffer VisibilityRecords { vec4 records[]; };
+layout(std430, binding = BUFFER_VISIBILITY_RECORDS) buffer VisibilityRecords { vec4 records[]; };
 #define VISIBILITY_RECORD(i) records[i]
 void store_record(int i, vec4 r) { records[i] = r; }
 #endif
@@ -149,13 +149,13 @@ struct MaterialBin {
     uvec4 dispatch;
     uvec4 segment;  // x: first slot in `sorted`
 };
-layout(std430, binding = 26) coherent buffer AttributeBins {
+layout(std430, binding = BUFFER_ATTRIBUTE_BINS) coherent buffer AttributeBins {
     uvec4 scatter_dispatch;   // stage 2's indirect dispatch (x groups, y, z 1); w: samples binned
     uint layer_samples[16];   // covered pixels of each layer (Frame.layer_samples)
     MaterialBin bins[];
 };
-layout(std430, binding = 27) buffer BinnedSamples { uvec2 binned[]; };  // (sample, rank in its bin)
-layout(std430, binding = 28) buffer SortedSamples { uint sorted[]; };   // by bin
+layout(std430, binding = BUFFER_BINNED_SAMPLES) buffer BinnedSamples { uvec2 binned[]; };  // (sample, rank in its bin)
+layout(std430, binding = BUFFER_SORTED_SAMPLES) buffer SortedSamples { uint sorted[]; };   // by bin
 uniform int u_materials;  // the scene's materials: bin u_materials holds the untextured ones' samples
 
 // A bin's sample count and first slot, and the sorted list, as the classify and shade stages reach
@@ -366,7 +366,7 @@ void shade_sample(ivec3 t, uint id) {
 layout(binding = 13, r32ui) readonly uniform uimageBuffer u_tile_list;
 uint tile_entry(uint i) { return imageLoad(u_tile_list, int(i)).r; }
 #else
-layout(std430, binding = 30) readonly buffer TileList { uint tile_list[]; };
+layout(std430, binding = BUFFER_TILE_LIST) readonly buffer TileList { uint tile_list[]; };
 uint tile_entry(uint i) { return tile_list[i]; }
 #endif
 #endif

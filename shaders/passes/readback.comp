@@ -16,7 +16,7 @@ layout(binding = 0) uniform sampler2D u_source;
 uniform int u_level;
 uniform ivec2 u_size;
 
-layout(std430, binding = 0) writeonly buffer Texels { vec4 texels[]; };
+layout(std430, binding = BUFFER_TEXELS) writeonly buffer Texels { vec4 texels[]; };
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID);

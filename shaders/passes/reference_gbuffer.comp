@@ -16,7 +16,7 @@ layout(binding = 1) uniform sampler2DArray u_albedo;
 layout(binding = 2) uniform sampler2DArray u_normal;
 layout(binding = 3) uniform sampler2DArray u_material;
 
-layout(std430, binding = 13) writeonly buffer Decoded { vec4 decoded[]; };
+layout(std430, binding = BUFFER_DECODED) writeonly buffer Decoded { vec4 decoded[]; };
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

@@ -80,7 +80,7 @@ INPUT_ARRAY(u_ray_sample, 5, 6, rgba32f);
 INPUT_ARRAY(u_ray_direction, 6, 7, rgba32f);
 layout(binding = 7) uniform sampler2DArray u_albedo;
 INPUT_2D(u_cells, 8, 8, r32f);  // occlusion_enclosure (stage 1's output)
-layout(std430, binding = 15) buffer OcclusionCounters {  // SpecularOcclusionPass::kCountersBinding
+layout(std430, binding = BUFFER_OCCLUSION_COUNTERS) buffer OcclusionCounters {
     uint unresolved;
     uint occluded;
 } counters;

@@ -95,8 +95,8 @@ ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
 #if LISTED
 // The compacted list: the (trace pixel, ray) of every ray to (re)trace, and the count and the
 // indirect dispatch's group counts (x, y, z).
-layout(std430, binding = 11) buffer RetraceList { ivec4 retrace[]; };
-layout(std430, binding = 12) buffer RetraceCount { uint retrace_count; uint groups[3]; };
+layout(std430, binding = BUFFER_RETRACE_LIST) buffer RetraceList { ivec4 retrace[]; };
+layout(std430, binding = BUFFER_RETRACE_COUNT) buffer RetraceCount { uint retrace_count; uint groups[3]; };
 #endif
 
 #if FALLBACK

@@ -16,7 +16,7 @@ uniform uint u_count;
 uniform uint u_seed;
 uniform int u_stratified;  // 1: a Hammersley set rotated by one random offset
 
-layout(std430, binding = 0) writeonly buffer Samples { vec4 samples[]; };  // (l.xyz, weight), (pdf, u, reuse weight) pairs
+layout(std430, binding = BUFFER_SAMPLES) writeonly buffer Samples { vec4 samples[]; };  // (l.xyz, weight), (pdf, u, reuse weight) pairs
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -29,14 +29,14 @@ layout(location = 2) out vec4 o_material;
 #elif FLOOR_ID
 layout(location = 0) out uint o_id;
 #elif FLOOR_COUNT || FLOOR_APPEND
-layout(std430, binding = 21) buffer FloorCounts { uint floor_count[]; };
-layout(std430, binding = 22) readonly buffer FloorOffsets { uint floor_offset[]; };
-layout(std430, binding = 23) writeonly buffer FloorFragments { uvec2 floor_fragment[]; };
+layout(std430, binding = BUFFER_FLOOR_COUNTS) buffer FloorCounts { uint floor_count[]; };
+layout(std430, binding = BUFFER_FLOOR_OFFSETS) readonly buffer FloorOffsets { uint floor_offset[]; };
+layout(std430, binding = BUFFER_FLOOR_FRAGMENTS) writeonly buffer FloorFragments { uvec2 floor_fragment[]; };
 #elif FLOOR_APPEND_LIST
-layout(std430, binding = 21) coherent buffer FloorHeads { uint floor_head[]; };
-layout(std430, binding = 22) writeonly buffer FloorLinks { uint floor_next[]; };
-layout(std430, binding = 23) writeonly buffer FloorFragments { uvec2 floor_fragment[]; };
-layout(std430, binding = 24) coherent buffer FloorCounter { uint floor_slots; };
+layout(std430, binding = BUFFER_FLOOR_HEADS) coherent buffer FloorHeads { uint floor_head[]; };
+layout(std430, binding = BUFFER_FLOOR_LINKS) writeonly buffer FloorLinks { uint floor_next[]; };
+layout(std430, binding = BUFFER_FLOOR_FRAGMENTS) writeonly buffer FloorFragments { uvec2 floor_fragment[]; };
+layout(std430, binding = BUFFER_FLOOR_COUNTER) coherent buffer FloorCounter { uint floor_slots; };
 #endif
 
 void main() {

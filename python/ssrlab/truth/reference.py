@@ -89,9 +89,11 @@ def shader_sources_hash() -> str:
     for f in sorted(p for p in root.rglob("*") if p.is_file()):
         h.update(str(f.relative_to(root)).encode())
         h.update(f.read_bytes())
-    # The settings' uniform block and the records shared with the host are generated (from
-    # cpp/render/settings_fields.def and gpu_structs.def), not files.
+    # The settings' uniform block, the records shared with the host and the blocks' binding points
+    # are generated (from cpp/render/settings_fields.def, gpu_structs.def and buffer_bindings.def),
+    # not files.
     h.update(_core.ssr_settings_glsl().encode())
+    h.update(_core.buffer_bindings_glsl().encode())
     for name, text in sorted(_core.gpu_struct_glsl().items()):
         h.update(name.encode())
         h.update(text.encode())
