@@ -46,7 +46,7 @@ def page() -> str:
         chain = ssrlab.chain.derive(settings, ssrlab.scenes.stand_in(), device="cpu")
         changed = ", ".join(f"{k}={v!r}" for k, v in kw.items())
         lines += [f"## {title}", "", f"`Settings({changed})`", "", chain.markdown(), "",
-                  "Its textures: who creates each, rewrites it in place and reads it.", "", chain.resources(), ""]
+                  "Its textures: their formats and declared channels (what Frame's views show), who creates each, rewrites it in place and reads it.", "", chain.resources(), ""]
     return "\n".join(lines)
 
 

@@ -120,12 +120,12 @@ std::string property_doc(const py::dict& e) {
 }
 
 // A chain as Python's ssrlab.chain.Chain takes it: (pass, inputs, outputs, history inputs, scratch
-// outputs, buffer inputs, buffer outputs, formats of the textures it creates) per pass.
+// outputs, buffer inputs, buffer outputs, formats and channels of the textures it creates) per pass.
 py::list chain_tuples(const std::vector<Renderer::ChainEntry>& chain) {
     py::list out;
     for (const auto& e : chain)
         out.append(py::make_tuple(e.pass, e.inputs, e.outputs, e.history, e.scratch, e.buffer_inputs, e.buffer_outputs,
-                                  e.formats));
+                                  e.formats, e.channels));
     return out;
 }
 

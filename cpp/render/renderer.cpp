@@ -658,6 +658,11 @@ std::vector<Renderer::ChainEntry> Renderer::describe_chain(const std::vector<Ren
         for (const auto& d : p->outputs(s, f)) {
             e.outputs.push_back(d.name);
             e.formats.push_back(format_name(d.format));
+            std::string channels;
+            for (const auto& c : d.channels)
+                channels += (channels.empty() ? "" : ", ") + c.view + "." + c.name + " (" +
+                            std::string("rgba").substr(size_t(c.first), size_t(c.count)) + ")";
+            e.channels.push_back(channels);
             if (d.lifetime == Lifetime::Scratch) e.scratch.push_back(d.name);
         }
         // A rewritten texture is read and written.

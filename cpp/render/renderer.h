@@ -45,6 +45,7 @@ public:
         std::vector<std::string> scratch;  // the outputs that are per-renderer scratch (Lifetime::Scratch)
         std::vector<std::string> buffer_inputs, buffer_outputs;  // FrameBuffer names
         std::vector<std::string> formats;  // of each texture it creates (outputs but its rewrites), as GL names it
+        std::vector<std::string> channels;  // of each texture it creates: its declared channels, "view.name (rgb)", ", "-joined
     };
     // The passes a frame of `scene` with `settings` runs, in order, with what each reads and
     // writes: no GL call, no scene upload (the facts come from the scene itself).

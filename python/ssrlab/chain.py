@@ -25,6 +25,7 @@ class ChainPass:
     buffer_inputs: tuple[str, ...] = ()
     buffer_outputs: tuple[str, ...] = ()
     formats: tuple[str, ...] = ()  # of the textures it creates, in `outputs` order (its rewrites come last)
+    channels: tuple[str, ...] = ()  # of the textures it creates: their declared channels ("gbuffer.normal (rgb)")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -73,21 +74,24 @@ class Chain(list):
         return "\n".join(lines)
 
     def resources(self) -> str:
-        """A Markdown table of every texture of the chain: its format, the pass that creates it, those
+        """A Markdown table of every texture of the chain: its format, the channels it declares (the
+        Frame view and attribute that shows each, and its components), the pass that creates it, those
         that rewrite it in place and those that read it, in chain order."""
         created, rewritten, read = {}, {}, {}
         for p in self:
             fresh = p.outputs[:len(p.formats)]
-            for name, fmt in zip(fresh, p.formats):
-                created[name] = (fmt, p.name)
+            channels = p.channels or ("",) * len(fresh)
+            for name, fmt, ch in zip(fresh, p.formats, channels):
+                created[name] = (fmt, ch, p.name)
             for name in p.outputs[len(p.formats):]:
                 rewritten.setdefault(name, []).append(p.name)
             for name in p.inputs:
                 if name not in p.outputs:
                     read.setdefault(name, []).append(p.name)
-        rows = ["| texture | format | created by | rewritten by | read by |", "|---|---|---|---|---|"]
-        for name, (fmt, by) in created.items():
-            rows.append(f"| `{name}` | {fmt} | `{by}` | {', '.join(f'`{x}`' for x in rewritten.get(name, [])) or '–'} | "
+        rows = ["| texture | format | channels | created by | rewritten by | read by |", "|---|---|---|---|---|---|"]
+        for name, (fmt, ch, by) in created.items():
+            rows.append(f"| `{name}` | {fmt} | {ch or '–'} | `{by}` | "
+                        f"{', '.join(f'`{x}`' for x in rewritten.get(name, [])) or '–'} | "
                         f"{', '.join(f'`{x}`' for x in read.get(name, [])) or '–'} |")
         return "\n".join(rows)
 
