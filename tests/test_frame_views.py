@@ -75,7 +75,6 @@ def test_each_channel_is_its_texture_decoded_as_declared(renderer, hall, view):
         decodes.add(c["decode"])
     assert decodes, view
     assert sorted(dir(v)) == sorted(set(dir(v)) | {c["name"] for c in v.channels})
-    del seq
 
 
 def test_the_frames_decodings_cover_every_kind(renderer, hall):

@@ -38,9 +38,15 @@ def test_missing_include(shader_copy):
 
 
 def test_compile_every_stage(renderer):
+    # The units a pass gives its shader by name (passes/compute.h, NamedUnits), as the passes do.
+    peel_units = {"TEXTURE_MATERIAL_BASE_COLOR": 0, "TEXTURE_MATERIAL_METALLIC_ROUGHNESS": 1,
+                  "TEXTURE_MATERIAL_NORMAL_MAP": 2, "TEXTURE_DEPTH_PEEL_PREVIOUS_DEPTH": 3,
+                  "TEXTURE_SPECULAR_ALBEDO": 13}
+    lighting_units = {"TEXTURE_GBUFFER_DEPTH": 0, "TEXTURE_GBUFFER_ALBEDO": 1, "TEXTURE_GBUFFER_NORMAL": 2,
+                      "TEXTURE_GBUFFER_MATERIAL": 3, "IMAGE_LIT": 0, "IMAGE_LINEAR_DEPTH": 1}
     for stages, defines in [
-        (("passes/depth_peel.vert", "passes/depth_peel.frag"), {"DEPTH_REVERSED_Z": 1}),
-        (("passes/lighting.comp",), {"DEPTH_REVERSED_Z": 0, "SHADOWS": 0}),
+        (("passes/depth_peel.vert", "passes/depth_peel.frag"), {"DEPTH_REVERSED_Z": 1, **peel_units}),
+        (("passes/lighting.comp",), {"DEPTH_REVERSED_Z": 0, "SHADOWS": 0, **lighting_units}),
     ]:
         assert renderer.compile(*stages, defines=defines) > 0
 
@@ -55,9 +61,9 @@ def test_two_samplers_on_one_texture_unit_are_refused(shader_copy):
     # dispatch when their types differ): the program is refused when it is linked, by name.
     p = shader_copy / "passes" / "composite.comp"
     text = p.read_text()
-    assert text.count("layout(binding = 3) uniform sampler2DArray u_albedo;") == 1
-    p.write_text(text.replace("layout(binding = 3) uniform sampler2DArray u_albedo;",
-                              "layout(binding = 1) uniform sampler2DArray u_albedo;"))
+    declared = "layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;"
+    assert text.count(declared) == 1
+    p.write_text(text.replace(declared, declared.replace("TEXTURE_GBUFFER_ALBEDO", "TEXTURE_GBUFFER_MATERIAL")))
     r = ssrlab.Renderer(shader_dir=shader_copy)
     with pytest.raises(ssrlab.ShaderError, match=r"composite.comp.*u_(material|albedo) and u_(material|albedo) are "
                                                  r"both bound to texture unit 1"):

@@ -108,12 +108,14 @@ void ClassifyPass::execute(FrameContext& ctx) {
     const FrameBuffer& tiles = ctx.buffers.get("covered_tiles");
     regions_ = tiles.data;
     regions_offset_ = DepthPeelPass::classify_regions_offset(s);
+    NamedUnits units = ray_generation_units();
+    if (resolve_lists_) units.images.emplace_back("reflection", GL_WRITE_ONLY);
+    units.add_unit_defines(d);
     const GLuint prog = ctx.shaders.program({"passes/classify.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_rays"), s.traced_rays());
-    bind_ray_generation_io(r);
+    units.bind_by_name(r, prog, "passes/classify.comp");
     if (resolve_lists_) {
-        bind_image_layered(3, r.get("reflection"), GL_WRITE_ONLY);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kResolveBinding, resolve_list_.id());
     }
     tiles.bind();

@@ -7,6 +7,22 @@
 
 namespace ssr {
 
+NamedUnits CompositePass::units(const FrameContext& ctx, bool bind) const {
+    const std::string reflection = reflection_of(ctx.settings, ctx.facts);
+    const auto& r = ctx.resources;
+    NamedUnits u{{"direct", "gbuffer.material"}, {{"output", GL_WRITE_ONLY}}};
+    if (bind) u.own = {{"direct", &r.get(direct_)}, {"output", &r.get(output_)}};
+    std::vector<std::string> fetched = {"direct"};
+    if (!reflection.empty()) {
+        u.textures.insert(u.textures.end(), {"reflection", "gbuffer.albedo", "gbuffer.normal", "linear_depth"});
+        if (bind) u.own.emplace_back("reflection", &r.get(reflection));
+        if (reads_specular(ctx.settings, ctx.facts)) u.textures.push_back("gbuffer.specular");
+        fetched.insert(fetched.end(), {"reflection", "gbuffer.normal", "linear_depth"});
+    }
+    u.fetch(ctx.fetch_by_image(), fetched);
+    return u;
+}
+
 Defines CompositePass::program_defines(const FrameContext& ctx) const {
     const std::string reflection = reflection_of(ctx.settings, ctx.facts);
     Defines d = ctx.defines;
@@ -21,6 +37,7 @@ Defines CompositePass::program_defines(const FrameContext& ctx) const {
     // FETCH_BY_IMAGE (lib/input_fetch.glsl): the direct light and the reflection are read
     // by imageLoad, whose format qualifier depends on the chain (lit RGBA16F, the reference's and
     // the temporal passes' RGBA32F).
+    units(ctx, false).add_unit_defines(d);
     if (ctx.fetch_by_image()) {
         d["DIRECT_FORMAT"] = image_format_qualifier(ctx.resources.get(direct_).format());
         if (!reflection.empty()) d["REFLECTION_FORMAT"] = image_format_qualifier(ctx.resources.get(reflection).format());
@@ -30,23 +47,9 @@ Defines CompositePass::program_defines(const FrameContext& ctx) const {
 
 void CompositePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
-    const std::string reflection = reflection_of(ctx.settings, ctx.facts);
-    const bool reflections = !reflection.empty();
-    glUseProgram(ctx.shaders.program({"passes/composite.comp"}, program_defines(ctx)));
-    glBindTextureUnit(0, r.get(direct_).id());
-    glBindTextureUnit(1, r.get("gbuffer.material").id());
-    if (reflections) {
-        glBindTextureUnit(2, r.get(reflection).id());
-        glBindTextureUnit(3, r.get("gbuffer.albedo").id());
-        glBindTextureUnit(4, r.get("gbuffer.normal").id());
-        glBindTextureUnit(5, r.get("linear_depth").id());
-        if (reads_specular(ctx.settings, ctx.facts)) glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
-    }
-    bind_image_layered(0, ctx.resources.get(output_), GL_WRITE_ONLY);
-    if (ctx.fetch_by_image()) {  // image units 1-4 (lib/input_fetch.glsl)
-        bind_input_images(r, 1, {direct_});
-        if (reflections) bind_input_images(r, 2, {reflection, "gbuffer.normal", "linear_depth"});
-    }
+    const GLuint prog = ctx.shaders.program({"passes/composite.comp"}, program_defines(ctx));
+    glUseProgram(prog);
+    units(ctx, true).bind_by_name(r, prog, "passes/composite.comp");
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
 

@@ -7,6 +7,7 @@
 // blend or Fresnel-weighted), where a surface covers the pixel; the environment elsewhere.
 #pragma once
 
+#include "passes/compute.h"
 #include "render/render_pass.h"
 
 namespace ssr {
@@ -39,6 +40,10 @@ public:
     void execute(FrameContext& ctx) override;
     // The defines its program is compiled with (the reference precompiles it before timing).
     Defines program_defines(const FrameContext& ctx) const;
+    // Its textures and images by name: the direct light as "direct", the chain's reflection as
+    // "reflection", the target as "output" (the float inputs by imageLoad on the CPU device);
+    // `bind`: with the textures those names stand for (else the names only, for the defines).
+    NamedUnits units(const FrameContext& ctx, bool bind) const;
 
 private:
     // The reflection it composites ("" for none).

@@ -4,6 +4,10 @@
 #include <cctype>
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/gl_resources.h"
 #include "render/render_pass.h"
@@ -71,6 +75,7 @@ inline const char* clear_format_qualifier(GLenum format) {
 // clear instead of a dispatch, so a skipped layer reads exactly as if the pass had run on it. By
 // image stores where FrameContext::clear_by_compute says so (shaders/passes/clear_layers.comp),
 // else by glClearTexSubImage.
+constexpr GLuint kClearImageUnit = 0;
 inline void clear_layers(FrameContext& ctx, Texture& tex, int from, const float* value, int count = -1) {
     const int layers = tex.layers();
     if (count < 0) count = layers - from;
@@ -85,6 +90,8 @@ inline void clear_layers(FrameContext& ctx, Texture& tex, int from, const float*
         Defines d;
         d["IMAGE_FORMAT"] = qualifier;
         d["IMAGE_ARRAY"] = array ? "1" : "0";
+        // Its one image by name (as NamedUnits names it), at kClearImageUnit.
+        d["IMAGE_TARGET"] = std::to_string(kClearImageUnit);
         const GLuint prog = ctx.shaders.program({"passes/clear_layers.comp"}, d);
         glUseProgram(prog);
         float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};  // absent channels are not stored
@@ -95,7 +102,7 @@ inline void clear_layers(FrameContext& ctx, Texture& tex, int from, const float*
         for (int level = 0; level < tex.levels(); ++level) {
             const int w = std::max(tex.width() >> level, 1), h = std::max(tex.height() >> level, 1);
             glUniform2i(glGetUniformLocation(prog, "u_size"), w, h);
-            glBindImageTexture(0, tex.id(), level, array ? GL_TRUE : GL_FALSE, 0, GL_WRITE_ONLY, tex.format());
+            glBindImageTexture(kClearImageUnit, tex.id(), level, array ? GL_TRUE : GL_FALSE, 0, GL_WRITE_ONLY, tex.format());
             glDispatchCompute(GLuint((w + 7) / 8), GLuint((h + 7) / 8), GLuint(count));
         }
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
@@ -132,50 +139,123 @@ inline void clear_uints(FrameContext& ctx, const Buffer& buffer, size_t first, s
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-// Binds a pass's declared inputs to texture units 0, 1, ... in the order it lists them (the
-// order its shader declares its samplers in).
-inline void bind_inputs_in_order(const FrameResources& r, const std::vector<std::string>& names) {
-    for (GLuint unit = 0; unit < GLuint(names.size()); ++unit) glBindTextureUnit(unit, r.get(names[unit]).id());
+// The texture units bound for the whole frame by what owns them rather than by a pass: the
+// specular-albedo table (render/device_tools.cpp) and the environment map (render/render_loop.cpp).
+// Every NamedUnits gives its shader their defines and numbers its own textures around them.
+inline const std::vector<std::pair<std::string, GLuint>>& frame_texture_units() {
+    static const std::vector<std::pair<std::string, GLuint>> units = {{"specular_albedo", 13}, {"environment_map", 15}};
+    return units;
+}
+inline GLuint frame_texture_unit(const std::string& name) {
+    for (const auto& u : frame_texture_units())
+        if (u.first == name) return u.second;
+    throw std::invalid_argument("no frame-wide texture unit named '" + name + "'");
 }
 
+bool is_sampler_type(GLenum type);
+bool is_image_type(GLenum type);
+
+// Holds the linked program `prog` (built from `shader`) against the units its pass bound by name:
+// an active sampler or image uniform at a unit outside `texture_units` / `image_units` would read
+// whatever an earlier pass left there, so it throws a ShaderError naming the shader, the uniform
+// and its unit. Checked once per program (the answer is cached by program id and shader).
+void check_bound_units(GLuint prog, const std::string& shader, const std::vector<GLuint>& texture_units,
+                       const std::vector<GLuint>& image_units);
+
 // Textures and images bound by name, their units written once. A pass lists the textures its
-// shader samples and the images it stores to; bind_by_name binds texture i to texture unit i and
-// image i to image unit i, and add_unit_defines gives the shader the same units as defines,
-// TEXTURE_<NAME> and IMAGE_<NAME> (the name upper-cased, '.' as '_': gbuffer.normal is
+// shader samples and the images it stores to; bind_by_name binds texture i to the i-th free
+// texture unit and image i to the i-th free image unit (free: not a frame-wide unit nor one in
+// placed_textures / placed_images), and add_unit_defines gives the shader the same units as
+// defines, TEXTURE_<NAME> and IMAGE_<NAME> (the name upper-cased, '.' as '_': gbuffer.normal is
 // TEXTURE_GBUFFER_NORMAL), which it declares its samplers and images at:
 //     layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
 // No unit is written in the shader, and a name the shader asks for that the pass does not bind
-// fails to compile, naming it.
+// fails to compile, naming it. A name may be bound to a texture that is not a frame resource
+// (a previous frame's, the pass's own) through `own`. Placed units are bound by what owns the
+// resource (the scene's material textures, the shadow maps): their names get defines and count
+// as bound, and bind_by_name leaves them alone.
 struct NamedUnits {
     std::vector<std::string> textures;
     std::vector<std::pair<std::string, GLenum>> images;  // name, access (GL_WRITE_ONLY, ...)
+    std::vector<std::pair<std::string, GLuint>> placed_textures = {};
+    std::vector<std::pair<std::string, GLuint>> placed_images = {};
+    std::vector<std::pair<std::string, const Texture*>> own = {};
 
     static std::string define(const char* prefix, const std::string& name) {
         std::string d = prefix;
         for (char c : name) d += c == '.' ? '_' : char(std::toupper(static_cast<unsigned char>(c)));
         return d;
     }
-    void add_unit_defines(Defines& d) const {
-        for (size_t i = 0; i < textures.size(); ++i) d[define("TEXTURE_", textures[i])] = std::to_string(i);
-        for (size_t i = 0; i < images.size(); ++i) d[define("IMAGE_", images[i].first)] = std::to_string(i);
+    // FETCH_BY_IMAGE (lib/input_fetch.glsl): the inputs `names` read by imageLoad, bound as
+    // read-only images of their own format (IMAGE_<NAME>), where `by_image` says so.
+    NamedUnits& fetch(bool by_image, const std::vector<std::string>& names) {
+        if (by_image)
+            for (const auto& n : names) images.emplace_back(n, GL_READ_ONLY);
+        return *this;
     }
-    void bind_by_name(FrameResources& r) const {
-        for (size_t i = 0; i < textures.size(); ++i) glBindTextureUnit(GLuint(i), r.get(textures[i]).id());
-        for (size_t i = 0; i < images.size(); ++i) bind_image_layered(GLuint(i), r.get(images[i].first), images[i].second);
+    GLuint texture_unit(size_t i) const { return nth_free(i, placed_textures, true); }
+    GLuint image_unit(size_t i) const { return nth_free(i, placed_images, false); }
+    // The unit bind_by_name binds `name` to (a pass rebinding it between dispatches).
+    GLuint texture_unit(const std::string& name) const {
+        for (size_t i = 0; i < textures.size(); ++i)
+            if (textures[i] == name) return texture_unit(i);
+        throw std::invalid_argument("no texture named '" + name + "' in the pass's units");
+    }
+    GLuint image_unit(const std::string& name) const {
+        for (size_t i = 0; i < images.size(); ++i)
+            if (images[i].first == name) return image_unit(i);
+        throw std::invalid_argument("no image named '" + name + "' in the pass's units");
+    }
+    void add_unit_defines(Defines& d) const {
+        for (const auto& u : frame_texture_units()) d[define("TEXTURE_", u.first)] = std::to_string(u.second);
+        for (const auto& u : placed_textures) d[define("TEXTURE_", u.first)] = std::to_string(u.second);
+        for (const auto& u : placed_images) d[define("IMAGE_", u.first)] = std::to_string(u.second);
+        for (size_t i = 0; i < textures.size(); ++i) d[define("TEXTURE_", textures[i])] = std::to_string(texture_unit(i));
+        for (size_t i = 0; i < images.size(); ++i) d[define("IMAGE_", images[i].first)] = std::to_string(image_unit(i));
+    }
+    const Texture& get(const FrameResources& r, const std::string& name) const {
+        for (const auto& o : own)
+            if (o.first == name) return *o.second;
+        return r.get(name);
+    }
+    void bind_by_name(const FrameResources& r) const {
+        for (size_t i = 0; i < textures.size(); ++i) glBindTextureUnit(texture_unit(i), get(r, textures[i]).id());
+        for (size_t i = 0; i < images.size(); ++i)
+            bind_image_layered(image_unit(i), get(r, images[i].first), images[i].second);
+    }
+    // bind_by_name, then the program's check against what is bound (check_bound_units).
+    void bind_by_name(const FrameResources& r, GLuint prog, const std::string& shader) const {
+        bind_by_name(r);
+        check(prog, shader);
+    }
+    void check(GLuint prog, const std::string& shader) const {
+        std::vector<GLuint> t, im;
+        for (const auto& u : frame_texture_units()) t.push_back(u.second);
+        for (const auto& u : placed_textures) t.push_back(u.second);
+        for (const auto& u : placed_images) im.push_back(u.second);
+        for (size_t i = 0; i < textures.size(); ++i) t.push_back(texture_unit(i));
+        for (size_t i = 0; i < images.size(); ++i) im.push_back(image_unit(i));
+        check_bound_units(prog, shader, t, im);
+    }
+
+   private:
+    static GLuint nth_free(size_t i, const std::vector<std::pair<std::string, GLuint>>& placed, bool texture) {
+        for (GLuint unit = 0;; ++unit) {
+            bool taken = false;
+            for (const auto& p : placed) taken = taken || p.second == unit;
+            if (texture)
+                for (const auto& f : frame_texture_units()) taken = taken || f.second == unit;
+            if (!taken && i-- == 0) return unit;
+        }
     }
 };
 
-// What every pass that generates or traces reflection rays binds: the layer-0 G-buffer a ray
-// is generated from (texture units 0-3, lib/ray_generation.glsl) and the per-ray outputs
-// rays.hit, rays.sample, rays.direction (image units 0-2).
-inline void bind_ray_generation_io(FrameResources& r) {
-    glBindTextureUnit(0, r.get("linear_depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
-    bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
-    bind_image_layered(2, r.get("rays.direction"), GL_WRITE_ONLY);
+// What every pass that generates or traces reflection rays binds, by name: the layer-0 G-buffer
+// a ray is generated from and the per-ray outputs rays.hit, rays.sample, rays.direction
+// (lib/trace_common.glsl).
+inline NamedUnits ray_generation_units() {
+    return NamedUnits{{"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"},
+                      {{"rays.hit", GL_WRITE_ONLY}, {"rays.sample", GL_WRITE_ONLY}, {"rays.direction", GL_WRITE_ONLY}}};
 }
 
 }  // namespace ssr

@@ -118,6 +118,16 @@ void begin_attachmentless_raster(FrameContext& ctx, Framebuffer& fbo) {
     ctx.gpu_scene.bind_geometry();
 }
 
+// The raster's textures, by name: the material textures GpuScene binds per draw, and the copy of
+// the previous layer's depth the peel test reads, at the unit written here.
+constexpr GLuint kPreviousDepthUnit = 3;
+NamedUnits peel_units() {
+    NamedUnits u;
+    u.placed_textures = GpuScene::material_texture_units();
+    u.placed_textures.emplace_back("depth_peel.previous_depth", kPreviousDepthUnit);
+    return u;
+}
+
 void set_min_separation(const RenderSettings& s, Defines& defines) {
     if (s.min_separation > 0.0f) defines["MIN_SEPARATION"] = "1";
 }
@@ -137,6 +147,7 @@ std::map<int, GLuint> DepthPeelPass::shading_programs(FrameContext& ctx, const D
         defines["MATERIAL_TEXTURES"] = std::to_string(kind & GpuScene::kTextureFeatures);
         defines["MATERIAL_AUTO_R"] = kind & GpuScene::kAutoReflectivityFeature ? "1" : "0";
         programs[kind] = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, defines);
+        peel_units().check(programs[kind], "passes/depth_peel.frag");
     }
     return programs;
 }
@@ -146,6 +157,7 @@ void DepthPeelPass::execute(FrameContext& ctx) {
     if (ctx.facts.emission_texture) defines_["EMISSION_TEXTURE"] = "1";
     if (ctx.facts.specular_texture) defines_["SPECULAR_TEXTURE"] = "1";
     if (writes_motion(ctx.settings, ctx.facts)) defines_["MOTION_VECTORS"] = "1";
+    peel_units().add_unit_defines(defines_);
     list_stats_ = ListStats{};
     prepare_tiles(ctx);
     if (ctx.settings.deep_gbuffer != DeepGBuffer::Lists || !lists(ctx)) {
@@ -229,6 +241,8 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         depth_peeled_alpha = ctx.shaders.program({"passes/depth_peel.vert", "passes/depth_peel.frag"}, peel_defines);
     }
     if (depth_peeled_alpha) set_min_separation(s, depth_peeled_alpha);
+    for (GLuint p : {depth_first, depth_peeled, depth_first_alpha, depth_peeled_alpha})
+        if (p) peel_units().check(p, "passes/depth_peel.frag");
     // The shading pass per material kind (GpuScene::material_features).
     const std::map<int, GLuint> shade = shading_programs(ctx, defines_);
 
@@ -248,7 +262,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     apply_peel_culling(s);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);  // the clears below obey the write masks
     ctx.gpu_scene.bind_geometry();
-    glBindTextureUnit(3, previous.id());
+    glBindTextureUnit(kPreviousDepthUnit, previous.id());
 
     const float zero[4] = {0, 0, 0, 0};
     const float clear_depth = ctx.depth.clear_depth();

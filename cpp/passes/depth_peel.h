@@ -129,11 +129,6 @@ public:
         stats["deep_gbuffer_bytes"] = double(list_stats_.bytes);
     }
     static constexpr size_t kFragmentBytes = 64;  // struct ListFragment, lib/fragment_lists.glsl
-    // The texture unit the passes that shade G-buffer texels bind gbuffer.emission to
-    // (shaders/lib/gbuffer_emission.glsl).
-    static constexpr GLuint kEmissionUnit = 11;
-    // ... and gbuffer.specular to (shaders/lib/gbuffer_specular.glsl).
-    static constexpr GLuint kSpecularUnit = 16;
     static constexpr size_t kExtraOutputBytes = 16;  // ... and a vec4 more for each of gbuffer.emission, .specular, .motion
     // The fragment store's largest size for Settings.deep_gbuffer_budget (0: the device's largest
     // storage buffer); std::invalid_argument where the budget is beyond what the device can hold.

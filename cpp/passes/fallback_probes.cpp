@@ -72,6 +72,21 @@ std::vector<glm::vec3> FallbackProbesPass::positions(const Scene& scene, const B
 // BVH is already on the GPU for the other hybrid passes. Each texel's surface is viewed from
 // the probe's centre (the physical view a cube map stores; seed 004 captures it offline once),
 // so a capture depends on the scene and the probe set, not on the camera.
+namespace {
+// The probes' cube array is the pass's own texture (no frame resource), placed at this texture
+// unit for the lookup and this image unit for the capture, by name ("probes").
+constexpr GLuint kProbesUnit = 0;
+
+// What both stages declare: the layer-0 G-buffer (by name), and the shadow maps the capture's
+// shading reads.
+NamedUnits probe_units(const FrameContext& ctx, bool shadow_maps) {
+    NamedUnits u{{"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"}, {}};
+    if (shadow_maps)
+        for (const auto& m : ShadowMapPass::reads(ctx.facts)) u.textures.push_back(m);
+    return u;
+}
+}  // namespace
+
 void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>& probes) {
     const RenderSettings& s = ctx.settings;
     const int size = s.probe_size, n = int(probes.size());
@@ -85,6 +100,9 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
     ShadowMapPass::add_defines(d, ctx.facts);
     // A double-sided surface shows the probe the side its ray meets, not the camera's side.
     d["FACING_FROM_RAY"] = "1";
+    NamedUnits units = probe_units(ctx, shadows && !traced);
+    units.placed_images = {{"probes", kProbesUnit}};
+    units.add_unit_defines(d);
     const GLuint prog = ctx.shaders.program({"passes/fallback_probes.comp"}, d);  // compiled outside the clock
     glFinish();
     const auto start = std::chrono::steady_clock::now();
@@ -103,8 +121,8 @@ void FallbackProbesPass::capture(FrameContext& ctx, const std::vector<glm::vec3>
 
     const_cast<GpuScene&>(ctx.gpu_scene).bind_ray_tracing(ctx.scene);
     glUseProgram(prog);
-    if (!traced) ShadowMapPass::bind(ctx.resources, ctx.facts);
-    glBindImageTexture(0, cube_, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    units.bind_by_name(ctx.resources, prog, "passes/fallback_probes.comp");
+    glBindImageTexture(kProbesUnit, cube_, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kProbeCentresBinding, probe_ssbo_);
     glUniform1i(0, size);
     dispatch_2d(size, size, 6 * n, 8, 8);
@@ -140,16 +158,15 @@ void FallbackProbesPass::execute(FrameContext& ctx) {
     d["STAGE"] = "1";  // lookup
     d["SHADOWS"] = "0";
     d["TRACED_SHADOWS"] = "0";
-    glUseProgram(ctx.shaders.program({"passes/fallback_probes.comp"}, d));
-    glBindTextureUnit(0, r.get("linear_depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    glBindTextureUnit(5, cube_);
-    glBindTextureUnit(6, r.get("rays.sample").id());
-    glBindTextureUnit(7, r.get("rays.direction").id());
-    bind_image_layered(4, r.get("rays.hit"), GL_READ_ONLY);
-    bind_image_layered(3, r.get("rays.radiance"), GL_WRITE_ONLY);
+    NamedUnits units = probe_units(ctx, false);
+    units.textures.insert(units.textures.end(), {"rays.sample", "rays.direction"});
+    units.images = {{"rays.hit", GL_READ_ONLY}, {"rays.radiance", GL_WRITE_ONLY}};
+    units.placed_textures = {{"probes", kProbesUnit}};
+    units.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program({"passes/fallback_probes.comp"}, d);
+    glUseProgram(prog);
+    units.bind_by_name(r, prog, "passes/fallback_probes.comp");
+    glBindTextureUnit(kProbesUnit, cube_);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kProbeCentresBinding, probe_ssbo_);
     glUniform1i(0, s.probe_size);
     glUniform1i(1, int(probes_.size()));

@@ -45,6 +45,28 @@ constexpr GLuint kVertexImage = 5, kIndexImage = 6, kObjectImage = 7, kMaterialI
 constexpr GLuint kBinsImage = 11, kSortedImage = 12, kTileListImage = 13, kRecordsImage = 14, kCoveredTilesImage = 15;
 // gbuffer.motion's image unit (Settings.motion_vectors): after the outputs, or after those inputs.
 constexpr GLuint kMotionImage = 5, kMotionImageByImage = 10;
+// The outputs' image units.
+constexpr GLuint kAlbedoImage = 0, kNormalImage = 1, kMaterialOutImage = 2, kEmissionImage = 3, kSpecularImage = 4;
+
+// Those units by name (the shader declares every texture and image at its name's define), with
+// the material textures GpuScene binds per draw. The listed and the sorted samples share a unit:
+// no stage declares both.
+NamedUnits attribute_units(bool by_image) {
+    NamedUnits u;
+    u.placed_textures = GpuScene::material_texture_units();
+    u.placed_textures.emplace_back("gbuffer.depth", kDepthUnit);
+    u.placed_textures.emplace_back("gbuffer.visibility", kVisibilityUnit);
+    u.placed_images = {{"gbuffer.albedo", kAlbedoImage},         {"gbuffer.normal", kNormalImage},
+                       {"gbuffer.material", kMaterialOutImage},  {"gbuffer.emission", kEmissionImage},
+                       {"gbuffer.specular", kSpecularImage},     {"scene.vertex_data", kVertexImage},
+                       {"scene.index_data", kIndexImage},        {"scene.object_data", kObjectImage},
+                       {"scene.material_data", kMaterialImage},  {"gbuffer.visibility", kVisibilityImage},
+                       {"attributes.bins", kBinsImage},          {"attributes.listed", kSortedImage},
+                       {"attributes.sorted", kSortedImage},      {"attributes.tile_list", kTileListImage},
+                       {"attributes.records", kRecordsImage},    {"covered_tiles", kCoveredTilesImage},
+                       {"gbuffer.motion", by_image ? kMotionImageByImage : kMotionImage}};
+    return u;
+}
 
 }  // namespace
 
@@ -156,13 +178,13 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         GLuint id;
         ~DeleteView() { glDeleteTextures(1, &id); }
     } delete_view{albedo_view};
-    // The outputs' image units 0-4; bound again after a clear, which by compute binds unit 0 itself.
+    // The outputs' image units; bound again after a clear, which by compute binds kClearImageUnit itself.
     auto bind_outputs = [&] {
-        glBindImageTexture(0, albedo_view, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
-        bind_image_layered(1, normal, GL_WRITE_ONLY);
-        bind_image_layered(2, material, GL_WRITE_ONLY);
-        if (emission) bind_image_layered(3, *emission, GL_WRITE_ONLY);
-        if (specular) bind_image_layered(4, *specular, GL_WRITE_ONLY);
+        glBindImageTexture(kAlbedoImage, albedo_view, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        bind_image_layered(kNormalImage, normal, GL_WRITE_ONLY);
+        bind_image_layered(kMaterialOutImage, material, GL_WRITE_ONLY);
+        if (emission) bind_image_layered(kEmissionImage, *emission, GL_WRITE_ONLY);
+        if (specular) bind_image_layered(kSpecularImage, *specular, GL_WRITE_ONLY);
     };
     bind_outputs();
     Texture* motion = writes_motion(s, ctx.facts) ? &ctx.resources.get("gbuffer.motion") : nullptr;
@@ -226,7 +248,10 @@ void GBufferAttributesPass::execute(FrameContext& ctx) {
         d["ATTRIBUTES_STAGE"] = std::to_string(stage);
         d["MATERIAL_TEXTURES"] = std::to_string(kind & GpuScene::kTextureFeatures);
         d["MATERIAL_AUTO_R"] = kind & GpuScene::kAutoReflectivityFeature ? "1" : "0";
+        const NamedUnits units = attribute_units(by_image);
+        units.add_unit_defines(d);
         const GLuint prog = ctx.shaders.program({"passes/gbuffer_attributes.comp"}, d);
+        units.check(prog, "passes/gbuffer_attributes.comp");
         glProgramUniform1i(prog, glGetUniformLocation(prog, "u_primitive_bits"), bits);
         glProgramUniform1i(prog, glGetUniformLocation(prog, "u_materials"), GLint(materials));
         return prog;

@@ -42,6 +42,16 @@ void LightingPass::execute(FrameContext& ctx) {
     // Its parts (lighting.list/clear/shade): where the pass's time goes on a device.
     std::optional<GpuScope> part;
     part.emplace(ctx.timer, "lighting.list");
+    // Both programs declare the inputs (the normals by imageLoad on the CPU device,
+    // lib/input_fetch.glsl; the depth is a depth format, which no image can bind).
+    auto& r = ctx.resources;
+    NamedUnits units{{"gbuffer.depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"},
+                     {{"lit", GL_WRITE_ONLY}, {"linear_depth", GL_WRITE_ONLY}}};
+    for (const auto& m : ShadowMapPass::reads(ctx.facts)) units.textures.push_back(m);
+    if (ctx.facts.emission_texture) units.textures.push_back("gbuffer.emission");
+    if (ctx.facts.specular_texture) units.textures.push_back("gbuffer.specular");
+    units.fetch(ctx.fetch_by_image(), {"gbuffer.normal"});
+    units.add_unit_defines(d);
     Defines dl = d;
     dl["TILE_LIST"] = "1";
     const GLuint list = ctx.shaders.program({"passes/lighting.comp"}, dl);
@@ -63,19 +73,7 @@ void LightingPass::execute(FrameContext& ctx) {
     const GLuint prog = ctx.shaders.program({"passes/lighting.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_tiles"), tile_count);
-    auto& r = ctx.resources;
-    glBindTextureUnit(0, r.get("gbuffer.depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    ShadowMapPass::bind(r, ctx.facts);
-    if (ctx.facts.emission_texture) glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
-    if (ctx.facts.specular_texture) glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
-    bind_image_layered(0, r.get("lit"), GL_WRITE_ONLY);
-    bind_image_layered(1, r.get("linear_depth"), GL_WRITE_ONLY);
-    // The normals by imageLoad on the CPU device (lib/input_fetch.glsl); the depth is a
-    // depth format, which no image can bind.
-    if (ctx.fetch_by_image()) bind_input_images(r, 2, {"gbuffer.normal"});
+    units.bind_by_name(r, prog, "passes/lighting.comp");
     part.emplace(ctx.timer, "lighting.shade");
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // the clears first
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, tiles.data->id());

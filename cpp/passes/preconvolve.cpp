@@ -20,12 +20,18 @@ void PreconvolvePass::execute(FrameContext& ctx) {
     clear_layers(ctx, scratch, layers, zero);
     if (layers == 0) return;
 
+    // By name: "preconvolve.dst" the level (or scratch) written, "preconvolve.src" the one read.
+    const std::string shader = "passes/preconvolve.comp";
+    NamedUnits u0{{"lit", "gbuffer.material"}, {{"preconvolve.dst", GL_WRITE_ONLY}}};
+    u0.own = {{"preconvolve.dst", &pyramid}};
+    NamedUnits u1{{}, {{"preconvolve.dst", GL_WRITE_ONLY}, {"preconvolve.src", GL_READ_ONLY}}};
+    u1.own = {{"preconvolve.dst", &scratch}, {"preconvolve.src", &pyramid}};
     Defines level0 = ctx.defines;
     level0["LEVEL0"] = "1";
-    glUseProgram(ctx.shaders.program({"passes/preconvolve.comp"}, level0));
-    glBindTextureUnit(0, ctx.resources.get("lit").id());
-    glBindTextureUnit(1, ctx.resources.get("gbuffer.material").id());
-    bind_image_layered(0, pyramid, GL_WRITE_ONLY, 0);
+    u0.add_unit_defines(level0);
+    const GLuint prog0 = ctx.shaders.program({shader}, level0);
+    glUseProgram(prog0);
+    u0.bind_by_name(ctx.resources, prog0, shader);
     dispatch_2d(pyramid.width(), pyramid.height(), layers, 8, 8);
 
     GLuint axis_prog[2];
@@ -33,8 +39,11 @@ void PreconvolvePass::execute(FrameContext& ctx) {
         Defines d = ctx.defines;
         d["LEVEL0"] = "0";
         d["AXIS"] = std::to_string(axis);
-        axis_prog[axis] = ctx.shaders.program({"passes/preconvolve.comp"}, d);
+        u1.add_unit_defines(d);
+        axis_prog[axis] = ctx.shaders.program({shader}, d);
+        u1.check(axis_prog[axis], shader);
     }
+    const GLuint src = u1.image_unit("preconvolve.src"), dst = u1.image_unit("preconvolve.dst");
     for (int level = 1; level < pyramid.levels(); ++level) {
         const int w_in = std::max(pyramid.width() >> (level - 1), 1), h_in = std::max(pyramid.height() >> (level - 1), 1);
         const int w_out = std::max(pyramid.width() >> level, 1), h_out = std::max(pyramid.height() >> level, 1);
@@ -42,15 +51,15 @@ void PreconvolvePass::execute(FrameContext& ctx) {
         glUseProgram(axis_prog[0]);
         glUniform2i(glGetUniformLocation(axis_prog[0], "u_src_size"), w_in, h_in);
         glUniform2i(glGetUniformLocation(axis_prog[0], "u_dst_size"), w_out, h_in);
-        bind_image_layered(1, pyramid, GL_READ_ONLY, level - 1);
-        bind_image_layered(0, scratch, GL_WRITE_ONLY, 0);
+        bind_image_layered(src, pyramid, GL_READ_ONLY, level - 1);
+        bind_image_layered(dst, scratch, GL_WRITE_ONLY, 0);
         dispatch_2d(w_out, h_in, layers, 8, 8);
         // y: scratch (w_out x h_in) -> level n (w_out x h_out)
         glUseProgram(axis_prog[1]);
         glUniform2i(glGetUniformLocation(axis_prog[1], "u_src_size"), w_out, h_in);
         glUniform2i(glGetUniformLocation(axis_prog[1], "u_dst_size"), w_out, h_out);
-        bind_image_layered(1, scratch, GL_READ_ONLY, 0);
-        bind_image_layered(0, pyramid, GL_WRITE_ONLY, level);
+        bind_image_layered(src, scratch, GL_READ_ONLY, 0);
+        bind_image_layered(dst, pyramid, GL_WRITE_ONLY, level);
         dispatch_2d(w_out, h_out, layers, 8, 8);
     }
 }

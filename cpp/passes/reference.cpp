@@ -43,8 +43,29 @@ std::vector<ResourceDesc> ReferencePass::outputs(const RenderSettings& s) const 
             {"reference.direct", GL_RGBA32F, s.width, s.height, 1, 1}};
 }
 
+NamedUnits ReferencePass::units(const FrameContext& ctx) const {
+    NamedUnits u{{"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"}, {}};
+    const bool cpu = cpu_tracer_ && !per_ray_;  // reference_gbuffer.comp: the G-buffer decoded only
+    if (!cpu && shadows_ && !traced_shadows_)
+        for (const auto& m : ShadowMapPass::reads(ctx.facts)) u.textures.push_back(m);
+    if (!per_ray_ && ctx.facts.emission_texture) u.textures.push_back("gbuffer.emission");
+    if (!per_ray_ && ctx.facts.specular_texture) u.textures.push_back("gbuffer.specular");
+    if (cpu) return u;
+    if (per_ray_) {
+        u.textures.insert(u.textures.end(), {"rays.direction", "rays.sample"});
+        u.images = {{"reference.hit", GL_WRITE_ONLY}, {"reference.position", GL_WRITE_ONLY},
+                    {"reference.radiance", GL_WRITE_ONLY}};
+    } else {
+        u.images = {{"reference.accum", GL_READ_WRITE}, {"reference.reflection", GL_WRITE_ONLY},
+                    {"reference.direct", GL_WRITE_ONLY}};
+    }
+    return u;
+}
+
 GLuint ReferencePass::program(FrameContext& ctx) const {
+    const NamedUnits u = units(ctx);
     Defines d = ctx.defines;
+    u.add_unit_defines(d);
     d["MODE"] = per_ray_ ? "0" : "1";
     d["SHADOWS"] = shadows_ && !traced_shadows_ ? "1" : "0";
     d["TRACED_SHADOWS"] = shadows_ && traced_shadows_ ? "1" : "0";
@@ -54,6 +75,7 @@ GLuint ReferencePass::program(FrameContext& ctx) const {
     if (!per_ray_ && ctx.facts.specular_texture) d["SPECULAR_TEXTURE"] = "1";
     if (cpu_tracer_ && !per_ray_) {
         Defines g = ctx.defines;
+        u.add_unit_defines(g);
         if (ctx.facts.emission_texture) g["EMISSION_TEXTURE"] = "1";
         if (ctx.facts.specular_texture) g["SPECULAR_TEXTURE"] = "1";
         return ctx.shaders.program({"passes/reference_gbuffer.comp"}, g);
@@ -65,15 +87,7 @@ void ReferencePass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
     const GLuint prog = program(ctx);
     glUseProgram(prog);
-    glBindTextureUnit(0, r.get("linear_depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (shadows_ && !traced_shadows_) ShadowMapPass::bind(r, ctx.facts);
-    if (!per_ray_ && ctx.facts.emission_texture)
-        glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
-    if (!per_ray_ && ctx.facts.specular_texture)
-        glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
+    units(ctx).bind_by_name(r, prog, cpu_tracer_ && !per_ray_ ? "passes/reference_gbuffer.comp" : "passes/reference.comp");
     if (cpu_tracer_ && !per_ray_) {
         execute_cpu(ctx, prog);
         return;
@@ -84,11 +98,6 @@ void ReferencePass::execute(FrameContext& ctx) {
     glUniform1i(glGetUniformLocation(prog, "u_viewer"), viewer_is_ray_ ? 1 : 0);
     const RenderSettings& s = ctx.settings;
     if (per_ray_) {
-        glBindTextureUnit(5, r.get("rays.direction").id());
-        glBindTextureUnit(6, r.get("rays.sample").id());
-        bind_image_layered(0, r.get("reference.hit"), GL_WRITE_ONLY);
-        bind_image_layered(1, r.get("reference.position"), GL_WRITE_ONLY);
-        bind_image_layered(2, r.get("reference.radiance"), GL_WRITE_ONLY);
         const long long per_ray = (long long)s.trace_width() * s.trace_height();
         const int chunk = int(std::max(1LL, std::min<long long>(s.traced_rays(), kRaysPerDispatch / per_ray)));
         for (int first = 0; first < s.traced_rays(); first += chunk) {
@@ -99,9 +108,6 @@ void ReferencePass::execute(FrameContext& ctx) {
             dispatch_2d(s.trace_width(), s.trace_height(), count, 8, 8);
         }
     } else {
-        bind_image_layered(0, r.get("reference.accum"), GL_READ_WRITE);
-        bind_image_layered(1, r.get("reference.reflection"), GL_WRITE_ONLY);
-        bind_image_layered(2, r.get("reference.direct"), GL_WRITE_ONLY);
         if (tracer_) {
             execute_wavefront(ctx, prog);
             return;

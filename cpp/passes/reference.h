@@ -15,6 +15,7 @@
 
 #include <functional>
 
+#include "passes/compute.h"
 #include "render/render_pass.h"
 #include "scene/embree_scene.h"
 
@@ -35,6 +36,8 @@ public:
     void execute(FrameContext& ctx) override;
     // Compiles the program before the timed execution.
     GLuint program(FrameContext& ctx) const;
+    // What the program reads and writes, by name (passes/compute.h).
+    NamedUnits units(const FrameContext& ctx) const;
     // The converged reference's rays traced by `tracer` (Embree, on the CPU) instead of the GLSL
     // BVH: a wavefront whose ray generation and shading stay in the GLSL source
     // (lib/trace_external.glsl). nullptr: the GLSL traversal.

@@ -37,10 +37,21 @@ ResourceDesc ReprojectPass::texture(const std::string& name, const RenderSetting
 
 void ReprojectPass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
-    const GLuint prog = ctx.shaders.program({"passes/reproject.comp"}, ctx.defines);
-    glUseProgram(prog);
     const bool history = ctx.history && ctx.history_uniforms && ctx.history->has("linear_depth") &&
                          ctx.history->has("gbuffer.normal") && ctx.history->has("gbuffer.material");
+    // The previous frame's textures by name; without history the current frame's stand in
+    // (never read: u_has_history = 0).
+    NamedUnits units{{"linear_depth", "gbuffer.normal", "gbuffer.material", "gbuffer.motion"},
+                     {{"reprojection", GL_WRITE_ONLY}}};
+    const FrameResources& h = history ? *ctx.history : r;
+    for (const char* p : {"linear_depth", "gbuffer.normal", "gbuffer.material"}) {
+        units.textures.push_back(std::string("previous.") + p);
+        units.own.emplace_back(std::string("previous.") + p, &h.get(p));
+    }
+    Defines d = ctx.defines;
+    units.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program({"passes/reproject.comp"}, d);
+    glUseProgram(prog);
     (history ? history_camera(ctx) : HistoryCamera{}).set(prog);
     glUniform1i(glGetUniformLocation(prog, "u_reject_layers"), ctx.settings.reject_layers ? 1 : 0);
     glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
@@ -48,16 +59,7 @@ void ReprojectPass::execute(FrameContext& ctx) {
     glUniform1f(glGetUniformLocation(prog, "u_reject_depth"), ctx.settings.reject_depth);
     glUniform1f(glGetUniformLocation(prog, "u_reject_normal"), ctx.settings.reject_normal);
     glUniform1i(glGetUniformLocation(prog, "u_reject_offscreen"), ctx.settings.reject_offscreen ? 1 : 0);
-    glBindTextureUnit(0, r.get("linear_depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.normal").id());
-    glBindTextureUnit(2, r.get("gbuffer.material").id());
-    // Without history the current frame's textures stand in (never read: u_has_history = 0).
-    const FrameResources& h = history ? *ctx.history : r;
-    glBindTextureUnit(3, h.get("linear_depth").id());
-    glBindTextureUnit(4, h.get("gbuffer.normal").id());
-    glBindTextureUnit(5, h.get("gbuffer.material").id());
-    glBindTextureUnit(6, r.get("gbuffer.motion").id());
-    bind_image_layered(0, r.get("reprojection"), GL_WRITE_ONLY);
+    units.bind_by_name(r, prog, "passes/reproject.comp");
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
 

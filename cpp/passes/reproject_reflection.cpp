@@ -23,11 +23,20 @@ void ReprojectReflectionPass::execute(FrameContext& ctx) {
     Defines d = ctx.defines;
     const bool radiance = ResolvePass::ray_radiance(s);
     d["RAY_RADIANCE"] = radiance ? "1" : "0";
-    const GLuint prog = ctx.shaders.program({"passes/reproject_reflection.comp"}, d);
-    glUseProgram(prog);
     const FrameResources* h = ctx.history;
     const bool history = h && ctx.history_uniforms && h->has("reflection.hits") && h->has("gbuffer.normal") &&
                          h->has("gbuffer.material");
+    // The previous frame's textures by name; without history this frame's stand in (never
+    // read: u_has_history = 0).
+    NamedUnits units{inputs(s, ctx.facts), {{"reprojection.reflection", GL_WRITE_ONLY}, {"reflection.hits", GL_WRITE_ONLY}}};
+    const FrameResources& src = history ? *h : r;
+    for (const char* p : {"gbuffer.normal", "gbuffer.material", "reflection.hits"}) {
+        units.textures.push_back(std::string("previous.") + p);
+        units.own.emplace_back(std::string("previous.") + p, &src.get(p));
+    }
+    units.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program({"passes/reproject_reflection.comp"}, d);
+    glUseProgram(prog);
     (history ? ReprojectPass::history_camera(ctx) : HistoryCamera{}).set(prog);
     const glm::mat4 previous_proj = history ? ctx.history_unjittered_proj : glm::mat4(1.0f);
     glUniformMatrix4fv(glGetUniformLocation(prog, "u_previous_proj"), 1, GL_FALSE, glm::value_ptr(previous_proj));
@@ -37,14 +46,7 @@ void ReprojectReflectionPass::execute(FrameContext& ctx) {
     glUniform1f(glGetUniformLocation(prog, "u_reject_reflection_depth"), s.reject_reflection_depth);
     glUniform1i(glGetUniformLocation(prog, "u_max_history"),
                 s.denoise == Denoise::Svgf ? s.svgf_max_history : s.temporal_max_history);
-    bind_inputs_in_order(r, inputs(s, ctx.facts));  // units 0-6 (7: rays.radiance)
-    // Without history this frame's textures stand in (never read: u_has_history = 0).
-    const FrameResources& src = history ? *h : r;
-    glBindTextureUnit(8, src.get("gbuffer.normal").id());
-    glBindTextureUnit(9, src.get("gbuffer.material").id());
-    glBindTextureUnit(10, src.get("reflection.hits").id());
-    bind_image_layered(0, r.get("reprojection.reflection"), GL_WRITE_ONLY);
-    bind_image_layered(1, r.get("reflection.hits"), GL_WRITE_ONLY);
+    units.bind_by_name(r, prog, "passes/reproject_reflection.comp");
     dispatch_2d(s.width, s.height, 1, 8, 8);
 }
 

@@ -31,24 +31,32 @@ Defines ResolvePass::ray_defines(const FrameContext& ctx) {
     return d;
 }
 
-void ResolvePass::bind_ray_inputs(FrameContext& ctx, GLuint prog) {
-    auto& r = ctx.resources;
-    const char* inputs[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth",
-                            "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
-    for (GLuint unit = 0; unit < 8; ++unit) glBindTextureUnit(unit, r.get(inputs[unit]).id());
-    const bool radiance = ray_radiance(ctx.settings);
-    if (radiance) glBindTextureUnit(16, r.get("rays.radiance").id());
+NamedUnits ResolvePass::ray_units(const FrameContext& ctx) {
+    const auto& r = ctx.resources;
+    NamedUnits u{{"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.albedo", "gbuffer.normal",
+                  "gbuffer.material"},
+                 {}};
+    std::vector<std::string> fetched = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"};
+    if (ray_radiance(ctx.settings)) {
+        u.textures.push_back("rays.radiance");
+        fetched.push_back("rays.radiance");
+    }
+    if (ctx.settings.bounces == Bounces::History) {
+        const bool history = ctx.history && ctx.history->has("color");
+        u.textures.insert(u.textures.end(), {"reprojection", "previous.color"});
+        // Without history the reprojection stands in (never read: u_has_history = 0).
+        u.own = {{"previous.color", history ? &ctx.history->get("color") : &r.get("reprojection")}};
+    }
+    u.fetch(ctx.fetch_by_image(), fetched);
+    return u;
+}
+
+void ResolvePass::bind_ray_inputs(FrameContext& ctx, GLuint prog, const NamedUnits& units, const std::string& shader) {
     if (ctx.settings.bounces == Bounces::History) {
         const bool history = ctx.history && ctx.history->has("color");
         glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
-        glBindTextureUnit(8, r.get("reprojection").id());
-        glBindTextureUnit(9, history ? ctx.history->get("color").id() : r.get("reprojection").id());
     }
-    // The float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), image units 1-7.
-    if (ctx.fetch_by_image()) {
-        bind_input_images(r, 1, {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal"});
-        if (radiance) bind_input_images(r, 7, {"rays.radiance"});
-    }
+    units.bind_by_name(ctx.resources, prog, shader);
 }
 
 bool ResolvePass::shared_tile(const RenderSettings& s, bool fetch_by_image) {
@@ -106,14 +114,31 @@ void ResolvePass::execute(FrameContext& ctx) {
     // passes read by imageLoad (llvmpipe's shared-memory loads are slow; resolve_fetch.h).
     const bool shared = shared_tile(s, ctx.fetch_by_image());
     d["RESOLVE_SHARED_TILE"] = shared ? "1" : "0";
+    NamedUnits units = ray_units(ctx);
+    units.images.emplace_back("reflection", GL_WRITE_ONLY);
+    if (!shared && !own_rays_only)
+        units.images.insert(units.images.end(), {{"resolve.ray_color", GL_READ_ONLY}, {"resolve.ray_target", GL_READ_ONLY}});
+    // The previous frame's rays (TEXTURE_PREVIOUS_RAYS_HIT, ...), this frame's standing in
+    // without history (never read: u_has_previous_rays = 0).
+    const char* prev[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal",
+                          "gbuffer.material"};
+    const FrameResources* h = ctx.history;
+    const bool history = ray_reuse && h && ctx.history_uniforms && h->has("rays.hit") && h->has("lit") &&
+                         h->get("rays.hit").width() == r.get("rays.hit").width() &&
+                         h->get("rays.hit").height() == r.get("rays.hit").height() &&
+                         h->get("lit").layers() == r.get("lit").layers();
+    if (ray_reuse) {
+        if (ctx.settings.bounces != Bounces::History) units.textures.push_back("reprojection");
+        const FrameResources& src = history ? *h : r;
+        for (const char* p : prev) {
+            units.textures.push_back(std::string("previous.") + p);
+            units.own.emplace_back(std::string("previous.") + p, &src.get(p));
+        }
+    }
+    units.add_unit_defines(d);
     const GLuint prog = ctx.shaders.program({"passes/resolve.comp"}, d);
     glUseProgram(prog);
     if (ray_reuse) {
-        const FrameResources* h = ctx.history;
-        const bool history = h && ctx.history_uniforms && h->has("rays.hit") && h->has("lit") &&
-                             h->get("rays.hit").width() == r.get("rays.hit").width() &&
-                             h->get("rays.hit").height() == r.get("rays.hit").height() &&
-                             h->get("lit").layers() == r.get("lit").layers();
         glm::vec4 prev_proj(1.0f, 1.0f, 0.0f, 0.0f);
         if (history) {
             // The previous (jittered) projection the previous rays were traced with.
@@ -124,17 +149,8 @@ void ResolvePass::execute(FrameContext& ctx) {
         // V_curr V_prev^-1 and its inverse in double precision (identities for a static camera).
         (history ? ReprojectPass::history_camera(ctx) : HistoryCamera{}).set(prog);
         glUniform4fv(glGetUniformLocation(prog, "u_previous_proj"), 1, glm::value_ptr(prev_proj));
-        const FrameResources& src = history ? *h : r;  // stand-ins are never read without history
-        const char* prev[] = {"rays.hit", "rays.sample", "rays.direction", "lit", "linear_depth", "gbuffer.normal",
-                              "gbuffer.material"};
-        // Units 17-23: 13 (the specular-albedo table) and 15 (the environment map) stay bound for
-        // the whole frame, and later passes read them.
-        for (GLuint i = 0; i < 7; ++i) glBindTextureUnit(17 + i, src.get(prev[i]).id());
-        glBindTextureUnit(8, r.get("reprojection").id());
     }
-    bind_ray_inputs(ctx, prog);
-    bind_image_layered(0, r.get("reflection"), GL_WRITE_ONLY);
-    if (!shared && !own_rays_only) bind_input_images(r, 8, {"resolve.ray_color", "resolve.ray_target"});
+    bind_ray_inputs(ctx, prog, units, "passes/resolve.comp");
     if (list) {
         // The classify pass (run before, build_chain) wrote the list and its dispatch arguments;
         // an empty list is a dispatch of 0 groups.

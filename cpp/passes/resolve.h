@@ -9,6 +9,7 @@
 // wrote the other pixels' reflection.
 #pragma once
 
+#include "passes/compute.h"
 #include "render/render_pass.h"
 
 namespace ssr {
@@ -28,11 +29,14 @@ public:
     static bool shared_tile(const RenderSettings& s, bool fetch_by_image);
     // What lib/resolve_ray.glsl is compiled with and binds, for the resolve and resolve_fetch alike:
     // rays traced by the BVH (method or fallback "bvh") or the probes bring their radiance
-    // in rays.radiance; the inputs at texture units 0-7 (+ 16, 8, 9), or with FETCH_BY_IMAGE the
-    // float ones as image units 1-7.
+    // in rays.radiance; the inputs by name (ray_units), with FETCH_BY_IMAGE the float ones as images.
     static bool ray_radiance(const RenderSettings& s);
     static Defines ray_defines(const FrameContext& ctx);
-    static void bind_ray_inputs(FrameContext& ctx, GLuint prog);
+    // What lib/resolve_ray.glsl reads, by name (the float inputs by imageLoad on the CPU device;
+    // "previous.color": the previous frame's colour for bounces "history", or a stand-in);
+    // a pass adds its own and binds them with bind_ray_inputs, which also sets u_has_history.
+    static NamedUnits ray_units(const FrameContext& ctx);
+    static void bind_ray_inputs(FrameContext& ctx, GLuint prog, const NamedUnits& units, const std::string& shader);
     // What bind_ray_inputs binds with these settings (the resolve's and resolve_fetch's inputs).
     static std::vector<std::string> ray_inputs(const RenderSettings& s);
     std::string name() const override { return "resolve"; }

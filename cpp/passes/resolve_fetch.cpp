@@ -8,11 +8,13 @@
 namespace ssr {
 
 void ResolveFetchPass::execute(FrameContext& ctx) {
-    const GLuint prog = ctx.shaders.program({"passes/resolve_fetch.comp"}, ResolvePass::ray_defines(ctx));
+    NamedUnits units = ResolvePass::ray_units(ctx);
+    units.images.insert(units.images.end(), {{"resolve.ray_color", GL_WRITE_ONLY}, {"resolve.ray_target", GL_WRITE_ONLY}});
+    Defines d = ResolvePass::ray_defines(ctx);
+    units.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program({"passes/resolve_fetch.comp"}, d);
     glUseProgram(prog);
-    ResolvePass::bind_ray_inputs(ctx, prog);
-    bind_image_layered(8, ctx.resources.get("resolve.ray_color"), GL_WRITE_ONLY);
-    bind_image_layered(9, ctx.resources.get("resolve.ray_target"), GL_WRITE_ONLY);
+    ResolvePass::bind_ray_inputs(ctx, prog, units, "passes/resolve_fetch.comp");
     const RenderSettings& s = ctx.settings;
     dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
 }

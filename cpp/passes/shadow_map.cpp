@@ -1,6 +1,7 @@
 #include "passes/shadow_map.h"
 
 #include "render/pass_registry.h"
+#include "passes/compute.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -34,11 +35,6 @@ std::vector<std::string> ShadowMapPass::reads(const FrameFacts& f) {
 void ShadowMapPass::add_defines(Defines& d, const FrameFacts& f) {
     d["SHADOW_MAPS"] = f.shadow_maps > 0 ? "1" : "0";
     d["SHADOW_CUBES"] = f.shadow_cubes > 0 ? "1" : "0";
-}
-
-void ShadowMapPass::bind(FrameResources& r, const FrameFacts& f) {
-    if (f.shadow_maps > 0) glBindTextureUnit(kMapUnit, r.get("shadow_map").id());
-    if (f.shadow_cubes > 0) glBindTextureUnit(kCubeUnit, r.get("shadow_cubes").id());
 }
 
 ShadowSetup ShadowMapPass::fit(const Scene& scene, const Bounds& bounds, const RenderSettings& s) {
@@ -229,7 +225,13 @@ void ShadowMapPass::execute(FrameContext& ctx) {
     GLuint alpha_prog = 0;
     GLint loc_alpha_vp = -1, loc_alpha_object = -1;
     if (gs.has_alpha_tested()) {
-        alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, ctx.defines);
+        // The base colour's alpha, by name at the unit GpuScene binds it to.
+        NamedUnits units;
+        units.placed_textures = GpuScene::material_texture_units();
+        Defines d = ctx.defines;
+        units.add_unit_defines(d);
+        alpha_prog = ctx.shaders.program({"passes/shadow_map.vert", "passes/shadow_map.frag"}, d);
+        units.check(alpha_prog, "passes/shadow_map.frag");
         loc_alpha_vp = glGetUniformLocation(alpha_prog, "u_light_view_proj");
         loc_alpha_object = glGetUniformLocation(alpha_prog, "u_object");
     }

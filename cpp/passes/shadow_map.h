@@ -73,13 +73,11 @@ public:
         cubes_ = Held{};
     }
 
-    // For the passes that read the maps (lib/shadow_map.glsl): the textures they read, the
-    // defines saying which kinds the frame has (SHADOW_MAPS, SHADOW_CUBES, with SHADOWS 1), and
-    // their texture units (4: shadow_map, 14: shadow_cubes).
+    // For the passes that read the maps (lib/shadow_map.glsl): the textures they read, bound by
+    // name with the pass's other textures (TEXTURE_SHADOW_MAP, TEXTURE_SHADOW_CUBES), and the
+    // defines saying which kinds the frame has (SHADOW_MAPS, SHADOW_CUBES, with SHADOWS 1).
     static std::vector<std::string> reads(const FrameFacts& f);
     static void add_defines(Defines& d, const FrameFacts& f);
-    static void bind(FrameResources& r, const FrameFacts& f);
-    static constexpr int kMapUnit = 4, kCubeUnit = 14;
 
 private:
     void draw_scene(FrameContext& ctx, const glm::mat4& light_view_proj, GLuint prog, GLint loc_vp, GLint loc_object,

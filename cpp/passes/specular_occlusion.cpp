@@ -19,28 +19,39 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
     d["METHOD"] = s.specular_occlusion == SpecularOcclusion::Horizon ? "1" : "2";
     // cone and blur_mips trace one mirror ray that stands for the whole lobe.
     d["LOBE"] = s.glossy == Glossy::Stochastic ? "0" : "1";
-    // The float inputs by imageLoad on the CPU device, image units 2-8.
-    auto bind_inputs = [&]() {
-        bind_inputs_in_order(r, inputs(ctx.settings, ctx.facts));
-        if (ctx.fetch_by_image())
-            bind_input_images(r, 2, {"linear_depth", "gbuffer.normal", "lit", "rays.hit", "rays.sample", "rays.direction"});
-    };
     const bool exit = s.specular_occlusion == SpecularOcclusion::Exit;
+    // Every stage declares the inputs (the float ones by imageLoad on the CPU device); "exit"
+    // (METHOD 2) also reads the enclosure cells, which stage 1 writes.
+    const std::string shader = "passes/specular_occlusion.comp";
+    auto stage_units = [&](int stage) {
+        NamedUnits u{inputs(ctx.settings, ctx.facts), {}};
+        if (stage == 0) u.images = {{"occlusion_cells", GL_WRITE_ONLY}};
+        if (stage == 1) u.images = {{"occlusion_enclosure", GL_WRITE_ONLY}, {"occlusion_cells", GL_READ_ONLY}};
+        if (stage == 2) u.images = {{"rays.radiance", GL_WRITE_ONLY}};
+        std::vector<std::string> fetched = {"linear_depth", "gbuffer.normal", "lit", "rays.hit", "rays.sample", "rays.direction"};
+        if (exit) {
+            u.textures.push_back("occlusion_enclosure");
+            if (stage != 1) fetched.push_back("occlusion_enclosure");
+        }
+        u.fetch(ctx.fetch_by_image(), fetched);
+        return u;
+    };
+    auto use = [&](int stage, Defines dd) {
+        const NamedUnits u = stage_units(stage);
+        dd["STAGE"] = std::to_string(stage);
+        u.add_unit_defines(dd);
+        const GLuint prog = ctx.shaders.program({shader}, dd);
+        glUseProgram(prog);
+        u.bind_by_name(r, prog, shader);
+    };
     if (exit) {
         // The enclosure cells: each cell's farthest surface (or open background), then the
         // same over it and its 8 neighbours. Timed as a part of the pass.
         GpuScope t(ctx.timer, name() + ".cells");
         const Texture& cells = r.get("occlusion_cells");
-        Defines d0 = d;
-        d0["STAGE"] = "0";
-        glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d0));
-        bind_inputs();
-        bind_image_layered(1, cells, GL_WRITE_ONLY);
+        use(0, d);
         dispatch_2d(cells.width() * 8, cells.height() * 8, 1, 8, 8);  // a work group of 8x8 per cell
-        d0["STAGE"] = "1";
-        glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d0));
-        bind_image_layered(0, r.get("occlusion_enclosure"), GL_WRITE_ONLY);
-        bind_image_layered(1, cells, GL_READ_ONLY);
+        use(1, d);
         dispatch_2d(cells.width(), cells.height(), 1, 8, 8);
     }
     // Frame.stats counts this run's rays once, whichever run of the chain this is (a variant's
@@ -50,20 +61,11 @@ void SpecularOcclusionPass::execute(FrameContext& ctx) {
     // frame marked in rays.radiance: both runs' counts.
     if (!counters_) counters_ = Buffer::create(2 * sizeof(uint32_t));
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCountersBinding, counters_.id());
-    Defines d3 = ctx.defines;
-    d3["STAGE"] = "3";
-    glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d3));
+    use(3, d);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the previous run's atomics, before the reset
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the reset, before this run's atomics
-    d["STAGE"] = "2";
-    glUseProgram(ctx.shaders.program({"passes/specular_occlusion.comp"}, d));
-    bind_inputs();
-    if (exit) {
-        glBindTextureUnit(8, r.get("occlusion_enclosure").id());
-        if (ctx.fetch_by_image()) bind_image_layered(8, r.get("occlusion_enclosure"), GL_READ_ONLY);
-    }
-    bind_image_layered(0, r.get("rays.radiance"), GL_WRITE_ONLY);
+    use(2, d);
     glUniform1i(0, s.traced_rays());
     dispatch_2d(s.trace_width(), s.trace_height(), 1, 8, 8);
 }

@@ -8,17 +8,21 @@ namespace ssr {
 
 void TemporalPass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
-    const GLuint prog = ctx.shaders.program({"passes/temporal.comp"}, ctx.defines);
-    glUseProgram(prog);
     const bool history = ctx.history && ctx.history->has("reflection.temporal");
+    // The reprojection is the surface's or the reflection's (ReprojectReflectionPass::reprojection);
+    // without history this frame's reflection stands in (never read: u_has_history = 0).
+    NamedUnits units{{"reflection", "reprojection", "previous.reflection.temporal"},
+                     {{"reflection.temporal", GL_WRITE_ONLY}}};
+    units.own = {{"reprojection", &r.get(ReprojectReflectionPass::reprojection(ctx.settings))},
+                 {"previous.reflection.temporal", history ? &ctx.history->get("reflection.temporal") : &r.get("reflection")}};
+    Defines d = ctx.defines;
+    units.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program({"passes/temporal.comp"}, d);
+    glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_has_history"), history ? 1 : 0);
     glUniform1i(glGetUniformLocation(prog, "u_max_history"), ctx.settings.temporal_max_history);
     glUniform1f(glGetUniformLocation(prog, "u_clamp_gamma"), ctx.settings.temporal_clamp);
-    glBindTextureUnit(0, r.get("reflection").id());
-    glBindTextureUnit(1, r.get(ReprojectReflectionPass::reprojection(ctx.settings)).id());
-    // Without history this frame's reflection stands in (never read: u_has_history = 0).
-    glBindTextureUnit(2, history ? ctx.history->get("reflection.temporal").id() : r.get("reflection").id());
-    bind_image_layered(0, r.get("reflection.temporal"), GL_WRITE_ONLY);
+    units.bind_by_name(r, prog, "passes/temporal.comp");
     dispatch_2d(ctx.settings.width, ctx.settings.height, 1, 8, 8);
 }
 

@@ -55,31 +55,28 @@ void TraceBvhPass::execute(FrameContext& ctx) {
     // idle lanes ride along with their neighbours' traversals. The images are the same.
     const bool compact = !fallback_ && ctx.settings.skip;
     d["COMPACT"] = compact ? "1" : "0";
+    // The fallback reads the screen-space tracer's rays and completes rays.hit; the tracer of
+    // every ray writes them (lib/trace_common.glsl's outputs, rays.direction readable).
+    NamedUnits units{{"linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"}, {}};
+    if (!traced)
+        for (const auto& m : ShadowMapPass::reads(ctx.facts)) units.textures.push_back(m);
+    if (fallback_ && ctx.facts.emission_texture) units.textures.push_back("gbuffer.emission");
+    if (fallback_ && ctx.facts.specular_texture) units.textures.push_back("gbuffer.specular");
+    if (fallback_) {
+        units.textures.insert(units.textures.end(), {"rays.sample", "rays.direction"});
+        units.images = {{"rays.hit", GL_READ_WRITE}};
+    } else {
+        units.images = {{"rays.hit", GL_WRITE_ONLY}, {"rays.sample", GL_WRITE_ONLY}, {"rays.direction", GL_READ_WRITE}};
+    }
+    units.images.emplace_back("rays.radiance", GL_WRITE_ONLY);
+    units.add_unit_defines(d);
     const GLuint prog = ctx.shaders.program({"passes/trace_bvh.comp"}, d);
     const RenderSettings& s = ctx.settings;
     // The BVH and the scene's vertex and image buffers (built on first use, then kept with the
     // scene's GPU copy; binding them does not change what the scene holds).
     const_cast<GpuScene&>(ctx.gpu_scene).bind_ray_tracing(ctx.scene);
     glUseProgram(prog);
-    glBindTextureUnit(0, r.get("linear_depth").id());
-    glBindTextureUnit(1, r.get("gbuffer.albedo").id());
-    glBindTextureUnit(2, r.get("gbuffer.normal").id());
-    glBindTextureUnit(3, r.get("gbuffer.material").id());
-    if (!traced) ShadowMapPass::bind(r, ctx.facts);
-    if (fallback_ && ctx.facts.emission_texture)
-        glBindTextureUnit(DepthPeelPass::kEmissionUnit, r.get("gbuffer.emission").id());
-    if (fallback_ && ctx.facts.specular_texture)
-        glBindTextureUnit(DepthPeelPass::kSpecularUnit, r.get("gbuffer.specular").id());
-    if (fallback_) {
-        bind_image_layered(4, r.get("rays.hit"), GL_READ_WRITE);
-        glBindTextureUnit(6, r.get("rays.sample").id());
-        glBindTextureUnit(7, r.get("rays.direction").id());
-    } else {
-        bind_image_layered(0, r.get("rays.hit"), GL_WRITE_ONLY);
-        bind_image_layered(1, r.get("rays.sample"), GL_WRITE_ONLY);
-        bind_image_layered(2, r.get("rays.direction"), GL_READ_WRITE);
-    }
-    bind_image_layered(3, r.get("rays.radiance"), GL_WRITE_ONLY);
+    units.bind_by_name(r, prog, "passes/trace_bvh.comp");
     if (!fallback_ && !compact) {
         dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);
         return;

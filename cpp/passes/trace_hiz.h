@@ -18,9 +18,9 @@ public:
         return {"hiz_trace", "linear_depth", "gbuffer.albedo", "gbuffer.normal", "gbuffer.material"};
     }
     void execute(FrameContext& ctx) override {
-        glBindTextureUnit(4, ctx.resources.get("hiz_trace").id());
-        if (ctx.fetch_by_image()) bind_input_images(ctx.resources, 5, {"hiz_trace"});
-        run(ctx, "passes/trace_hiz.comp");
+        NamedUnits units{{"hiz_trace"}, {}};
+        units.fetch(ctx.fetch_by_image(), {"hiz_trace"});
+        run(ctx, "passes/trace_hiz.comp", {}, units);
     }
 };
 

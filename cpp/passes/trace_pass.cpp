@@ -24,7 +24,8 @@ ResourceDesc TracePass::ray_texture(const std::string& name, const RenderSetting
     return ResourceDesc{name, GL_RGBA32F, s.trace_width(), s.trace_height(), s.traced_rays(), 1}.with(std::move(c));
 }
 
-void TracePass::run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup) {
+void TracePass::run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup,
+                    const NamedUnits& own) {
     auto& r = ctx.resources;
     const bool skip = ctx.settings.skip || extra_;
     Defines d = ctx.defines;
@@ -48,15 +49,21 @@ void TracePass::run(FrameContext& ctx, const std::string& stage, const std::func
     d["RAY_SAMPLING"] = std::to_string(su.sampling);
     d["RAY_NOISE"] = std::to_string(su.noise);
     d["RAY_HAMMERSLEY"] = std::to_string(su.hammersley);
+    // The float inputs by imageLoad on the CPU device (lib/input_fetch.glsl).
+    NamedUnits units = ray_generation_units();
+    units.fetch(ctx.fetch_by_image(), {"linear_depth", "gbuffer.normal"});
+    units.textures.insert(units.textures.end(), own.textures.begin(), own.textures.end());
+    units.images.insert(units.images.end(), own.images.begin(), own.images.end());
+    units.placed_textures = own.placed_textures;
+    units.placed_images = own.placed_images;
+    units.own = own.own;
+    units.add_unit_defines(d);
     const GLuint prog = ctx.shaders.program({stage}, d);
     glUseProgram(prog);
     // The layer walk stops at the layers in use (a uniform: no recompile per count).
     glUniform1i(glGetUniformLocation(prog, "u_layers_used"), ctx.layers_in_use());
     if (setup) setup(prog);
-    bind_ray_generation_io(r);
-    // The float inputs by imageLoad on the CPU device (lib/input_fetch.glsl), after the
-    // three ray outputs; a tracer binds its own after these (trace_hiz: its atlas, unit 5).
-    if (ctx.fetch_by_image()) bind_input_images(r, 3, {"linear_depth", "gbuffer.normal"});
+    units.bind_by_name(r, prog, stage);
     if (skip) {
         // The classify (or variance_rays) pass wrote the list and its dispatch arguments: groups
         // of 64 list entries, a group layer per ray.

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "passes/classify.h"
+#include "passes/compute.h"
 #include "render/render_pass.h"
 
 namespace ssr {
@@ -44,12 +45,14 @@ public:
     }
 
 protected:
-    // Binds the G-buffer (units 0-3) and the ray textures (images 0-2), runs the shader
-    // `stage` over every (trace pixel, ray), or with Settings.skip over the classify pass's
-    // ray list only (indirect dispatch).
+    // Binds by name the G-buffer and the ray textures (ray_generation_units, passes/compute.h)
+    // and the tracer's own `units` (its further inputs and images), runs the shader `stage` over
+    // every (trace pixel, ray), or with Settings.skip over the classify pass's ray list only
+    // (indirect dispatch).
     // `setup` (optional) is called with the program in use, before the dispatch (a user pass's
     // parameters).
-    void run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup = {});
+    void run(FrameContext& ctx, const std::string& stage, const std::function<void(GLuint)>& setup = {},
+             const NamedUnits& units = {});
 
 private:
     bool extra_;

@@ -9,7 +9,7 @@ namespace ssr {
 
 namespace {
 
-// What the trace's ray generation reads (trace_pass.cpp binds them to units 0-3 itself).
+// What the trace's ray generation reads (trace_pass.cpp binds them by name itself, units 0-3).
 const std::vector<std::string>& generation_inputs() {
     static const std::vector<std::string> names = {"linear_depth", "gbuffer.albedo", "gbuffer.normal",
                                                    "gbuffer.material"};
@@ -100,17 +100,29 @@ void UserPass::set_params(FrameContext& ctx, GLuint prog) const {
 void UserPass::execute(FrameContext& ctx) {
     auto& r = ctx.resources;
     if (desc_.stage == "trace") {
-        // Trace inputs beyond the ray generation's: texture units 4, 5, ... in declared order, and
-        // by imageLoad (FETCH_BY_IMAGE) image units 5, 6, ... (trace_hiz's atlas: unit 4, image 5).
+        // A user's shader is its own, written to the documented units: trace inputs beyond the
+        // ray generation's at texture units 4, 5, ... in declared order, and by imageLoad
+        // (FETCH_BY_IMAGE) image units 5, 6, ... (trace_hiz's atlas: unit 4, image 5); its own
+        // textures at image units after those. Placed there by name, so the program's check
+        // holds the shader to them.
         std::vector<std::string> extra;
         for (const auto& in : desc_.reads)
             if (!contains(generation_inputs(), in)) extra.push_back(in);
-        for (GLuint i = 0; i < GLuint(extra.size()); ++i) glBindTextureUnit(4 + i, r.get(extra[i]).id());
-        if (ctx.fetch_by_image()) bind_input_images(r, 5, extra);
-        // Its own textures: image units after those.
+        NamedUnits units;
+        for (GLuint i = 0; i < GLuint(extra.size()); ++i) {
+            glBindTextureUnit(4 + i, r.get(extra[i]).id());
+            units.placed_textures.emplace_back(extra[i], 4 + i);
+        }
+        if (ctx.fetch_by_image()) {
+            bind_input_images(r, 5, extra);
+            for (GLuint i = 0; i < GLuint(extra.size()); ++i) units.placed_images.emplace_back(extra[i], 5 + i);
+        }
         GLuint unit = 5 + GLuint(extra.size());
-        for (const auto& c : desc_.creates) bind_image_layered(unit++, r.get(c.name), GL_WRITE_ONLY);
-        run(ctx, desc_.shader, [&](GLuint prog) { set_params(ctx, prog); });
+        for (const auto& c : desc_.creates) {
+            units.placed_images.emplace_back(c.name, unit);
+            bind_image_layered(unit++, r.get(c.name), GL_WRITE_ONLY);
+        }
+        run(ctx, desc_.shader, [&](GLuint prog) { set_params(ctx, prog); }, units);
         const auto& s = ctx.settings;
         groups_ = s.skip || desc_.dispatch == "list"
                       ? -1.0
@@ -119,18 +131,23 @@ void UserPass::execute(FrameContext& ctx) {
     }
     // reflection_filter and placed passes: reads at texture units 0, 1, ... in declared order
     // (what it also rewrites from a copy taken now), writes then creates at image units 0, 1, ...
+    // (NamedUnits' order, its defines given too), the program held to them.
     copy_rewritten(r);
-    const GLuint prog = ctx.shaders.program({desc_.shader}, ctx.defines);
+    NamedUnits units{desc_.reads, {}};
+    for (const auto& w : desc_.writes) units.images.emplace_back(w, GL_WRITE_ONLY);
+    for (const auto& c : desc_.creates) units.images.emplace_back(c.name, GL_WRITE_ONLY);
+    for (const auto& c : copies_)
+        if (contains(desc_.reads, c.first)) units.own.emplace_back(c.first, &c.second);
+    // The image of a rewritten input is the frame's own texture, its read the copy.
+    Defines d = ctx.defines;
+    units.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program({desc_.shader}, d);
     glUseProgram(prog);
     set_params(ctx, prog);
-    for (GLuint unit = 0; unit < GLuint(desc_.reads.size()); ++unit) {
-        const std::string& in = desc_.reads[unit];
-        const auto copy = copies_.find(in);
-        glBindTextureUnit(unit, copy != copies_.end() ? copy->second.id() : r.get(in).id());
-    }
-    GLuint image = 0;
-    for (const auto& w : desc_.writes) bind_image_layered(image++, r.get(w), GL_WRITE_ONLY);
-    for (const auto& c : desc_.creates) bind_image_layered(image++, r.get(c.name), GL_WRITE_ONLY);
+    for (size_t i = 0; i < desc_.reads.size(); ++i) glBindTextureUnit(units.texture_unit(i), units.get(r, desc_.reads[i]).id());
+    for (size_t i = 0; i < units.images.size(); ++i)
+        bind_image_layered(units.image_unit(i), r.get(units.images[i].first), GL_WRITE_ONLY);
+    units.check(prog, desc_.shader);
     const auto& s = ctx.settings;
     if (desc_.dispatch == "ray") {
         dispatch_2d(s.trace_width(), s.trace_height(), s.traced_rays(), 8, 8);

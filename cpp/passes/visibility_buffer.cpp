@@ -19,15 +19,36 @@ namespace {
 // Storage-buffer bindings of lib/visibility_lists.glsl (cpp/render/buffer_bindings.def).
 constexpr GLuint kFragmentsBinding = kVisibilityFragmentsBinding, kLinksBinding = kVisibilityLinksBinding,
                  kHeadsBinding = kVisibilityHeadsBinding, kCounterBinding = kVisibilityCounterBinding;
-// Image unit of gbuffer.depth in the compute passes that store it (visibility_select.comp,
-// visibility_depth.comp), and the texture unit the raster's peel test reads the previous layer from.
-constexpr GLuint kDepthImage = 1, kPreviousDepthUnit = 3;
+// Image units of gbuffer.visibility and gbuffer.depth in the compute passes that store them
+// (visibility_select.comp, visibility_depth.comp), and the texture unit the raster's peel test
+// reads the previous layer from (and visibility_depth.comp the layer's raster depth).
+constexpr GLuint kVisibilityImage = 0, kDepthImage = 1, kPreviousDepthUnit = 3;
 // With FETCH_BY_IMAGE: the image units the selection reads the lists' fragments, links and heads from.
 constexpr GLuint kFragmentsImage = 2, kLinksImage = 3, kHeadsImage = 4;
 // The selection's listed samples (lib/visibility_samples.glsl): the counts' storage binding (dispatch
 // uvec4 and 16 layers' counts) and the list's image unit.
 constexpr GLuint kSampleCountsBinding = kVisibilitySamplesBinding, kSamplesImage = 5;
 constexpr size_t kSampleCountsBytes = 16 + 16 * sizeof(GLuint);
+
+// Those units by name, with the material textures GpuScene binds per draw: every program of the
+// pass declares its textures and images at these names' defines.
+NamedUnits visibility_units() {
+    NamedUnits u;
+    u.placed_textures = GpuScene::material_texture_units();
+    u.placed_textures.emplace_back("visibility_buffer.previous_depth", kPreviousDepthUnit);
+    u.placed_textures.emplace_back("visibility_buffer.raster_depth", kPreviousDepthUnit);
+    u.placed_images = {{"gbuffer.visibility", kVisibilityImage}, {"gbuffer.depth", kDepthImage},
+                       {"visibility.list_fragments", kFragmentsImage}, {"visibility.list_links", kLinksImage},
+                       {"visibility.list_heads", kHeadsImage}, {"visibility.samples", kSamplesImage}};
+    return u;
+}
+GLuint visibility_program(FrameContext& ctx, const std::vector<std::string>& stages, Defines d) {
+    const NamedUnits u = visibility_units();
+    u.add_unit_defines(d);
+    const GLuint prog = ctx.shaders.program(stages, d);
+    u.check(prog, stages.back());
+    return prog;
+}
 }  // namespace
 
 std::vector<ResourceDesc> VisibilityBufferPass::outputs(const RenderSettings& s) const {
@@ -131,7 +152,7 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
     // target of its own first.
     const bool stored = depth.format() == GL_R32F;
     Texture& raster = stored ? ctx.resources.get("visibility_buffer.raster_depth") : depth;
-    const GLuint store = stored ? ctx.shaders.program({"passes/visibility_depth.comp"}, ctx.defines) : 0;
+    const GLuint store = stored ? visibility_program(ctx, {"passes/visibility_depth.comp"}, ctx.defines) : 0;
 
     const std::vector<std::string> stages = {"passes/depth_peel.vert", "passes/visibility_buffer.frag"};
     Defines d = ctx.defines;
@@ -147,7 +168,7 @@ void VisibilityBufferPass::peel(FrameContext& ctx) {
             d["MARK_TILES"] = mark && peel_test ? "1" : "0";
             d["PEEL_TEST"] = std::to_string(peel_test);
             d["ALPHA_TEST"] = std::to_string(alpha);
-            programs[peel_test][alpha] = ctx.shaders.program(stages, d);
+            programs[peel_test][alpha] = visibility_program(ctx, stages, d);
             if (peel_test) set_min_separation(s, programs[peel_test][alpha]);
         }
 
@@ -304,13 +325,13 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
         clear_layers(ctx, depth, 0, &clear);
     }
     set_min_separation(s, select_defines);
-    const GLuint select = ctx.shaders.program({"passes/visibility_select.comp"}, select_defines);
+    const GLuint select = visibility_program(ctx, {"passes/visibility_select.comp"}, select_defines);
     set_min_separation(s, select);
     glProgramUniform1i(select, glGetUniformLocation(select, "u_primitive_bits"), primitive_bits_);
     {
         GpuScope timer(ctx.timer, "visibility_buffer.select");
         glUseProgram(select);
-        bind_image_layered(0, visibility, GL_WRITE_ONLY);
+        bind_image_layered(kVisibilityImage, visibility, GL_WRITE_ONLY);
         bind_image_layered(kDepthImage, depth, GL_WRITE_ONLY);
         if (by_image) {
             glBindImageTexture(kFragmentsImage, fragments_view->id, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32UI);
@@ -354,11 +375,11 @@ void VisibilityBufferPass::append(FrameContext& ctx, uint64_t capacity) {
     d["VISIBILITY_APPEND"] = "1";
     d["ALPHA_TEST"] = "0";
     d["MARK_TILES"] = "0";  // the selection marks them
-    const GLuint prog = ctx.shaders.program(stages, d);
+    const GLuint prog = visibility_program(ctx, stages, d);
     GLuint alpha_prog = 0;
     if (ctx.gpu_scene.has_alpha_tested()) {
         d["ALPHA_TEST"] = "1";
-        alpha_prog = ctx.shaders.program(stages, d);
+        alpha_prog = visibility_program(ctx, stages, d);
     }
     for (GLuint p : {prog, alpha_prog})
         if (p) glProgramUniform1ui(p, glGetUniformLocation(p, "u_list_capacity"), GLuint(capacity));

@@ -11,15 +11,39 @@
 #include <numeric>
 
 #include "core/errors.h"
+#include "passes/compute.h"
 
 namespace ssr {
 
 namespace {
-// The split-sum table (shaders/lib/specular_albedo.glsl): its size, texture unit and samples
-// per cell (a Hammersley set of 4096 VNDF directions: the table is converged to ~1e-4).
+// The split-sum table (shaders/lib/specular_albedo.glsl): its size and samples per cell (a
+// Hammersley set of 4096 VNDF directions: the table is converged to ~1e-4); its texture unit is
+// the frame-wide "specular_albedo" (passes/compute.h).
 constexpr int kSpecularAlbedoSize = 32;
-constexpr int kSpecularAlbedoUnit = 13;
 constexpr unsigned kSpecularAlbedoSamples = 4096;
+
+// The tools' textures and images by name, at units written once here: each shader declares them
+// at the names' defines (passes/compute.h, NamedUnits's placed units), and the program is held to
+// them. specular_albedo.comp's table; microbench.comp's inputs, the init kernel's outputs, a
+// kernel's output and its input as an image; raster_floor.comp's stores and id.
+constexpr GLuint kTableImage = 0;
+constexpr GLuint kSourceUnit = 0, kChainUnit = 1, kWideUnit = 2;
+constexpr GLuint kInitSourceImage = 0, kInitChainImage = 1, kInitWideImage = 2, kOutImage = 0, kInImage = 1;
+constexpr GLuint kFloorStoreImages[4] = {0, 1, 2, 3}, kFloorIdImage = 0;
+
+GLuint tool_program(ShaderLibrary& lib, const std::string& shader, Defines d, const NamedUnits& u) {
+    u.add_unit_defines(d);
+    const GLuint prog = lib.program({shader}, d);
+    u.check(prog, shader);
+    return prog;
+}
+NamedUnits tool_units(std::vector<std::pair<std::string, GLuint>> textures,
+                      std::vector<std::pair<std::string, GLuint>> images) {
+    NamedUnits u;
+    u.placed_textures = std::move(textures);
+    u.placed_images = std::move(images);
+    return u;
+}
 }  // namespace
 
 void Renderer::bind_specular_albedo() {
@@ -27,15 +51,15 @@ void Renderer::bind_specular_albedo() {
         specular_albedo_ = Texture::create_2d(GL_RG32F, kSpecularAlbedoSize, kSpecularAlbedoSize, 1);
         specular_albedo_.set_filter(GL_LINEAR, GL_LINEAR);
         specular_albedo_.set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
-        const GLuint prog = shaders_->program({"tools/specular_albedo.comp"}, {});
+        const GLuint prog = tool_program(*shaders_, "tools/specular_albedo.comp", {}, tool_units({}, {{"table", kTableImage}}));
         glUseProgram(prog);
         glUniform1ui(glGetUniformLocation(prog, "u_samples"), kSpecularAlbedoSamples);
-        glBindImageTexture(0, specular_albedo_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+        glBindImageTexture(kTableImage, specular_albedo_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
         glDispatchCompute((kSpecularAlbedoSize + 7) / 8, (kSpecularAlbedoSize + 7) / 8, 1);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         check_gl(*ctx_, "specular albedo table");
     }
-    glBindTextureUnit(kSpecularAlbedoUnit, specular_albedo_.id());
+    glBindTextureUnit(frame_texture_unit("specular_albedo"), specular_albedo_.id());
 }
 
 Readback Renderer::specular_albedo_table() {
@@ -115,27 +139,31 @@ std::vector<double> Renderer::microbenchmark(const std::string& kernel, int widt
     auto use = [&](const std::string& name, int its, int layers) {
         std::string define = "KERNEL_";
         for (char c : name) define += char(std::toupper(static_cast<unsigned char>(c)));
-        const GLuint prog = shaders_->program({"tools/microbench.comp"}, {{define, "1"}});
+        const NamedUnits units = tool_units(
+            {{"source", kSourceUnit}, {"chain", kChainUnit}, {"wide", kWideUnit}},
+            {{"init.source", kInitSourceImage}, {"init.chain", kInitChainImage}, {"init.wide", kInitWideImage},
+             {"store", kOutImage}, {"sink", kOutImage}, {"chain", kInImage}, {"source", kInImage}});
+        const GLuint prog = tool_program(*shaders_, "tools/microbench.comp", {{define, "1"}}, units);
         glUseProgram(prog);
         glUniform1i(glGetUniformLocation(prog, "u_iterations"), its);
         glUniform1i(glGetUniformLocation(prog, "u_layers"), layers);
     };
-    glBindTextureUnit(0, source.id());
-    glBindTextureUnit(1, chain.id());
-    glBindTextureUnit(2, wide.id());
+    glBindTextureUnit(kSourceUnit, source.id());
+    glBindTextureUnit(kChainUnit, chain.id());
+    glBindTextureUnit(kWideUnit, wide.id());
     use("init", wide.layers(), kSourceLayers);
-    glBindImageTexture(0, source.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glBindImageTexture(1, chain.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
-    glBindImageTexture(2, wide.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(kInitSourceImage, source.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(kInitChainImage, chain.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glBindImageTexture(kInitWideImage, wide.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute(groups_x, groups_y, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     use(kernel, iterations, kernel == "store" ? iterations : kSourceLayers);
     if (kernel == "store")
-        glBindImageTexture(0, store.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        glBindImageTexture(kOutImage, store.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     else
-        glBindImageTexture(0, sink.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    if (kernel == "dependent_image") glBindImageTexture(1, chain.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32F);
-    if (kernel == "copy_image") glBindImageTexture(1, source.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA16F);
+        glBindImageTexture(kOutImage, sink.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    if (kernel == "dependent_image") glBindImageTexture(kInImage, chain.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RG32F);
+    if (kernel == "copy_image") glBindImageTexture(kInImage, source.id(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA16F);
     std::vector<double> ms;
     GpuTimer timer;
     for (int i = -1; i < repeats; ++i) {  // i = -1: untimed (llvmpipe compiles at first dispatch)
@@ -198,12 +226,17 @@ std::map<std::string, std::vector<double>> Renderer::raster_floor(const Scene& s
     const GLuint p_depth = raster_program("FLOOR_DEPTH"), p_gbuffer = raster_program("FLOOR_GBUFFER"),
                  p_id = raster_program("FLOOR_ID"), p_count = raster_program("FLOOR_COUNT"),
                  p_append = raster_program("FLOOR_APPEND"), p_list = raster_program("FLOOR_APPEND_LIST");
-    const GLuint p_stores = shaders_->program({"tools/raster_floor.comp"}, {{"FLOOR_STORES", "1"}});
-    const GLuint p_clear_id = shaders_->program({"tools/raster_floor.comp"}, {{"FLOOR_CLEAR_ID", "1"}});
+    const NamedUnits floor_units = tool_units({}, {{"depth", kFloorStoreImages[0]}, {"albedo", kFloorStoreImages[1]},
+                                                   {"normal", kFloorStoreImages[2]}, {"material", kFloorStoreImages[3]},
+                                                   {"id", kFloorIdImage}});
+    const GLuint p_stores = tool_program(*shaders_, "tools/raster_floor.comp", {{"FLOOR_STORES", "1"}}, floor_units);
+    const GLuint p_clear_id = tool_program(*shaders_, "tools/raster_floor.comp", {{"FLOOR_CLEAR_ID", "1"}}, floor_units);
     for (GLuint p : {p_stores, p_clear_id}) glProgramUniform2i(p, glGetUniformLocation(p, "u_size"), w, h);
     // The constructions' own compute clear (passes/clear_layers.comp), for each colour format.
     auto clear_program = [&](const char* qualifier) {
-        const GLuint p = shaders_->program({"passes/clear_layers.comp"}, {{"IMAGE_FORMAT", qualifier}, {"IMAGE_ARRAY", "0"}});
+        const GLuint p = shaders_->program({"passes/clear_layers.comp"}, {{"IMAGE_FORMAT", qualifier},
+                                                                          {"IMAGE_ARRAY", "0"},
+                                                                          {"IMAGE_TARGET", std::to_string(kClearImageUnit)}});
         glProgramUniform2i(p, glGetUniformLocation(p, "u_size"), w, h);
         glProgramUniform1i(p, glGetUniformLocation(p, "u_first"), 0);
         const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -371,7 +404,7 @@ std::map<std::string, std::vector<double>> Renderer::raster_floor(const Scene& s
     glGetTextureImage(t_id.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(sizeof(GLuint) * pixels), ids.data());
     out["count.pixels_id"] = {double(std::count_if(ids.begin(), ids.end(), [](GLuint i) { return i != kFloorListEnd; }))};
 
-    const Texture* stores[4] = {&c_depth, &c_albedo, &c_normal, &c_material};  // raster_floor.comp's units 0-3
+    const Texture* stores[4] = {&c_depth, &c_albedo, &c_normal, &c_material};  // raster_floor.comp's stores
     // Every floor in turn, each repeat; repeat -1 is untimed (llvmpipe compiles a variant at its
     // first draw or dispatch, and first writes into new textures cost more on some GPUs).
     // Each floor is timed alone, the device idle before it. On the CPU device each timestamp is
@@ -405,7 +438,7 @@ std::map<std::string, std::vector<double>> Renderer::raster_floor(const Scene& s
             glClearTexImage(t_id.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
         });
         timed("clear.id_compute", [&] {
-            glBindImageTexture(0, t_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+            glBindImageTexture(kFloorIdImage, t_id.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
             dispatch(p_clear_id);
         });
         if (appends) {
@@ -424,16 +457,16 @@ std::map<std::string, std::vector<double>> Renderer::raster_floor(const Scene& s
             timed("append_list", [&] { every_fragment(p_list); });
         }
         timed("stores", [&] {
-            for (GLuint unit = 0; unit < 4; ++unit) {
-                const Texture& t = *stores[unit];
-                glBindImageTexture(unit, t.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, t.format());
+            for (int i = 0; i < 4; ++i) {
+                const Texture& t = *stores[i];
+                glBindImageTexture(kFloorStoreImages[i], t.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, t.format());
             }
             dispatch(p_stores);
         });
         // One dispatch per target, as passes/compute.h's clear_layers does.
         timed("clear.compute_colour", [&] {
             for (const Texture* t : {&c_albedo, &c_normal, &c_material}) {
-                glBindImageTexture(0, t->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, t->format());
+                glBindImageTexture(kClearImageUnit, t->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, t->format());
                 dispatch(t->format() == GL_RGBA16F ? p_clear_rgba16f : p_clear_rgba8);
             }
         });

@@ -394,13 +394,13 @@ void GpuScene::bind_geometry() const {
 
 void GpuScene::bind_material_textures(int material) const {
     const auto& t = material_textures_[size_t(material)];
-    glBindTextureUnit(0, t[0] ? t[0] : white_.id());
-    glBindTextureUnit(1, t[1] ? t[1] : white_.id());
-    glBindTextureUnit(2, t[2] ? t[2] : flat_normal_.id());
-    if (emissive_texture_) glBindTextureUnit(kEmissiveTextureUnit, t[3] ? t[3] : white_.id());
+    glBindTextureUnit(material_texture_unit(0), t[0] ? t[0] : white_.id());
+    glBindTextureUnit(material_texture_unit(1), t[1] ? t[1] : white_.id());
+    glBindTextureUnit(material_texture_unit(2), t[2] ? t[2] : flat_normal_.id());
+    if (emissive_texture_) glBindTextureUnit(material_texture_unit(3), t[3] ? t[3] : white_.id());
     if (specular_texture_) {
-        glBindTextureUnit(kSpecularTextureUnit, t[4] ? t[4] : white_.id());
-        glBindTextureUnit(kSpecularColorTextureUnit, t[5] ? t[5] : white_.id());
+        glBindTextureUnit(material_texture_unit(4), t[4] ? t[4] : white_.id());
+        glBindTextureUnit(material_texture_unit(5), t[5] ? t[5] : white_.id());
     }
 }
 

@@ -8,6 +8,8 @@
 #include <array>
 #include <deque>
 #include <map>
+#include <string>
+#include <utility>
 #include <tuple>
 #include <memory>
 #include <vector>
@@ -86,12 +88,20 @@ public:
     // The same triangles (bind_ray_tracing's BVH order) in an Embree scene, for tracing the
     // reference's rays on the CPU (built on first use; needs bind_ray_tracing first).
     const EmbreeTracer& embree_tracer();
-    // Binds the material's textures to units 0..2 (a white / flat texture when absent) and,
-    // where the scene has an emissive texture, its emissive texture to unit kEmissiveTextureUnit.
+    // Binds the material's textures to their units (material_texture_units; a white / flat
+    // texture when absent): base colour, metallic-roughness and normal map always, the emissive
+    // texture where the scene has one, the KHR_materials_specular pair where it has those.
     void bind_material_textures(int material) const;
-    static constexpr GLuint kEmissiveTextureUnit = 4;  // shaders/passes/depth_peel.frag
-    // Where the scene has a KHR_materials_specular texture, units 5 and 6 hold them.
-    static constexpr GLuint kSpecularTextureUnit = 5, kSpecularColorTextureUnit = 6;
+    // The material textures' names and texture units, written once here: a shader that samples
+    // them declares them by name (TEXTURE_MATERIAL_BASE_COLOR, ...; passes/compute.h, NamedUnits's
+    // placed_textures), e.g. shaders/passes/depth_peel.frag.
+    static const std::vector<std::pair<std::string, GLuint>>& material_texture_units() {
+        static const std::vector<std::pair<std::string, GLuint>> units = {
+            {"material.base_color", 0}, {"material.metallic_roughness", 1}, {"material.normal_map", 2},
+            {"material.emissive", 4},   {"material.specular", 5},           {"material.specular_color", 6}};
+        return units;
+    }
+    static GLuint material_texture_unit(size_t i) { return material_texture_units()[i].second; }
     // Whether some object's material has a specular texture (FrameFacts::specular_texture).
     bool has_specular_texture() const { return specular_texture_; }
     // Whether some object's material has an emissive texture (FrameFacts::emission_texture).

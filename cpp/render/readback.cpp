@@ -163,16 +163,19 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     const bool staged = readback_staged();
     Defines d;
     d["READ_ARRAY"] = tex.target() == GL_TEXTURE_2D_ARRAY ? "1" : "0";
+    // The texture read, by name (TEXTURE_SOURCE), at the unit its sampler object is bound to.
+    constexpr GLuint kSourceUnit = 0;
+    d["TEXTURE_SOURCE"] = std::to_string(kSourceUnit);
     const GLuint prog = shaders_->program({"passes/readback.comp"}, d);
     glUseProgram(prog);
     glUniform1i(glGetUniformLocation(prog, "u_level"), level);
     glUniform2i(glGetUniformLocation(prog, "u_size"), out.width, out.height);
-    glBindTextureUnit(0, tex.id());
-    glBindSampler(0, readback_sampler_);
+    glBindTextureUnit(kSourceUnit, tex.id());
+    glBindSampler(kSourceUnit, readback_sampler_);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kTexelsBinding, readback_ssbo_.id());
     glDispatchCompute(GLuint((out.width + 7) / 8), GLuint((out.height + 7) / 8), GLuint(out.layers));
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glBindSampler(0, 0);
+    glBindSampler(kSourceUnit, 0);
     out.data.resize(bytes / sizeof(float));
     if (staged) {
         // A GPU's glGetBufferSubData goes through the driver's own staging copy into pageable

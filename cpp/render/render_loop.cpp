@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "passes/composite.h"
+#include "passes/compute.h"
 #include "render/ssr_uniforms.h"
 
 namespace ssr {
@@ -91,7 +92,7 @@ std::shared_ptr<Frame> Renderer::render(const Scene& scene, const Camera& camera
     if (!ssr_ubo_) ssr_ubo_ = Buffer::create(sizeof(SsrUniforms));
     ssr_ubo_.upload(&su, sizeof(su));
     glBindBufferBase(GL_UNIFORM_BUFFER, kSsrSettingsBinding, ssr_ubo_.id());
-    if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
+    if (gs.environment_map()) glBindTextureUnit(frame_texture_unit("environment_map"), gs.environment_map());
     bind_specular_albedo();
     gs.bind_geometry();  // the scene's objects and materials, for every pass that reads them
 
@@ -281,7 +282,7 @@ std::map<std::string, double> Renderer::reference(const Scene& scene, Frame& fra
     if (!ssr_ubo_) ssr_ubo_ = Buffer::create(sizeof(SsrUniforms));
     ssr_ubo_.upload(&su, sizeof(su));
     glBindBufferBase(GL_UNIFORM_BUFFER, kSsrSettingsBinding, ssr_ubo_.id());
-    if (gs.environment_map()) glBindTextureUnit(15, gs.environment_map());
+    if (gs.environment_map()) glBindTextureUnit(frame_texture_unit("environment_map"), gs.environment_map());
     bind_specular_albedo();
 
     if (shadows && !traced_shadows) {

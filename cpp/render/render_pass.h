@@ -219,7 +219,7 @@ struct FrameContext {
     FrameFacts facts{};
     int layers_in_use() const { return layers_used >= 0 ? std::min(layers_used, settings.layers) : settings.layers; }
     // The passes read their float inputs as read-only images (FETCH_BY_IMAGE, the CPU
-    // device; lib/input_fetch.glsl), bound by bind_input_images (passes/compute.h).
+    // device; lib/input_fetch.glsl), bound by name (NamedUnits::fetch, passes/compute.h).
     bool fetch_by_image() const {
         const auto it = defines.find("FETCH_BY_IMAGE");
         return it != defines.end() && it->second == "1";

@@ -12,6 +12,7 @@
 #include <set>
 
 #include "core/errors.h"
+#include "passes/compute.h"
 
 namespace ssr {
 
@@ -287,6 +288,8 @@ Defines Renderer::common_defines(const Scene& scene, const GpuScene& gs, const D
     // llvmpipe runs both sides of a branch, so a run-time choice paid for every kind.
     defines["ENVIRONMENT_TYPE"] = std::to_string(int(scene.environment.type));
     defines["FETCH_BY_IMAGE"] = fetch_by_image_ ? "1" : "0";
+    // The units bound for the whole frame, by name (TEXTURE_ENVIRONMENT_MAP, ...; passes/compute.h).
+    for (const auto& u : frame_texture_units()) defines[NamedUnits::define("TEXTURE_", u.first)] = std::to_string(u.second);
     // The scene's light count compiled into every pass (up to 8; lib/lights.glsl), whose
     // shading then reads every light once before any control flow: llvmpipe loads a storage-buffer
     // value inside a loop one lane and one component at a time. Beyond 8 the loop reads the buffer.

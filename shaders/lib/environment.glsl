@@ -8,8 +8,8 @@
 #endif
 
 #if ENVIRONMENT_MAP
-// Texture unit 15 is kept for the environment map in every pass.
-layout(binding = 15) uniform sampler2D u_environment_map;  // equirectangular, u = longitude, v = 0 at the zenith
+// The environment map's unit is kept for it in every pass (frame_texture_units, passes/compute.h).
+layout(binding = TEXTURE_ENVIRONMENT_MAP) uniform sampler2D u_environment_map;  // equirectangular, u = longitude, v = 0 at the zenith
 #endif
 
 // The scene's type compiled in (0 constant, 1 sky, 2 map; the renderer defines it for every

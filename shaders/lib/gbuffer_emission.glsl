@@ -4,14 +4,15 @@
 // own pixel). Without an emissive texture in the scene the factor is found through the object id
 // the G-buffer already stores, so the layers need no extra channel; with one (EMISSION_TEXTURE 1,
 // FrameFacts::emission_texture) the peeling's shading pass sampled it where the texture
-// coordinates are and wrote gbuffer.emission, which the including pass binds to unit 11 (DepthPeelPass::kEmissionUnit).
+// coordinates are and wrote gbuffer.emission, which the including pass binds by name
+// (TEXTURE_GBUFFER_EMISSION).
 // Needs scene_data.glsl, gbuffer.glsl.
 #ifndef EMISSION_TEXTURE
 #define EMISSION_TEXTURE 0
 #endif
 
 #if EMISSION_TEXTURE
-layout(binding = 11) uniform sampler2DArray u_emission;  // gbuffer.emission
+layout(binding = TEXTURE_GBUFFER_EMISSION) uniform sampler2DArray u_emission;  // gbuffer.emission, by the includer's name
 
 vec3 gbuffer_emission(ivec3 p, GSample g) {
     return g.covered ? texelFetch(u_emission, p, 0).rgb : vec3(0.0);

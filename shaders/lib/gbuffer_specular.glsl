@@ -4,14 +4,15 @@
 // is the material's factor value, found through the object id the G-buffer already stores, so the
 // layers need no extra channel; with one (SPECULAR_TEXTURE 1, FrameFacts::specular_texture) the
 // peeling's shading pass sampled the textures where the texture coordinates are and wrote every
-// surface's F0 to gbuffer.specular, which the including pass binds to unit 16.
+// surface's F0 to gbuffer.specular, which the including pass binds by name
+// (TEXTURE_GBUFFER_SPECULAR).
 // Needs scene_data.glsl, gbuffer.glsl.
 #ifndef SPECULAR_TEXTURE
 #define SPECULAR_TEXTURE 0
 #endif
 
 #if SPECULAR_TEXTURE
-layout(binding = 16) uniform sampler2DArray u_gbuffer_specular;  // gbuffer.specular (DepthPeelPass::kSpecularUnit)
+layout(binding = TEXTURE_GBUFFER_SPECULAR) uniform sampler2DArray u_gbuffer_specular;  // gbuffer.specular, by the includer's name
 
 vec3 gbuffer_dielectric_f0(ivec3 p, GSample g) {
     return g.covered ? texelFetch(u_gbuffer_specular, p, 0).rgb : vec3(0.04);

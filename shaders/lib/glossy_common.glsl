@@ -45,7 +45,7 @@ vec3 glossy_environment_lobe(vec3 n, vec3 v, float roughness, vec3 mirror_dir) {
 }
 
 // What the pixel's unresolved mirror ray brings for the lobe: with SPECULAR_OCCLUSION, the
-// specular_occlusion pass's estimate (rays.radiance at texture unit 12, a = -1; the environment
+// specular_occlusion pass's estimate (rays.radiance at TEXTURE_RAYS_RADIANCE, a = -1; the environment
 // weighted by the share of the lobe the scene leaves open), else the lobe's environment.
 #if defined(SPECULAR_OCCLUSION) && SPECULAR_OCCLUSION
 layout(binding = TEXTURE_RAYS_RADIANCE) uniform sampler2DArray u_ray_radiance;

@@ -39,13 +39,13 @@
 #include "../lib/input_fetch.glsl"
 
 
-// Texture units 0-4; with FETCH_BY_IMAGE the float inputs are image units 3-5 (trace_pass.cpp).
-INPUT_ARRAY(u_linear_depth, 0, 3, r32f);
-layout(binding = 1) uniform sampler2DArray u_albedo;
-INPUT_ARRAY(u_normal, 2, 4, rgba16f);
-layout(binding = 3) uniform sampler2DArray u_material;
+// By name (trace_pass.cpp, trace_hiz.h); with FETCH_BY_IMAGE the float inputs are images.
+INPUT_ARRAY(u_linear_depth, TEXTURE_LINEAR_DEPTH, IMAGE_LINEAR_DEPTH, r32f);
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+INPUT_ARRAY(u_normal, TEXTURE_GBUFFER_NORMAL, IMAGE_GBUFFER_NORMAL, rgba16f);
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 // RG32F (min s, slab back s) per layer, every level in one image (lib/hiz_atlas.glsl): lod 0
-INPUT_ARRAY(u_hiz_trace, 4, 5, rg32f);
+INPUT_ARRAY(u_hiz_trace, TEXTURE_HIZ_TRACE, IMAGE_HIZ_TRACE, rg32f);
 
 // The layers that hold a surface somewhere (frame.stats["layers_used"] with
 // Settings.skip, else Settings.layers), set by trace_pass.cpp: the walk never fetches a layer

@@ -10,9 +10,10 @@
 // the path measured there. 8-bit formats (sRGB albedo, material) stay samplers: inline already,
 // and an image would not decode sRGB.
 // Declare an input with one of the INPUT_* macros (name, texture unit, image unit, format
-// qualifier of the texture's format) and read it with FETCH(name, texel); the pass binds the
-// texture to the texture unit (texelFetch) or the image unit (imageLoad: passes/compute.h,
-// bind_input_images), and both read level 0.
+// qualifier of the texture's format), the units by name, and read it with FETCH(name, texel):
+//     INPUT_ARRAY(u_normal, TEXTURE_GBUFFER_NORMAL, IMAGE_GBUFFER_NORMAL, rgba16f);
+// The pass binds the texture to the texture unit (texelFetch) or the image unit (imageLoad:
+// passes/compute.h, NamedUnits::fetch), and both read level 0.
 
 #ifndef FETCH_BY_IMAGE
 #define FETCH_BY_IMAGE 0

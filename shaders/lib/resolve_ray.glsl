@@ -6,25 +6,25 @@
 // Declares the inputs both bind alike (passes/resolve.cpp, bind_ray_inputs); needs
 // frame_uniforms, depth_convention, ssr_settings, gbuffer, environment and input_fetch.
 
-// Texture units 0-7; with FETCH_BY_IMAGE the float inputs are image units 1-7 (rays.radiance: 7).
-INPUT_ARRAY(u_hit, 0, 1, rgba32f);
-INPUT_ARRAY(u_sample, 1, 2, rgba32f);
-INPUT_ARRAY(u_direction, 2, 3, rgba32f);
-INPUT_ARRAY(u_lit, 3, 4, rgba16f);
-INPUT_ARRAY(u_linear_depth, 4, 5, r32f);
-layout(binding = 5) uniform sampler2DArray u_albedo;
-INPUT_ARRAY(u_normal, 6, 6, rgba16f);
-layout(binding = 7) uniform sampler2DArray u_material;
+// By the names ResolvePass::ray_units gives; with FETCH_BY_IMAGE the float inputs are images.
+INPUT_ARRAY(u_hit, TEXTURE_RAYS_HIT, IMAGE_RAYS_HIT, rgba32f);
+INPUT_ARRAY(u_sample, TEXTURE_RAYS_SAMPLE, IMAGE_RAYS_SAMPLE, rgba32f);
+INPUT_ARRAY(u_direction, TEXTURE_RAYS_DIRECTION, IMAGE_RAYS_DIRECTION, rgba32f);
+INPUT_ARRAY(u_lit, TEXTURE_LIT, IMAGE_LIT, rgba16f);
+INPUT_ARRAY(u_linear_depth, TEXTURE_LINEAR_DEPTH, IMAGE_LINEAR_DEPTH, r32f);
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+INPUT_ARRAY(u_normal, TEXTURE_GBUFFER_NORMAL, IMAGE_GBUFFER_NORMAL, rgba16f);
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 
 #if (defined(BOUNCES_HISTORY) && BOUNCES_HISTORY) || (defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE)
-layout(binding = 8) uniform sampler2D u_reprojection;  // reproject pass: xy previous pixel, z valid
+layout(binding = TEXTURE_REPROJECTION) uniform sampler2D u_reprojection;  // reproject pass: xy previous pixel, z valid
 #endif
 
 #if defined(BOUNCES_HISTORY) && BOUNCES_HISTORY
 // Multiple bounces over frames (seed 002, 4.6.4): a ray that hits layer 0 brings the previous
 // frame's final colour at the hit's reprojected position, which already holds that surface's
 // own reflection, instead of this frame's lit colour; each frame adds one bounce.
-layout(binding = 9) uniform sampler2D u_previous_color;
+layout(binding = TEXTURE_PREVIOUS_COLOR) uniform sampler2D u_previous_color;
 uniform int u_has_history;
 
 vec3 previous_final(ivec2 hp, vec3 lit) {
@@ -46,7 +46,7 @@ vec3 previous_final(ivec2 hp, vec3 lit) {
 // Rays the BVH traced (trace_bvh.comp) bring its radiance (rgb) and hit distance
 // (a >= 0; -1: the BVH found nothing; -2: not traced by the BVH). It stands where the
 // environment stood: a screen-space miss brings it, a faded hit fades toward it.
-INPUT_ARRAY(u_ray_radiance, 16, 7, rgba32f);
+INPUT_ARRAY(u_ray_radiance, TEXTURE_RAYS_RADIANCE, IMAGE_RAYS_RADIANCE, rgba32f);
 #endif
 
 GSample gsample(ivec2 p) {

@@ -5,11 +5,12 @@
 // (LightData.shadow, passes/shadow_map.h); a light without one is unshadowed.
 // Needs frame_uniforms.glsl, lights.glsl; the including shader defines SHADOWS (0 or 1) and,
 // with SHADOWS, SHADOW_MAPS and SHADOW_CUBES (0 or 1: the frame has layers, cubes;
-// ShadowMapPass::add_defines), and binds the maps to units 4 and 14 (ShadowMapPass::bind).
+// ShadowMapPass::add_defines), and binds the maps by name (TEXTURE_SHADOW_MAP, TEXTURE_SHADOW_CUBES:
+// ShadowMapPass::reads).
 
 #if SHADOWS
 #if SHADOW_MAPS
-layout(binding = 4) uniform sampler2DArrayShadow u_shadow_map;
+layout(binding = TEXTURE_SHADOW_MAP) uniform sampler2DArrayShadow u_shadow_map;
 
 // The (2r+1)^2 taps of a PCF of radius r, each a 2x2 bilinearly filtered compare (hardware PCF),
 // weight the (2r+2)^2 texels around the point separably: per axis 1-f, 1, ..., 1, f, with f the
@@ -47,7 +48,7 @@ float shadow_map_visibility(LightData light, vec3 p_view, vec3 n_view) {
 #endif
 
 #if SHADOW_CUBES
-layout(binding = 14) uniform samplerCubeArrayShadow u_shadow_cubes;
+layout(binding = TEXTURE_SHADOW_CUBES) uniform samplerCubeArrayShadow u_shadow_cubes;
 
 // A point light's cube: the vector d from the light to the point (world axes) picks the face
 // and the texel, and the point's depth in that face is the face's perspective depth of its

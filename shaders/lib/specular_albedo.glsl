@@ -6,9 +6,9 @@
 // of (A, B) is integrated once per renderer by tools/specular_albedo.comp with the very
 // sampler the tracers use, over n.v in [0, 1] (columns) and perceptual roughness in [0, 1]
 // (rows), cell centres at the range ends so that both ends are exact.
-// The including shader binds the table: layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D.
+// The including shader declares the table at the frame-wide unit the renderer names:
+// layout(binding = TEXTURE_SPECULAR_ALBEDO) uniform sampler2D.
 
-const int SPECULAR_ALBEDO_UNIT = 13;
 const int SPECULAR_ALBEDO_SIZE = 32;
 
 // Texture coordinates of (n.v, roughness) in the table (bilinear filtering between cells).

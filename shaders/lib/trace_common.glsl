@@ -10,9 +10,9 @@
 // pixels it does not list, so skip on and off write the same textures.
 // The including pass binds the G-buffer samplers named below.
 
-layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;
-layout(binding = 1, rgba32f) writeonly uniform image2DArray o_sample;
-layout(binding = 2, rgba32f) writeonly uniform image2DArray o_direction;
+layout(binding = IMAGE_RAYS_HIT, rgba32f) writeonly uniform image2DArray o_hit;
+layout(binding = IMAGE_RAYS_SAMPLE, rgba32f) writeonly uniform image2DArray o_sample;
+layout(binding = IMAGE_RAYS_DIRECTION, rgba32f) writeonly uniform image2DArray o_direction;
 
 // The full-resolution pixel whose surface a trace pixel's rays start from: the centre
 // pixel of its downscale x downscale block (thesis 2.6).

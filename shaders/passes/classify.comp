@@ -35,7 +35,7 @@
 #include "../lib/environment.glsl"
 #include "../lib/non_receiver.glsl"
 #include "../lib/resolve_list.glsl"
-layout(binding = 3, rgba16f) writeonly uniform image2D o_reflection;
+layout(binding = IMAGE_REFLECTION, rgba16f) writeonly uniform image2D o_reflection;
 #endif
 
 // The groups run over the 32x32 regions where the peeling drew a reflective surface
@@ -56,10 +56,10 @@ layout(binding = 3, rgba16f) writeonly uniform image2D o_reflection;
 #endif
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
-layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
-layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 
 uniform int u_rays;  // rays per trace pixel (the ray textures' layers)
 

@@ -8,9 +8,9 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #if IMAGE_ARRAY
-layout(binding = 0, IMAGE_FORMAT) writeonly uniform image2DArray o_image;
+layout(binding = IMAGE_TARGET, IMAGE_FORMAT) writeonly uniform image2DArray o_image;
 #else
-layout(binding = 0, IMAGE_FORMAT) writeonly uniform image2D o_image;
+layout(binding = IMAGE_TARGET, IMAGE_FORMAT) writeonly uniform image2D o_image;
 #endif
 uniform vec4 u_value;
 uniform ivec2 u_size;

@@ -32,25 +32,25 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// Texture units 0-5; with FETCH_BY_IMAGE the float inputs are image units 1-4 (passes/composite.cpp,
-// which gives the formats that depend on the chain).
+// By name ("direct", "reflection", "output": passes/composite.cpp); with FETCH_BY_IMAGE the float
+// inputs are images (composite.cpp gives the formats that depend on the chain).
 #ifndef DIRECT_FORMAT
 #define DIRECT_FORMAT rgba16f
 #endif
 #ifndef REFLECTION_FORMAT
 #define REFLECTION_FORMAT rgba16f
 #endif
-INPUT_ARRAY(u_lit, 0, 1, DIRECT_FORMAT);
-layout(binding = 1) uniform sampler2DArray u_material;
+INPUT_ARRAY(u_lit, TEXTURE_DIRECT, IMAGE_DIRECT, DIRECT_FORMAT);
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 #if REFLECTIONS
-INPUT_2D(u_reflection, 2, 2, REFLECTION_FORMAT);
-layout(binding = 3) uniform sampler2DArray u_albedo;
-INPUT_ARRAY(u_normal, 4, 3, rgba16f);
-INPUT_ARRAY(u_linear_depth, 5, 4, r32f);
-layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;
+INPUT_2D(u_reflection, TEXTURE_REFLECTION, IMAGE_REFLECTION, REFLECTION_FORMAT);
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+INPUT_ARRAY(u_normal, TEXTURE_GBUFFER_NORMAL, IMAGE_GBUFFER_NORMAL, rgba16f);
+INPUT_ARRAY(u_linear_depth, TEXTURE_LINEAR_DEPTH, IMAGE_LINEAR_DEPTH, r32f);
+layout(binding = TEXTURE_SPECULAR_ALBEDO) uniform sampler2D u_specular_albedo;
 #endif
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_color;
+layout(binding = IMAGE_OUTPUT, rgba32f) writeonly uniform image2D o_color;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

@@ -59,10 +59,10 @@
 #if PEEL_DEPTH_ONLY
 #include "../lib/layer_separation.glsl"
 
-layout(binding = 3) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
+layout(binding = TEXTURE_DEPTH_PEEL_PREVIOUS_DEPTH) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
 
 #if PEEL_ALPHA_TEST
-layout(binding = 0) uniform sampler2D u_base_color_texture;  // sRGB; alpha is linear
+layout(binding = TEXTURE_MATERIAL_BASE_COLOR) uniform sampler2D u_base_color_texture;  // sRGB; alpha is linear
 uniform int u_object;
 in VertexOut {
     vec3 view_position;
@@ -102,18 +102,18 @@ layout(early_fragment_tests) in;
 #include "../lib/specular_albedo.glsl"
 #include "../lib/covered_tiles.glsl"
 
-layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
-layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
-layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent space
+layout(binding = TEXTURE_MATERIAL_BASE_COLOR) uniform sampler2D u_base_color_texture;          // sRGB
+layout(binding = TEXTURE_MATERIAL_METALLIC_ROUGHNESS) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
+layout(binding = TEXTURE_MATERIAL_NORMAL_MAP) uniform sampler2D u_normal_texture;              // tangent space
 #if EMISSION_TEXTURE && MATERIAL_TEXTURES
-// (declared only where bound: unit 4 may hold the last frame's shadow map, a comparison sampler)
-layout(binding = 4) uniform sampler2D u_emissive_texture;  // sRGB (GpuScene::kEmissiveTextureUnit)
+// (declared only where bound: its unit may hold another pass's shadow map, a comparison sampler)
+layout(binding = TEXTURE_MATERIAL_EMISSIVE) uniform sampler2D u_emissive_texture;  // sRGB
 #endif
 #if SPECULAR_TEXTURE && MATERIAL_TEXTURES
-layout(binding = 5) uniform sampler2D u_specular_texture;        // A (GpuScene::kSpecularTextureUnit)
-layout(binding = 6) uniform sampler2D u_specular_color_texture;  // sRGB (kSpecularColorTextureUnit)
+layout(binding = TEXTURE_MATERIAL_SPECULAR) uniform sampler2D u_specular_texture;        // A
+layout(binding = TEXTURE_MATERIAL_SPECULAR_COLOR) uniform sampler2D u_specular_color_texture;  // sRGB
 #endif
-layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
+layout(binding = TEXTURE_SPECULAR_ALBEDO) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
 
 uniform int u_object;
 uniform int u_layer;

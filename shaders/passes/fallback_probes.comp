@@ -22,10 +22,10 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
-layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
-layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 layout(std430, binding = BUFFER_PROBE_CENTRES) readonly buffer ProbeCentres { vec4 probe_centre[]; };  // world space
 layout(location = 0) uniform int u_probe_size;  // face texels
 
@@ -47,7 +47,7 @@ vec3 cube_direction(int face, vec2 st) {
 #include "../lib/scene_textures.glsl"
 #include "../lib/ray_offset.glsl"
 #include "../lib/trace_shade.glsl"
-layout(binding = 0, rgba16f) writeonly uniform imageCubeArray o_probes;
+layout(binding = IMAGE_PROBES, rgba16f) writeonly uniform imageCubeArray o_probes;
 
 void main() {
     lights_load();  // before any control flow (lib/lights.glsl)
@@ -61,11 +61,11 @@ void main() {
 
 #else
 #include "../lib/cone_angle.glsl"
-layout(binding = 5) uniform samplerCubeArray u_probes;
-layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
-layout(binding = 7) uniform sampler2DArray u_ray_direction;  // rays.direction
-layout(binding = 4, rgba32f) readonly uniform image2DArray io_ray_hit;  // rays.hit of the screen-space tracer
-layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+layout(binding = TEXTURE_PROBES) uniform samplerCubeArray u_probes;
+layout(binding = TEXTURE_RAYS_SAMPLE) uniform sampler2DArray u_ray_sample;     // rays.sample
+layout(binding = TEXTURE_RAYS_DIRECTION) uniform sampler2DArray u_ray_direction;  // rays.direction
+layout(binding = IMAGE_RAYS_HIT, rgba32f) readonly uniform image2DArray io_ray_hit;  // rays.hit of the screen-space tracer
+layout(binding = IMAGE_RAYS_RADIANCE, rgba32f) writeonly uniform image2DArray o_radiance;
 layout(location = 1) uniform int u_probe_count;
 layout(location = 2) uniform vec3 u_box_min;  // the proxy box: the scene bounds (world space)
 layout(location = 3) uniform vec3 u_box_max;

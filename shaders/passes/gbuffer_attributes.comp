@@ -80,11 +80,11 @@
 // (the CPU device, lib/input_fetch.glsl) through image buffers of the same data, which llvmpipe
 // reads inline, where a storage-buffer read at a per-invocation address is a loop over the lanes.
 #if FETCH_BY_IMAGE
-layout(binding = 5, rg32f) readonly uniform imageBuffer u_vertex_data;     // GpuVertex floats, in pairs
-layout(binding = 6, r32ui) readonly uniform uimageBuffer u_index_data;
-layout(binding = 7, rgba32f) readonly uniform imageBuffer u_object_data;   // GpuObject, 9 texels
-layout(binding = 8, rgba32f) readonly uniform imageBuffer u_material_data; // GpuMaterial, 22 texels
-layout(binding = 9, r32ui) readonly uniform uimage2DArray u_visibility;    // gbuffer.visibility
+layout(binding = IMAGE_SCENE_VERTEX_DATA, rg32f) readonly uniform imageBuffer u_vertex_data;     // GpuVertex floats, in pairs
+layout(binding = IMAGE_SCENE_INDEX_DATA, r32ui) readonly uniform uimageBuffer u_index_data;
+layout(binding = IMAGE_SCENE_OBJECT_DATA, rgba32f) readonly uniform imageBuffer u_object_data;   // GpuObject, 9 texels
+layout(binding = IMAGE_SCENE_MATERIAL_DATA, rgba32f) readonly uniform imageBuffer u_material_data; // GpuMaterial, 22 texels
+layout(binding = IMAGE_GBUFFER_VISIBILITY, r32ui) readonly uniform uimage2DArray u_visibility;    // gbuffer.visibility
 #define VISIBILITY_VERTEX2(i) imageLoad(u_vertex_data, int(i) / 2).rg
 #define VISIBILITY_INDEX(i) imageLoad(u_index_data, int(i)).r
 ObjectData load_object(int i) {
@@ -116,12 +116,12 @@ MaterialData load_material(int i) {
 uint sample_id(ivec3 t) { return imageLoad(u_visibility, t).r; }
 ivec4 load_object_entry(int i) { return floatBitsToInt(imageLoad(u_object_data, 9 * i + 8)); }
 // The triangles' records: written by stage 4, read by stages 0 and 3.
-layout(binding = 14, rgba32f) uniform imageBuffer u_records;
+layout(binding = IMAGE_ATTRIBUTES_RECORDS, rgba32f) uniform imageBuffer u_records;
 #define VISIBILITY_RECORD(i) imageLoad(u_records, int(i))
 void store_record(int i, vec4 r) { imageStore(u_records, i, r); }
 #else
 #include "../lib/scene_geometry.glsl"
-layout(binding = 8) uniform usampler2DArray u_visibility;  // gbuffer.visibility
+layout(binding = TEXTURE_GBUFFER_VISIBILITY) uniform usampler2DArray u_visibility;  // gbuffer.visibility
 #define VISIBILITY_VERTEX2(i) vec2(vertex_data[i], vertex_data[(i) + 1u])
 #define VISIBILITY_INDEX(i) index_data[i]
 ObjectData load_object(int i) { return objects[i]; }
@@ -163,16 +163,17 @@ uniform int u_materials;  // the scene's materials: bin u_materials holds the un
 // (passes/gbuffer_attributes.cpp), since llvmpipe runs every storage-buffer access as a loop over
 // the lanes, even where all invocations read one address.
 #if FETCH_BY_IMAGE && (ATTRIBUTES_STAGE == 0 || ATTRIBUTES_STAGE == 3)
-layout(binding = 11, r32ui) uniform uimageBuffer u_bin_words;  // AttributeBins, a uint a texel
+layout(binding = IMAGE_ATTRIBUTES_BINS, r32ui) uniform uimageBuffer u_bin_words;  // AttributeBins, a uint a texel
 #if LISTED_SAMPLES
 // The samples the selection listed (lib/visibility_samples.glsl, "visibility_lists" on the CPU
-// device): its header at unit 11 (the count in word 3), its list of (sample, id) at unit 12,
+// device): its header at IMAGE_ATTRIBUTES_BINS (the count in word 3), its list of (sample, id)
+// at IMAGE_ATTRIBUTES_LISTED,
 // shaded as one bin.
-layout(binding = 12, rg32ui) readonly uniform uimageBuffer u_listed;
+layout(binding = IMAGE_ATTRIBUTES_LISTED, rg32ui) readonly uniform uimageBuffer u_listed;
 uint bin_samples(int b) { return imageLoad(u_bin_words, 3).r; }
 uint bin_first(int b) { return 0u; }
 #else
-layout(binding = 12, r32ui) uniform uimageBuffer u_sorted;  // SortedSamples
+layout(binding = IMAGE_ATTRIBUTES_SORTED, r32ui) uniform uimageBuffer u_sorted;  // SortedSamples
 // Word k of bin b's MaterialBin, after the header's scatter_dispatch and layer_samples (20 words).
 int bin_word(int b, int k) { return 20 + 8 * b + k; }
 uint bin_samples(int b) { return imageLoad(u_bin_words, bin_word(b, 3)).r; }
@@ -191,7 +192,7 @@ void sort_sample(uint slot, uint s) { sorted[slot] = s; }
 
 
 #if ATTRIBUTES_STAGE != 1
-layout(binding = 7) uniform sampler2DArray u_depth;  // gbuffer.depth
+layout(binding = TEXTURE_GBUFFER_DEPTH) uniform sampler2DArray u_depth;  // gbuffer.depth
 
 // Whether material m has a texture slot (GpuScene::kTextureFeatures): its samples are shaded by
 // its own dispatch.
@@ -211,7 +212,7 @@ int sample_bin(int m) { return material_textured(load_material(m)) ? m : u_mater
 #if FETCH_BY_IMAGE
 // The covered tiles' buffer as a uint a texel, after its 4-word header (lib/covered_tiles.glsl):
 // the reflective regions are flagged per sample and listed per region.
-layout(binding = 15, r32ui) coherent uniform uimageBuffer u_covered_tiles;
+layout(binding = IMAGE_COVERED_TILES, r32ui) coherent uniform uimageBuffer u_covered_tiles;
 #define COVERED_TILE_LOAD(i) imageLoad(u_covered_tiles, 4 + int(i)).r
 #define COVERED_TILE_EXCHANGE(i, v) imageAtomicExchange(u_covered_tiles, 4 + int(i), v)
 #define COVERED_TILE_ADD(i, v) imageAtomicAdd(u_covered_tiles, 4 + int(i), v)
@@ -227,18 +228,18 @@ layout(binding = 15, r32ui) coherent uniform uimageBuffer u_covered_tiles;
 #include "../lib/specular_albedo.glsl"
 
 #if MATERIAL_TEXTURES
-layout(binding = 0) uniform sampler2D u_base_color_texture;          // sRGB
-layout(binding = 1) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
-layout(binding = 2) uniform sampler2D u_normal_texture;              // tangent space
+layout(binding = TEXTURE_MATERIAL_BASE_COLOR) uniform sampler2D u_base_color_texture;          // sRGB
+layout(binding = TEXTURE_MATERIAL_METALLIC_ROUGHNESS) uniform sampler2D u_metallic_roughness_texture;  // G roughness, B metallic
+layout(binding = TEXTURE_MATERIAL_NORMAL_MAP) uniform sampler2D u_normal_texture;              // tangent space
 #if EMISSION_TEXTURE
-layout(binding = 4) uniform sampler2D u_emissive_texture;  // sRGB (GpuScene::kEmissiveTextureUnit)
+layout(binding = TEXTURE_MATERIAL_EMISSIVE) uniform sampler2D u_emissive_texture;  // sRGB
 #endif
 #if SPECULAR_TEXTURE
-layout(binding = 5) uniform sampler2D u_specular_texture;        // A (GpuScene::kSpecularTextureUnit)
-layout(binding = 6) uniform sampler2D u_specular_color_texture;  // sRGB (kSpecularColorTextureUnit)
+layout(binding = TEXTURE_MATERIAL_SPECULAR) uniform sampler2D u_specular_texture;        // A
+layout(binding = TEXTURE_MATERIAL_SPECULAR_COLOR) uniform sampler2D u_specular_color_texture;  // sRGB
 #endif
 #endif
-layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
+layout(binding = TEXTURE_SPECULAR_ALBEDO) uniform sampler2D u_specular_albedo;  // (A, B) split-sum table
 #include "../lib/gbuffer_shading.glsl"
 
 // gbuffer.albedo is sRGB storage, which no image format names: it is bound through an RGBA8 view
@@ -246,16 +247,16 @@ layout(binding = SPECULAR_ALBEDO_UNIT) uniform sampler2D u_specular_albedo;  // 
 #if MOTION_VECTORS
 #include "../lib/motion.glsl"
 // gbuffer.motion (Settings.motion_vectors): after the scene's images where they are bound.
-layout(binding = FETCH_BY_IMAGE != 0 ? 10 : 5, rg32f) writeonly uniform image2DArray o_motion;
+layout(binding = IMAGE_GBUFFER_MOTION, rg32f) writeonly uniform image2DArray o_motion;
 #endif
-layout(binding = 0, rgba8) writeonly uniform image2DArray o_albedo_metallic;
-layout(binding = 1, rgba16f) writeonly uniform image2DArray o_normal_roughness;
-layout(binding = 2, rgba8) writeonly uniform image2DArray o_material;
+layout(binding = IMAGE_GBUFFER_ALBEDO, rgba8) writeonly uniform image2DArray o_albedo_metallic;
+layout(binding = IMAGE_GBUFFER_NORMAL, rgba16f) writeonly uniform image2DArray o_normal_roughness;
+layout(binding = IMAGE_GBUFFER_MATERIAL, rgba8) writeonly uniform image2DArray o_material;
 #if EMISSION_TEXTURE
-layout(binding = 3, rgba16f) writeonly uniform image2DArray o_emission;
+layout(binding = IMAGE_GBUFFER_EMISSION, rgba16f) writeonly uniform image2DArray o_emission;
 #endif
 #if SPECULAR_TEXTURE
-layout(binding = 4, rgba16f) writeonly uniform image2DArray o_specular;
+layout(binding = IMAGE_GBUFFER_SPECULAR, rgba16f) writeonly uniform image2DArray o_specular;
 #endif
 
 vec3 linear_to_srgb(vec3 c) {
@@ -363,7 +364,7 @@ void shade_sample(ivec3 t, uint id) {
 #if TILE_LIST
 // The covered 8x8 tiles to classify, one a work group: layer << 24 | tile (rows of tiles).
 #if FETCH_BY_IMAGE
-layout(binding = 13, r32ui) readonly uniform uimageBuffer u_tile_list;
+layout(binding = IMAGE_ATTRIBUTES_TILE_LIST, r32ui) readonly uniform uimageBuffer u_tile_list;
 uint tile_entry(uint i) { return imageLoad(u_tile_list, int(i)).r; }
 #else
 layout(std430, binding = BUFFER_TILE_LIST) readonly buffer TileList { uint tile_list[]; };

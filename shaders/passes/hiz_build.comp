@@ -21,9 +21,9 @@
 #endif
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
-layout(binding = 0, rg32f) writeonly uniform image2DArray o_level;
+layout(binding = IMAGE_HIZ_LEVEL, rg32f) writeonly uniform image2DArray o_level;
 #if HIZ_TRACE_ATLAS
-layout(binding = 2, rg32f) writeonly uniform image2DArray o_atlas;
+layout(binding = IMAGE_HIZ_TRACE, rg32f) writeonly uniform image2DArray o_atlas;
 #endif
 uniform int u_level;  // the level this dispatch writes
 
@@ -44,14 +44,14 @@ void store_cell(ivec3 c, vec2 mm) {
 }
 
 #if HIZ_LEVEL0
-layout(binding = 0) uniform sampler2DArray u_depth;
-layout(binding = 1) uniform sampler2DArray u_material;  // g: coverage
+layout(binding = TEXTURE_GBUFFER_DEPTH) uniform sampler2DArray u_depth;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;  // g: coverage
 
 #if HIZ_SIGHT
 #include "../lib/input_fetch.glsl"
-// View depths (lighting.comp: exactly the far plane where a layer is empty); texture unit 2, or
-// image unit 3 by imageLoad (passes/hiz_build.cpp).
-INPUT_ARRAY(u_linear_depth, 2, 3, r32f);
+// View depths (lighting.comp: exactly the far plane where a layer is empty); by texelFetch, or by
+// imageLoad (passes/hiz_build.cpp).
+INPUT_ARRAY(u_linear_depth, TEXTURE_LINEAR_DEPTH, IMAGE_LINEAR_DEPTH, r32f);
 
 // The 4 neighbour directions; the opposite of direction i is i ^ 1.
 const ivec2 AROUND[4] = ivec2[4](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
@@ -120,7 +120,7 @@ void main() {
 #endif
 }
 #else
-layout(binding = 1, rg32f) readonly uniform image2DArray u_finer;
+layout(binding = IMAGE_HIZ_FINER, rg32f) readonly uniform image2DArray u_finer;
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);

@@ -21,13 +21,13 @@
 
 uniform int u_tiles;  // layers x tiles per layer: where covered_tile[] holds the list
 
-layout(binding = 0) uniform sampler2DArray u_depth;
-layout(binding = 1) uniform sampler2DArray u_albedo;
-INPUT_ARRAY(u_normal, 2, 2, rgba16f);  // FETCH_BY_IMAGE: image unit 2 (passes/lighting.cpp)
-layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_GBUFFER_DEPTH) uniform sampler2DArray u_depth;
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+INPUT_ARRAY(u_normal, TEXTURE_GBUFFER_NORMAL, IMAGE_GBUFFER_NORMAL, rgba16f);
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 
-layout(binding = 0, rgba16f) writeonly uniform image2DArray o_lit;
-layout(binding = 1, r32f) writeonly uniform image2DArray o_linear_depth;
+layout(binding = IMAGE_LIT, rgba16f) writeonly uniform image2DArray o_lit;
+layout(binding = IMAGE_LINEAR_DEPTH, r32f) writeonly uniform image2DArray o_linear_depth;
 
 #include "../lib/shadow_map.glsl"
 

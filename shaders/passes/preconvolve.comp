@@ -20,11 +20,11 @@
 //    mean is kept exactly, where folding it into the last texel would weight it 1.5x.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0, rgba32f) writeonly uniform image2DArray o_dst;
+layout(binding = IMAGE_PRECONVOLVE_DST, rgba32f) writeonly uniform image2DArray o_dst;
 
 #if LEVEL0
-layout(binding = 0) uniform sampler2DArray u_lit;
-layout(binding = 1) uniform sampler2DArray u_material;  // g: coverage
+layout(binding = TEXTURE_LIT) uniform sampler2DArray u_lit;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;  // g: coverage
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID);
@@ -33,7 +33,7 @@ void main() {
     imageStore(o_dst, p, vec4(texelFetch(u_lit, p, 0).rgb * coverage, coverage));
 }
 #else
-layout(binding = 1, rgba32f) readonly uniform image2DArray u_src;
+layout(binding = IMAGE_PRECONVOLVE_SRC, rgba32f) readonly uniform image2DArray u_src;
 uniform ivec2 u_src_size;  // the region of u_src that holds the input
 uniform ivec2 u_dst_size;  // the region of o_dst written
 

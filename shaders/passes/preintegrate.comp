@@ -19,10 +19,10 @@
 #include "../lib/ssr_settings.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
-layout(binding = 0, r16f) writeonly uniform image2DArray o_level;
+layout(binding = IMAGE_VISIBILITY_LEVEL, r16f) writeonly uniform image2DArray o_level;
 
 #if LEVEL0
-layout(binding = 1) uniform sampler2DArray u_material;  // g: coverage
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;  // g: coverage
 
 void main() {
     ivec3 p = ivec3(gl_GlobalInvocationID);
@@ -30,9 +30,9 @@ void main() {
     imageStore(o_level, p, vec4(texelFetch(u_material, p, 0).g > 0.5 ? 1.0 : 0.0));
 }
 #else
-layout(binding = 1, r16f) readonly uniform image2DArray u_finer;
-layout(binding = 2, rg32f) readonly uniform image2DArray u_hiz_finer;   // (min s, max s)
-layout(binding = 3, rg32f) readonly uniform image2DArray u_hiz_coarse;
+layout(binding = IMAGE_VISIBILITY_FINER, r16f) readonly uniform image2DArray u_finer;
+layout(binding = IMAGE_HIZ_FINER, rg32f) readonly uniform image2DArray u_hiz_finer;   // (min s, max s)
+layout(binding = IMAGE_HIZ_COARSE, rg32f) readonly uniform image2DArray u_hiz_coarse;
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);

@@ -9,9 +9,9 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 #if READ_ARRAY
-layout(binding = 0) uniform sampler2DArray u_source;
+layout(binding = TEXTURE_SOURCE) uniform sampler2DArray u_source;
 #else
-layout(binding = 0) uniform sampler2D u_source;
+layout(binding = TEXTURE_SOURCE) uniform sampler2D u_source;
 #endif
 uniform int u_level;
 uniform ivec2 u_size;

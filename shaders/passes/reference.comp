@@ -39,10 +39,10 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
-layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
-layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 
 #include "../lib/trace_shade.glsl"
 #include "../lib/gbuffer_emission.glsl"
@@ -54,15 +54,15 @@ uniform int u_last;        // 1: the last dispatch (converged: normalise)
 uniform int u_viewer;      // 0: the camera views the reflected surface (as in the lit G-buffer); 1: the ray's origin
 
 #if MODE == 0
-layout(binding = 5) uniform sampler2DArray u_ray_direction;  // rays.direction of the SSR frame
-layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
-layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;       // (x, y) pixels, object + 1, t
-layout(binding = 1, rgba32f) writeonly uniform image2DArray o_position;  // view-space hit, w: 1 if on screen
-layout(binding = 2, rgba32f) writeonly uniform image2DArray o_radiance;  // radiance, w: the ray's weight
+layout(binding = TEXTURE_RAYS_DIRECTION) uniform sampler2DArray u_ray_direction;  // rays.direction of the SSR frame
+layout(binding = TEXTURE_RAYS_SAMPLE) uniform sampler2DArray u_ray_sample;     // rays.sample
+layout(binding = IMAGE_REFERENCE_HIT, rgba32f) writeonly uniform image2DArray o_hit;       // (x, y) pixels, object + 1, t
+layout(binding = IMAGE_REFERENCE_POSITION, rgba32f) writeonly uniform image2DArray o_position;  // view-space hit, w: 1 if on screen
+layout(binding = IMAGE_REFERENCE_RADIANCE, rgba32f) writeonly uniform image2DArray o_radiance;  // radiance, w: the ray's weight
 #else
-layout(binding = 0, rgba32f) uniform image2D o_accum;                    // (sum w c, sum w)
-layout(binding = 1, rgba32f) writeonly uniform image2D o_reflection;
-layout(binding = 2, rgba32f) writeonly uniform image2DArray o_direct;    // the pixel's own direct light
+layout(binding = IMAGE_REFERENCE_ACCUM, rgba32f) uniform image2D o_accum;                    // (sum w c, sum w)
+layout(binding = IMAGE_REFERENCE_REFLECTION, rgba32f) writeonly uniform image2D o_reflection;
+layout(binding = IMAGE_REFERENCE_DIRECT, rgba32f) writeonly uniform image2DArray o_direct;    // the pixel's own direct light
 #endif
 
 GSample pixel_sample(ivec2 p) {

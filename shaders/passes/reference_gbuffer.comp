@@ -11,10 +11,10 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
-layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
-layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 
 layout(std430, binding = BUFFER_DECODED) writeonly buffer Decoded { vec4 decoded[]; };
 

@@ -20,15 +20,15 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
-layout(binding = 1) uniform sampler2DArray u_normal;
-layout(binding = 2) uniform sampler2DArray u_material;
-layout(binding = 3) uniform sampler2DArray u_prev_linear_depth;
-layout(binding = 4) uniform sampler2DArray u_prev_normal;
-layout(binding = 5) uniform sampler2DArray u_prev_material;
-layout(binding = 6) uniform sampler2DArray u_motion;  // gbuffer.motion: previous position - this one
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_PREVIOUS_LINEAR_DEPTH) uniform sampler2DArray u_prev_linear_depth;
+layout(binding = TEXTURE_PREVIOUS_GBUFFER_NORMAL) uniform sampler2DArray u_prev_normal;
+layout(binding = TEXTURE_PREVIOUS_GBUFFER_MATERIAL) uniform sampler2DArray u_prev_material;
+layout(binding = TEXTURE_GBUFFER_MOTION) uniform sampler2DArray u_motion;  // gbuffer.motion: previous position - this one
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_reprojection;
+layout(binding = IMAGE_REPROJECTION, rgba32f) writeonly uniform image2D o_reprojection;
 
 uniform mat4 u_view_to_previous_clip;  // VP_prev * V_curr^-1
 uniform mat4 u_previous_view_to_view;  // V_curr * V_prev^-1 (previous normals into this view)

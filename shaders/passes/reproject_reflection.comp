@@ -49,22 +49,22 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_hit;
-layout(binding = 1) uniform sampler2DArray u_sample;
-layout(binding = 2) uniform sampler2DArray u_direction;
-layout(binding = 3) uniform sampler2DArray u_linear_depth;
-layout(binding = 4) uniform sampler2DArray u_normal;
-layout(binding = 5) uniform sampler2DArray u_material;
-layout(binding = 6) uniform sampler2D u_reprojection;  // the surface's own (reproject pass)
+layout(binding = TEXTURE_RAYS_HIT) uniform sampler2DArray u_hit;
+layout(binding = TEXTURE_RAYS_SAMPLE) uniform sampler2DArray u_sample;
+layout(binding = TEXTURE_RAYS_DIRECTION) uniform sampler2DArray u_direction;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_REPROJECTION) uniform sampler2D u_reprojection;  // the surface's own (reproject pass)
 #if RAY_RADIANCE
-layout(binding = 7) uniform sampler2DArray u_ray_radiance;  // a >= 0: the BVH's hit distance
+layout(binding = TEXTURE_RAYS_RADIANCE) uniform sampler2DArray u_ray_radiance;  // a >= 0: the BVH's hit distance
 #endif
-layout(binding = 8) uniform sampler2DArray u_prev_normal;
-layout(binding = 9) uniform sampler2DArray u_prev_material;
-layout(binding = 10) uniform sampler2D u_prev_hits;  // the previous frame's reflection.hits
+layout(binding = TEXTURE_PREVIOUS_GBUFFER_NORMAL) uniform sampler2DArray u_prev_normal;
+layout(binding = TEXTURE_PREVIOUS_GBUFFER_MATERIAL) uniform sampler2DArray u_prev_material;
+layout(binding = TEXTURE_PREVIOUS_REFLECTION_HITS) uniform sampler2D u_prev_hits;  // the previous frame's reflection.hits
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_reprojection;
-layout(binding = 1, rgba32f) writeonly uniform image2D o_hits;
+layout(binding = IMAGE_REPROJECTION_REFLECTION, rgba32f) writeonly uniform image2D o_reprojection;
+layout(binding = IMAGE_REFLECTION_HITS, rgba32f) writeonly uniform image2D o_hits;
 
 uniform mat4 u_view_to_previous_view;  // V_prev V^-1 (the camera's part)
 uniform mat4 u_previous_proj;          // the previous frame's projection without its jitter

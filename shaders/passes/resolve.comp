@@ -38,8 +38,8 @@
 #define RESOLVE_SHARED_TILE 1
 #endif
 #if !OWN_RAYS_ONLY && !RESOLVE_SHARED_TILE
-layout(binding = 8, rgba32f) readonly uniform image2DArray u_ray_color;   // resolve_fetch.comp
-layout(binding = 9, rgba32f) readonly uniform image2DArray u_ray_target;
+layout(binding = IMAGE_RESOLVE_RAY_COLOR, rgba32f) readonly uniform image2DArray u_ray_color;   // resolve_fetch.comp
+layout(binding = IMAGE_RESOLVE_RAY_TARGET, rgba32f) readonly uniform image2DArray u_ray_target;
 #endif
 // Settings.skip: the dispatch runs over the classify pass's resolve list
 // (resolve_list.glsl): one invocation per receiving pixel for the own-rays resolve, one group
@@ -64,7 +64,7 @@ layout(local_size_x = 16, local_size_y = 16, local_size_z = 1) in;
 int g_rays_per_pixel, g_edge_aware, g_reuse_weighting;
 float g_edge_depth_sigma, g_edge_normal_power;
 
-layout(binding = 0, rgba16f) writeonly uniform image2D o_reflection;
+layout(binding = IMAGE_REFLECTION, rgba16f) writeonly uniform image2D o_reflection;
 
 #if defined(TEMPORAL_RAY_REUSE) && TEMPORAL_RAY_REUSE
 // Ray-result reuse over time (seed 000, 4.4): the previous frame traced rays from (nearly) the
@@ -78,13 +78,13 @@ layout(binding = 0, rgba16f) writeonly uniform image2D o_reflection;
 #include "../lib/scene_data.glsl"
 #include "../lib/motion.glsl"
 #include "../lib/object_motion.glsl"
-layout(binding = 17) uniform sampler2DArray u_prev_hit;
-layout(binding = 18) uniform sampler2DArray u_prev_sample;
-layout(binding = 19) uniform sampler2DArray u_prev_direction;
-layout(binding = 20) uniform sampler2DArray u_prev_lit;
-layout(binding = 21) uniform sampler2DArray u_prev_linear_depth;
-layout(binding = 22) uniform sampler2DArray u_prev_normal;
-layout(binding = 23) uniform sampler2DArray u_prev_material;
+layout(binding = TEXTURE_PREVIOUS_RAYS_HIT) uniform sampler2DArray u_prev_hit;
+layout(binding = TEXTURE_PREVIOUS_RAYS_SAMPLE) uniform sampler2DArray u_prev_sample;
+layout(binding = TEXTURE_PREVIOUS_RAYS_DIRECTION) uniform sampler2DArray u_prev_direction;
+layout(binding = TEXTURE_PREVIOUS_LIT) uniform sampler2DArray u_prev_lit;
+layout(binding = TEXTURE_PREVIOUS_LINEAR_DEPTH) uniform sampler2DArray u_prev_linear_depth;
+layout(binding = TEXTURE_PREVIOUS_GBUFFER_NORMAL) uniform sampler2DArray u_prev_normal;
+layout(binding = TEXTURE_PREVIOUS_GBUFFER_MATERIAL) uniform sampler2DArray u_prev_material;
 uniform int u_has_previous_rays;
 uniform mat4 u_previous_view_to_view;  // V_curr * V_prev^-1
 uniform mat4 u_view_to_previous_view;  // V_prev * V_curr^-1

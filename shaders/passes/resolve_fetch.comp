@@ -20,8 +20,8 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 8, rgba32f) writeonly uniform image2DArray o_ray_color;
-layout(binding = 9, rgba32f) writeonly uniform image2DArray o_ray_target;
+layout(binding = IMAGE_RESOLVE_RAY_COLOR, rgba32f) writeonly uniform image2DArray o_ray_color;
+layout(binding = IMAGE_RESOLVE_RAY_TARGET, rgba32f) writeonly uniform image2DArray o_ray_target;
 
 void main() {
     ivec3 id = ivec3(gl_GlobalInvocationID);  // (trace pixel, ray)

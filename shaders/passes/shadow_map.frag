@@ -4,7 +4,7 @@
 // lib/material.glsl's material_alpha_hole). Opaque materials draw without a fragment stage.
 #include "../lib/scene_data.glsl"
 
-layout(binding = 0) uniform sampler2D u_base_color_texture;
+layout(binding = TEXTURE_MATERIAL_BASE_COLOR) uniform sampler2D u_base_color_texture;
 uniform int u_object;
 
 in vec4 v_uv;  // both sets (texture_set)

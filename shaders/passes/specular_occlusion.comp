@@ -69,17 +69,19 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-// Texture units 0-8; with FETCH_BY_IMAGE (lib/input_fetch.glsl) the float inputs are image
-// units 2-8 (units 0 and 1 hold the stages' outputs).
-INPUT_ARRAY(u_linear_depth, 0, 2, r32f);
-INPUT_ARRAY(u_normal, 1, 3, rgba16f);
-layout(binding = 2) uniform sampler2DArray u_material;
-INPUT_ARRAY(u_lit, 3, 4, rgba16f);
-INPUT_ARRAY(u_ray_hit, 4, 5, rgba32f);
-INPUT_ARRAY(u_ray_sample, 5, 6, rgba32f);
-INPUT_ARRAY(u_ray_direction, 6, 7, rgba32f);
-layout(binding = 7) uniform sampler2DArray u_albedo;
-INPUT_2D(u_cells, 8, 8, r32f);  // occlusion_enclosure (stage 1's output)
+// Every stage declares the inputs, by name; with FETCH_BY_IMAGE (lib/input_fetch.glsl) the float
+// inputs are images (passes/specular_occlusion.cpp).
+INPUT_ARRAY(u_linear_depth, TEXTURE_LINEAR_DEPTH, IMAGE_LINEAR_DEPTH, r32f);
+INPUT_ARRAY(u_normal, TEXTURE_GBUFFER_NORMAL, IMAGE_GBUFFER_NORMAL, rgba16f);
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
+INPUT_ARRAY(u_lit, TEXTURE_LIT, IMAGE_LIT, rgba16f);
+INPUT_ARRAY(u_ray_hit, TEXTURE_RAYS_HIT, IMAGE_RAYS_HIT, rgba32f);
+INPUT_ARRAY(u_ray_sample, TEXTURE_RAYS_SAMPLE, IMAGE_RAYS_SAMPLE, rgba32f);
+INPUT_ARRAY(u_ray_direction, TEXTURE_RAYS_DIRECTION, IMAGE_RAYS_DIRECTION, rgba32f);
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+#if METHOD == 2
+INPUT_2D(u_cells, TEXTURE_OCCLUSION_ENCLOSURE, IMAGE_OCCLUSION_ENCLOSURE, r32f);  // stage 1's output
+#endif
 layout(std430, binding = BUFFER_OCCLUSION_COUNTERS) buffer OcclusionCounters {
     uint unresolved;
     uint occluded;
@@ -246,6 +248,7 @@ float cone_share(Cone c, vec3 axis, float lobe) {
 
 
 // ---- METHOD 2: where the ray left the screen ---------------------------------------------------
+#if METHOD == 2
 
 float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
     occluder = vec3(0.0);
@@ -296,6 +299,7 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
     occluder = occluder_radiance(e, 0);
     return 0.0;
 }
+#endif
 
 #if STAGE == 0
 // ---- stage 0: enclosure cells -----------------------------------------------------------------
@@ -304,7 +308,7 @@ float exit_visibility(vec3 o, vec3 d, out vec3 occluder) {
 // One work group per cell: its 64 invocations stride over the cell's pixels and reduce their
 // maxima in shared memory (the same value in any order). One invocation per cell, looping over
 // its cell^2 pixels, left a GPU with a few thousand busy lanes: 1.16 ms at 1920x1080 on an H200.
-layout(binding = 1, r32f) writeonly uniform image2D o_cells;
+layout(binding = IMAGE_OCCLUSION_CELLS, r32f) writeonly uniform image2D o_cells;
 shared float s_far[64];
 
 void main() {
@@ -333,8 +337,8 @@ void main() {
 // A ray farther than every surface of a closed region is behind all of it: the region's
 // background continues behind whatever covers the ray. The region is a cell and its
 // neighbours, so that an object filling one cell does not close it.
-layout(binding = 0, r32f) writeonly uniform image2D o_enclosure;
-layout(binding = 1, r32f) readonly uniform image2D u_cell_depth;
+layout(binding = IMAGE_OCCLUSION_ENCLOSURE, r32f) writeonly uniform image2D o_enclosure;
+layout(binding = IMAGE_OCCLUSION_CELLS, r32f) readonly uniform image2D u_cell_depth;
 
 void main() {
     ivec2 c = ivec2(gl_GlobalInvocationID.xy);
@@ -359,7 +363,7 @@ void main() {
 #else
 // ---- stage 2: per ray ---------------------------------------------------------------------------
 
-layout(binding = 0, rgba32f) writeonly uniform image2DArray o_radiance;
+layout(binding = IMAGE_RAYS_RADIANCE, rgba32f) writeonly uniform image2DArray o_radiance;
 void main() {
     read_uniforms();  // before any control flow
     ivec3 id = ivec3(gl_GlobalInvocationID.xy, 0);

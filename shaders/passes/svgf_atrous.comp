@@ -17,10 +17,10 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2D u_input;
-layout(binding = 1) uniform sampler2D u_guide;  // svgf_variance: xyz normal, w depth (< 0: not noisy)
+layout(binding = TEXTURE_ATROUS_INPUT) uniform sampler2D u_input;
+layout(binding = TEXTURE_SVGF_GUIDE) uniform sampler2D u_guide;  // svgf_variance: xyz normal, w depth (< 0: not noisy)
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_output;
+layout(binding = IMAGE_ATROUS_OUTPUT, rgba32f) writeonly uniform image2D o_output;
 
 uniform int u_step;           // 2^iteration pixels between taps; 0: copy (svgf_iterations = 0)
 uniform float u_sigma_depth;

@@ -17,15 +17,15 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2D u_reflection;
-layout(binding = 1) uniform sampler2D u_reprojection;  // xy previous position, z valid
-layout(binding = 2) uniform sampler2DArray u_normal;
-layout(binding = 3) uniform sampler2DArray u_material;
-layout(binding = 4) uniform sampler2D u_history_color;    // previous svgf.accumulated
-layout(binding = 5) uniform sampler2D u_history_moments;  // previous svgf.moments
+layout(binding = TEXTURE_REFLECTION) uniform sampler2D u_reflection;
+layout(binding = TEXTURE_REPROJECTION) uniform sampler2D u_reprojection;  // xy previous position, z valid
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_PREVIOUS_SVGF_ACCUMULATED) uniform sampler2D u_history_color;    // previous svgf.accumulated
+layout(binding = TEXTURE_PREVIOUS_SVGF_MOMENTS) uniform sampler2D u_history_moments;  // previous svgf.moments
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_accumulated;
-layout(binding = 1, rgba32f) writeonly uniform image2D o_moments;
+layout(binding = IMAGE_SVGF_ACCUMULATED, rgba32f) writeonly uniform image2D o_accumulated;
+layout(binding = IMAGE_SVGF_MOMENTS, rgba32f) writeonly uniform image2D o_moments;
 
 uniform int u_has_history;
 uniform int u_max_history;

@@ -12,11 +12,13 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2D u_color;
-layout(binding = 1) uniform sampler2D u_reprojection;
-layout(binding = 2) uniform sampler2D u_history;
+layout(binding = TEXTURE_COLOR) uniform sampler2D u_color;
+#if !TAA_THESIS
+layout(binding = TEXTURE_REPROJECTION) uniform sampler2D u_reprojection;
+#endif
+layout(binding = TEXTURE_PREVIOUS_COLOR) uniform sampler2D u_history;
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_color;
+layout(binding = IMAGE_COLOR_TAA, rgba32f) writeonly uniform image2D o_color;
 
 uniform int u_has_history;
 uniform float u_history_weight;

@@ -13,11 +13,11 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2D u_reflection;
-layout(binding = 1) uniform sampler2D u_reprojection;
-layout(binding = 2) uniform sampler2D u_history;  // previous reflection.temporal
+layout(binding = TEXTURE_REFLECTION) uniform sampler2D u_reflection;
+layout(binding = TEXTURE_REPROJECTION) uniform sampler2D u_reprojection;
+layout(binding = TEXTURE_PREVIOUS_REFLECTION_TEMPORAL) uniform sampler2D u_history;  // previous reflection.temporal
 
-layout(binding = 0, rgba32f) writeonly uniform image2D o_accumulated;
+layout(binding = IMAGE_REFLECTION_TEMPORAL, rgba32f) writeonly uniform image2D o_accumulated;
 
 uniform int u_has_history;
 uniform int u_max_history;

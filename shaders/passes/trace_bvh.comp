@@ -63,17 +63,17 @@ layout(local_size_x = 1, local_size_y = 1, local_size_z = 1) in;
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #endif
 
-layout(binding = 0) uniform sampler2DArray u_linear_depth;
-layout(binding = 1) uniform sampler2DArray u_albedo;
-layout(binding = 2) uniform sampler2DArray u_normal;
-layout(binding = 3) uniform sampler2DArray u_material;
+layout(binding = TEXTURE_LINEAR_DEPTH) uniform sampler2DArray u_linear_depth;
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+layout(binding = TEXTURE_GBUFFER_NORMAL) uniform sampler2DArray u_normal;
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 #include "../lib/trace_shade.glsl"
 
 #if FALLBACK
-layout(binding = 4, rgba32f) uniform image2DArray io_ray_hit;  // rays.hit of the screen-space tracer
-layout(binding = 6) uniform sampler2DArray u_ray_sample;     // rays.sample
-layout(binding = 7) uniform sampler2DArray u_ray_direction;  // rays.direction
-layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+layout(binding = IMAGE_RAYS_HIT, rgba32f) uniform image2DArray io_ray_hit;  // rays.hit of the screen-space tracer
+layout(binding = TEXTURE_RAYS_SAMPLE) uniform sampler2DArray u_ray_sample;     // rays.sample
+layout(binding = TEXTURE_RAYS_DIRECTION) uniform sampler2DArray u_ray_direction;  // rays.direction
+layout(binding = IMAGE_RAYS_RADIANCE, rgba32f) writeonly uniform image2DArray o_radiance;
 
 ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
     return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);
@@ -82,10 +82,10 @@ ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
 // The outputs of lib/trace_common.glsl, but with rays.direction readable: the direction is
 // read back as stored (RGBA32F), so that the per-ray reference, which reads rays.direction,
 // traces exactly the ray this pass traces (same invocation: the load sees the store).
-layout(binding = 0, rgba32f) writeonly uniform image2DArray o_hit;
-layout(binding = 1, rgba32f) writeonly uniform image2DArray o_sample;
-layout(binding = 2, rgba32f) uniform image2DArray o_direction;
-layout(binding = 3, rgba32f) writeonly uniform image2DArray o_radiance;
+layout(binding = IMAGE_RAYS_HIT, rgba32f) writeonly uniform image2DArray o_hit;
+layout(binding = IMAGE_RAYS_SAMPLE, rgba32f) writeonly uniform image2DArray o_sample;
+layout(binding = IMAGE_RAYS_DIRECTION, rgba32f) uniform image2DArray o_direction;
+layout(binding = IMAGE_RAYS_RADIANCE, rgba32f) writeonly uniform image2DArray o_radiance;
 
 ivec2 origin_pixel(ivec2 q) {  // as lib/trace_common.glsl
     return min(q * ssr.downscale + ssr.downscale / 2, ivec2(frame.viewport.xy) - 1);

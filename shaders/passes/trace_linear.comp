@@ -23,11 +23,11 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-// Texture units 0-3; with FETCH_BY_IMAGE the float inputs are image units 3-4 (trace_pass.cpp).
-INPUT_ARRAY(u_linear_depth, 0, 3, r32f);
-layout(binding = 1) uniform sampler2DArray u_albedo;
-INPUT_ARRAY(u_normal, 2, 4, rgba16f);
-layout(binding = 3) uniform sampler2DArray u_material;
+// By name (trace_pass.cpp); with FETCH_BY_IMAGE the float inputs are images.
+INPUT_ARRAY(u_linear_depth, TEXTURE_LINEAR_DEPTH, IMAGE_LINEAR_DEPTH, r32f);
+layout(binding = TEXTURE_GBUFFER_ALBEDO) uniform sampler2DArray u_albedo;
+INPUT_ARRAY(u_normal, TEXTURE_GBUFFER_NORMAL, IMAGE_GBUFFER_NORMAL, rgba16f);
+layout(binding = TEXTURE_GBUFFER_MATERIAL) uniform sampler2DArray u_material;
 
 float g_fetches = 0.0;
 // Settings the march reads on every step, read once at the start of main, before its first

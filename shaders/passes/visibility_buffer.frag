@@ -47,7 +47,7 @@ uniform uint u_id_base;  // the draw's bits of the sample id (lib/visibility.gls
 #include "../lib/gbuffer.glsl"
 #include "../lib/normal_mapping.glsl"
 #include "../lib/material.glsl"
-layout(binding = 0) uniform sampler2D u_base_color_texture;  // sRGB; alpha is linear
+layout(binding = TEXTURE_MATERIAL_BASE_COLOR) uniform sampler2D u_base_color_texture;  // sRGB; alpha is linear
 in VertexOut {
     vec3 view_position;
     vec3 view_normal;
@@ -59,7 +59,7 @@ in VertexOut {
 
 #if PEEL_TEST
 #include "../lib/layer_separation.glsl"
-layout(binding = 3) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
+layout(binding = TEXTURE_VISIBILITY_BUFFER_PREVIOUS_DEPTH) uniform sampler2D u_previous_layer_depth;  // depth of layer i-1
 #endif
 
 #if MARK_TILES

@@ -8,8 +8,8 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 3) uniform sampler2D u_raster_depth;
-layout(binding = 1, r32f) writeonly uniform image2DArray o_depth;
+layout(binding = TEXTURE_VISIBILITY_BUFFER_RASTER_DEPTH) uniform sampler2D u_raster_depth;
+layout(binding = IMAGE_GBUFFER_DEPTH, r32f) writeonly uniform image2DArray o_depth;
 
 uniform int u_layer;
 

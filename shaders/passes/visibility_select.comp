@@ -6,8 +6,8 @@
 // layer i (with MIN_SEPARATION 1, behind it by the minimum separation: the list is then walked
 // once per layer), fragments at equal depth make one layer, and of those the one peeling's
 // shading pass leaves stays (visibility_wins).
-//   output: gbuffer.visibility (image unit 0) every layer's triangle where the pixel has that
-//           layer (elsewhere not written: nothing reads it there); gbuffer.depth (image unit 1,
+//   output: gbuffer.visibility (IMAGE_GBUFFER_VISIBILITY) every layer's triangle where the pixel has that
+//           layer (elsewhere not written: nothing reads it there); gbuffer.depth (IMAGE_GBUFFER_DEPTH,
 //           R32F with this construction) its window depth, the clear value where none (stored
 //           here or cleared before, STORE_EMPTY_DEPTH): stored here, not drawn, since a
 //           compute store skips the raster outputs a depth target is written through (on an H200
@@ -41,7 +41,7 @@
 #endif
 #if LIST_SAMPLES
 #include "../lib/visibility_samples.glsl"
-layout(binding = 5, rg32ui) writeonly uniform uimageBuffer u_samples;  // the list: (sample, id)
+layout(binding = IMAGE_VISIBILITY_SAMPLES, rg32ui) writeonly uniform uimageBuffer u_samples;  // the list: (sample, id)
 shared uint group_count[64];  // each pixel's layers
 shared uint group_first[64];  // each pixel's first slot among the group's samples
 shared uint group_base;       // the group's first slot in the list
@@ -53,16 +53,16 @@ shared uint group_base;       // the group's first slot in the list
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0, r32ui) writeonly uniform uimage2DArray o_visibility;
-layout(binding = 1, r32f) writeonly uniform image2DArray o_depth;
+layout(binding = IMAGE_GBUFFER_VISIBILITY, r32ui) writeonly uniform uimage2DArray o_visibility;
+layout(binding = IMAGE_GBUFFER_DEPTH, r32f) writeonly uniform image2DArray o_depth;
 
 // How the lists are read: with FETCH_BY_IMAGE (the CPU device) through image buffers over the same
 // storage (passes/visibility_buffer.cpp), which llvmpipe reads inline, where a storage-buffer read
 // at a per-invocation address is a loop over the lanes.
 #if FETCH_BY_IMAGE
-layout(binding = 2, rg32ui) readonly uniform uimageBuffer u_list_fragments;
-layout(binding = 3, r32ui) readonly uniform uimageBuffer u_list_links;
-layout(binding = 4, r32ui) readonly uniform uimageBuffer u_list_heads;
+layout(binding = IMAGE_VISIBILITY_LIST_FRAGMENTS, rg32ui) readonly uniform uimageBuffer u_list_fragments;
+layout(binding = IMAGE_VISIBILITY_LIST_LINKS, r32ui) readonly uniform uimageBuffer u_list_links;
+layout(binding = IMAGE_VISIBILITY_LIST_HEADS, r32ui) readonly uniform uimageBuffer u_list_heads;
 uint list_head(uint pixel) { return imageLoad(u_list_heads, int(pixel)).r; }
 uvec2 list_fragment(uint i) { return imageLoad(u_list_fragments, int(i)).xy; }
 uint list_next(uint i) { return imageLoad(u_list_links, int(i)).r; }

@@ -23,23 +23,23 @@
 // Every kernel's result reaches memory (o_sink), so no fetch can be optimised away.
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = 0) uniform sampler2DArray u_source;   // RGBA16F, u_layers layers
-layout(binding = 1) uniform sampler2D u_chain;         // RG32F: the next texel to fetch (pixels)
-layout(binding = 2) uniform sampler2DArray u_wide;     // RGBA32F, u_iterations layers (bandwidth)
+layout(binding = TEXTURE_SOURCE) uniform sampler2DArray u_source;   // RGBA16F, u_layers layers
+layout(binding = TEXTURE_CHAIN) uniform sampler2D u_chain;         // RG32F: the next texel to fetch (pixels)
+layout(binding = TEXTURE_WIDE) uniform sampler2DArray u_wide;     // RGBA32F, u_iterations layers (bandwidth)
 
 #if KERNEL_INIT
-layout(binding = 0, rgba16f) writeonly uniform image2DArray o_source;
-layout(binding = 1, rg32f) writeonly uniform image2D o_chain;
-layout(binding = 2, rgba32f) writeonly uniform image2DArray o_wide;
+layout(binding = IMAGE_INIT_SOURCE, rgba16f) writeonly uniform image2DArray o_source;
+layout(binding = IMAGE_INIT_CHAIN, rg32f) writeonly uniform image2D o_chain;
+layout(binding = IMAGE_INIT_WIDE, rgba32f) writeonly uniform image2DArray o_wide;
 #elif KERNEL_STORE
-layout(binding = 0, rgba16f) writeonly uniform image2DArray o_store;  // u_layers layers
+layout(binding = IMAGE_STORE, rgba16f) writeonly uniform image2DArray o_store;  // u_layers layers
 #else
-layout(binding = 0, rgba32f) writeonly uniform image2D o_sink;
+layout(binding = IMAGE_SINK, rgba32f) writeonly uniform image2D o_sink;
 #endif
 #if KERNEL_DEPENDENT_IMAGE
-layout(binding = 1, rg32f) readonly uniform image2D i_chain;  // u_chain as an image
+layout(binding = IMAGE_CHAIN, rg32f) readonly uniform image2D i_chain;  // u_chain as an image
 #elif KERNEL_COPY_IMAGE
-layout(binding = 1, rgba16f) readonly uniform image2DArray i_source;  // u_source as an image
+layout(binding = IMAGE_SOURCE, rgba16f) readonly uniform image2DArray i_source;  // u_source as an image
 #endif
 
 uniform int u_iterations;

@@ -10,12 +10,12 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 uniform ivec2 u_size;
 
 #if FLOOR_STORES
-layout(binding = 0, r32f) writeonly uniform image2D o_depth;
-layout(binding = 1, rgba8) writeonly uniform image2D o_albedo;
-layout(binding = 2, rgba16f) writeonly uniform image2D o_normal;
-layout(binding = 3, rgba8) writeonly uniform image2D o_material;
+layout(binding = IMAGE_DEPTH, r32f) writeonly uniform image2D o_depth;
+layout(binding = IMAGE_ALBEDO, rgba8) writeonly uniform image2D o_albedo;
+layout(binding = IMAGE_NORMAL, rgba16f) writeonly uniform image2D o_normal;
+layout(binding = IMAGE_MATERIAL, rgba8) writeonly uniform image2D o_material;
 #else
-layout(binding = 0, r32ui) writeonly uniform uimage2D o_id;
+layout(binding = IMAGE_ID, r32ui) writeonly uniform uimage2D o_id;
 #endif
 
 void main() {

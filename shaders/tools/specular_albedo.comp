@@ -10,7 +10,7 @@
 #include "../lib/specular_albedo.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, rg32f) writeonly uniform image2D o_table;
+layout(binding = IMAGE_TABLE, rg32f) writeonly uniform image2D o_table;
 uniform uint u_samples;
 
 void main() {
