@@ -54,7 +54,7 @@ def test_the_scan_sees_a_literal_unit(tmp_path, monkeypatch):
         "layout(binding = TEXTURE_C) uniform sampler2D u_c;\n"
         "layout(std430, binding = 4) buffer B { uint b[]; };\n")
     monkeypatch.setattr(sys.modules[__name__], "SHADERS", tmp_path)
-    assert [f.split(": ")[0] for f in literal_units()] == ["passes/x.comp:1", "passes/x.comp:2"]
+    assert [f.split(": ")[0] for f in literal_units()] == ["passes/x.comp:1", "passes/x.comp:2", "passes/x.comp:4"]
 
 
 STRAY = """#version 450
