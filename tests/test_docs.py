@@ -120,12 +120,15 @@ def test_every_benchmark_script_sits_in_a_genre_folder():
 
 def test_every_cited_benchmark_script_exists():
     """Each benchmarks/...py path the README, the docs, the notebooks, the sweep files, the tests,
-    the package and the scripts themselves cite is a file of this checkout."""
+    the package, the C++ and shader comments and the scripts themselves cite is a file of this
+    checkout."""
     cited = re.compile(r"benchmarks/(?:\w+/)*\w+\.py\b")
     sources = [REPO / "README.md", REPO / "benchmarks" / "README.md", *(REPO / "docs").rglob("*.md"),
                *(REPO / "notebooks").glob("*.ipynb"), *(REPO / "benchmarks" / "sweeps").glob("*.toml"),
                *(REPO / "tests").glob("*.py"), *(REPO / "benchmarks").rglob("*.py"),
-               *(REPO / "python" / "ssrlab").rglob("*.py")]
+               *(REPO / "python" / "ssrlab").rglob("*.py"),
+               *(p for p in (REPO / "cpp").rglob("*") if p.suffix in {".h", ".cpp", ".def"}),
+               *(p for p in (REPO / "shaders").rglob("*") if p.is_file())]
     missing = []
     for path in sources:
         for i, line in enumerate(path.read_text().splitlines(), 1):

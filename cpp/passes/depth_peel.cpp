@@ -269,7 +269,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     // The colour layers keep framebuffer clears even where the other passes clear by image
     // stores (FrameContext::clear_by_compute): on an NVIDIA H200 the first image store into a
     // new render-target texture cost 25-140 ms (a frame's new textures at 1920x1080,
-    // benchmarks/peel_profile.py --fresh), where the framebuffer clears cost under 1 ms per layer.
+    // benchmarks/timing/peel_profile.py --fresh), where the framebuffer clears cost under 1 ms per layer.
     const bool scissor_deeper = ctx.gl.info().chosen == "cpu";
     const int grid_x = (s.width + 7) / 8, grid_y = (s.height + 7) / 8;
     std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));

@@ -27,7 +27,7 @@ constexpr size_t kRecordTexels = 5, kRecordBytes = kRecordTexels * 16;
 constexpr size_t kRecordsPerDispatch = 64 * 65535;
 // The records are kept where the frame has at least this many texels a triangle (width x height x
 // the filled layers: the samples, at most): on llvmpipe a record costs about what reading its
-// triangle per sample costs four samples (benchmarks/deep_gbuffer.py: gbuffer_attributes.triangles
+// triangle per sample costs four samples (benchmarks/timing/deep_gbuffer.py: gbuffer_attributes.triangles
 // against .shade on 2CylinderEngine), so a scene of many triangles in a small image reads its
 // triangles per sample instead.
 constexpr uint64_t kTexelsPerRecord = 4;

@@ -290,7 +290,7 @@ bool VisibilityBufferPass::lists(FrameContext& ctx) {
     // attribute pass (lib/visibility_samples.glsl): it knows each pixel's layers, where the attribute pass would
     // classify every texel to find them, and on this device shade the empty lanes of a vector too.
     // At one layer the listing costs the selection more than it saves
-    // (python benchmarks/deep_gbuffer.py --device cpu).
+    // (python benchmarks/timing/deep_gbuffer.py --device cpu).
     bool textured = false;
     for (const DrawItem& d : ctx.gpu_scene.draws())
         textured = textured || (ctx.gpu_scene.material_features(d.material) & GpuScene::kTextureFeatures) != 0;

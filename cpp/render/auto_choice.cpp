@@ -29,7 +29,7 @@ void decide_auto(RenderSettings& s, const std::string& field, const std::string&
 
 std::vector<DeepGBuffer> deep_gbuffer_candidates(bool cpu_device, int layers) {
     // On the CPU device the visibility constructions' compute pass costs what peeling's shading
-    // pass does or more (benchmarks/deep_gbuffer.py): measuring them would let noise choose between
+    // pass does or more (benchmarks/timing/deep_gbuffer.py): measuring them would let noise choose between
     // images that differ in their last bits. One layer on it is peeled without measuring; one layer
     // on a GPU compares peeling with the visibility buffer only (the lists' one geometry pass is
     // what one layer already is, plus a selection).
@@ -59,10 +59,10 @@ const std::vector<std::string> kVisibilityTiles = {"auto", "on", "off"};
 const std::vector<std::string> kInputFetches = {"auto", "imageLoad", "texelFetch"};
 
 // On llvmpipe the copy pass the staged path starts with was most of a readback; a GPU copies by
-// DMA into pinned memory (benchmarks/readback.py times both).
+// DMA into pinned memory (benchmarks/timing/readback.py times both).
 bool auto_readback_staged(bool cpu_device) { return !cpu_device; }
 // A GPU built for compute has few raster units, and its GL clears ran far below its memory
-// bandwidth (benchmarks/peel_profile.py); the CPU device keeps GL's clears.
+// bandwidth (benchmarks/timing/peel_profile.py); the CPU device keeps GL's clears.
 bool auto_clear_by_compute(bool cpu_device) { return !cpu_device; }
 // llvmpipe shades every pixel a dispatch covers; a GPU is not stalled to read the tiles back.
 bool auto_visibility_tiles(bool cpu_device) { return cpu_device; }

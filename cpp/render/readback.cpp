@@ -31,7 +31,7 @@ namespace {
 // Half floats to floats with the CPU's F16C conversion (exact, NaN and infinity kept): an
 // RGBA16F texture downloaded as stored (into memory not zeroed first) and widened here took
 // 0.52-0.53x the time of asking llvmpipe for GL_FLOAT at 640x360, 0.65-0.69x at 1920x1080
-// (benchmarks/readback.py).
+// (benchmarks/timing/readback.py).
 // Compiled for F16C alone and called only where the CPU has it.
 __attribute__((target("avx,f16c"))) void widen_halves_f16c(const uint16_t* in, float* out, size_t n) {
     size_t i = 0;
@@ -127,7 +127,7 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
         // at a time (GL sizes are 32-bit), no copy pass (on llvmpipe the copy pass
         // was most of a readback). Rows come top first from the driver where it has
         // GL_MESA_pack_invert (llvmpipe: the colour's readback 0.54-0.55x at 1920x1080, 0.7-0.8x
-        // at 640x360, benchmarks/readback.py), else they are swapped on the CPU. Normalised, sRGB
+        // at 640x360, benchmarks/timing/readback.py), else they are swapped on the CPU. Normalised, sRGB
         // and depth formats are decoded by readback.comp's fetch.
         out.data.resize(layer_floats * size_t(out.layers));
         // Shader image stores reach glGetTextureSubImage only after this barrier (GL 4.5, 7.13.2).

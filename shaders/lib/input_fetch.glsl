@@ -4,7 +4,7 @@
 // Why: llvmpipe (Mesa 22.3) samples any texture whose format is not 8-bit RGBA through a call to
 // a generic sampling function, which addresses each lane's mip level on its own (even for lod
 // 0), and the caller saves its live vector registers around every call; imageLoad is inline. A
-// chain of dependent RG32F fetches ran 1.9x faster by imageLoad (benchmarks/roofline.py's
+// chain of dependent RG32F fetches ran 1.9x faster by imageLoad (benchmarks/timing/roofline.py's
 // "dependent" and "dependent_image" kernels), and a perf profile of the Hi-Z walk showed the
 // call and its per-lane mip addressing as the largest part of each step. GPUs keep texelFetch,
 // the path measured there. 8-bit formats (sRGB albedo, material) stay samplers: inline already,

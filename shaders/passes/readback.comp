@@ -4,7 +4,7 @@
 // row 0 is the bottom). Fetching through a sampler also decodes sRGB storage to linear.
 // Used for normalised, sRGB and depth formats only: float textures are downloaded as stored
 // and flipped on the CPU (Renderer::read_texture; 3-5x less time per byte on llvmpipe,
-// benchmarks/readback.py).
+// benchmarks/timing/readback.py).
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 

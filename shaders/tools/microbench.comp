@@ -1,5 +1,5 @@
 #version 450 core
-// Device peaks for the roofline (benchmarks/roofline.py): small kernels that each
+// Device peaks for the roofline (benchmarks/timing/roofline.py): small kernels that each
 // stress one resource a render pass uses, through the same GL context and the same texture
 // formats as the frame. Renderer::microbenchmark dispatches one invocation per texel of a
 // width x height grid and `u_iterations` operations per invocation, and times it; the work is

@@ -1,6 +1,6 @@
 #version 450 core
 // The device's floors under the deep G-buffer's constructions (Renderer::raster_floor,
-// benchmarks/raster_floor.py): the scene's own triangles through the G-buffer's vertex shader
+// benchmarks/timing/raster_floor.py): the scene's own triangles through the G-buffer's vertex shader
 // (passes/depth_peel.vert), and fragment stages that do nothing but the writes each construction
 // cannot avoid, so that a construction's time can be set beside the least its raster work costs.
 // One variant per floor (define one):
