@@ -14,9 +14,9 @@ Every figure is a record (ssrlab.lab.protocol), benchmark "thesis_findings":
   - each sweep row of each experiment (params: experiment, sweep, reference, scene and the
     setting the sweep varies): thesis_error (and psnr, higher is better) against that reference,
     one value (with TAA, the mean over the sequence's timed frames); the frame's, the
-    reflections' and the trace's GPU ms. The sweep rows keep each time's median and spread, not
-    its runs, so a time's record holds the median as its one sample, with the spread beside it
-    (spread: min, max, iqr; params: timed_runs);
+    reflections' and the trace's GPU ms, every timed run a sample (the sweep row's samples; the
+    trace's, per run, the sum of its parts), with the spread beside it (spread: min, max, iqr;
+    params: timed_runs);
   - each finding (params: experiment, finding, source): metric "agreement", 1 agree, 0.5 partly,
     0 disagree, NaN where the timings cannot bear a verdict (ssrlab.lab.timing.timing_doubt),
     with the claim, our figures and the verdict, computed by ssrlab.experiments, beside it.
@@ -86,10 +86,13 @@ def record_experiment(bench: Bench, exp: dict, seconds: float) -> None:
                     bench.record(params, metric, unit, [row[column]], **({"better": better} if better else {}))
             for column, metric in TIMES.items():
                 if row.get(column) is not None:
-                    bench.record(params, metric, "ms", [row[column]],
+                    bench.record(params, metric, "ms", row.get("samples", {}).get(column) or [row[column]],
                                  spread={s: row.get(column + "_" + s) for s in ("min", "max", "iqr")})
-            trace = [row[c] for c in TRACE_COLUMNS if row.get(c) is not None]
-            if trace:
+            parts = [row.get("samples", {}).get(c) for c in TRACE_COLUMNS if row.get(c) is not None]
+            if parts and all(parts) and len({len(p) for p in parts}) == 1:
+                bench.record(params, "trace", "ms", [float(sum(x)) for x in zip(*parts)])  # per run, the parts summed
+            elif parts:
+                trace = [row[c] for c in TRACE_COLUMNS if row.get(c) is not None]
                 bench.record(params, "trace", "ms", [sum(trace)])  # each part's median, summed
     for i, f in enumerate(exp["findings"], 1):
         bench.record({**base, "finding": i, "source": f["source"]}, "agreement", "",

@@ -132,7 +132,7 @@ def _columns(rows: list[dict]) -> list[str]:
     between configurations, e.g. one per layer) kept together and sorted."""
     cols: dict[str, None] = {}
     for r in rows:
-        cols.update(dict.fromkeys(r))
+        cols.update(dict.fromkeys(k for k in r if k != "samples"))  # each time's runs: rows.json only
     gpu = sorted(c for c in cols if c.startswith("gpu_") and time_column(c).endswith("_ms"))
     out: list[str] = []
     for c in cols:
@@ -148,7 +148,7 @@ def _csv_text(rows: list[dict]) -> str:
     w = csv.DictWriter(buf, fieldnames=_columns(rows), restval="", lineterminator="\n")
     w.writeheader()
     for r in rows:
-        w.writerow({k: ("" if v is None else v) for k, v in r.items()})
+        w.writerow({k: ("" if v is None else v) for k, v in r.items() if k != "samples"})
     return buf.getvalue()
 
 

@@ -40,6 +40,7 @@ Row columns (one dict per configuration; rows.csv and rows.json hold the same):
                         blur_mips) where Settings.glossy runs them
   wall_ms               median CPU milliseconds of the render call (Frame.wall_ms)
   <time>_min, <time>_max, <time>_iqr
+  samples               {time column: every timed run's value} (rows.json; not a column of rows.csv)
                         for each of the times above (gpu_<pass>_ms, time_frame_ms, ...): the
                         fastest and slowest of the repeats and their interquartile range
                         (numpy's linear percentiles; None with a single repeat, whose spread is
@@ -109,7 +110,7 @@ TIME_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms")
 
 # Columns that differ between two runs of the same sweep even though the images do not
 # (with every gpu_<pass>_ms column, see is_volatile).
-VOLATILE_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms", "timestamp", "worker", "reference_rendered")
+VOLATILE_KEYS = ("time_frame_ms", "time_reflections_ms", "wall_ms", "timestamp", "worker", "reference_rendered", "samples")
 
 
 def is_volatile(column: str) -> bool:
