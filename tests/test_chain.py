@@ -76,7 +76,7 @@ CHAINS = {
          "reproject_reflection", "FETCH", "resolve", "svgf_temporal", "svgf_variance", "svgf_atrous", "composite"]),
     "fragment lists": (
         dict(method="linear", deep_gbuffer="lists", layers=3, skip=False),
-        ["depth_peel", "shadow_map", "lighting", "trace_linear", "specular_occlusion", "FETCH", "resolve",
+        ["fragment_lists", "shadow_map", "lighting", "trace_linear", "specular_occlusion", "FETCH", "resolve",
          "composite"]),
     "visibility buffer": (
         dict(method="linear", deep_gbuffer="visibility", layers=3, skip=False),

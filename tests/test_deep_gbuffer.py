@@ -167,7 +167,7 @@ def test_setting_values_and_timings(renderer):
     # timings["deep_gbuffer"] is the construction's time whichever method built the layers: it
     # holds its parts (each timed by its own queries, nested in it), it is one pass among those the
     # frame ran (lighting and composite take time too), and it fits in the host's wall time.
-    for method, parts in (("lists", ("deep_gbuffer.append", "deep_gbuffer.select", "deep_gbuffer.write")),
+    for method, parts in (("lists", ("fragment_lists.append", "fragment_lists.select", "fragment_lists.write")),
                           ("peel", tuple(f"depth_peel.layer{i}" for i in range(4)))):
         f, wall_ms = timed(tiny(deep_gbuffer=method, layers=4))
         t = f.timings
@@ -221,7 +221,8 @@ def test_the_whole_frame_is_the_same(renderer, scene_name):
     peel = renderer.render(scene, settings=small(deep_gbuffer="peel", **kw))
     lists = renderer.render(scene, settings=small(deep_gbuffer="lists", **kw))
     assert lists.stats["deep_gbuffer_method"] == "lists"
-    assert lists.passes == peel.passes
+    # The same chain, the construction under its own name.
+    assert lists.passes == ["fragment_lists" if p == "depth_peel" else p for p in peel.passes]
     for name in ("lit", "color"):
         np.testing.assert_array_equal(bits(peel.read(name)), bits(lists.read(name)), err_msg=name)
     for key in ("layers_used", "layers_lit", "tiles_lit"):  # tiles_lit: with skip only (on by default on llvmpipe)

@@ -79,8 +79,8 @@ METHODS = ("peel", "lists", "visibility", "visibility_lists")
 # Each method's parts (Frame.timings keys) and the short names they are printed under.
 PARTS = {
     "peel": (("depth", "depth_peel.depth"), ("shade", "depth_peel.shade"), ("setup", "depth_peel.setup")),
-    "lists": (("append", "deep_gbuffer.append"), ("select", "deep_gbuffer.select"),
-              ("write", "deep_gbuffer.write")),
+    "lists": (("append", "fragment_lists.append"), ("select", "fragment_lists.select"),
+              ("write", "fragment_lists.write")),
     "visibility": (("raster", "visibility_buffer"), ("triangles", "gbuffer_attributes.triangles"),
                    ("classify", "gbuffer_attributes.classify"),
                    ("bin", "gbuffer_attributes.bin"), ("shade", "gbuffer_attributes.shade"),

@@ -275,10 +275,10 @@ void DepthPeelPass::peel(FrameContext& ctx) {
     std::vector<GLuint> flags(size_t(grid_x) * size_t(grid_y));
     glDisable(GL_SCISSOR_TEST);
     for (int layer = 0; layer < s.layers; ++layer) {
-        GpuScope timer(ctx.timer, "depth_peel.layer" + std::to_string(layer));
+        GpuScope timer(ctx.timer, name() + ".layer" + std::to_string(layer));
         // The parts of every layer, summed over the layers (depth_peel.setup/depth/shade): where
         // a layer's time goes on a device, without a profiler.
-        std::optional<GpuScope> part(std::in_place, ctx.timer, "depth_peel.setup");
+        std::optional<GpuScope> part(std::in_place, ctx.timer, name() + ".setup");
         if (layer > 0)
             glCopyImageSubData(depth.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, layer - 1, previous.id(), GL_TEXTURE_2D, 0, 0,
                                0, 0, s.width, s.height, 1);
@@ -301,7 +301,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         // Draw only if the previous layer covered something (its query counted samples).
         if (layer > 0) glBeginConditionalRender(queries_[size_t(layer - 1)], GL_QUERY_WAIT);
         // Depth pass: the samples it counts are the depth-test-passing fragments of the layer.
-        part.emplace(ctx.timer, "depth_peel.depth");
+        part.emplace(ctx.timer, name() + ".depth");
         const GLuint depth_prog = layer > 0 ? depth_peeled : depth_first;
         const GLuint depth_alpha_prog = layer > 0 ? depth_peeled_alpha : depth_first_alpha;
         glUseProgram(depth_prog);
@@ -318,7 +318,7 @@ void DepthPeelPass::peel(FrameContext& ctx) {
         // depth the last drawn one's colour stays, where the depth test alone kept the first:
         // the draws go in reverse order, so the same object wins (triangles within one draw
         // still go in order).
-        part.emplace(ctx.timer, "depth_peel.shade");
+        part.emplace(ctx.timer, name() + ".shade");
         glNamedFramebufferDrawBuffers(fbo_.id(), outputs, draw_buffers);
         glDepthMask(GL_FALSE);
         glDepthFunc(GL_EQUAL);
@@ -379,7 +379,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     if (!counter_) counter_ = Buffer::create((4 + 16) * sizeof(GLuint));  // header, pixels per layer (<= 16)
 
     // The counter counts past the capacity: the store grows to the counted fragments.
-    const StoreGrowth grown = grow_fragment_store(ctx, "deep_gbuffer", capacity_, pixels, max_fragments,
+    const StoreGrowth grown = grow_fragment_store(ctx, name(), capacity_, pixels, max_fragments,
                                                   counter_, [&](uint64_t capacity) { append(ctx, capacity); });
     list_stats_.redone = grown.redone ? 1 : 0;
     list_stats_.fragments = grown.fragments;
@@ -393,7 +393,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     const GLuint select = ctx.shaders.program({"passes/deep_gbuffer_select.comp"}, select_defines);
     set_min_separation(s, select);
     {
-        GpuScope timer(ctx.timer, "deep_gbuffer.select");
+        GpuScope timer(ctx.timer, name() + ".select");
         glUseProgram(select);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kKeptFragmentsBinding, kept_.id());
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -410,7 +410,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     Texture& depth = ctx.resources.get("gbuffer.depth");
     const GLuint write = ctx.shaders.program({"passes/deep_gbuffer_write.vert", "passes/deep_gbuffer_write.frag"},
                                              defines_);
-    GpuScope timer(ctx.timer, "deep_gbuffer.write");
+    GpuScope timer(ctx.timer, name() + ".write");
     if (!fbo_) fbo_ = Framebuffer::create();
     if (!empty_vao_) glCreateVertexArrays(1, &empty_vao_);
     const int outputs = colour_outputs();
@@ -442,7 +442,7 @@ bool DepthPeelPass::lists(FrameContext& ctx) {
     for (int layer = 0; layer < s.layers; ++layer) {
         fbo_.attach(GL_DEPTH_ATTACHMENT, depth, 0, layer);
         attach_outputs(ctx, layer);
-        if (layer == 0) fbo_.check_complete("deep_gbuffer.write");
+        if (layer == 0) fbo_.check_complete((name() + ".write").c_str());
         if (layer < filled) {
             const TileBounds box =
                 tile_bounds(flags.data() + size_t(layer) * size_t(grid_x) * size_t(grid_y), grid_x, grid_y);

@@ -31,8 +31,9 @@
 // to its pixel's list (DEEP_GBUFFER_APPEND in depth_peel.frag), a compute pass keeps each pixel's
 // `layers` nearest distinct depths by peeling's rules (deep_gbuffer_select.comp), and one
 // full-screen draw per layer writes them through the same framebuffer formats
-// (deep_gbuffer_write.frag): bit for bit the peeled layers. Timed as deep_gbuffer.append,
-// .select and .write. The fragment store grows to the frame's fragment count within
+// (deep_gbuffer_write.frag): bit for bit the peeled layers. It is its own pass,
+// fragment_lists (passes/fragment_lists.h), timed as fragment_lists.append, .select and .write
+// (and, peeled beyond its budget, fragment_lists.layer<i>). The fragment store grows to the frame's fragment count within
 // Settings.deep_gbuffer_budget; a frame beyond the budget is peeled (never truncated).
 #pragma once
 
@@ -87,8 +88,10 @@ class DepthPeelPass : public RenderPass {
 public:
     std::string name() const override { return "depth_peel"; }
     std::string part_of() const override { return "deep_gbuffer"; }
+    // Peeling, and (passes/fragment_lists.h) the lists, which share its shading pass and its
+    // textures, each under its own name.
     bool runs(const RenderSettings& s, const FrameFacts& f) const override {
-        return !visibility_construction(s.deep_gbuffer);
+        return !visibility_construction(s.deep_gbuffer) && s.deep_gbuffer != DeepGBuffer::Lists;
     }
     std::vector<std::string> inputs(const RenderSettings& s, const FrameFacts& f) const override { return {}; }
     std::vector<ResourceDesc> outputs(const RenderSettings& s) const override;
@@ -149,7 +152,7 @@ public:
         return sizeof(GLuint) * (4 + 2 * size_t(covered_tiles_per_layer(s)) * size_t(s.layers));
     }
 
-private:
+protected:
     // The shading pass's program for each material kind of the scene (GpuScene::material_features),
     // compiled from `base` (the pass's defines).
     std::map<int, GLuint> shading_programs(FrameContext& ctx, const Defines& base) const;

@@ -43,7 +43,7 @@ def spread(values: list[float]) -> dict[str, float | None]:
 
 def with_spread(row: dict, column: str, values: list[float]) -> None:
     """Puts the median of `values` under `column`, its spread under column_min, _max, _iqr and the
-    values themselves under row["samples"][column] (what a benchmark record keeps)."""
+    values themselves under ``row["samples"][column]`` (what a benchmark record keeps)."""
     st = spread(values)
     row[column] = st["median"]
     row.setdefault("samples", {})[column] = [float(x) for x in values]
