@@ -1,4 +1,5 @@
-"""The records the host uploads and the shaders read (frame constants, objects, materials, lights)
+"""The records the host uploads and the shaders read (frame constants, objects, materials, lights,
+the BVH's nodes and triangles)
 are generated from one table, cpp/render/gpu_structs.def: the GLSL the shaders include must lay
 each member where the C++ struct has it, as the GL driver itself reports."""
 
@@ -19,6 +20,8 @@ def test_every_shared_record_is_in_the_table():
         "GpuObject": ("Objects", 1, "std430"),
         "GpuMaterial": ("Materials", 2, "std430"),
         "GpuLight": ("Lights", 3, "std430"),
+        "BvhNode": ("BvhNodes", 5, "std430"),
+        "BvhTriangle": ("BvhTriangles", 6, "std430"),
     }
 
 
@@ -47,6 +50,8 @@ def test_no_shader_declares_a_generated_record_by_hand():
     assert '#include "generated/Lights.glsl"' in (lib / "lights.glsl").read_text()
     assert '#include "generated/Objects.glsl"' in (lib / "scene_data.glsl").read_text()
     assert '#include "generated/Materials.glsl"' in (lib / "scene_data.glsl").read_text()
+    assert '#include "generated/BvhNodes.glsl"' in (lib / "bvh.glsl").read_text()
+    assert '#include "generated/BvhTriangles.glsl"' in (lib / "bvh.glsl").read_text()
 
 
 PROBE = """#version 450 core
@@ -54,9 +59,11 @@ layout(local_size_x = 1) in;
 #include "../lib/frame_uniforms.glsl"
 #include "../lib/lights.glsl"
 #include "../lib/scene_data.glsl"
+#include "../lib/bvh.glsl"
 layout(std430, binding = BUFFER_TEXELS) writeonly buffer Texels { vec4 texels[]; };  // the read-back's block
 void main() {
-    texels[0] = frame.viewport + lights[0].radiance + materials[0].base_color + vec4(objects[0].material);
+    texels[0] = frame.viewport + lights[0].radiance + materials[0].base_color + vec4(objects[0].material) +
+                bvh_nodes[0].hi + bvh_triangles[0].v2;
 }
 """
 

@@ -48,6 +48,9 @@ std::vector<GpuStructGlsl> gpu_struct_glsl() {
 #define SSR_GPU_ARRAY(type, name, count, doc) \
     comment(out, "    ", doc);                \
     out << "    " #type " " #name "[" << (count) << "];\n";
+#define SSR_GPU_VEC3_INT(name, int_name, doc) \
+    comment(out, "    ", doc);                \
+    out << "    vec4 " #name ";\n";
 #define SSR_GPU_END()    \
     out << close;        \
     files.back().text = out.str();
@@ -68,6 +71,7 @@ std::vector<GpuStructLayout> gpu_struct_layouts() {
 #define SSR_GPU_MEMBER(type, name, doc) out.back().members.push_back({#name, #type, 0, offsetof(S, name)});
 #define SSR_GPU_ARRAY(type, name, count, doc) \
     out.back().members.push_back({#name, #type, size_t(count), offsetof(S, name)});
+#define SSR_GPU_VEC3_INT(name, int_name, doc) out.back().members.push_back({#name, "vec4", 0, offsetof(S, name)});
 #define SSR_GPU_END() }
 #include "render/gpu_structs.def"
     return out;

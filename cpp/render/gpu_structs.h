@@ -99,6 +99,7 @@ constexpr size_t gpu_struct_size(const GpuField (&fields)[N], GpuLayout l) {
     constexpr GpuField fields[] = {
 #define SSR_GPU_MEMBER(type, name, doc) {#name, SSR_GPU_TYPE_##type, 0},
 #define SSR_GPU_ARRAY(type, name, count, doc) {#name, SSR_GPU_TYPE_##type, count},
+#define SSR_GPU_VEC3_INT(name, int_name, doc) {#name, gpu_type::vec4, 0},
 #define SSR_GPU_END() \
     }                 \
     ;                 \
@@ -111,6 +112,9 @@ constexpr size_t gpu_struct_size(const GpuField (&fields)[N], GpuLayout l) {
 #define SSR_GPU_STORAGE_ARRAY(Cpp, Struct, Block, array, doc) SSR_GPU_UNIFORM_BLOCK(Cpp, , , )
 #define SSR_GPU_MEMBER(type, name, doc) SSR_GPU_CTYPE_##type name;
 #define SSR_GPU_ARRAY(type, name, count, doc) SSR_GPU_CTYPE_##type name[count];
+#define SSR_GPU_VEC3_INT(name, int_name, doc) \
+    float name[3];                            \
+    int32_t int_name;
 #define SSR_GPU_END() \
     }                 \
     ;
@@ -126,6 +130,9 @@ constexpr size_t gpu_struct_size(const GpuField (&fields)[N], GpuLayout l) {
 #define SSR_GPU_MEMBER(type, name, doc) \
     static_assert(offsetof(S, name) == gpu_offset(fields, layout, #name), "GLSL offset of " #name);
 #define SSR_GPU_ARRAY(type, name, count, doc) SSR_GPU_MEMBER(type, name, doc)
+#define SSR_GPU_VEC3_INT(name, int_name, doc)                                                       \
+    static_assert(offsetof(S, name) == gpu_offset(fields, layout, #name), "GLSL offset of " #name); \
+    static_assert(offsetof(S, int_name) == offsetof(S, name) + 12, "the w of " #name);
 #define SSR_GPU_END() }
 #include "render/gpu_structs.def"
 

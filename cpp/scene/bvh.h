@@ -13,26 +13,13 @@
 #include <memory>
 #include <vector>
 
+#include "render/gpu_structs.h"
 #include "scene/scene.h"
 
 namespace ssr {
 
-// std430 layouts of shaders/lib/bvh.glsl.
-struct BvhNode {
-    float lo[3];
-    int32_t first;   // inner: left child; leaf: first triangle
-    float hi[3];
-    int32_t second;  // inner: right child; leaf: -(triangle count)
-};
-
-struct BvhTriangle {
-    float v0[3];
-    int32_t object;     // index into Scene::objects
-    float v1[3];
-    int32_t primitive;  // triangle index within the object's mesh
-    float v2[3];
-    int32_t alpha_tested;  // 1: its material is MASK or BLEND (the traversals test its alpha)
-};
+// BvhNode and BvhTriangle, the std430 records lib/bvh.glsl reads, are rows of
+// render/gpu_structs.def (the C++ struct and the GLSL declaration both generated from them).
 
 // The element ranges of the node and triangle arrays an update rewrote (what to upload).
 struct BvhRange {

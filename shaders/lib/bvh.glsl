@@ -5,19 +5,10 @@
 // and every edge function of a shared edge is computed from the same values, so a ray can
 // neither slip between two triangles that share an edge nor hit both.
 
-struct BvhNode {
-    vec4 lo;  // xyz: bounds; w: int bits, inner: left child, leaf: first triangle
-    vec4 hi;  // xyz: bounds; w: int bits, inner: right child, leaf: -(triangle count)
-};
-
-struct BvhTriangle {
-    vec4 v0;  // world-space vertices; v0.w: object index (int bits)
-    vec4 v1;  // v1.w: triangle index within its object's mesh (int bits)
-    vec4 v2;  // v2.w: 1 when its material is alpha-tested (int bits)
-};
-
-layout(std430, binding = BUFFER_BVH_NODES) readonly buffer BvhNodes { BvhNode bvh_nodes[]; };
-layout(std430, binding = BUFFER_BVH_TRIANGLES) readonly buffer BvhTriangles { BvhTriangle bvh_triangles[]; };
+// The nodes (BvhNode bvh_nodes[]) and triangles (BvhTriangle bvh_triangles[]), as
+// cpp/render/gpu_structs.def declares them for the host and these shaders alike.
+#include "generated/BvhNodes.glsl"
+#include "generated/BvhTriangles.glsl"
 
 struct TraceHit {
     float t;       // ray parameter (unit direction: distance)
