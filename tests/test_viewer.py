@@ -16,7 +16,7 @@ import pytest
 
 import ssrlab
 from ssrlab import display
-from ssrlab.viewer import views
+from ssrlab.viewer import FRAMES, views
 
 from viewer_page import browser, drag, open_page, require_browser, wait_shown
 
@@ -84,7 +84,16 @@ def hall_view(renderer):
     v.close()
 
 
-def test_first_frame_is_the_render_of_the_reported_camera_and_a_drag_moves_it(chromium, hall_view, renderer):
+@pytest.mark.parametrize("frames", FRAMES)
+def test_first_frame_is_the_render_of_the_reported_camera_and_a_drag_moves_it(chromium, renderer, frames):
+    hall_view = hall_hiz(renderer, frames=frames)
+    try:
+        _first_frame_and_a_drag(chromium, hall_view, renderer)
+    finally:
+        hall_view.close()
+
+
+def _first_frame_and_a_drag(chromium, hall_view, renderer):
     page = open_page(chromium, hall_view.url)
     start = time.time()
     shown, pixels = wait_shown(page, hall_view, condition=lambda s: rests(s) and s.camera.fov_y == 60.0)
@@ -313,6 +322,8 @@ def test_viewer_refuses_bad_arguments():
         ssrlab.view("hall", settings={"layers": 2})
     with pytest.raises(ValueError, match="unknown scene"):
         ssrlab.view("no_such_scene")
+    with pytest.raises(ValueError, match="frames must be one of background, overlay"):
+        ssrlab.view("hall", frames="texture")
 
 
 def test_view_command_serves_the_page(chromium, tmp_path):

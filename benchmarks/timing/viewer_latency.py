@@ -3,12 +3,13 @@ screen, split into the event's way to the server, the wait for the render before
 view (the picture of the chosen view), encode and send, transport, decode in the page and display; and the frames shown per second while the camera moves.
 
 Debian's Chromium, headless, drives the page (Playwright); the page's clock and the server's are
-the same machine's. The page records each pointer event, each frame's arrival (the blob the
-background image is made of), its decode (the image's load event) and its display (the second
-animation frame after the decode: the frame in which the new texture was drawn). The viewer's own
+the same machine's. The page records each pointer event, each frame's arrival (the blob its image
+element is given), its decode (the image's load event) and its display (the second animation frame
+after the decode: the frame in which the new image was drawn). The viewer's own
 cost is everything but the render.
 
-    python benchmarks/timing/viewer_latency.py [--scene hall] [--width 640 --height 360] [--seconds 4] [--device cpu] [--floor]
+    python benchmarks/timing/viewer_latency.py [--scene hall] [--width 640 --height 360] [--seconds 4] [--device cpu]
+        [--frames background|overlay] [--floor]
 
 Goals on a 2-core llvmpipe machine (hall): at least 10 frames shown per second while the camera
 moves (progressive resolution), and the viewer's own cost at most 50 ms median at 640x360. On a GPU:
@@ -23,6 +24,7 @@ import time
 import numpy as np
 
 import ssrlab
+from ssrlab.viewer.server import FRAMES
 
 PAGE_HOOKS = """
 (() => {
@@ -39,18 +41,25 @@ PAGE_HOOKS = """
     }
     return url;
   };
+  // The page's frame element gets its blob by attribute (React) and a probe image by property:
+  // a frame counts as decoded when the last of them has loaded.
+  const watch = (img, v) => {
+    const rec = blobs.get(v);
+    if (rec) img.addEventListener('load', () => {
+      rec.decoded = now(); rec.width = img.naturalWidth; rec.height = img.naturalHeight;
+      requestAnimationFrame(() => requestAnimationFrame(() => { rec.displayed = now(); }));
+    }, {once: true});
+  };
   const desc = Object.getOwnPropertyDescriptor(HTMLImageElement.prototype, 'src');
   Object.defineProperty(HTMLImageElement.prototype, 'src', {
     get() { return desc.get.call(this); },
-    set(v) {
-      const rec = blobs.get(v);
-      if (rec) this.addEventListener('load', () => {
-        rec.decoded = now(); rec.width = this.naturalWidth; rec.height = this.naturalHeight;
-        requestAnimationFrame(() => requestAnimationFrame(() => { rec.displayed = now(); }));
-      }, {once: true});
-      desc.set.call(this, v);
-    },
+    set(v) { watch(this, v); desc.set.call(this, v); },
   });
+  const setAttribute = Element.prototype.setAttribute;
+  Element.prototype.setAttribute = function (name, v) {
+    if (this instanceof HTMLImageElement && name === 'src') watch(this, v);
+    return setAttribute.call(this, name, v);
+  };
 })();
 """
 PANEL_PX = 324  # the docked panel's width (viser's "medium")
@@ -61,17 +70,20 @@ def percentile(values, q):
 
 
 def page_floor(args) -> None:
-    """The page's own path with nothing rendering: one fixed frame of the canvas's size sent 30 times,
-    10 a second (encode and send, transport, decode, display): the floor under viewer_own on this
+    """The page's own path with nothing rendering: a frame of the canvas's size sent 30 times,
+    10 a second, as the viewer sends its frames (encode and send, transport, decode, display): the floor under viewer_own on this
     machine, whatever the renderer does."""
     import viser
     from playwright.sync_api import sync_playwright
 
-    from ssrlab.viewer.server import free_port
+    from ssrlab.viewer.server import FRAME_CSS, frame_element, free_port, show_frame
 
     port = free_port("127.0.0.1")
     server = viser.ViserServer(host="127.0.0.1", port=port, verbose=False)
+    server.gui.configure_theme(control_width="medium", show_logo=False, show_share_button=False)
     server.gui.main_panel.dock_right()
+    if args.frames == "overlay":
+        server.gui.add_html(f"<style>{FRAME_CSS}</style>")
     rng = np.random.default_rng(0)
     # A smooth picture (a JPEG of noise would be far larger than a rendered frame's)
     y, x = np.mgrid[0:args.height, 0:args.width]
@@ -88,12 +100,15 @@ def page_floor(args) -> None:
         time.sleep(2.0)
         client = next(iter(server.get_clients().values()))
         sent = []
-        for _ in range(30):
+        element = frame_element(client, args.lossless) if args.frames == "overlay" else None
+        for k in range(30):
+            image[:8, :8] = 8 * k  # a new picture each time, as the viewer sends
             t = time.time()
-            if args.lossless:
-                client.scene.set_background_image(image, format="png")
+            if element is not None:
+                show_frame(element, image)
             else:
-                client.scene.set_background_image(image, format="jpeg", jpeg_quality=90)
+                client.scene.set_background_image(image, format="png" if args.lossless else "jpeg",
+                                                  jpeg_quality=None if args.lossless else 90)
             client.flush()
             sent.append((t, time.time()))
             time.sleep(0.1)
@@ -106,7 +121,7 @@ def page_floor(args) -> None:
              "decode": [r["decoded"] - r["received"] for r in frames if r["decoded"]],
              "display": [r["displayed"] - r["decoded"] for r in frames if r["displayed"] and r["decoded"]]}
     print(f"the page's path alone (nothing rendering), {args.width}x{args.height}, "
-          f"{'PNG' if args.lossless else 'JPEG'}, {len(frames)} frames:")
+          f"{'PNG' if args.lossless else 'JPEG'}, frames as {args.frames}, {len(frames)} frames:")
     print(f"{'part':<16} {'median ms':>10} {'p90 ms':>10}")
     for k, vals in parts.items():
         print(f"{k:<16} {percentile(vals, 50):>10.1f} {percentile(vals, 90):>10.1f}")
@@ -121,6 +136,7 @@ def main() -> int:
     ap.add_argument("--seconds", type=float, default=4.0, help="how long the camera is dragged")
     ap.add_argument("--device", default="auto")
     ap.add_argument("--lossless", action="store_true", help="PNG frames instead of JPEG")
+    ap.add_argument("--frames", choices=FRAMES, default=FRAMES[0], help="how the page shows frames (ssrlab.view)")
     ap.add_argument("--set", action="append", metavar="FIELD=VALUE", default=[])
     ap.add_argument("--floor", action="store_true",
                     help="also measure the page's own path with nothing rendering (the floor under viewer_own)")
@@ -130,10 +146,10 @@ def main() -> int:
     from ssrlab.lab.protocol import parse_set
 
     settings = ssrlab.Settings().replace(**parse_set(args.set))
-    v = ssrlab.view(args.scene, settings, device=args.device, lossless=args.lossless, accumulate=1)
+    v = ssrlab.view(args.scene, settings, device=args.device, lossless=args.lossless, accumulate=1, frames=args.frames)
     info = v.renderer.info
     print(f"device: {info['renderer']} ({info['device']}), OpenGL {info['gl_version']}; scene {args.scene}, "
-          f"canvas {args.width}x{args.height}, {'PNG' if args.lossless else 'JPEG'} frames, "
+          f"canvas {args.width}x{args.height}, {'PNG' if args.lossless else 'JPEG'} frames as {args.frames}, "
           f"settings {settings!r}")
     try:
         with sync_playwright() as p:
@@ -143,7 +159,8 @@ def main() -> int:
             page.add_init_script(PAGE_HOOKS)
             opened = time.time()
             page.goto(v.url)
-            v.wait(lambda x: any(s.scale >= 1 for s in x.shown.values()), timeout=120)
+            if not v.wait(lambda x: any(e["scale"] >= 1 for e in x.history), timeout=120):
+                raise SystemExit(f"viewer_latency: no full-resolution frame within 120 s ({v.error or 'no error'})")
             first = min(e["shown_at"] for e in v.history) - opened
             time.sleep(1.0)  # the first frames compile the chain; the drag starts after them
             start_hist = len(v.history)
@@ -202,6 +219,9 @@ def main() -> int:
     shown_moving = [r for r in frames if r["displayed"] is not None and t0 * 1e3 <= r["displayed"] <= t1 * 1e3]
     fps = len(shown_moving) / (t1 - t0)
     sizes = sorted({(e["width"], e["height"]) for e in sent})
+    # The canvas the page reported (its panel may take more than PANEL_PX: the goal is judged at
+    # the canvas the frames were rendered for, said beside the verdict).
+    canvas = max(((e["width"], e["height"]) for e in v.history if e["scale"] >= 1), default=(0, 0))
     print(f"first frame {first:.2f} s after the page opened; {len(rows['render'])} frames matched over a "
           f"{t1 - t0:.1f} s drag; sizes rendered {sizes}")
     print(f"{'part':<16} {'median ms':>10} {'p90 ms':>10}")
@@ -217,7 +237,8 @@ def main() -> int:
         print(f"goal: >= {fps_goal:.0f} frames shown/s while moving: {'met' if fps >= fps_goal else 'not met'} "
               f"({fps:.1f})")
         print(f"goal: viewer's own cost <= {own_goal:.0f} ms median at {args.width}x{args.height}: "
-              f"{'met' if own <= own_goal else 'not met'} ({own:.1f} ms)")
+              f"{'met' if own <= own_goal else 'not met'} ({own:.1f} ms; the page's canvas was "
+              f"{canvas[0]}x{canvas[1]})")
     if args.floor:
         page_floor(args)
     return 0

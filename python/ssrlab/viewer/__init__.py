@@ -1,7 +1,7 @@
 """A live view of a scene in the browser: ``ssrlab.view(scene)`` or ``ssrlab view SCENE``.
 
 The page (viser's, served by this process, 127.0.0.1 unless told otherwise) shows ssrlab's frames
-as its background, rendered from the page's own camera at the page's aspect, with every setting of
+over its 3D view, rendered from the page's own camera at the page's aspect, with every setting of
 ssrlab.Settings as a control, every channel a frame holds as a view, a pixel inspector, the live
 numbers of each frame and its error against the converged reference. docs/guide/viewer.md.
 """
@@ -10,14 +10,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .server import Shown, Viewer
+from .server import FRAMES, Shown, Viewer
 
-__all__ = ["Viewer", "Shown", "view"]
+__all__ = ["FRAMES", "Viewer", "Shown", "view"]
 
 
 def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: int | None = None,
          lossless: bool = False, accumulate: int = 8, out="renders/view", device: str = "auto",
-         watch_shaders: bool = True, reference_rays=(4, 16, 64), verbose: bool = False) -> Viewer:
+         watch_shaders: bool = True, reference_rays=(4, 16, 64), frames: str = FRAMES[0],
+         verbose: bool = False) -> Viewer:
     """Opens a live view of `scene` and returns at once with its handle (ssrlab.viewer.Viewer): its
     ``url``, ``settings``, ``camera`` and ``frame`` readable and settable while the page is open,
     ``close()``. In Jupyter the handle shows the page inline.
@@ -30,7 +31,10 @@ def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: 
     of new seeds averaged while the camera rests; out: the folder 'save frame' and 'record camera
     path' write into (never replacing a file); watch_shaders: re-render when a user pass's shader
     (or, in a source checkout, any of ssrlab's) changes on disk; reference_rays: the converged
-    reference's rays per reflective pixel in each round while the camera rests (with 'reference' on)."""
+    reference's rays per reflective pixel in each round while the camera rests (with 'reference' on);
+    frames: how the page shows frames, "background" (the 3D view's background, in every layout of
+    the page) or "overlay" (an image over the canvas: a shorter path in the page, shown only while
+    the panel is docked; ssrlab.viewer.server.FRAMES says why)."""
     from .. import scenes
     from ..scene import Scene
 
@@ -43,4 +47,4 @@ def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: 
         source = f"ssrlab.scenes.load({scene.name!r})"
     return Viewer(scene, settings, renderer, host=host, port=port, scene_source=source, lossless=lossless,
                   accumulate=accumulate, out=out, device=device, watch_shaders=watch_shaders,
-                  reference_rays=reference_rays, verbose=verbose)
+                  reference_rays=reference_rays, frames=frames, verbose=verbose)

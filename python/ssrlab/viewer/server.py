@@ -41,6 +41,23 @@ MIN_SCALE = 0.2
 REFERENCE_ROUNDS = (4, 16, 64)
 # Frames kept for the live numbers.
 HISTORY = 120
+# Seconds between two redraws of the live numbers (table and chart) while a camera moves: each
+# redraw is a React render and a chart redraw in the page, on the same cores that decode the frame
+# (benchmarks/timing/viewer_latency.py); a resting frame's numbers are drawn at once.
+NUMBERS_S = 0.5
+# How a page shows its frames. "background": as the 3D view's background texture, which holds in
+# every layout of the page (panel docked, floating or collapsed) but costs a WebGL texture upload on
+# the page's main thread per frame. "overlay": as an image element of the page's panel that CSS lifts
+# over the canvas at its height and the frame's aspect, letting the pointer through to the camera's
+# controls; the browser decodes and composites an <img> itself, which makes the page's own path
+# shorter (benchmarks/timing/viewer_latency.py --frames overlay --floor), and leaves the 3D view's
+# own canvas empty, which the page redraws each animation frame while the camera moves. But the
+# frame shows only while the panel is docked: a collapsed panel takes the element with it, and a
+# floating one lies under it. (A background texture kept beside the overlay, for a collapsed panel,
+# would cost its sampling in every one of those redraws.)
+FRAMES = ("background", "overlay")
+FRAME_CSS = ("img[src^='blob:']{position:fixed!important;left:0;top:0;height:100vh!important;"
+             "width:auto!important;max-width:none!important;pointer-events:none;z-index:0}")
 # Seconds between two looks at the watched shader files.
 WATCH_S = 0.5
 
@@ -81,6 +98,21 @@ class _Page:
     accum: np.ndarray | None = None
     accum_count: int = 0
     reference_round: int = 0
+    image: object = None  # the page's frame element (frame_element), with frames="overlay"
+
+
+def frame_element(client, lossless: bool, jpeg_quality: int = 90):
+    """The image element of one page's panel that shows its frames (FRAME_CSS places it), hidden
+    until the first frame."""
+    return client.gui.add_image(np.zeros((8, 8, 3), np.uint8), label=None, format="png" if lossless else "jpeg",
+                                jpeg_quality=None if lossless else int(jpeg_quality), visible=False, order=1e9)
+
+
+def show_frame(element, image: np.ndarray) -> None:
+    """Sends `image` (uint8, (H, W, 3)) to the page of `element` (frame_element)."""
+    element.image = image
+    if not element.visible:
+        element.visible = True
 
 
 class Viewer:
@@ -96,7 +128,7 @@ class Viewer:
                  host: str = "127.0.0.1", port: int | None = None, scene_source: str | None = None,
                  lossless: bool = False, jpeg_quality: int = 90, accumulate: int = 8, out: str | Path = "renders/view",
                  device: str = "auto", watch_shaders: bool = True, reference_rays=REFERENCE_ROUNDS,
-                 verbose: bool = False):
+                 frames: str = "background", verbose: bool = False):
         try:
             import viser
         except ImportError as e:
@@ -113,6 +145,8 @@ class Viewer:
             raise ValueError(f"ssrlab.view: reference_rays must be rays per pixel >= 1 of each round, got "
                              f"{reference_rays!r}")
         self.reference_rays = rounds
+        if frames not in FRAMES:
+            raise ValueError(f"ssrlab.view: frames must be one of {', '.join(FRAMES)}, got {frames!r}")
         if not 1 <= int(jpeg_quality) <= 100:
             raise ValueError(f"ssrlab.view: jpeg_quality must be in [1, 100], got {jpeg_quality!r}")
         if scene.camera is None:
@@ -122,6 +156,7 @@ class Viewer:
         self.scene_source = scene_source
         self.lossless = bool(lossless)
         self.jpeg_quality = int(jpeg_quality)
+        self.frames = frames
         self.accumulate = int(accumulate)
         self.out = Path(out)
         self._cond = threading.Condition()
@@ -138,6 +173,7 @@ class Viewer:
         self._divider = 0.5
         self._ms_per_pixel: float | None = None
         self._history: deque = deque(maxlen=HISTORY)
+        self._numbers_drawn = (0.0, 0)  # (when, serial of the frame drawn)
         self._serial = 0
         self._frame = None
         self._reference = None  # (key, ConvergedReference, rays)
@@ -275,11 +311,11 @@ class Viewer:
     # -- the page --------------------------------------------------------------------------------
     def _build_gui(self) -> None:
         gui = self.server.gui
-        # The frame is the page's background: nothing of the page's own may shade or cover it (the
+        # The frame is over the page's 3D view: nothing of the page's own may shade or cover it (the
         # panel's drop shadow, the toast a software WebGL raises), so that the pixels shown are the
         # pixels sent.
         gui.add_html("<style>.mantine-Notifications-root{display:none!important}"
-                     "*{box-shadow:none!important}</style>")
+                     "*{box-shadow:none!important}" + (FRAME_CSS if self.frames == "overlay" else "") + "</style>")
         self._status = gui.add_markdown("starting")
         self._message = gui.add_markdown("")
         with gui.add_folder("view"):
@@ -350,7 +386,8 @@ class Viewer:
         self.server.scene.on_click()(self._on_click)
 
     def _connect(self, client) -> None:
-        page = _Page(client=client)
+        page = _Page(client=client, image=frame_element(client, self.lossless, self.jpeg_quality)
+                     if self.frames == "overlay" else None)
         with self._cond:
             self._pages[client.client_id] = page
             initial = _core.Camera(position=tuple(self.server.initial_camera.position),
@@ -544,6 +581,7 @@ class Viewer:
                     self._cond.wait(timeout=0.05)
                     job = self._next_job() if not self._closed else None
             if job is None:
+                self._draw_numbers()
                 self._watch()
                 continue
             try:
@@ -661,7 +699,8 @@ class Viewer:
                 self._frame = shown_frame
         if tuple(self._view_control.options) != tuple(names):
             self._view_control.options = tuple(names)
-        self._caption.content = caption
+        if self._caption.content != caption:
+            self._caption.content = caption
         with self._render_lock:
             self._numbers_for(frame, times, scale, page.accum_count, cid)
 
@@ -671,7 +710,9 @@ class Viewer:
                 self._pages.pop(page.client.client_id, None)
             return False
         try:
-            if self.lossless:
+            if page.image is not None:
+                show_frame(page.image, image)
+            elif self.lossless:
                 page.client.scene.set_background_image(image, format="png")
             else:
                 page.client.scene.set_background_image(image, format="jpeg", jpeg_quality=self.jpeg_quality)
@@ -731,25 +772,43 @@ class Viewer:
                  "gpu_ms": float(timings.get("total", 0.0)), "wall_ms": float(frame.wall_ms),
                  "render_ms": (times["render_end"] - times["render_start"]) * 1e3, "viewer_ms": viewer_ms,
                  "passes": {k: float(v) for k, v in timings.items() if "." not in k and k != "total"},
-                 "shown_at": times["sent"], "times": dict(times), "page": cid}
+                 "shown_at": times["sent"], "times": dict(times), "page": cid, "serial": self._serial,
+                 "rays": frame.stats.get("rays_traced") if "rays.hit" in frame.texture_names else 0,
+                 "accumulated": accumulated}
         self._history.append(entry)
-        recent = [e for e in self._history if e["shown_at"] > times["sent"] - 2.0]
+        moving = any(time.time() - p.moved_at < REST_S for p in list(self._pages.values()))
+        self._draw_numbers(at_once=not moving)
+
+    def _draw_numbers(self, at_once: bool = True) -> None:
+        """The live numbers of the newest frame: at once, or when NUMBERS_S has passed since the last
+        redraw (and the newest frame is not drawn yet)."""
+        if not self._history:
+            return
+        entry = self._history[-1]
+        now = time.time()
+        when, serial = self._numbers_drawn
+        if entry["serial"] == serial or (not at_once and now - when < NUMBERS_S):
+            return
+        self._numbers_drawn = (now, entry["serial"])
+        recent = [e for e in self._history if e["shown_at"] > entry["shown_at"] - 2.0]
         fps = (len(recent) - 1) / (recent[-1]["shown_at"] - recent[0]["shown_at"]) if len(recent) > 1 and \
             recent[-1]["shown_at"] > recent[0]["shown_at"] else 0.0
         top = sorted(entry["passes"].items(), key=lambda kv: -kv[1])
-        rays = frame.stats.get("rays_traced") if "rays.hit" in frame.texture_names else 0
-        lines = [f"{entry['width']}x{entry['height']} ({scale:.0%} of the page), {fps:.1f} frames/s, "
-                 f"{rays} rays traced, {accumulated} frame(s) averaged  ",
-                 f"GPU {entry['gpu_ms']:.2f} ms, wall {entry['wall_ms']:.1f} ms, viewer {viewer_ms:.1f} ms", "",
-                 "| pass | GPU ms |", "|---|---|"] + [f"| {k} | {v:.3f} |" for k, v in top]
+        lines = [f"{entry['width']}x{entry['height']} ({entry['scale']:.0%} of the page), {fps:.1f} frames/s, "
+                 f"{entry['rays']} rays traced, {entry['accumulated']} frame(s) averaged  ",
+                 f"GPU {entry['gpu_ms']:.2f} ms, wall {entry['wall_ms']:.1f} ms, viewer {entry['viewer_ms']:.1f} ms",
+                 "", "| pass | GPU ms |", "|---|---|"] + [f"| {k} | {v:.3f} |" for k, v in top]
         self._numbers.content = "\n".join(lines)
-        self._status.content = f"**{self.scene.name}** on {self.renderer.info['renderer']}"
+        status = f"**{self.scene.name}** on {self.renderer.info['renderer']}"
+        if self._status.content != status:
+            self._status.content = status
         passes = tuple(entry["passes"])
         series = ("GPU total",) + passes + ("viewer",)
-        columns = [np.array([e["gpu_ms"] for e in self._history])]
-        columns += [np.array([e["passes"].get(name, np.nan) for e in self._history]) for name in passes]
-        columns += [np.array([e["viewer_ms"] for e in self._history])]
-        data = (np.arange(len(self._history), dtype=np.float64), *columns)
+        history = list(self._history)
+        columns = [np.array([e["gpu_ms"] for e in history])]
+        columns += [np.array([e["passes"].get(name, np.nan) for e in history]) for name in passes]
+        columns += [np.array([e["viewer_ms"] for e in history])]
+        data = (np.arange(len(history), dtype=np.float64), *columns)
         if series != self._chart_series:
             self._chart.remove()
             with self._numbers_folder:
