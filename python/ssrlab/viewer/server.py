@@ -128,7 +128,7 @@ class Viewer:
                  host: str = "127.0.0.1", port: int | None = None, scene_source: str | None = None,
                  lossless: bool = False, jpeg_quality: int = 90, accumulate: int = 8, out: str | Path = "renders/view",
                  device: str = "auto", watch_shaders: bool = True, reference_rays=REFERENCE_ROUNDS,
-                 frames: str = "background", verbose: bool = False):
+                 frames: str = FRAMES[0], verbose: bool = False):
         try:
             import viser
         except ImportError as e:
