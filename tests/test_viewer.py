@@ -18,7 +18,7 @@ import ssrlab
 from ssrlab import display
 from ssrlab.viewer import FRAMES, views
 
-from viewer_page import browser, drag, open_page, require_browser, wait_shown
+from viewer_page import browser, drag, open_page, require_browser, wait_settled, wait_shown
 
 REPO = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.usefixtures("_browser_available")
@@ -239,14 +239,15 @@ def test_copy_as_python_renders_the_same_pixels_in_a_fresh_process(chromium, hal
     page = open_page(chromium, hall_view.url)
     wait_shown(page, hall_view, condition=rests)
     drag(page, -30, 5)
-    shown, pixels = wait_shown(page, hall_view, condition=lambda s: rests(s) and
-                               not np.allclose(s.camera.position, hall_view.scene.camera.position))
     page.get_by_text("keep", exact=True).click()
+    shown, pixels = wait_settled(page, hall_view, condition=lambda s: rests(s) and
+                                 not np.allclose(s.camera.position, hall_view.scene.camera.position))
     page.get_by_role("button", name="copy as Python").click()
     deadline = time.time() + 20
     while not hall_view._snapshot and time.time() < deadline:
         time.sleep(0.05)
     script = hall_view._snapshot
+    assert max(s.serial for s in hall_view.shown.values()) == shown.serial  # the snippet is of the frame compared
     assert "ssrlab.Camera(" in script and "renderer.render(scene, camera, settings)" in script
     out = tmp_path / "color.npy"
     program = script + f"\nimport numpy\nnumpy.save({str(out)!r}, frame.color)\n"

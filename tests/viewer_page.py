@@ -69,6 +69,18 @@ def wait_shown(page, viewer, cid=None, timeout: float = 60.0, condition=None):
                          f"viewer error: {viewer.error!r})")
 
 
+def wait_settled(page, viewer, condition=None, quiet: float = 1.0, timeout: float = 60.0):
+    """wait_shown, once no newer frame has come for `quiet` seconds: the page's camera controls
+    ease on after a drag, and each step they send renders a frame of its own."""
+    end = time.time() + timeout
+    while time.time() < end:
+        shown, pixels = wait_shown(page, viewer, condition=condition, timeout=max(end - time.time(), 1.0))
+        time.sleep(quiet)
+        if max(s.serial for s in viewer.shown.values()) == shown.serial:
+            return shown, pixels
+    raise AssertionError(f"the viewer's frames did not settle within {timeout} s")
+
+
 def drag(page, dx: int, dy: int, x: int = 60, y: int = 45, steps: int = 5) -> None:
     page.mouse.move(x, y)
     page.mouse.down()
