@@ -58,6 +58,10 @@ NUMBERS_S = 0.5
 FRAMES = ("background", "overlay")
 FRAME_CSS = ("img[src^='blob:']{position:fixed!important;left:0;top:0;height:100vh!important;"
              "width:auto!important;max-width:none!important;pointer-events:none;z-index:0}")
+# The frame is over the page's 3D view: nothing of the page's own may shade or cover it (the panel's
+# drop shadow, the toast a software WebGL raises, which also takes the pointer), so that the pixels
+# shown are the pixels sent.
+PAGE_CSS = ".mantine-Notifications-root{display:none!important}*{box-shadow:none!important}"
 # Seconds between two looks at the watched shader files.
 WATCH_S = 0.5
 
@@ -99,6 +103,11 @@ class _Page:
     accum_count: int = 0
     reference_round: int = 0
     image: object = None  # the page's frame element (frame_element), with frames="overlay"
+
+
+def page_style(frames: str) -> str:
+    """The <style> element every page gets (PAGE_CSS, and FRAME_CSS with frames="overlay")."""
+    return "<style>" + PAGE_CSS + (FRAME_CSS if frames == "overlay" else "") + "</style>"
 
 
 def frame_element(client, lossless: bool, jpeg_quality: int = 90):
@@ -311,11 +320,7 @@ class Viewer:
     # -- the page --------------------------------------------------------------------------------
     def _build_gui(self) -> None:
         gui = self.server.gui
-        # The frame is over the page's 3D view: nothing of the page's own may shade or cover it (the
-        # panel's drop shadow, the toast a software WebGL raises), so that the pixels shown are the
-        # pixels sent.
-        gui.add_html("<style>.mantine-Notifications-root{display:none!important}"
-                     "*{box-shadow:none!important}" + (FRAME_CSS if self.frames == "overlay" else "") + "</style>")
+        gui.add_html(page_style(self.frames))
         self._status = gui.add_markdown("starting")
         self._message = gui.add_markdown("")
         with gui.add_folder("view"):
@@ -396,7 +401,10 @@ class Viewer:
                                    fov_y=math.degrees(self.server.initial_camera.fov), near=self._near, far=self._far)
         cam.to_page(client.camera, initial)
 
-        def moved(camera_handle) -> None:
+        async def moved(camera_handle) -> None:
+            # A coroutine runs in the server's event loop as the message arrives, where a plain
+            # function would wait for a thread of the server's pool first; it only records the
+            # request and wakes the worker.
             self._on_camera(client.client_id, camera_handle)
 
         client.camera.on_update(moved)
