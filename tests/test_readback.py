@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import ssrlab
+from ssrlab import display
 from conftest import small
 
 
@@ -78,3 +79,59 @@ def test_read_without_the_cache_downloads_again_and_keeps_nothing(renderer):
     np.testing.assert_array_equal(f.read("rays.hit", cache=False), f.read("rays.hit"))
     assert 0 < renderer.scratch_bytes <= renderer.gpu_bytes
     assert ssrlab.io.image_backend() in ("OpenImageIO", "python")
+
+
+# -- the colour as display bytes (Frame.srgb8) ------------------------------------------------------
+def _codes_by_thresholds(x: np.ndarray, exposure: float) -> np.ndarray:
+    """A value's code as the count of thresholds at or below it, exposed and clamped as
+    ssrlab.io.linear_to_srgb does (what passes/display_bytes.comp computes)."""
+    y = np.clip(np.nan_to_num(np.asarray(x, np.float32)) * np.float32(exposure), 0.0, 1.0)
+    return np.searchsorted(display.srgb8_thresholds(), y, side="right").astype(np.uint8)
+
+
+def test_thresholds_are_where_each_code_begins():
+    t = display.srgb8_thresholds()
+    assert t.dtype == np.float32 and t.shape == (255,) and np.all(np.diff(t) > 0)
+    codes = display.to_bytes(display.srgb(t[:, None]))[:, 0]
+    before = display.to_bytes(display.srgb(np.nextafter(t, np.float32(0))[:, None]))[:, 0]
+    np.testing.assert_array_equal(codes, np.arange(1, 256))
+    np.testing.assert_array_equal(before, np.arange(0, 255))
+
+
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # numpy at exposure 1e30
+@pytest.mark.parametrize("exposure", [0.0, 0.37, 1.0, 3.3, 1e30])
+def test_codes_counted_by_thresholds_equal_the_transfer_function(exposure):
+    rng = np.random.default_rng(3)
+    t = display.srgb8_thresholds()
+    near = (t.view(np.int32)[:, None] + np.arange(-3, 4, dtype=np.int32)).view(np.float32).ravel()
+    x = np.concatenate([near / np.float32(exposure) if exposure > 0 else near,
+                        (rng.random(20000, np.float32) ** 3) * 2.0 - 0.1,
+                        np.linspace(0, 1, 100001, dtype=np.float32),
+                        np.array([np.nan, np.inf, -np.inf, -0.0, 3.4e38, -3.4e38, 1e-45], np.float32)])
+    x = np.resize(x, (1, x.size, 3))
+    np.testing.assert_array_equal(_codes_by_thresholds(x, exposure), display.to_bytes(display.srgb(x, exposure)))
+
+
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # numpy at exposure 1e30
+@pytest.mark.parametrize("scene", ["hall", "spheres_and_boxes"])
+@pytest.mark.parametrize("exposure", [0.0, 0.37, 1.0, 17.0, 1e30])
+def test_srgb8_is_the_colour_as_displayed_code_for_code(renderer, scene, exposure):
+    sc = ssrlab.scenes.load(scene)
+    f = renderer.render(sc, settings=small(width=96, height=54))
+    got = f.srgb8(exposure)
+    assert got.dtype == np.uint8 and got.shape == (54, 96, 3)
+    np.testing.assert_array_equal(got, display.to_bytes(display.srgb(f.color, exposure)))
+    if exposure == 1.0:
+        assert len(np.unique(got)) > 20  # a picture, not a constant
+
+
+def test_srgb8_of_the_anti_aliased_colour_and_bad_input(renderer):
+    sc = ssrlab.scenes.load("hall")
+    f = renderer.render(sc, settings=small(width=64, height=36, taa="clamped"))
+    assert "color.taa" in f.texture_names
+    np.testing.assert_array_equal(f.srgb8(), display.to_bytes(display.srgb(f.color)))
+    with pytest.raises(ValueError, match="exposure"):
+        f.srgb8(float("nan"))
+    f.release()
+    with pytest.raises(ValueError, match="released"):
+        f.srgb8()

@@ -88,9 +88,26 @@ def hall_view(renderer):
 def test_first_frame_is_the_render_of_the_reported_camera_and_a_drag_moves_it(chromium, renderer, frames):
     hall_view = hall_hiz(renderer, frames=frames)
     try:
-        _first_frame_and_a_drag(chromium, hall_view, renderer)
+        page = _first_frame_and_a_drag(chromium, hall_view, renderer)
+        if frames == "overlay":
+            _the_panel_stays_docked(page, hall_view)
     finally:
         hall_view.close()
+
+
+def _the_panel_stays_docked(page, viewer):
+    """With frames="overlay" the frame is an element of the docked panel: the page offers no way to
+    collapse or float the panel, so nothing the user does there takes the frame away."""
+    assert page.locator("[data-dock-region-collapse]").count() == 0 or \
+        not page.locator("[data-dock-region-collapse]").first.is_visible()
+    for handle in ("[data-dock-header]", "[data-dock-region-handle]"):
+        box = page.locator(handle).first.bounding_box()
+        page.mouse.move(box["x"] + 60, box["y"] + 5)
+        page.mouse.down()
+        page.mouse.move(box["x"] - 200, box["y"] + 120, steps=8)
+        page.mouse.up()
+    assert page.locator("[data-dock-region=right]").count() == 1
+    wait_shown(page, viewer, timeout=20)  # the page still shows the frame the viewer sent last
 
 
 def _first_frame_and_a_drag(chromium, hall_view, renderer):
@@ -110,6 +127,7 @@ def _first_frame_and_a_drag(chromium, hall_view, renderer):
     expected2, _ = expected_pixels(renderer, moved, hall_view.scene)
     assert np.array_equal(pixels2, expected2)
     assert hall_view.camera.position == moved.camera.position  # the handle reports the page's camera
+    return page
 
 
 def test_settings_from_the_page_and_a_refused_value_keeps_the_frame(chromium, hall_view, renderer):

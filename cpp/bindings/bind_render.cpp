@@ -333,6 +333,21 @@ void bind_render(py::module_& m) {
             },
             py::arg("name"), py::arg("level") = 0,
             "Reads every layer of a texture's mip level as float32 (layers, height, width, 4); row 0 = top.")
+        .def(
+            "display_bytes",
+            [](Frame& f, const std::string& name, float exposure, const std::vector<float>& thresholds) {
+                DisplayBytes bytes;
+                {
+                    py::gil_scoped_release release;
+                    bytes = f.display_bytes(name, exposure, thresholds);
+                }
+                auto* data = new std::vector<uint8_t>(std::move(bytes.rgb));
+                py::capsule owner(data, [](void* p) { delete static_cast<std::vector<uint8_t>*>(p); });
+                return py::array_t<uint8_t>({bytes.height, bytes.width, 3}, data->data(), owner);
+            },
+            py::arg("name"), py::arg("exposure"), py::arg("thresholds"),
+            "A float colour texture as 8-bit sRGB codes, uint8 (height, width, 3), row 0 = top: channel "
+            "code k where thresholds[k - 1] <= exposure * value < thresholds[k] (use ssrlab.Frame.srgb8).")
         .def_property_readonly("texture_names", &Frame::texture_names, "names of the textures read() can read")
         .def_property_readonly(
             "channels",

@@ -6,6 +6,7 @@
 // longer holds a 16 MiB shadow map). release() gives the frame's own textures back early.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -51,6 +52,12 @@ struct Readback {
     ReadbackData data;  // (layers, height, width, 4), row 0 = top of the image
 };
 
+// A colour as 8-bit sRGB codes, (height, width, 3), row 0 = top of the image.
+struct DisplayBytes {
+    int height = 0, width = 0;
+    std::vector<uint8_t> rgb;
+};
+
 class Frame {
 public:
     Frame(std::shared_ptr<EglContext> ctx, std::weak_ptr<Renderer> renderer, std::shared_ptr<FrameResources> resources);
@@ -59,6 +66,9 @@ public:
     // All layers of a texture's mip `level`, as float RGBA (depth in channel 0).
     Readback read(const std::string& name, int level = 0);
     std::vector<std::string> texture_names() const;
+    // A float colour texture of the frame as the 8-bit sRGB codes of `exposure` times it
+    // (passes/display_bytes.comp): thresholds[k - 1] is the smallest linear value of code k.
+    DisplayBytes display_bytes(const std::string& name, float exposure, const std::vector<float>& thresholds);
     // What the channels of the frame's own textures mean, as the passes that wrote them declared
     // (ResourceDesc::channels), with the texture that holds each, in the chain's order.
     std::vector<std::pair<const ResourceDesc*, ChannelDesc>> channels() const;

@@ -5,6 +5,7 @@
 #include "render/auto_choice.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <thread>
@@ -202,6 +203,47 @@ Readback Renderer::read_texture(const Texture& tex, int level) {
     return out;
 }
 
+DisplayBytes Renderer::display_bytes(const Texture& tex, float exposure, const std::vector<float>& thresholds) {
+    CurrentContext current(*ctx_);
+    if (tex.target() != GL_TEXTURE_2D)
+        throw std::invalid_argument("display bytes are made of a 2D colour texture, not of a layered one");
+    if (thresholds.size() != 255)
+        throw std::invalid_argument("display bytes need the 255 thresholds of codes 1..255, got " +
+                                    std::to_string(thresholds.size()));
+    if (!std::isfinite(exposure)) throw std::invalid_argument("exposure must be finite");
+    DisplayBytes out;
+    out.width = tex.width();
+    out.height = tex.height();
+    const size_t pixels = size_t(out.width) * size_t(out.height);
+    if (display_ssbo_.size() < pixels * sizeof(uint32_t)) display_ssbo_ = Buffer::create(pixels * sizeof(uint32_t));
+    Defines d;
+    constexpr GLuint kSourceUnit = 0;
+    d["TEXTURE_SOURCE"] = std::to_string(kSourceUnit);
+    const GLuint prog = shaders_->program({"passes/display_bytes.comp"}, d);
+    glUseProgram(prog);
+    glUniform2i(glGetUniformLocation(prog, "u_size"), out.width, out.height);
+    glUniform1f(glGetUniformLocation(prog, "u_exposure"), exposure);
+    glUniform1fv(glGetUniformLocation(prog, "u_thresholds"), 255, thresholds.data());
+    glBindTextureUnit(kSourceUnit, tex.id());
+    glBindSampler(kSourceUnit, readback_sampler_);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDisplayBytesBinding, display_ssbo_.id());
+    glDispatchCompute(GLuint((out.width + 7) / 8), GLuint((out.height + 7) / 8), 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindSampler(kSourceUnit, 0);
+    std::vector<uint32_t> packed(pixels);
+    glGetNamedBufferSubData(display_ssbo_.id(), 0, GLsizeiptr(pixels * sizeof(uint32_t)), packed.data());
+    check_gl(*ctx_, "display bytes");
+    out.rgb.resize(pixels * 3);
+    for (size_t i = 0; i < pixels; ++i) {
+        out.rgb[3 * i] = uint8_t(packed[i] & 0xFFu);
+        out.rgb[3 * i + 1] = uint8_t((packed[i] >> 8) & 0xFFu);
+        out.rgb[3 * i + 2] = uint8_t((packed[i] >> 16) & 0xFFu);
+    }
+    ++readbacks_;
+    readback_bytes_ += pixels * sizeof(uint32_t);
+    return out;
+}
+
 // ------------------------------------------------------------------------------------------
 
 Frame::Frame(std::shared_ptr<EglContext> ctx, std::weak_ptr<Renderer> renderer, std::shared_ptr<FrameResources> res)
@@ -264,6 +306,20 @@ Readback Frame::read(const std::string& name, int level) {
     std::string known;
     for (const auto& n : texture_names()) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("frame has no texture '" + name + "' (it has: " + known + ")");
+}
+
+DisplayBytes Frame::display_bytes(const std::string& name, float exposure, const std::vector<float>& thresholds) {
+    if (!resources_)
+        throw std::invalid_argument("cannot read '" + name + "': this frame was released (Frame.release())");
+    auto r = renderer_.lock();
+    if (!r) throw GLError("the Renderer that made this frame has been closed; read what you need before closing it");
+    if (!resources_->owns(name)) throw std::invalid_argument("frame has no texture '" + name + "' of its own");
+    const auto& descs = resources_->descs();
+    auto d = std::find_if(descs.begin(), descs.end(), [&](const ResourceDesc& x) { return x.name == name; });
+    // A texture whose unwritten texels read as 0 (defined_by) is only read whole through read().
+    if (d != descs.end() && !d->defined_by.empty())
+        throw std::invalid_argument("'" + name + "' is defined only where " + d->defined_by + " says: read it with read()");
+    return r->display_bytes(resources_->get(name), exposure, thresholds);
 }
 
 std::vector<std::pair<const ResourceDesc*, ChannelDesc>> Frame::channels() const {

@@ -148,6 +148,7 @@ public:
 
     // Used by Frame::read: copies a texture level into host memory through readback.comp.
     Readback read_texture(const Texture& tex, int level);
+    DisplayBytes display_bytes(const Texture& tex, float exposure, const std::vector<float>& thresholds);
 
     // Whether `name` is a per-renderer scratch texture (declared Lifetime::Scratch): shared by
     // all frames instead of one copy per kept frame.
@@ -228,7 +229,7 @@ private:
     std::shared_ptr<EglContext> ctx_;  // first member: destroyed last, after every GL object
     std::unique_ptr<ShaderLibrary> shaders_;
     GpuTimer timer_;
-    Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_, readback_staging_;
+    Buffer frame_ubo_, ssr_ubo_, lights_ssbo_, readback_ssbo_, readback_staging_, display_ssbo_;
     Buffer previous_models_;  // motion vectors: the previous frame's model matrices (lib/motion.glsl)
     std::string readback_path_ = "auto";
     std::string clear_path_ = "auto";

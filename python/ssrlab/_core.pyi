@@ -738,6 +738,10 @@ class Frame:
     """
     A rendered frame's textures on the GPU; use ssrlab.Frame, which wraps it.
     """
+    def display_bytes(self, name: str, exposure: typing.SupportsFloat | typing.SupportsIndex, thresholds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> numpy.typing.NDArray[numpy.uint8]:
+        """
+        A float colour texture as 8-bit sRGB codes, uint8 (height, width, 3), row 0 = top: channel code k where thresholds[k - 1] <= exposure * value < thresholds[k] (use ssrlab.Frame.srgb8).
+        """
     def has(self, arg0: str) -> bool:
         """
         True if the frame holds a texture of this name.

@@ -4,6 +4,7 @@ and references (Renderer.render returns one)."""
 from __future__ import annotations
 
 import functools
+import math
 import weakref
 from collections.abc import Mapping
 from pathlib import Path
@@ -244,6 +245,20 @@ class Frame:
         if "color.taa" in self.texture_names:
             return self.read("color.taa")[0, :, :, :3]
         return self.read("color")[0, :, :, :3]
+
+    def srgb8(self, exposure: float = 1.0) -> np.ndarray:
+        """The colour (Frame.color's texture) as it is displayed: uint8 (height, width, 3), the
+        sRGB codes of exposure times the linear radiance, clamped. Encoded on the GPU and read back
+        as 4 bytes a pixel instead of the colour's 16; equal, code for code, to
+        ssrlab.display.to_bytes(ssrlab.display.srgb(frame.color, exposure))."""
+        from . import display
+
+        self._check_live("the colour")
+        e = float(exposure)
+        if not math.isfinite(e):
+            raise ValueError(f"Frame.srgb8: exposure must be a finite number, got {exposure!r}")
+        name = "color.taa" if "color.taa" in self.texture_names else "color"
+        return self._native.display_bytes(name, e, display.srgb8_thresholds())
 
     @property
     def reflection(self) -> np.ndarray:

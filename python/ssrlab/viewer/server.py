@@ -46,18 +46,22 @@ HISTORY = 120
 # (benchmarks/timing/viewer_latency.py); a resting frame's numbers are drawn at once.
 NUMBERS_S = 0.5
 # How a page shows its frames. "background": as the 3D view's background texture, which holds in
-# every layout of the page (panel docked, floating or collapsed) but costs a WebGL texture upload on
-# the page's main thread per frame. "overlay": as an image element of the page's panel that CSS lifts
-# over the canvas at its height and the frame's aspect, letting the pointer through to the camera's
-# controls; the browser decodes and composites an <img> itself, which makes the page's own path
-# shorter (benchmarks/timing/viewer_latency.py --frames overlay --floor), and leaves the 3D view's
-# own canvas empty, which the page redraws each animation frame while the camera moves. But the
-# frame shows only while the panel is docked: a collapsed panel takes the element with it, and a
-# floating one lies under it. (A background texture kept beside the overlay, for a collapsed panel,
-# would cost its sampling in every one of those redraws.)
+# every layout of the page (panel docked, floating or collapsed, a phone-width page) but costs a
+# WebGL texture upload on the page's main thread per frame. "overlay": as an image element of the
+# page's panel that CSS lifts over the canvas at its height and the frame's aspect, letting the
+# pointer through to the camera's controls; the browser decodes and composites an <img> itself,
+# which makes the page's own path shorter (benchmarks/timing/viewer_latency.py --floor, with either
+# value of --frames), and leaves the 3D view's own canvas empty, which the page redraws each
+# animation frame while the camera moves. The element lives in the docked panel, so with overlay
+# the panel stays docked: its collapse button is hidden and its header and handle take no drag (a
+# collapsed panel would unmount the element, a floating one lie under it); it can still be resized.
+# A page narrower than the panel's phone layout (under about 600 px) needs the background. (A
+# background texture kept beside the overlay would cost its sampling in every one of those redraws.)
 FRAMES = ("background", "overlay")
 FRAME_CSS = ("img[src^='blob:']{position:fixed!important;left:0;top:0;height:100vh!important;"
-             "width:auto!important;max-width:none!important;pointer-events:none;z-index:0}")
+             "width:auto!important;max-width:none!important;pointer-events:none;user-select:none;z-index:0}"
+             "[data-dock-region-collapse]{display:none!important}"
+             "[data-dock-header],[data-dock-region-handle]{pointer-events:none!important}")
 # The frame is over the page's 3D view: nothing of the page's own may shade or cover it (the panel's
 # drop shadow, the toast a software WebGL raises, which also takes the pointer), so that the pixels
 # shown are the pixels sent.
@@ -668,31 +672,35 @@ class Viewer:
             ms = frame.wall_ms
             self._ms_per_pixel = ms / (w * h) if self._ms_per_pixel is None else \
                 0.7 * self._ms_per_pixel + 0.3 * ms / (w * h)
-            if kind == "accumulate" and page.accum is not None and page.accum.shape[:2] == (h, w):
+            if kind == "accumulate" and page.accum_count >= 1 and page.shown is not None and \
+                    (page.shown.settings.height, page.shown.settings.width) == (h, w):
+                if page.accum is None:  # the sum starts at the first frame averaged in, not before
+                    page.accum = np.array(page.shown.frame.color, np.float64)
                 page.accum += frame.color
                 page.accum_count += 1
                 colour = page.accum / page.accum_count
                 shown_frame, s = page.shown.frame, page.shown.settings
             else:
-                page.accum, page.accum_count = np.array(frame.color, np.float64), 1
+                # A new view: its float colour stays on the device unless frames are averaged in
+                # (views.picture encodes it there).
+                page.accum, page.accum_count = None, 1
                 page.reference_round = 0
                 colour, shown_frame = None, frame
             if view not in views.names(shown_frame):
                 view = "color"
             reference = self._reference[1] if self._reference and self._reference[0] == id(shown_frame) else None
             try:
-                rgb, caption = views.render(shown_frame, view, layer=layer, ray=ray, reference=reference,
-                                            exposure=exposure, color=colour)
+                image, caption = views.picture(shown_frame, view, layer=layer, ray=ray, reference=reference,
+                                               exposure=exposure, color=colour)
             except ValueError as e:
-                rgb, caption = views.render(shown_frame, "color", exposure=exposure, color=colour)
+                image, caption = views.picture(shown_frame, "color", exposure=exposure, color=colour)
                 caption = f"{e}; showing the colour"
             if frame_b is not None:
-                rgb_b, _ = views.render(frame_b, view if view in views.names(frame_b) else "color", layer=layer,
-                                        ray=ray, exposure=exposure)
-                rgb = _split(rgb, rgb_b, self._divider)
+                image_b, _ = views.picture(frame_b, view if view in views.names(frame_b) else "color", layer=layer,
+                                           ray=ray, exposure=exposure)
+                image = _split(image, image_b, self._divider)
                 self._compare_md.content = self._compare_text(frame, frame_b)
             names = views.names(shown_frame)
-        image = views.to_bytes(rgb)
         times["view"] = time.time()
         if not self._send(page, image):
             return
@@ -914,13 +922,14 @@ def parse_changes(text: str) -> dict:
 
 
 def _split(a: np.ndarray, b: np.ndarray, divider: float) -> np.ndarray:
-    """A left of the divider, B right of it, a one-pixel white line between."""
+    """A left of the divider, B right of it (pictures as the page gets them, uint8), a one-pixel
+    white line between."""
     w = a.shape[1]
     x = min(max(int(round(divider * w)), 0), w)
     out = np.array(a, copy=True)
     out[:, x:] = b[:, x:]
     if 0 < x < w:
-        out[:, x - 1] = 1.0
+        out[:, x - 1] = 255
     return out
 
 

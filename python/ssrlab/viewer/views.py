@@ -14,6 +14,9 @@ import numpy as np
 
 from .. import display
 
+# Display floats in [0, 1] as the uint8 codes the page gets.
+to_bytes = display.to_bytes
+
 # Views of the G-buffer, per layer: name -> (GBuffer attribute, how it is shown).
 GBUFFER_CHANNELS = ("depth", "normal", "albedo", "roughness", "metallic", "reflectivity", "coverage", "lit",
                     "motion", "object_id")
@@ -61,6 +64,20 @@ def error_image(color: np.ndarray, reference: np.ndarray) -> tuple[np.ndarray, f
     return display.colormap(e, 0.0, top, "inferno"), top
 
 
+COLOR_CAPTION = "colour (sRGB, clamped)"
+
+
+def picture(frame, view: str, *, exposure: float = 1.0, color: np.ndarray | None = None,
+            **kw) -> tuple[np.ndarray, str]:
+    """render()'s picture as the page gets it, uint8 (H, W, 3), and its caption. A frame's own
+    colour is encoded on the device (Frame.srgb8, the same codes as to_bytes of render's): the
+    float colour never comes to the CPU."""
+    if view == "color" and color is None:
+        return frame.srgb8(exposure), COLOR_CAPTION
+    rgb, caption = render(frame, view, exposure=exposure, color=color, **kw)
+    return to_bytes(rgb), caption
+
+
 def render(frame, view: str, *, layer: int = 0, ray: int = 0, reference=None, exposure: float = 1.0,
            color: np.ndarray | None = None) -> tuple[np.ndarray, str]:
     """The picture of `view` (one of names(frame)) and its caption. `color`: the image the colour
@@ -69,7 +86,7 @@ def render(frame, view: str, *, layer: int = 0, ray: int = 0, reference=None, ex
     s = frame.settings
     H, W = s.height, s.width
     if view == "color":
-        return display.srgb(frame.color if color is None else color, exposure), "colour (sRGB, clamped)"
+        return display.srgb(frame.color if color is None else color, exposure), COLOR_CAPTION
     if view == "reflection":
         return display.srgb(frame.reflection, exposure), "resolved reflection c_r (sRGB, clamped)"
     if view == "error":
@@ -151,9 +168,6 @@ def render(frame, view: str, *, layer: int = 0, ray: int = 0, reference=None, ex
     raise ValueError(f"no view {view!r}; views: {', '.join(names(frame))}")
 
 
-def to_bytes(rgb: np.ndarray) -> np.ndarray:
-    """Display floats in [0, 1] as (H, W, 3) uint8, rounded as the PNG files ssrlab writes."""
-    return np.ascontiguousarray(np.clip(np.rint(np.asarray(rgb, np.float32) * 255.0), 0, 255).astype(np.uint8))
 
 
 def _fmt(v) -> str:
