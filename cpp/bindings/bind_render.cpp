@@ -341,8 +341,9 @@ void bind_render(py::module_& m) {
                     py::gil_scoped_release release;
                     bytes = f.display_bytes(name, exposure, thresholds);
                 }
-                auto* data = new std::vector<uint8_t>(std::move(bytes.rgb));
-                py::capsule owner(data, [](void* p) { delete static_cast<std::vector<uint8_t>*>(p); });
+                using Bytes = decltype(bytes.rgb);
+                auto* data = new Bytes(std::move(bytes.rgb));
+                py::capsule owner(data, [](void* p) { delete static_cast<Bytes*>(p); });
                 return py::array_t<uint8_t>({bytes.height, bytes.width, 3}, data->data(), owner);
             },
             py::arg("name"), py::arg("exposure"), py::arg("thresholds"),

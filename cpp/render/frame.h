@@ -55,7 +55,7 @@ struct Readback {
 // A colour as 8-bit sRGB codes, (height, width, 3), row 0 = top of the image.
 struct DisplayBytes {
     int height = 0, width = 0;
-    std::vector<uint8_t> rgb;
+    std::vector<uint8_t, UninitialisedAllocator<uint8_t>> rgb;
 };
 
 class Frame {

@@ -215,7 +215,8 @@ DisplayBytes Renderer::display_bytes(const Texture& tex, float exposure, const s
     out.width = tex.width();
     out.height = tex.height();
     const size_t pixels = size_t(out.width) * size_t(out.height);
-    if (display_ssbo_.size() < pixels * sizeof(uint32_t)) display_ssbo_ = Buffer::create(pixels * sizeof(uint32_t));
+    const size_t quads = (pixels + 3) / 4, bytes = quads * 12;  // 4 pixels of 3 bytes in 3 uints
+    if (display_ssbo_.size() < bytes) display_ssbo_ = Buffer::create(bytes);
     Defines d;
     constexpr GLuint kSourceUnit = 0;
     d["TEXTURE_SOURCE"] = std::to_string(kSourceUnit);
@@ -227,20 +228,16 @@ DisplayBytes Renderer::display_bytes(const Texture& tex, float exposure, const s
     glBindTextureUnit(kSourceUnit, tex.id());
     glBindSampler(kSourceUnit, readback_sampler_);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kDisplayBytesBinding, display_ssbo_.id());
-    glDispatchCompute(GLuint((out.width + 7) / 8), GLuint((out.height + 7) / 8), 1);
+    constexpr size_t kGroup = 256, kMaxGroups = 65535;  // the shader's local size; GL's least limit per axis
+    const size_t groups = (quads + kGroup - 1) / kGroup;
+    glDispatchCompute(GLuint(std::min(groups, kMaxGroups)), GLuint((groups + kMaxGroups - 1) / kMaxGroups), 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindSampler(kSourceUnit, 0);
-    std::vector<uint32_t> packed(pixels);
-    glGetNamedBufferSubData(display_ssbo_.id(), 0, GLsizeiptr(pixels * sizeof(uint32_t)), packed.data());
-    check_gl(*ctx_, "display bytes");
     out.rgb.resize(pixels * 3);
-    for (size_t i = 0; i < pixels; ++i) {
-        out.rgb[3 * i] = uint8_t(packed[i] & 0xFFu);
-        out.rgb[3 * i + 1] = uint8_t((packed[i] >> 8) & 0xFFu);
-        out.rgb[3 * i + 2] = uint8_t((packed[i] >> 16) & 0xFFu);
-    }
+    glGetNamedBufferSubData(display_ssbo_.id(), 0, GLsizeiptr(pixels * 3), out.rgb.data());
+    check_gl(*ctx_, "display bytes");
     ++readbacks_;
-    readback_bytes_ += pixels * sizeof(uint32_t);
+    readback_bytes_ += pixels * 3;
     return out;
 }
 

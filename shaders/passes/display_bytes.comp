@@ -1,8 +1,9 @@
 #version 450 core
 // Display bytes: a float colour texture as the 8-bit sRGB codes a PNG or the live viewer's page
-// gets, one uint per pixel (R | G << 8 | B << 16), rows flipped so that row 0 is the top of the
-// image. Downloading the float colour and encoding it on the CPU moves 16 bytes a pixel and
-// runs the transfer function per channel in numpy; this moves 4 and runs where the pixels are.
+// gets, packed as the host's (height, width, 3) uint8 array is (rows top first, R G B per pixel,
+// four pixels in three uints, little-endian). Downloading the float colour and encoding it on the
+// CPU moves 16 bytes a pixel and runs the transfer function per channel in numpy; this moves 3 and
+// runs where the pixels are.
 //
 // Which code a value gets is decided by the host: for each code k = 1..255 it passes the smallest
 // float32 linear value that ssrlab.display.srgb and to_bytes take to k or more
@@ -11,14 +12,14 @@
 // bit for bit, on any device whose float multiply is IEEE's. The transfer function below only
 // finds the bracket to start from.
 
-layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+layout(local_size_x = 256, local_size_y = 1, local_size_z = 1) in;
 
 layout(binding = TEXTURE_SOURCE) uniform sampler2D u_source;
 uniform ivec2 u_size;
 uniform float u_exposure;
 uniform float u_thresholds[255];
 
-layout(std430, binding = BUFFER_DISPLAY_BYTES) writeonly buffer DisplayBytes { uint pixels[]; };
+layout(std430, binding = BUFFER_DISPLAY_BYTES) writeonly buffer DisplayBytes { uint words[]; };
 
 // numpy.nan_to_num's float32 value (NaN 0, infinities the largest finite values), decided on the
 // bits so that no compiler's assumption about NaN can fold it away.
@@ -41,10 +42,22 @@ uint code_of(float linear) {
     return uint(k);
 }
 
-void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (p.x >= u_size.x || p.y >= u_size.y) return;
+// The codes of pixel i of the image read top row first (0 past its end), as R | G << 8 | B << 16.
+uint pixel_codes(int i) {
+    if (i >= u_size.x * u_size.y) return 0u;
+    ivec2 p = ivec2(i % u_size.x, u_size.y - 1 - i / u_size.x);
     vec3 c = texelFetch(u_source, p, 0).rgb;
-    int row = u_size.y - 1 - p.y;
-    pixels[row * u_size.x + p.x] = code_of(c.r) | (code_of(c.g) << 8) | (code_of(c.b) << 16);
+    return code_of(c.r) | (code_of(c.g) << 8) | (code_of(c.b) << 16);
+}
+
+void main() {
+    // Four pixels per invocation: 12 bytes, 3 words. Dispatched in rows of work groups (a GPU
+    // allows at most 65535 along one axis).
+    int quad = int(gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x);
+    if (quad * 4 >= u_size.x * u_size.y) return;
+    uint a = pixel_codes(quad * 4), b = pixel_codes(quad * 4 + 1), c = pixel_codes(quad * 4 + 2),
+         d = pixel_codes(quad * 4 + 3);
+    words[quad * 3] = a | (b << 24);
+    words[quad * 3 + 1] = (b >> 8) | (c << 16);
+    words[quad * 3 + 2] = (c >> 16) | (d << 8);
 }

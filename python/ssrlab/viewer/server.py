@@ -187,6 +187,7 @@ class Viewer:
         self._ms_per_pixel: float | None = None
         self._history: deque = deque(maxlen=HISTORY)
         self._numbers_drawn = (0.0, 0)  # (when, serial of the frame drawn)
+        self._numbers_frame = None  # the newest frame of the history, whose rays the numbers count
         self._serial = 0
         self._frame = None
         self._reference = None  # (key, ConvergedReference, rays)
@@ -278,7 +279,8 @@ class Viewer:
 
     @property
     def history(self) -> list[dict]:
-        """The live numbers of the last frames shown: size, GPU ms per pass, wall ms, viewer ms."""
+        """The live numbers of the last frames shown: size, GPU ms per pass, wall ms, viewer ms, and
+        rays traced (None for a frame whose numbers were not drawn: NUMBERS_S)."""
         return list(self._history)
 
     def wait(self, condition=None, timeout: float = 60.0) -> bool:
@@ -593,7 +595,8 @@ class Viewer:
                     self._cond.wait(timeout=0.05)
                     job = self._next_job() if not self._closed else None
             if job is None:
-                self._draw_numbers()
+                with self._render_lock:
+                    self._draw_numbers()
                 self._watch()
                 continue
             try:
@@ -789,9 +792,9 @@ class Viewer:
                  "render_ms": (times["render_end"] - times["render_start"]) * 1e3, "viewer_ms": viewer_ms,
                  "passes": {k: float(v) for k, v in timings.items() if "." not in k and k != "total"},
                  "shown_at": times["sent"], "times": dict(times), "page": cid, "serial": self._serial,
-                 "rays": frame.stats.get("rays_traced") if "rays.hit" in frame.texture_names else 0,
-                 "accumulated": accumulated}
+                 "rays": None, "accumulated": accumulated}
         self._history.append(entry)
+        self._numbers_frame = frame
         moving = any(time.time() - p.moved_at < REST_S for p in list(self._pages.values()))
         self._draw_numbers(at_once=not moving)
 
@@ -806,6 +809,10 @@ class Viewer:
         if entry["serial"] == serial or (not at_once and now - when < NUMBERS_S):
             return
         self._numbers_drawn = (now, entry["serial"])
+        if entry["rays"] is None:  # counted for the frames whose numbers are drawn only: it reads the rays back
+            f = self._numbers_frame
+            traced = f is not None and not f.released and "rays.hit" in f.texture_names
+            entry["rays"] = int(f.stats.get("rays_traced") or 0) if traced else 0
         recent = [e for e in self._history if e["shown_at"] > entry["shown_at"] - 2.0]
         fps = (len(recent) - 1) / (recent[-1]["shown_at"] - recent[0]["shown_at"]) if len(recent) > 1 and \
             recent[-1]["shown_at"] > recent[0]["shown_at"] else 0.0
