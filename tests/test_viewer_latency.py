@@ -1,27 +1,22 @@
-"""benchmarks/timing/viewer_latency.py: how a frame the page showed is matched with the frame the
-server sent and split into parts, and its floor (the page's own path with nothing to render) at a
-smoke size in the real browser."""
+"""What benchmarks/timing/viewer_latency.py measures with (ssrlab.viewer.latency): how a frame the
+page showed is matched with the frame the server sent and split into parts, and the floor (the
+page's own path with nothing to render) at a smoke size in the real browser."""
 
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import math
-from pathlib import Path
 
 import pytest
 
 from viewer_page import require_browser
 
-BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "timing" / "viewer_latency.py"
-
 
 @pytest.fixture(scope="module")
 def latency():
-    spec = importlib.util.spec_from_file_location("viewer_latency", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    from ssrlab.viewer import latency
+
+    return latency
 
 
 def sent_frame(w, h, request, start, end, view, sent):

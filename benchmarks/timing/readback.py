@@ -16,6 +16,11 @@ read (the protocol's Bench.calls: --repeats rounds after 2 warm-up rounds). Each
 a record (ssrlab.lab.records) of their samples; the A/B table is rendered from them, with the
 per-read ratio staged / download and the verdict of staged against download
 (records.figure_verdict: faster, slower, same, or undecided at this noise).
+
+A second table times the colour as the live viewer's page gets it, 8-bit sRGB codes (uint8
+(height, width, 3)): "numpy", the float colour downloaded and encoded by
+display.to_bytes(display.srgb(...)), against "device", encoded on the device and read back as
+those bytes (Frame.srgb8), interleaved call by call.
 """
 
 from __future__ import annotations
@@ -30,6 +35,8 @@ from ssrlab.lab.protocol import Bench  # noqa: E402
 # name: readback path (float formats downloaded directly, the others through the copy pass)
 TEXTURES = {"color": "direct", "lit": "direct", "gbuffer.albedo": "copy pass", "gbuffer.material": "copy pass"}
 PATHS = ("download", "staged")
+# How the colour becomes the page's bytes: encoded by numpy from the float download, or on the device
+ENCODINGS = ("numpy", "device")
 
 
 def time_reads(bench, renderer, frame, name: str) -> tuple[dict[str, list[float]], int]:
@@ -45,6 +52,16 @@ def time_reads(bench, renderer, frame, name: str) -> tuple[dict[str, list[float]
     ms = bench.calls({path: read(path) for path in PATHS})
     renderer.readback_path = "auto"
     return ms, out["nbytes"]
+
+
+def time_display_bytes(bench, frame) -> dict[str, list[float]]:
+    """ms per call of the colour as 8-bit sRGB codes by each encoding, interleaved call by call."""
+    from ssrlab import display
+
+    return bench.calls({
+        "numpy": lambda: display.to_bytes(display.srgb(frame.read("color", cache=False)[0, :, :, :3])),
+        "device": lambda: frame.srgb8(),
+    })
 
 
 def main(argv=None) -> int:
@@ -66,11 +83,17 @@ def main(argv=None) -> int:
             params = dict(size=f"{w}x{h}", texture=name, download_path=path, bytes=nbytes)
             for p in PATHS:
                 bench.record({**params, "path": p}, "read", "ms", ms[p])
+        ms = time_display_bytes(bench, frame)
+        for e in ENCODINGS:
+            bench.record({"size": f"{w}x{h}", "encoding": e}, "display bytes", "ms", ms[e])
         frame.release()
     # "same" and "undecided" say why there is no faster or slower: the two paths' samples overlap
-    bench.print_ab("path", *PATHS, rows=("size", "texture", "download_path", "bytes"), digits=3,
-                   words={"same": "same within 2 % (the samples overlap)",
-                          "undecided": "no verdict (the samples overlap)"})
+    words = {"same": "same within 2 % (the samples overlap)", "undecided": "no verdict (the samples overlap)"}
+    reads = bench.find("read")
+    bench.print_ab("path", *PATHS, records=reads, rows=("size", "texture", "download_path", "bytes"), digits=3,
+                   words=words)
+    print("\nthe colour as the page's 8-bit sRGB codes (uint8 height x width x 3), ms per call:")
+    bench.print_ab("encoding", *ENCODINGS, records=bench.find("display bytes"), rows=("size",), digits=3, words=words)
     return 0
 
 

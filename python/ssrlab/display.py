@@ -12,14 +12,13 @@ written in the caption.
 from __future__ import annotations
 
 import base64
-import functools
 import html
 import io as _stdio
 import math
 
 import numpy as np
 
-from .io import linear_to_srgb
+from .io import linear_to_srgb, srgb8_thresholds, to_bytes  # noqa: F401 (display's names)
 from .renderer import Frame, GBuffer, RayResults
 from .settings import Settings
 
@@ -35,34 +34,6 @@ def srgb(linear: np.ndarray, exposure: float = 1.0) -> np.ndarray:
     """Linear radiance (h, w, 3) as display sRGB floats in [0, 1]."""
 
     return linear_to_srgb(np.nan_to_num(np.asarray(linear, np.float32)), exposure)
-
-
-def to_bytes(rgb: np.ndarray) -> np.ndarray:
-    """Display floats in [0, 1] as (H, W, 3) uint8, rounded to the nearest code."""
-    return np.ascontiguousarray(np.clip(np.rint(np.asarray(rgb, np.float32) * 255.0), 0, 255).astype(np.uint8))
-
-
-@functools.cache
-def srgb8_thresholds() -> np.ndarray:
-    """For each 8-bit code k = 1..255, the smallest float32 linear value in [0, 1] that srgb (at
-    exposure 1) and to_bytes take to k or more: float32 (255,), increasing. Since that code never
-    falls as the value rises, a value's code is how many thresholds lie at or below it, which is
-    how Frame.srgb8 encodes on the GPU without a transfer function of its own."""
-    def code(bits: np.ndarray) -> np.ndarray:
-        return to_bytes(srgb(bits.view(np.float32)[:, None]))[:, 0].astype(np.int32)
-
-    k = np.arange(1, 256, dtype=np.int32)
-    # Bisection over the bit patterns of the float32 values in [0, 1], which order as the values:
-    # code(lo) < k <= code(hi) throughout.
-    lo = np.zeros(255, np.int32)
-    hi = np.full(255, np.float32(1.0).view(np.int32), np.int32)
-    while np.any(hi - lo > 1):
-        mid = lo + (hi - lo) // 2
-        up = code(mid) >= k
-        hi, lo = np.where(up, mid, hi), np.where(up, lo, mid)
-    out = hi.view(np.float32)
-    out.flags.writeable = False
-    return out
 
 
 def normals(n: np.ndarray, covered: np.ndarray | None = None) -> np.ndarray:

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _core
+from .io import srgb8_thresholds
 from .settings import Settings
 from .frame_views import ChannelView, GBuffer, RayResults, Reprojection
 
@@ -251,14 +252,12 @@ class Frame:
         sRGB codes of exposure times the linear radiance, clamped. Encoded on the GPU and read back
         as 4 bytes a pixel instead of the colour's 16; equal, code for code, to
         ssrlab.display.to_bytes(ssrlab.display.srgb(frame.color, exposure))."""
-        from . import display
-
         self._check_live("the colour")
         e = float(exposure)
         if not math.isfinite(e):
             raise ValueError(f"Frame.srgb8: exposure must be a finite number, got {exposure!r}")
         name = "color.taa" if "color.taa" in self.texture_names else "color"
-        return self._native.display_bytes(name, e, display.srgb8_thresholds())
+        return self._native.display_bytes(name, e, srgb8_thresholds())
 
     @property
     def reflection(self) -> np.ndarray:

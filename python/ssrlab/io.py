@@ -9,6 +9,7 @@ user wrote is lost without asking.
 from __future__ import annotations
 
 import errno
+import functools
 import hashlib
 import json
 import os
@@ -58,6 +59,35 @@ def linear_to_srgb(linear: np.ndarray, exposure: float = 1.0) -> np.ndarray:
     """sRGB transfer function (IEC 61966-2-1) of exposure * linear, clamped to [0, 1]."""
     x = np.clip(np.asarray(linear, dtype=np.float32) * exposure, 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055).astype(np.float32)
+
+
+def to_bytes(rgb: np.ndarray) -> np.ndarray:
+    """Display floats in [0, 1] as (H, W, 3) uint8, rounded to the nearest code."""
+    return np.ascontiguousarray(np.clip(np.rint(np.asarray(rgb, np.float32) * 255.0), 0, 255).astype(np.uint8))
+
+
+@functools.cache
+def srgb8_thresholds() -> np.ndarray:
+    """For each 8-bit code k = 1..255, the smallest float32 linear value in [0, 1] that
+    linear_to_srgb (at exposure 1) and to_bytes take to k or more: float32 (255,), increasing.
+    Since that code never falls as the value rises, a value's code is how many thresholds lie at
+    or below it: how Frame.srgb8 encodes on the device (passes/display_bytes.comp) with the codes
+    of this one transfer function."""
+    def code(bits: np.ndarray) -> np.ndarray:
+        return to_bytes(linear_to_srgb(bits.view(np.float32)[:, None]))[:, 0].astype(np.int32)
+
+    k = np.arange(1, 256, dtype=np.int32)
+    # Bisection over the bit patterns of the float32 values in [0, 1], which order as the values:
+    # code(lo) < k <= code(hi) throughout.
+    lo = np.zeros(255, np.int32)
+    hi = np.full(255, np.float32(1.0).view(np.int32), np.int32)
+    while np.any(hi - lo > 1):
+        mid = lo + (hi - lo) // 2
+        up = code(mid) >= k
+        hi, lo = np.where(up, mid, hi), np.where(up, lo, mid)
+    out = hi.view(np.float32)
+    out.flags.writeable = False
+    return out
 
 
 def image_backend() -> str:

@@ -1,13 +1,13 @@
 #version 450 core
-// Display bytes: a float colour texture as the 8-bit sRGB codes a PNG or the live viewer's page
-// gets, packed as the host's (height, width, 3) uint8 array is (rows top first, R G B per pixel,
-// four pixels in three uints, little-endian). Downloading the float colour and encoding it on the
-// CPU moves 16 bytes a pixel and runs the transfer function per channel in numpy; this moves 3 and
-// runs where the pixels are.
+// Display bytes: a float colour texture as the 8-bit sRGB codes the live viewer's page gets
+// (ssrlab.Frame.srgb8), packed as the host's (height, width, 3) uint8 array is (rows top first,
+// R G B per pixel, four pixels in three uints, little-endian). Downloading the float colour and
+// encoding it on the CPU moves 16 bytes a pixel and runs the transfer function per channel in
+// numpy; this moves 3 and runs where the pixels are.
 //
 // Which code a value gets is decided by the host: for each code k = 1..255 it passes the smallest
-// float32 linear value that ssrlab.display.srgb and to_bytes take to k or more
-// (ssrlab.display.srgb8_thresholds), and a channel's code is how many of them lie at or below its
+// float32 linear value that ssrlab.io.linear_to_srgb and to_bytes take to k or more
+// (ssrlab.io.srgb8_thresholds), and a channel's code is how many of them lie at or below its
 // value, exposed and clamped to [0, 1] as ssrlab.io.linear_to_srgb does it: the codes numpy gives,
 // bit for bit, on any device whose float multiply is IEEE's. The transfer function below only
 // finds the bracket to start from.
