@@ -150,10 +150,13 @@ def test_frame_breakdown_prints_every_case_with_its_sub_passes():
     assert "classify.clear" in out and "depth_peel.layer0" in out and "depth fetches per ray" in out
 
 
-def test_readback_benchmark_times_both_paths():
+def test_readback_benchmark_times_both_paths_and_both_encodings_of_the_display_bytes():
     out = run_benchmark("readback", "--sizes", "48x32", "--repeats", "2")
     rows = [line for line in out.splitlines() if line.startswith("| 48x32 |")]
-    assert {(r.split(" | ")[1], r.split(" | ")[2]) for r in rows} == set(READBACK_TEXTURES.items())
+    reads = [r for r in rows if not r.startswith("| 48x32 | display bytes (ms) |")]
+    encodings = [r for r in rows if r.startswith("| 48x32 | display bytes (ms) |")]
+    assert {(r.split(" | ")[1], r.split(" | ")[2]) for r in reads} == set(READBACK_TEXTURES.items())
+    assert len(encodings) == 1 and "| device / numpy |" in out
     assert "| staged / download |" in out and all(r.rstrip().endswith(("faster |", "slower |", "overlap) |"))
                                                    for r in rows)
 
