@@ -343,6 +343,33 @@ def test_viewer_refuses_bad_arguments():
         ssrlab.view("no_such_scene")
     with pytest.raises(ValueError, match="frames must be one of background, overlay"):
         ssrlab.view("hall", frames="texture")
+    for bad in (0, -2.0, float("nan"), "fast", True):
+        with pytest.raises(ValueError, match="moving_fps must be None"):
+            ssrlab.view("hall", moving_fps=bad)
+
+
+def test_a_moving_camera_is_paced_at_moving_fps(chromium, renderer):
+    viewer = hall_hiz(renderer, moving_fps=4.0)
+    try:
+        assert viewer.moving_fps == 4.0
+        page = open_page(chromium, viewer.url)
+        wait_shown(page, viewer)
+        page.mouse.move(60, 45)
+        page.mouse.down()
+        end = time.time() + 2.0
+        x = 60
+        while time.time() < end:  # a camera that moves all along, a pointer event every 30 ms
+            x = 60 + (x - 59) % 120
+            page.mouse.move(x, 45)
+            time.sleep(0.03)
+        page.mouse.up()
+        time.sleep(0.5)
+        starts = [e["times"]["render_start"] for e in viewer.history if e["moving"]]
+        assert len(starts) >= 4
+        assert min(np.diff(starts)) >= 1.0 / 4.0 - 0.01  # never two moving frames closer than 1 / moving_fps
+        assert len(starts) <= 2.0 * 4.0 + 2
+    finally:
+        viewer.close()
 
 
 def test_view_command_serves_the_page(chromium, tmp_path):

@@ -9,7 +9,7 @@ after the decode: the frame in which the new image was drawn). The viewer's own
 cost is everything but the render.
 
     python benchmarks/timing/viewer_latency.py [--scene hall] [--width 640 --height 360] [--seconds 4] [--device cpu]
-        [--frames background|overlay] [--floor]
+        [--frames background|overlay] [--moving-fps off|FPS] [--floor]
 
 --floor also runs the same drag against a server that answers each camera at once with a ready
 picture (nothing to render or view): the viewer's own cost can go no lower on this machine with
@@ -29,7 +29,7 @@ import numpy as np
 
 import ssrlab
 from ssrlab.viewer.latency import PAGE_HOOKS, PANEL_PX, drag, matched_parts, page_floor, percentile, print_parts
-from ssrlab.viewer.server import FRAMES
+from ssrlab.viewer.server import FRAMES, moving_fps_arg
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -40,6 +40,8 @@ def main() -> int:
     ap.add_argument("--device", default="auto")
     ap.add_argument("--lossless", action="store_true", help="PNG frames instead of JPEG")
     ap.add_argument("--frames", choices=FRAMES, default=FRAMES[0], help="how the page shows frames (ssrlab.view)")
+    ap.add_argument("--moving-fps", default="off", metavar="FPS", type=moving_fps_arg,
+                    help="frames a second a moving camera renders at most (ssrlab.view's moving_fps): off or a number")
     ap.add_argument("--set", action="append", metavar="FIELD=VALUE", default=[])
     ap.add_argument("--floor", action="store_true",
                     help="also measure the viewer's own path with nothing to render (the floor under viewer_own)")
@@ -49,10 +51,12 @@ def main() -> int:
     from ssrlab.lab.protocol import parse_set
 
     settings = ssrlab.Settings().replace(**parse_set(args.set))
-    v = ssrlab.view(args.scene, settings, device=args.device, lossless=args.lossless, accumulate=1, frames=args.frames)
+    v = ssrlab.view(args.scene, settings, device=args.device, lossless=args.lossless, accumulate=1, frames=args.frames,
+                    moving_fps=args.moving_fps)
     info = v.renderer.info
     print(f"device: {info['renderer']} ({info['device']}), OpenGL {info['gl_version']}; scene {args.scene}, "
           f"canvas {args.width}x{args.height}, {'PNG' if args.lossless else 'JPEG'} frames as {args.frames}, "
+          f"moving camera paced at {'no limit' if v.moving_fps is None else f'{v.moving_fps:g} frames/s'}, "
           f"settings {settings!r}")
     try:
         with sync_playwright() as p:

@@ -551,7 +551,8 @@ def cmd_view(args) -> int:
 
     settings = _settings_from_args(args)
     viewer = view(args.scene, settings, host=args.host, port=args.port, lossless=args.lossless, out=args.out,
-                  device=args.view_device or args.device, accumulate=args.accumulate, frames=args.frames)
+                  device=args.view_device or args.device, accumulate=args.accumulate, frames=args.frames,
+                  moving_fps=args.moving_fps)
     print(f"ssrlab view: {viewer.url}  (scene {viewer.scene.name!r} on {viewer.renderer.info['renderer']})")
     if args.host in ("127.0.0.1", "localhost", "::1"):
         print(f"  from another machine: ssh -N -L {viewer.port}:127.0.0.1:{viewer.port} THIS_HOST, then open "
@@ -641,11 +642,14 @@ def main(argv=None) -> int:
     v.add_argument("--device", dest="view_device", type=_device_arg, metavar="{auto,gpu,gpu:N,cpu}",
                    help="EGL device (as `ssrlab --device`)")
     v.add_argument("--lossless", action="store_true", help="send frames as PNG instead of JPEG")
-    from .viewer.server import FRAMES
+    from .viewer.server import FRAMES, moving_fps_arg
 
     v.add_argument("--frames", choices=FRAMES, default=FRAMES[0],
                    help="how the page shows frames: the 3D view's background (every layout of the page) or an "
                         "image over it (a shorter path in the page, shown only while the panel is docked)")
+    v.add_argument("--moving-fps", default="off", metavar="FPS", type=moving_fps_arg,
+                   help="frames a second a moving camera renders at most (default off: as many as the device "
+                        "gives; a limit leaves cores to a page on the same machine, and costs frames)")
     v.add_argument("--accumulate", type=int, default=8, metavar="N",
                    help="frames of new seeds averaged while the camera rests (default: %(default)s)")
     v.add_argument("--out", default="renders/view", help="folder of saved frames and camera paths")

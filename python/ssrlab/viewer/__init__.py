@@ -18,7 +18,7 @@ __all__ = ["FRAMES", "Viewer", "Shown", "view"]
 def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: int | None = None,
          lossless: bool = False, accumulate: int = 8, out="renders/view", device: str = "auto",
          watch_shaders: bool = True, reference_rays=(4, 16, 64), frames: str = FRAMES[0],
-         verbose: bool = False) -> Viewer:
+         moving_fps: float | None = None, verbose: bool = False) -> Viewer:
     """Opens a live view of `scene` and returns at once with its handle (ssrlab.viewer.Viewer): its
     ``url``, ``settings``, ``camera`` and ``frame`` readable and settable while the page is open,
     ``close()``. In Jupyter the handle shows the page inline.
@@ -34,7 +34,9 @@ def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: 
     reference's rays per reflective pixel in each round while the camera rests (with 'reference' on);
     frames: how the page shows frames, "background" (the 3D view's background, in every layout of
     the page) or "overlay" (an image over the canvas: a shorter path in the page, shown only while
-    the panel is docked; ssrlab.viewer.server.FRAMES says why)."""
+    the panel is docked; ssrlab.viewer.server.FRAMES says why); moving_fps: frames a second a moving
+    camera renders at most (None: as many as the device gives; a limit leaves cores to a page on the
+    same machine, and costs frames)."""
     from .. import scenes
     from ..scene import Scene
 
@@ -47,4 +49,4 @@ def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: 
         source = f"ssrlab.scenes.load({scene.name!r})"
     return Viewer(scene, settings, renderer, host=host, port=port, scene_source=source, lossless=lossless,
                   accumulate=accumulate, out=out, device=device, watch_shaders=watch_shaders,
-                  reference_rays=reference_rays, frames=frames, verbose=verbose)
+                  reference_rays=reference_rays, frames=frames, moving_fps=moving_fps, verbose=verbose)

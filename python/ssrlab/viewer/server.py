@@ -11,6 +11,7 @@ with more rays each round, its error figures shown beside the frame.
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import json
 import math
@@ -141,7 +142,7 @@ class Viewer:
                  host: str = "127.0.0.1", port: int | None = None, scene_source: str | None = None,
                  lossless: bool = False, jpeg_quality: int = 90, accumulate: int = 8, out: str | Path = "renders/view",
                  device: str = "auto", watch_shaders: bool = True, reference_rays=REFERENCE_ROUNDS,
-                 frames: str = FRAMES[0], verbose: bool = False):
+                 frames: str = FRAMES[0], moving_fps: float | None = None, verbose: bool = False):
         try:
             import viser
         except ImportError as e:
@@ -160,11 +161,21 @@ class Viewer:
         self.reference_rays = rounds
         if frames not in FRAMES:
             raise ValueError(f"ssrlab.view: frames must be one of {', '.join(FRAMES)}, got {frames!r}")
+        if not (moving_fps is None or (isinstance(moving_fps, (int, float)) and not isinstance(moving_fps, bool)
+                                       and math.isfinite(moving_fps) and moving_fps > 0)):
+            raise ValueError(f"ssrlab.view: moving_fps must be None (no limit) or frames a second > 0, "
+                             f"got {moving_fps!r}")
         if not 1 <= int(jpeg_quality) <= 100:
             raise ValueError(f"ssrlab.view: jpeg_quality must be in [1, 100], got {jpeg_quality!r}")
         if scene.camera is None:
             raise ValueError("ssrlab.view: the scene has no default camera; give it one (scene.camera = ssrlab.Camera(...))")
         self.renderer = renderer if renderer is not None else Renderer(device)
+        # Pacing a moving camera below the frame rate the device gives leaves cores to a page on the
+        # same machine, whose path to the screen then waits less for the renderer's threads; it
+        # also waits, itself, for its turn (benchmarks/timing/viewer_latency.py --moving-fps).
+        self.moving_fps = None if moving_fps is None else float(moving_fps)
+        self._paced_at = 0.0  # when the last render of a moving camera started
+        self._pace_wait = 0.0  # seconds the worker waits before the next render of a moving camera
         self.scene = scene
         self.scene_source = scene_source
         self.lossless = bool(lossless)
@@ -279,8 +290,9 @@ class Viewer:
 
     @property
     def history(self) -> list[dict]:
-        """The live numbers of the last frames shown: size, GPU ms per pass, wall ms, viewer ms, and
-        rays traced (None for a frame whose numbers were not drawn: NUMBERS_S)."""
+        """The live numbers of the last frames shown: size, GPU ms per pass, wall ms, viewer ms,
+        rays traced (None for a frame whose numbers were not drawn: NUMBERS_S), and whether the
+        camera was moving (a frame paced by moving_fps)."""
         return list(self._history)
 
     def wait(self, condition=None, timeout: float = 60.0) -> bool:
@@ -592,7 +604,7 @@ class Viewer:
                     return
                 job = self._next_job()
                 if job is None:
-                    self._cond.wait(timeout=0.05)
+                    self._cond.wait(timeout=min(0.05, self._pace_wait) if self._pace_wait > 0 else 0.05)
                     job = self._next_job() if not self._closed else None
             if job is None:
                 with self._render_lock:
@@ -617,8 +629,13 @@ class Viewer:
         if self._playing:
             self._mark_all(reset=True)
         dirty = [p for p in self._pages.values() if p.dirty and p.camera is not None and p.size[0] > 0]
+        self._pace_wait = 0.0
         if dirty:
             page = min(dirty, key=lambda p: p.requested_at)
+            if self.moving_fps is not None and now - page.moved_at < REST_S:
+                self._pace_wait = self._paced_at + 1.0 / self.moving_fps - now
+                if self._pace_wait > 0:
+                    return None  # paced (moving_fps): the request waits, and meanwhile takes newer cameras
             return page.client.client_id, "request"
         for page in self._pages.values():
             if page.shown is None or page.camera is None or now - page.moved_at < REST_S:
@@ -649,6 +666,8 @@ class Viewer:
             page.dirty = False
             camera, requested = page.camera, page.requested_at
             moving = time.time() - page.moved_at < REST_S
+            if moving and kind == "request":
+                self._paced_at = time.time()
             settings, b = self._settings, self._settings_b if self._compare else None
             view, layer, ray, exposure = self._view, self._layer, self._ray, self._exposure
         if self._playing:
@@ -721,7 +740,7 @@ class Viewer:
         if self._caption.content != caption:
             self._caption.content = caption
         with self._render_lock:
-            self._numbers_for(frame, times, scale, page.accum_count, cid)
+            self._numbers_for(frame, times, scale, page.accum_count, cid, moving=moving and kind == "request")
 
     def _send(self, page: _Page, image: np.ndarray) -> bool:
         if self._closed or page.client.client_id not in self.server.get_clients():
@@ -784,7 +803,8 @@ class Viewer:
 
         return line("A (left)", a, metrics_a) + "  \n" + line("B (right)", b, metrics_b)
 
-    def _numbers_for(self, frame, times: dict, scale: float, accumulated: int, cid: int = -1) -> None:
+    def _numbers_for(self, frame, times: dict, scale: float, accumulated: int, cid: int = -1,
+                     moving: bool = False) -> None:
         timings = frame.timings
         viewer_ms = (times["sent"] - times["render_end"]) * 1e3
         entry = {"width": frame.settings.width, "height": frame.settings.height, "scale": scale,
@@ -792,7 +812,7 @@ class Viewer:
                  "render_ms": (times["render_end"] - times["render_start"]) * 1e3, "viewer_ms": viewer_ms,
                  "passes": {k: float(v) for k, v in timings.items() if "." not in k and k != "total"},
                  "shown_at": times["sent"], "times": dict(times), "page": cid, "serial": self._serial,
-                 "rays": None, "accumulated": accumulated}
+                 "rays": None, "accumulated": accumulated, "moving": moving}
         self._history.append(entry)
         self._numbers_frame = frame
         moving = any(time.time() - p.moved_at < REST_S for p in list(self._pages.values()))
@@ -918,6 +938,19 @@ def _duration(scene) -> float:
     for a in getattr(scene, "animations", []) or []:
         longest = max(longest, float(getattr(a, "duration", 0.0)))
     return longest if longest > 0 else 10.0
+
+
+def moving_fps_arg(text: str):
+    """A command line's --moving-fps ('off' or frames a second) as Viewer's moving_fps."""
+    if text == "off":
+        return None
+    try:
+        fps = float(text)
+    except ValueError:
+        fps = math.nan
+    if not (math.isfinite(fps) and fps > 0):
+        raise argparse.ArgumentTypeError(f"must be off or frames a second > 0, got {text!r}")
+    return fps
 
 
 def parse_changes(text: str) -> dict:
