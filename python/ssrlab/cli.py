@@ -646,7 +646,7 @@ def main(argv=None) -> int:
 
     v.add_argument("--frames", choices=FRAMES, default=FRAMES[0],
                    help="how the page shows frames: the 3D view's background (every layout of the page) or an "
-                        "image over it (a shorter path in the page, shown only while the panel is docked)")
+                        "image over it (a shorter path in the page, for which the panel stays docked)")
     v.add_argument("--moving-fps", default="off", metavar="FPS", type=moving_fps_arg,
                    help="frames a second a moving camera renders at most (default off: as many as the device "
                         "gives; a limit leaves cores to a page on the same machine, and costs frames)")

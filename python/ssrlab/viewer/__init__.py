@@ -33,8 +33,8 @@ def view(scene, settings=None, renderer=None, *, host: str = "127.0.0.1", port: 
     (or, in a source checkout, any of ssrlab's) changes on disk; reference_rays: the converged
     reference's rays per reflective pixel in each round while the camera rests (with 'reference' on);
     frames: how the page shows frames, "background" (the 3D view's background, in every layout of
-    the page) or "overlay" (an image over the canvas: a shorter path in the page, shown only while
-    the panel is docked; ssrlab.viewer.server.FRAMES says why); moving_fps: frames a second a moving
+    the page) or "overlay" (an image over the canvas: a shorter path in the page, for which the panel
+    stays docked; ssrlab.viewer.server.FRAMES says why); moving_fps: frames a second a moving
     camera renders at most (None: as many as the device gives; a limit leaves cores to a page on the
     same machine, and costs frames)."""
     from .. import scenes

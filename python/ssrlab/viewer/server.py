@@ -47,7 +47,7 @@ HISTORY = 120
 # (benchmarks/timing/viewer_latency.py); a resting frame's numbers are drawn at once.
 NUMBERS_S = 0.5
 # How a page shows its frames. "background": as the 3D view's background texture, which holds in
-# every layout of the page (panel docked, floating or collapsed, a phone-width page) but costs a
+# every layout of the page (panel docked, floating or collapsed, a narrow page) but costs a
 # WebGL texture upload on the page's main thread per frame. "overlay": as an image element of the
 # page's panel that CSS lifts over the canvas at its height and the frame's aspect, letting the
 # pointer through to the camera's controls; the browser decodes and composites an <img> itself,
@@ -56,7 +56,7 @@ NUMBERS_S = 0.5
 # animation frame while the camera moves. The element lives in the docked panel, so with overlay
 # the panel stays docked: its collapse button is hidden and its header and handle take no drag (a
 # collapsed panel would unmount the element, a floating one lie under it); it can still be resized.
-# A page narrower than the panel's phone layout (under about 600 px) needs the background. (A
+# A page too narrow to hold the docked panel beside the canvas needs the background. (A
 # background texture kept beside the overlay would cost its sampling in every one of those redraws.)
 FRAMES = ("background", "overlay")
 FRAME_CSS = ("img[src^='blob:']{position:fixed!important;left:0;top:0;height:100vh!important;"
