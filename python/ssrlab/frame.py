@@ -249,8 +249,8 @@ class Frame:
 
     def srgb8(self, exposure: float = 1.0) -> np.ndarray:
         """The colour (Frame.color's texture) as it is displayed: uint8 (height, width, 3), the
-        sRGB codes of exposure times the linear radiance, clamped. Encoded on the GPU and read back
-        as 4 bytes a pixel instead of the colour's 16; equal, code for code, to
+        sRGB codes of exposure times the linear radiance, clamped. Encoded on the device and read
+        back as 3 bytes a pixel instead of the colour's 16; equal, code for code, to
         ssrlab.display.to_bytes(ssrlab.display.srgb(frame.color, exposure))."""
         self._check_live("the colour")
         e = float(exposure)
